@@ -1,0 +1,9 @@
+"""Closed-form track: the flight solution (Eqs. 7-8) and the impact map (Eqs. 12-13).
+
+Importing this package switches JAX to float64 (``jax_enable_x64``).
+"""
+
+from mapimpl import _jax  # noqa: F401
+from mapimpl.params import PAPER_FIG3, ParamArrays, Params, validate_arrays
+
+__all__ = ["Params", "ParamArrays", "PAPER_FIG3", "validate_arrays"]

@@ -1,0 +1,182 @@
+"""Closed-form free flight between impacts, Eqs. (7)-(8) of the paper, in a cancellation-free form.
+
+Eq. (3) reads ``s'' + beta s' = f(tau) - ... `` with the forcing (right-hand side at rest)
+
+    f(tau) = -alpha sin(tau) + alpha beta cos(tau) + gamma,          s'' = f(tau) - beta s'.
+
+From a state ``(tau0, s0, sdot0)`` and elapsed flight time ``t = tau - tau0 >= 0``, Eq. (7) is
+rewritten exactly as
+
+    s(tau) - s0   = t sdot0 phi1(beta t) + t^2 Q(t),
+    Q(t)          = -(alpha/2) sin(tau0) sinc^2(t/2)
+                    + alpha cos(tau0) (beta phi2(beta t) - t sigma(t)) + gamma phi2(beta t),
+    sdot(tau)     = sdot0 exp(-beta t)
+                    + t [ -alpha sin(tau0 + t/2) sinc(t/2) + (alpha beta cos(tau0) + gamma) phi1(beta t) ]   (Eq. 8)
+
+with ``phi1(x) = (1 - e^-x)/x``, ``phi2(x) = (x - 1 + e^-x)/x^2``, ``sigma(t) = (t - sin t)/t^3``,
+``sinc(x) = sin(x)/x``.  Every term is a product of small quantities, so
+
+* the gap to the wall the flight starts from is computed with *relative* accuracy, however small
+  the bounce (a flight that starts on a wall has gap exactly 0 at t = 0, no 0/0 and no re-detection);
+* ``beta`` down to 1e-8 (and below) loses no digits: the ``gamma/beta`` terms of Eq. (7) cancel
+  analytically inside ``phi2``.
+
+The phase ``tau0`` is passed reduced mod 2*pi; only the flight time ``t`` is added to it.
+All functions are pure ``jax.numpy`` and work elementwise on arrays (float64).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from mapimpl import _jax  # noqa: F401
+import jax.numpy as jnp
+
+TWO_PI = 2.0 * jnp.pi
+# Cody-Waite split of 2*pi: TWO_PI_HI + TWO_PI_LO == 2*pi to ~1e-32, TWO_PI_HI * m exact for small m.
+TWO_PI_HI = 6.28318530717958623200e00
+TWO_PI_LO = 2.44929359829470635446e-16
+
+_SERIES_X = 0.5  # below this argument the phi2 / sigma functions use their Taylor series
+
+
+def _horner(x, coeffs):
+    acc = jnp.zeros_like(x) + coeffs[-1]
+    for c in coeffs[-2::-1]:
+        acc = acc * x + c
+    return acc
+
+
+def _inv_factorials(start: int, n: int) -> list[float]:
+    out, f = [], 1.0
+    for k in range(1, start + n):
+        f *= k
+        if k >= start:
+            out.append(1.0 / f)
+    return out
+
+
+# phi1(x) = sum_k (-x)^k / (k+1)!
+_PHI1_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(1, 17))]
+# phi2(x) = sum_k (-x)^k / (k+2)!  ;  sigma(t) = sum_k (-t^2)^k / (2k+3)!
+_PHI2_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(2, 16))]
+_SIGMA_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:9])]
+
+
+def phi1(x):
+    """(1 - exp(-x)) / x, limit 1 at x = 0; expm1 form, Taylor series for x < 0.5 (smooth at 0)."""
+    big = x >= _SERIES_X
+    xb = jnp.where(big, x, 1.0)
+    series = _horner(jnp.where(big, 0.0, x), _PHI1_COEFFS)
+    return jnp.where(big, -jnp.expm1(-xb) / xb, series)
+
+
+def phi2(x):
+    """(x - 1 + exp(-x)) / x^2, limit 1/2 at x = 0; Taylor series for x < 0.5, no cancellation."""
+    big = x >= _SERIES_X
+    xb = jnp.where(big, x, 1.0)
+    direct = (xb + jnp.expm1(-xb)) / (xb * xb)
+    series = _horner(jnp.where(big, 0.0, x), _PHI2_COEFFS)
+    return jnp.where(big, direct, series)
+
+
+def sigma(t):
+    """(t - sin t) / t^3, limit 1/6 at t = 0; Taylor series for |t| < 0.5."""
+    big = jnp.abs(t) >= _SERIES_X
+    tb = jnp.where(big, t, 1.0)
+    direct = (tb - jnp.sin(tb)) / (tb * tb * tb)
+    ts = jnp.where(big, 0.0, t)
+    series = _horner(ts * ts, _SIGMA_COEFFS)
+    return jnp.where(big, direct, series)
+
+
+def sinc(x):
+    """sin(x)/x with sinc(0) = 1."""
+    small = jnp.abs(x) < 1e-8
+    xs = jnp.where(small, 1.0, x)
+    return jnp.where(small, 1.0 - x * x / 6.0, jnp.sin(xs) / xs)
+
+
+def forcing(tau, alpha, beta, gamma):
+    """f(tau) = -alpha sin(tau) + alpha beta cos(tau) + gamma: the acceleration s'' at rest (Eq. 3).
+
+    On a wall with ``sdot = 0`` this is the contact acceleration: it presses into the upper wall
+    ``s = 0`` when positive and into the lower wall ``s = -1`` when negative.
+    """
+    return -alpha * jnp.sin(tau) + alpha * beta * jnp.cos(tau) + gamma
+
+
+def forcing_rate(tau, alpha, beta):
+    """df/dtau = -alpha cos(tau) - alpha beta sin(tau)."""
+    return -alpha * jnp.cos(tau) - alpha * beta * jnp.sin(tau)
+
+
+class FlightPoint(NamedTuple):
+    """Displacement from the start ``ds = s - s0``, velocity ``v = sdot`` and acceleration ``a = s''``."""
+
+    ds: jnp.ndarray
+    v: jnp.ndarray
+    a: jnp.ndarray
+
+
+def flight(t, tau0, sdot0, alpha, beta, gamma) -> FlightPoint:
+    """Closed-form flight, Eqs. (7)-(8), ``t = tau - tau0 >= 0`` after leaving ``(tau0, s0, sdot0)``.
+
+    Returns ``ds = s(tau) - s0`` (add ``s0`` yourself: the gap to the start wall is ``ds`` itself,
+    exactly), ``v = sdot(tau)`` and ``a = s''(tau)``.
+    """
+    sh, ch = jnp.sin(0.5 * t), jnp.cos(0.5 * t)
+    s0, c0 = jnp.sin(tau0), jnp.cos(tau0)
+    bt = beta * t
+    e = jnp.exp(-bt)
+    p1 = phi1(bt)
+    p2 = phi2(bt)
+    sc = sinc(0.5 * t)
+    q = -0.5 * alpha * s0 * sc * sc + alpha * c0 * (beta * p2 - t * sigma(t)) + gamma * p2
+    ds = t * sdot0 * p1 + t * t * q
+    sin_mid = s0 * ch + c0 * sh  # sin(tau0 + t/2)
+    v = sdot0 * e + t * (-alpha * sin_mid * sc + (alpha * beta * c0 + gamma) * p1)
+    # sin/cos(tau0 + t) by the double-angle of t/2 (no further transcendental calls)
+    st, ct = 2.0 * sh * ch, 1.0 - 2.0 * sh * sh
+    sin_t = s0 * ct + c0 * st
+    cos_t = c0 * ct - s0 * st
+    a = -alpha * sin_t + alpha * beta * cos_t + gamma - beta * v
+    return FlightPoint(ds, v, a)
+
+
+def flight_textbook(t, tau0, s0, sdot0, alpha, beta, gamma):
+    """Eqs. (7)-(8) exactly as printed in the paper (for tests; cancels badly for small beta).
+
+    Returns ``(s, sdot)``.
+    """
+    tau = tau0 + t
+    c = sdot0 - alpha * jnp.cos(tau0) - gamma / beta
+    e = jnp.exp(-beta * t)
+    s = s0 + alpha * (jnp.sin(tau) - jnp.sin(tau0)) + gamma / beta * t + (1.0 - e) / beta * c
+    v = alpha * jnp.cos(tau) + c * e + gamma / beta
+    return s, v
+
+
+def derivative_bounds(t, tau0, sdot0, alpha, beta, gamma):
+    """Bounds on |s''|, |s'''|, |s''''| valid for all flight times ``>= t`` (Eq. 3 differentiated).
+
+    With ``B = beta (sdot0 - alpha cos tau0) - gamma`` one has
+    ``s'' = -alpha sin(tau) - B e^{-beta t}``, ``s''' = -alpha cos(tau) + beta B e^{-beta t}``,
+    ``s'''' = alpha sin(tau) - beta^2 B e^{-beta t}``, and ``e^{-beta t}`` decreases.
+    """
+    b = jnp.abs(beta * (sdot0 - alpha * jnp.cos(tau0)) - gamma) * jnp.exp(-beta * t)
+    return alpha + b, alpha + beta * b, alpha + beta * beta * b
+
+
+def reduce_phase(theta, cycles):
+    """Reduce ``theta`` into [0, 2 pi), carrying whole turns into the integer ``cycles``.
+
+    Uses a two-term (Cody-Waite) 2*pi so that long orbits do not drift in phase.
+    """
+    m = jnp.floor(theta / TWO_PI)
+    th = (theta - m * TWO_PI_HI) - m * TWO_PI_LO
+    # guard the rare rounding to exactly 2*pi or just below 0
+    adj = jnp.where(th >= TWO_PI, 1.0, jnp.where(th < 0.0, -1.0, 0.0))
+    th = (th - adj * TWO_PI_HI) - adj * TWO_PI_LO
+    th = jnp.clip(th, 0.0, jnp.nextafter(TWO_PI, 0.0))
+    return th, cycles + (m + adj).astype(cycles.dtype)

@@ -1,0 +1,178 @@
+"""The impact map, Eqs. (12)-(13): pre-impact state n -> pre-impact state n+1.
+
+Map state just before impact n: phase ``theta_n = tau_n mod 2 pi``, whole turns ``cycles`` (so the
+elapsed time is ``2 pi cycles + theta`` without losing the phase's digits), velocity ``sdot_n`` and
+the wall being hit (0: ``s = 0``, reached with ``sdot > 0``; -1: ``s = -1``, reached with
+``sdot < 0``).  One step
+
+1. resets ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy of :mod:`mapimpl.sticking`,
+   jumps to the chatter accumulation point, sticks and releases with ``sdot = 0``;
+2. finds the *first* later wall contact with :func:`mapimpl.finder.first_impact` (Eqs. 7-8);
+3. returns the new pre-impact state, which satisfies Eqs. (12)-(13).
+
+It also returns the analytic Jacobian of ``(tau_n, sdot_n) -> (tau_{n+1}, sdot_{n+1})`` obtained by
+implicit differentiation of the impact condition ``s(tau_{n+1}) = wall_{n+1}``:
+
+    d tau1/d tau  = (sdot0 + E1 a0) / v1,          d tau1/d sdot  = r E1 / v1,
+    d v1/d tau    = a1 d tau1/d tau - E a0,          d v1/d sdot    = a1 d tau1/d sdot - r E,
+
+with ``sdot0 = -r sdot_n``, ``E = exp(-beta dt)``, ``E1 = (1 - E)/beta``, ``a0 = f(tau_n) - beta sdot0``
+and ``a1 = f(tau_{n+1}) - beta v1`` the accelerations after and before the impacts.  Its determinant
+is ``det J = r^2 exp(-beta dt) sdot_n / sdot_{n+1}`` (proof in ``docs/model.md``).  A step that
+sticks forgets its input: ``J = 0``.
+
+All kernels take scalars; :mod:`mapimpl.batch` vmaps them.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from mapimpl import _jax  # noqa: F401
+import jax
+import jax.numpy as jnp
+
+from mapimpl.finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
+from mapimpl.flight import TWO_PI, forcing, phi1, reduce_phase
+from mapimpl.params import ParamArrays
+from mapimpl.sticking import STICK_TIME, decide_stick
+
+#: Orbit status codes: ACTIVE orbits go on; the others are terminal (the state is frozen).
+ACTIVE, STUCK_FOREVER, ESCAPED, FAILED = 0, 1, 2, 3
+ORBIT_STATUS_NAMES = {ACTIVE: "active", STUCK_FOREVER: "stuck_forever", ESCAPED: "no_impact", FAILED: "step_cap"}
+
+
+class MapState(NamedTuple):
+    """Pre-impact state of the map (see module docstring); ``status`` is an orbit status code."""
+
+    theta: jnp.ndarray
+    cycles: jnp.ndarray
+    sdot: jnp.ndarray
+    wall: jnp.ndarray
+    status: jnp.ndarray
+
+    @property
+    def tau(self):
+        """Elapsed time ``2 pi cycles + theta`` (float64; loses digits for very long orbits)."""
+        return self.cycles * TWO_PI + self.theta
+
+
+class StepInfo(NamedTuple):
+    """What happened during one map step.
+
+    ``stuck``: the step stuck to the wall (a sticking episode); ``stick_tau`` / ``release_tau``:
+    elapsed times of sticking and release (NaN if none); ``dt``: time from impact n to impact n+1;
+    ``graze``: the new impact touches the wall at zero velocity to within rounding;
+    ``steps``: safe steps of the first-impact search; ``jac``: 2x2 Jacobian (0 if stuck).
+    """
+
+    stuck: jnp.ndarray
+    stick_tau: jnp.ndarray
+    release_tau: jnp.ndarray
+    dt: jnp.ndarray
+    graze: jnp.ndarray
+    steps: jnp.ndarray
+    jac: jnp.ndarray
+
+
+def make_state(tau, sdot, wall=None, status=ACTIVE) -> MapState:
+    """Map state from an elapsed time and pre-impact velocity; the wall follows the sign of ``sdot``
+    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1) unless given."""
+    tau = jnp.asarray(tau, jnp.float64)
+    sdot = jnp.asarray(sdot, jnp.float64)
+    if wall is None:
+        wall = jnp.where(sdot > 0.0, 0, -1)
+    theta, cycles = reduce_phase(tau, jnp.zeros(jnp.shape(tau), jnp.int64))
+    return MapState(theta, cycles, sdot, jnp.asarray(wall, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
+                    jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32))
+
+
+def _jacobian(theta0, sdot_n, v0, dt, theta1, v1, p: ParamArrays):
+    alpha, beta, gamma, r = p
+    e = jnp.exp(-beta * dt)
+    e1 = dt * phi1(beta * dt)
+    a0 = forcing(theta0, alpha, beta, gamma) - beta * v0
+    a1 = forcing(theta1, alpha, beta, gamma) - beta * v1
+    dt1_dtau = (v0 + e1 * a0) / v1
+    dt1_dsd = r * e1 / v1
+    return jnp.array([[dt1_dtau, dt1_dsd], [a1 * dt1_dtau - e * a0, a1 * dt1_dsd - r * e]])
+
+
+def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
+    """One application of the impact map (Eqs. 11-13 with the sticking policy). Scalar state.
+
+    Returns ``(new_state, StepInfo)``.  Terminal states are returned unchanged.
+    """
+    alpha, beta, gamma, r = p
+    th, wall, sd = state.theta, state.wall, state.sdot
+    dec = decide_stick(th, wall, sd, alpha, beta, gamma, r, stick_time)
+    never = dec.stick & ~jnp.isfinite(dec.delay)
+    delay = jnp.where(dec.stick & ~never, dec.delay, 0.0)
+    th0, cyc0 = reduce_phase(th + delay, state.cycles)
+    v0 = jnp.where(dec.stick, 0.0, -r * sd)
+    s0 = wall.astype(jnp.float64)
+    hit = first_impact(th0, s0, v0, alpha, beta, gamma, t_max=t_max)
+    th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
+    ok = (hit.status == HIT) | (hit.status == GRAZE)
+    status = jnp.where(
+        state.status != ACTIVE, state.status,
+        jnp.where(never, STUCK_FOREVER,
+                  jnp.where(ok, ACTIVE, jnp.where(hit.status == NO_IMPACT, ESCAPED, FAILED))),
+    ).astype(jnp.int32)
+    advance = status == ACTIVE
+    new = MapState(
+        theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
+        sdot=jnp.where(advance, hit.v, sd), wall=jnp.where(advance, hit.wall, wall), status=status,
+    )
+    tau_n = state.tau
+    jac = _jacobian(th, sd, v0, hit.t, th1, hit.v, p)
+    jac = jnp.where(dec.stick, jnp.zeros((2, 2)), jac)
+    nan = jnp.nan
+    info = StepInfo(
+        stuck=dec.stick & (state.status == ACTIVE),
+        stick_tau=jnp.where(dec.stick, tau_n + dec.t_acc, nan),
+        release_tau=jnp.where(dec.stick & ~never, tau_n + delay, nan),
+        dt=jnp.where(advance, delay + hit.t, nan),
+        graze=(hit.status == GRAZE) & advance,
+        steps=hit.steps,
+        jac=jnp.where(advance, jac, nan),
+    )
+    return new, info
+
+
+def free_flight_start(tau0, s0, sdot0, p: ParamArrays, t_max=T_MAX) -> MapState:
+    """First pre-impact state of the flight leaving a free state ``(tau0, s0, sdot0)``, ``-1 < s0 < 0``
+    (or on a wall, moving away from it).  Scalar inputs."""
+    alpha, beta, gamma, _ = p
+    th0, cyc0 = reduce_phase(jnp.asarray(tau0, jnp.float64), jnp.asarray(0, jnp.int64))
+    hit = first_impact(th0, jnp.asarray(s0, jnp.float64), jnp.asarray(sdot0, jnp.float64), alpha, beta, gamma,
+                       t_max=t_max)
+    th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
+    ok = (hit.status == HIT) | (hit.status == GRAZE)
+    status = jnp.where(ok, ACTIVE, jnp.where(hit.status == NO_IMPACT, ESCAPED, FAILED)).astype(jnp.int32)
+    return MapState(jnp.where(ok, th1, th0), jnp.where(ok, cyc1, cyc0), jnp.where(ok, hit.v, sdot0),
+                    jnp.where(ok, hit.wall, 0).astype(jnp.int32), status)
+
+
+class Trajectory(NamedTuple):
+    """Stacked pre-impact states (leading axis: impact index 1..n) and step infos."""
+
+    states: MapState
+    infos: StepInfo
+
+
+def iterate(state: MapState, p: ParamArrays, n: int, stick_time=STICK_TIME, t_max=T_MAX) -> Trajectory:
+    """Apply the map ``n`` times (``lax.scan``), recording every pre-impact state and step info."""
+
+    def body(s, _):
+        s1, info = step(s, p, stick_time, t_max)
+        return s1, (s1, info)
+
+    _, (states, infos) = jax.lax.scan(body, state, None, length=n)
+    return Trajectory(states, infos)
+
+
+__all__ = [
+    "ACTIVE", "STUCK_FOREVER", "ESCAPED", "FAILED", "ORBIT_STATUS_NAMES", "MapState", "StepInfo", "Trajectory",
+    "make_state", "step", "iterate", "free_flight_start", "HIT", "GRAZE", "NO_IMPACT", "STEP_CAP",
+]

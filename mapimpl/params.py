@@ -1,0 +1,120 @@
+"""Model parameters of Eq. (3) and their validation.
+
+The nondimensional parameters are defined in Eqs. (4)-(6) of the paper:
+``alpha`` (driving amplitude), ``beta`` (damping), ``gamma`` (constant torque term) and the
+restitution coefficient ``r`` of Eq. (11).  The allowed ranges are
+
+=========  ==========================
+alpha      finite, ``alpha >= 0``
+beta       finite, ``beta > 0``
+gamma      finite (any sign)
+r          finite, ``0 < r <= 1``
+=========  ==========================
+
+``Params`` is the immutable, validated object used by the library and the CLI.  Kernels that are
+vectorised over parameter values take :class:`ParamArrays` (a JAX pytree of float64 arrays);
+:func:`validate_arrays` checks such arrays with the same rules.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from mapimpl import _jax  # noqa: F401  (enables float64)
+import jax.numpy as jnp
+
+#: Human-readable allowed range of each parameter, used in error messages.
+RANGES: dict[str, str] = {
+    "alpha": "alpha >= 0",
+    "beta": "beta > 0",
+    "gamma": "any finite real",
+    "r": "0 < r <= 1",
+}
+
+
+def _check(name: str, ok: bool, value: object) -> None:
+    if not ok:
+        raise ValueError(f"parameter {name}={value!r} is out of range: allowed {RANGES[name]} (finite)")
+
+
+def check_value(name: str, value: float) -> float:
+    """Validate one parameter value and return it as a Python float.
+
+    Raises ``ValueError`` naming the parameter and its allowed range.
+    """
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter {name}={value!r} is not a number: allowed {RANGES[name]} (finite)") from None
+    finite = math.isfinite(x)
+    if name == "alpha":
+        _check(name, finite and x >= 0.0, value)
+    elif name == "beta":
+        _check(name, finite and x > 0.0, value)
+    elif name == "gamma":
+        _check(name, finite, value)
+    elif name == "r":
+        _check(name, finite and 0.0 < x <= 1.0, value)
+    else:  # pragma: no cover - programming error
+        raise KeyError(name)
+    return x
+
+
+class ParamArrays(NamedTuple):
+    """Parameters as float64 JAX arrays (scalars or broadcastable batches) for the kernels."""
+
+    alpha: jnp.ndarray
+    beta: jnp.ndarray
+    gamma: jnp.ndarray
+    r: jnp.ndarray
+
+
+@dataclass(frozen=True)
+class Params:
+    """Validated, immutable parameter set (alpha, beta, gamma, r) of Eqs. (3)-(6) and (11)."""
+
+    alpha: float
+    beta: float
+    gamma: float
+    r: float
+
+    def __post_init__(self) -> None:
+        for name in ("alpha", "beta", "gamma", "r"):
+            object.__setattr__(self, name, check_value(name, getattr(self, name)))
+
+    def arrays(self) -> ParamArrays:
+        """The parameters as float64 JAX scalars, for the kernels."""
+        return ParamArrays(*(jnp.asarray(v, dtype=jnp.float64) for v in (self.alpha, self.beta, self.gamma, self.r)))
+
+    def replace(self, **changes: float) -> "Params":
+        """A copy with some parameters changed (validated again)."""
+        d = {"alpha": self.alpha, "beta": self.beta, "gamma": self.gamma, "r": self.r}
+        d.update(changes)
+        return Params(**d)
+
+
+#: The parameters of the paper's Figs. 3-7 (alpha = 3, beta = gamma = 0.1, r = 0.9).
+PAPER_FIG3 = Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
+
+
+def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:
+    """Validate (broadcastable) arrays of parameters; raise ``ValueError`` naming the first bad one."""
+    out = []
+    for name, v in (("alpha", alpha), ("beta", beta), ("gamma", gamma), ("r", r)):
+        a = np.asarray(v, dtype=np.float64)
+        bad = ~np.isfinite(a)
+        if name == "alpha":
+            bad |= a < 0
+        elif name == "beta":
+            bad |= a <= 0
+        elif name == "r":
+            bad |= (a <= 0) | (a > 1)
+        if np.any(bad):
+            first = a[bad].flat[0] if a.ndim else a.item()
+            _check(name, False, float(first))
+        out.append(jnp.asarray(a))
+    return ParamArrays(*out)

@@ -1,0 +1,77 @@
+"""Chatter and sticking policy (shared by every track).
+
+After an impact at a wall with post-impact speed ``u = r |sdot|``, while the forcing ``f`` of
+Eq. (3) presses the tooth into that wall (``f > 0`` at ``s = 0``, ``f < 0`` at ``s = -1``; call the
+pressing magnitude ``f_in > 0``), the following bounces have flight times close to ``2 u r^k / f_in``
+and accumulate (complete chatter) after
+
+    t_acc = 2 u / ((1 - r) f_in).
+
+**Policy.**  When ``t_acc <= STICK_TIME`` (default 1e-6 in units of tau) and the forcing still presses
+at the accumulation point, the infinitely many remaining bounces are replaced by their accumulation
+point: the tooth *sticks* to the wall at ``tau + t_acc`` with ``s = wall``, ``sdot = 0``.  It stays
+there until the contact acceleration ``f`` changes sign, found in closed form
+(``f = gamma - R sin(tau - phi)``, ``R = alpha sqrt(1 + beta^2)``, ``phi = atan(beta)``), and then
+leaves the wall with ``sdot = 0``.  The error of the jump is ``O(t_acc^2)`` in time
+(below 1e-10 for the default).  When ``|gamma| >= R`` the forcing never changes sign and the tooth
+stays stuck forever (a terminal state of the orbit).  With ``r = 1`` nothing accumulates and there
+is no sticking.  An impact with ``u = 0`` while pressed (grazing into a pressing wall) sticks at once.
+
+Every map step that sticks counts one sticking episode; the bounces between the last computed
+impact and the accumulation point are not counted as impacts.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from mapimpl import _jax  # noqa: F401
+import jax.numpy as jnp
+
+from mapimpl.flight import TWO_PI, forcing, forcing_rate
+
+#: Predicted chatter accumulation time below which the tooth is stuck to the wall (units of tau).
+STICK_TIME = 1e-6
+
+
+def wall_direction(wall):
+    """+1 for the upper wall (``wall == 0``, ``s = 0``), -1 for the lower wall (``wall == -1``)."""
+    return jnp.where(wall == 0, 1.0, -1.0)
+
+
+def release_delay(theta, wall, alpha, beta, gamma):
+    """Time from phase ``theta`` until the contact force at ``wall`` stops pressing (``inf`` if never).
+
+    The release is the first downward zero crossing of ``dir * f`` after ``theta`` (closed form).
+    """
+    R = alpha * jnp.sqrt(1.0 + beta * beta)
+    phi = jnp.arctan(beta)
+    Rs = jnp.where(R > 0.0, R, 1.0)
+    c = gamma / Rs
+    never = (R <= 0.0) | (jnp.where(wall == 0, c, -c) >= 1.0)
+    cc = jnp.clip(c, -1.0, 1.0)
+    psi = jnp.where(wall == 0, jnp.arcsin(cc), jnp.pi - jnp.arcsin(cc))
+    delay = jnp.mod(phi + psi - theta, TWO_PI)
+    return jnp.where(never, jnp.inf, delay)
+
+
+class StickDecision(NamedTuple):
+    """``stick``: the tooth sticks; ``t_acc``: accumulation delay; ``delay``: release delay from
+    the impact (``inf`` = stuck forever)."""
+
+    stick: jnp.ndarray
+    t_acc: jnp.ndarray
+    delay: jnp.ndarray
+
+
+def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:
+    """Apply the sticking policy to an impact at phase ``theta`` on ``wall`` with pre-impact ``sdot``."""
+    d = wall_direction(wall)
+    u = r * jnp.abs(sdot)
+    f_in = d * forcing(theta, alpha, beta, gamma)
+    pressing = (f_in > 0.0) | ((f_in == 0.0) & (d * forcing_rate(theta, alpha, beta) > 0.0))
+    denom = (1.0 - r) * f_in
+    t_acc = jnp.where(u == 0.0, 0.0, jnp.where(denom > 0.0, 2.0 * u / jnp.where(denom > 0.0, denom, 1.0), jnp.inf))
+    delay = release_delay(theta, wall, alpha, beta, gamma)
+    stick = pressing & (t_acc <= stick_time) & (delay > t_acc)
+    return StickDecision(stick, t_acc, delay)
