@@ -37,7 +37,8 @@ TWO_PI = 2.0 * jnp.pi
 TWO_PI_HI = 6.28318530717958623200e00
 TWO_PI_LO = 2.44929359829470635446e-16
 
-_SERIES_X = 0.5  # below this argument the phi2 / sigma functions use their Taylor series
+_SERIES_X = 1.0  # below this argument phi1 / phi2 use their Taylor series (direct form: < 2 ulp)
+_SIGMA_T = 1.5  # below this |t| sigma uses its Taylor series
 
 
 def _horner(x, coeffs):
@@ -57,14 +58,14 @@ def _inv_factorials(start: int, n: int) -> list[float]:
 
 
 # phi1(x) = sum_k (-x)^k / (k+1)!
-_PHI1_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(1, 17))]
+_PHI1_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(1, 20))]
 # phi2(x) = sum_k (-x)^k / (k+2)!  ;  sigma(t) = sum_k (-t^2)^k / (2k+3)!
-_PHI2_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(2, 16))]
-_SIGMA_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:9])]
+_PHI2_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(2, 20))]
+_SIGMA_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:14])]
 
 
 def phi1(x):
-    """(1 - exp(-x)) / x, limit 1 at x = 0; expm1 form, Taylor series for x < 0.5 (smooth at 0)."""
+    """(1 - exp(-x)) / x, limit 1 at x = 0; expm1 form, Taylor series for x < 1 (smooth at 0)."""
     big = x >= _SERIES_X
     xb = jnp.where(big, x, 1.0)
     series = _horner(jnp.where(big, 0.0, x), _PHI1_COEFFS)
@@ -72,7 +73,7 @@ def phi1(x):
 
 
 def phi2(x):
-    """(x - 1 + exp(-x)) / x^2, limit 1/2 at x = 0; Taylor series for x < 0.5, no cancellation."""
+    """(x - 1 + exp(-x)) / x^2, limit 1/2 at x = 0; Taylor series for x < 1, no cancellation."""
     big = x >= _SERIES_X
     xb = jnp.where(big, x, 1.0)
     direct = (xb + jnp.expm1(-xb)) / (xb * xb)
@@ -81,8 +82,8 @@ def phi2(x):
 
 
 def sigma(t):
-    """(t - sin t) / t^3, limit 1/6 at t = 0; Taylor series for |t| < 0.5."""
-    big = jnp.abs(t) >= _SERIES_X
+    """(t - sin t) / t^3, limit 1/6 at t = 0; Taylor series for |t| < 1.5."""
+    big = jnp.abs(t) >= _SIGMA_T
     tb = jnp.where(big, t, 1.0)
     direct = (tb - jnp.sin(tb)) / (tb * tb * tb)
     ts = jnp.where(big, 0.0, t)
