@@ -1,0 +1,244 @@
+"""Bifurcation diagrams of the impact map (Figs. 4a and 8a) and the long-orbit recording kernel shared
+by the Lyapunov, intermittency and crisis analyses.
+
+Everything is vectorised with JAX: :func:`record` runs a batch of orbits (one per parameter value or
+initial condition) in chunks of ``lax.scan`` steps, keeping only ``(theta, sdot, wall)`` of each
+pre-impact state (plus the number of sticking steps), so that orbits of millions of impacts fit in
+memory and a progress callback can report between chunks.
+
+Two kinds of diagram (:func:`bifurcation_diagram`):
+
+* ``mode="fixed"``: every parameter value starts from the same initial condition (vmapped);
+* ``mode="sweep"``: a continuation sweep -- the final state at one parameter value is the initial
+  state at the next (a ``lax.scan`` over the parameter values), which follows one attractor through
+  hysteresis and shows the other side of a crisis.
+
+Transients (``transient`` impacts) are discarded, then ``keep`` impacts are recorded.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from mapimpl import _jax  # noqa: F401
+import jax
+import jax.numpy as jnp
+
+from mapimpl.impact_map import ACTIVE, MapState, make_state, step
+from mapimpl.params import ParamArrays, Params, validate_arrays
+
+#: Parameters a diagram can vary.
+DIAGRAM_PARAMS = ("r", "alpha")
+#: Hard caps that keep a run bounded.
+MAX_POINTS = 20000
+MAX_IMPACTS = 50_000_000
+CHUNK = 20000
+
+
+def check_int(name: str, value, lo: int, hi: int) -> int:
+    """``value`` as an int in ``[lo, hi]`` or ValueError naming ``name`` and the range."""
+    try:
+        v = int(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
+    if v != value or not lo <= v <= hi:
+        raise ValueError(f"{name}={value!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
+    return v
+
+
+def param_arrays(base: Params, name: str, values) -> ParamArrays:
+    """ParamArrays with ``name`` set to the array ``values`` (validated) and the others from ``base``."""
+    if name not in DIAGRAM_PARAMS:
+        raise ValueError(f"parameter {name!r} is out of range: allowed one of {DIAGRAM_PARAMS}")
+    v = np.atleast_1d(np.asarray(values, dtype=np.float64))
+    d = {k: np.full(v.shape, getattr(base, k)) for k in ("alpha", "beta", "gamma", "r")}
+    d[name] = v
+    return validate_arrays(d["alpha"], d["beta"], d["gamma"], d["r"])
+
+
+def _axes(p: ParamArrays):
+    return ParamArrays(*(0 if jnp.ndim(x) else None for x in p))
+
+
+def _run_rec(st: MapState, p: ParamArrays, n: int):
+    def body(s, _):
+        s1, info = step(s, p)
+        return s1, (s1.theta, s1.sdot, s1.wall, info.stuck, s1.status == ACTIVE)
+
+    return jax.lax.scan(body, st, None, length=n)
+
+
+@partial(jax.jit, static_argnums=(2,))
+def _rec_batch(st: MapState, p: ParamArrays, n: int):
+    return jax.vmap(_run_rec, in_axes=(0, _axes(p), None))(st, p, n)
+
+
+@partial(jax.jit, static_argnums=(2,))
+def _adv_batch(st: MapState, p: ParamArrays, n: int):
+    def one(s, pp):
+        return jax.lax.fori_loop(0, n, lambda _, x: step(x, pp)[0], s)
+
+    return jax.vmap(one, in_axes=(0, _axes(p)))(st, p)
+
+
+@dataclass
+class Record:
+    """Recorded orbits: arrays of shape ``(batch, n)`` and the final states."""
+
+    theta: np.ndarray
+    sdot: np.ndarray
+    wall: np.ndarray
+    stuck: np.ndarray
+    active: np.ndarray
+    cycles0: np.ndarray
+    final: MapState
+    tau_first: np.ndarray = field(default=None)
+
+
+def advance(st: MapState, p: ParamArrays, n: int, chunk: int = CHUNK, progress=None) -> MapState:
+    """Advance a batch ``n`` impacts without recording (in chunks, for progress reports)."""
+    n = check_int("transient", n, 0, MAX_IMPACTS)
+    done = 0
+    while done < n:
+        k = min(chunk, n - done)
+        st = _adv_batch(st, p, k)
+        done += k
+        if progress is not None:
+            progress(done, n)
+    return st
+
+
+def record(st: MapState, p: ParamArrays, n: int, chunk: int = CHUNK, progress=None) -> Record:
+    """Run a batch ``n`` impacts and record ``theta, sdot, wall, stuck, active`` of every state."""
+    n = check_int("n", n, 1, MAX_IMPACTS)
+    outs = []
+    done = 0
+    cyc0 = np.asarray(st.cycles)
+    while done < n:
+        k = min(chunk, n - done)
+        st, rec = _rec_batch(st, p, k)
+        outs.append([np.asarray(a) for a in rec])
+        done += k
+        if progress is not None:
+            progress(done, n)
+    cat = [np.concatenate([o[i] for o in outs], axis=1) for i in range(5)]
+    return Record(cat[0], cat[1], cat[2], cat[3], cat[4], cyc0, st)
+
+
+@partial(jax.jit, static_argnums=(2, 3))
+def _sweep(st0: MapState, p: ParamArrays, transient: int, keep: int):
+    def one_param(s, pp):
+        s = make_state(s.theta, s.sdot, s.wall)  # reset cycles and status
+        s = jax.lax.fori_loop(0, transient, lambda _, x: step(x, pp)[0], s)
+
+        def body(x, _):
+            x1, _info = step(x, pp)
+            return x1, (x1.sdot, x1.theta, x1.status == ACTIVE)
+
+        s, rec = jax.lax.scan(body, s, None, length=keep)
+        return s, rec
+
+    _, rec = jax.lax.scan(one_param, st0, p)
+    return rec
+
+
+@dataclass
+class Diagram:
+    """A bifurcation diagram: ``values`` (n,), recorded ``sdot`` and ``theta`` (n, keep)."""
+
+    param: str
+    values: np.ndarray
+    sdot: np.ndarray
+    theta: np.ndarray
+    active: np.ndarray
+    mode: str
+    base: Params
+    transient: int
+    keep: int
+
+    def n_distinct(self, tol: float = 1e-6) -> np.ndarray:
+        """Number of distinct ``sdot`` values (to ``tol``) at each parameter value."""
+        out = []
+        for row in self.sdot:
+            s = np.sort(row[np.isfinite(row)])
+            out.append(1 + int(np.sum(np.diff(s) > tol)) if s.size else 0)
+        return np.array(out)
+
+    def save_npz(self, path: str) -> None:
+        np.savez_compressed(path, param=self.param, values=self.values, sdot=self.sdot, theta=self.theta,
+                            active=self.active, mode=self.mode, transient=self.transient, keep=self.keep,
+                            alpha=self.base.alpha, beta=self.base.beta, gamma=self.base.gamma, r=self.base.r)
+
+    def to_csv(self) -> str:
+        lines = [f"{self.param},n,theta,sdot"]
+        for i, v in enumerate(self.values):
+            for j in range(self.sdot.shape[1]):
+                if self.active[i, j]:
+                    lines.append(f"{v!r},{j},{self.theta[i, j]!r},{self.sdot[i, j]!r}")
+        return "\n".join(lines) + "\n"
+
+
+def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values: int = 200,
+                        transient: int = 1000, keep: int = 200, mode: str = "fixed", tau0: float = 0.0,
+                        sdot0: float = 0.5, reverse: bool = False, progress=None) -> Diagram:
+    """sdot_n against ``param`` in ``[lo, hi]`` (Fig. 4a: ``param="r"``, alpha = 3; Fig. 8a:
+    ``param="alpha"``, r = 0.9), ``transient`` impacts discarded, ``keep`` recorded.
+
+    ``mode="fixed"``: every value starts from ``(tau0, sdot0)``; ``mode="sweep"``: the state is carried
+    from value to value (from ``hi`` down to ``lo`` when ``reverse``).
+    """
+    if mode not in ("fixed", "sweep"):
+        raise ValueError(f"mode={mode!r} is out of range: allowed 'fixed' or 'sweep'")
+    n_values = check_int("n_values", n_values, 1, MAX_POINTS)
+    transient = check_int("transient", transient, 0, MAX_IMPACTS)
+    keep = check_int("keep", keep, 1, 100000)
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
+        raise ValueError(f"range lo={lo!r}, hi={hi!r} is out of range: allowed finite lo <= hi")
+    if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):
+        raise ValueError(f"sdot0={sdot0!r} is out of range: allowed finite sdot0 != 0 (and finite tau0)")
+    values = np.linspace(lo, hi, n_values)
+    if reverse:
+        values = values[::-1]
+    p = param_arrays(base, param, values)
+    if mode == "fixed":
+        st = make_state(np.full(n_values, tau0), np.full(n_values, sdot0))
+        st = advance(st, p, transient, progress=progress)
+        rec = record(st, p, keep)
+        sd, th, act = rec.sdot, rec.theta, rec.active
+    else:
+        st = make_state(jnp.asarray(tau0), jnp.asarray(sdot0))
+        sd, th, act = (np.asarray(a) for a in _sweep(st, p, transient, keep))
+        if progress is not None:
+            progress(n_values, n_values)
+    sd = np.where(act, sd, np.nan)
+    return Diagram(param, values, sd, th, act, mode, base, transient, keep)
+
+
+def plot_diagram(diag: Diagram, path: str, lyap=None, title: str | None = None) -> None:
+    """Draw the diagram (and, if given, the Lyapunov exponents ``(values, lambdas (n, 2))`` below it)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = 2 if lyap is not None else 1
+    fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.5), sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    x = np.repeat(diag.values, diag.sdot.shape[1])
+    ax.plot(x, diag.sdot.ravel(), ",k", alpha=0.5)
+    ax.set_ylabel(r"$\dot s_n$")
+    ax.set_title(title or f"bifurcation diagram ({diag.mode}), {diag.param} varied")
+    if lyap is not None:
+        v, lam = lyap
+        axes[1, 0].plot(v, lam[:, 0], "-", lw=0.8, label=r"$\lambda_1$")
+        axes[1, 0].plot(v, lam[:, 1], "-", lw=0.8, label=r"$\lambda_2$")
+        axes[1, 0].axhline(0, color="gray", lw=0.5)
+        axes[1, 0].set_ylabel("Lyapunov exponents (per impact)")
+        axes[1, 0].legend(fontsize=8)
+    axes[-1, 0].set_xlabel(diag.param)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)

@@ -1,0 +1,342 @@
+"""Periodic orbits of the impact map: Floquet multipliers, pseudo-arclength continuation in ``r`` or
+``alpha``, and fold (multiplier +1) / flip (multiplier -1) points by Newton on the extended system.
+
+"Period-m with p impacts" means that p map steps (Eqs. 12-13) advance the time by exactly
+``2 pi m`` and return the velocity.  The orbit is a zero of
+
+    G(tau, sdot; mu) = (tau_p - tau - 2 pi m,  sdot_p - sdot),
+
+with ``(tau_p, sdot_p)`` the p-fold map (:func:`mapimpl.periodic.pfold`, which also gives the exact
+Jacobian ``M = DF^p`` as the product of the analytic step Jacobians).  The Floquet multipliers are the
+eigenvalues of ``M``; their product is ``prod_n r^2 exp(-beta dt_n) sdot_n / sdot_{n+1}``
+= ``r^(2p) exp(-2 pi m beta)`` on a periodic orbit (the velocities telescope), which
+:func:`closed_form_det` returns as an independent check.
+
+Continuation (``mu`` = ``r`` or ``alpha``): unknowns ``y = (tau, sdot, mu)``; the 2x3 Jacobian
+``[M - I | dG/dmu]`` (``dG/dmu`` by central differences of the p-fold map) gives the tangent (its null
+vector); predictor ``y + h t``, corrector Newton on ``(G(y), t . (y - y_pred)) = 0``.
+
+Bifurcation points: a fold of the branch has ``det(M - I) = 0`` (a multiplier +1), a flip has
+``det(M + I) = 0`` (a multiplier -1).  Both are located by Newton on the 3x3 extended system
+``(G, det(M -/+ I)) = 0`` in ``(tau, sdot, mu)``, with the analytic ``M`` in the residual and a
+finite-difference Jacobian (which affects only the convergence rate, not the root).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mapimpl import _jax  # noqa: F401
+import jax.numpy as jnp
+
+from mapimpl.flight import TWO_PI
+from mapimpl.impact_map import make_state, step
+from mapimpl.params import ParamArrays, Params, check_value
+from mapimpl.periodic import find_periodic, pfold
+
+#: Parameters that can be continued.
+CONTINUATION_PARAMS = ("r", "alpha")
+_TWO_PI = float(TWO_PI)
+
+
+def _check_mu_name(name: str) -> str:
+    if name not in CONTINUATION_PARAMS:
+        raise ValueError(f"continuation parameter {name!r} is out of range: allowed one of {CONTINUATION_PARAMS}")
+    return name
+
+
+def _check_counts(impacts: int, turns: int) -> tuple[int, int]:
+    if int(impacts) != impacts or int(impacts) < 1:
+        raise ValueError(f"impacts={impacts!r} is out of range: allowed an integer >= 1")
+    if int(turns) != turns or int(turns) < 1:
+        raise ValueError(f"turns={turns!r} is out of range: allowed an integer >= 1")
+    return int(impacts), int(turns)
+
+
+def _arrays(params: Params, name: str, mu: float) -> ParamArrays:
+    d = {"alpha": params.alpha, "beta": params.beta, "gamma": params.gamma, "r": params.r}
+    d[name] = mu
+    return ParamArrays(*(jnp.asarray(d[k], jnp.float64) for k in ("alpha", "beta", "gamma", "r")))
+
+
+def closed_form_det(params: Params, impacts: int, turns: int = 1) -> float:
+    """Product of the Floquet multipliers from the closed-form step determinants:
+    ``r^(2 p) exp(-2 pi m beta)`` for a p-impact, m-turn periodic orbit without sticking."""
+    impacts, turns = _check_counts(impacts, turns)
+    return float(params.r ** (2 * impacts) * np.exp(-_TWO_PI * turns * params.beta))
+
+
+class _Problem:
+    """The periodic-orbit residual for one base parameter set, one continued parameter, p, m."""
+
+    def __init__(self, params: Params, name: str, impacts: int, turns: int, wall: int):
+        self.params, self.name = params, _check_mu_name(name)
+        self.impacts, self.turns = _check_counts(impacts, turns)
+        self.wall = int(wall)
+        self.nfev = 0
+
+    def eval(self, y):
+        """``(G, M, ok)`` at ``y = (tau, sdot, mu)``."""
+        tau, sdot, mu = float(y[0]), float(y[1]), float(y[2])
+        if not np.isfinite(mu) or (self.name == "r" and not 0.0 < mu <= 1.0) or (self.name == "alpha" and mu < 0):
+            return np.full(2, np.nan), np.full((2, 2), np.nan), False
+        self.nfev += 1
+        tp, sp, J, _walls, stuck, ok = pfold(tau, sdot, _arrays(self.params, self.name, mu), self.impacts, self.wall)
+        good = bool(ok) and not bool(stuck) and np.sign(sdot) == (1.0 if self.wall == 0 else -1.0)
+        G = np.array([float(tp) - tau - _TWO_PI * self.turns, float(sp) - sdot])
+        return G, np.asarray(J, dtype=np.float64), good
+
+    def dG_dmu(self, y, G0=None):
+        h = 1e-7 * max(1.0, abs(y[2]))
+        if self.name == "r" and y[2] + h > 1.0:
+            Gm, _, okm = self.eval(y - np.array([0, 0, h]))
+            return (G0 - Gm) / h if G0 is not None else None
+        Gp, _, okp = self.eval(y + np.array([0, 0, h]))
+        Gm, _, okm = self.eval(y - np.array([0, 0, h]))
+        return (Gp - Gm) / (2 * h)
+
+    def test_fn(self, y, kind: str):
+        G, M, ok = self.eval(y)
+        sign = -1.0 if kind == "fold" else 1.0
+        return G, float(np.linalg.det(M + sign * np.eye(2))), ok
+
+
+@dataclass
+class OrbitPoint:
+    """One point of a branch: the pre-impact state ``(tau, sdot)`` (tau mod 2 pi), the parameter value
+    ``mu`` and the Floquet multipliers."""
+
+    tau: float
+    sdot: float
+    mu: float
+    multipliers: np.ndarray
+    residual: float
+
+    @property
+    def stable(self) -> bool:
+        return bool(np.all(np.abs(self.multipliers) < 1.0))
+
+
+@dataclass
+class BifurcationPoint:
+    """A fold (``kind = "fold"``, a multiplier +1) or flip (``"flip"``, a multiplier -1) point."""
+
+    kind: str
+    mu: float
+    tau: float
+    sdot: float
+    multipliers: np.ndarray
+    residual: float
+    converged: bool
+    iterations: int
+    param: str = "r"
+
+    def describe(self) -> str:
+        m = ", ".join(f"{complex(z).real:+.10f}" if abs(complex(z).imag) < 1e-12 else f"{complex(z):.6f}"
+                      for z in self.multipliers)
+        return (f"{self.kind} at {self.param} = {self.mu:.12f} (tau = {self.tau:.10f}, sdot = {self.sdot:.10f}; "
+                f"multipliers {m}; residual {self.residual:.1e}, {'converged' if self.converged else 'NOT converged'})")
+
+
+@dataclass
+class Branch:
+    """A continued branch of p-impact, m-turn periodic orbits and the bifurcation points found on it."""
+
+    params: Params
+    param: str
+    impacts: int
+    turns: int
+    points: list[OrbitPoint] = field(default_factory=list)
+    folds: list[BifurcationPoint] = field(default_factory=list)
+    flips: list[BifurcationPoint] = field(default_factory=list)
+    stop_reason: str = ""
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The branch as arrays: ``mu``, ``tau``, ``sdot``, ``mult_re``/``mult_im`` (n, 2), ``stable``."""
+        mult = np.array([np.sort_complex(np.asarray(p.multipliers, complex)) for p in self.points]).reshape(-1, 2)
+        return {
+            "mu": np.array([p.mu for p in self.points]), "tau": np.array([p.tau for p in self.points]),
+            "sdot": np.array([p.sdot for p in self.points]), "mult_re": mult.real, "mult_im": mult.imag,
+            "stable": np.array([p.stable for p in self.points]),
+        }
+
+
+def _newton(fun, y0, max_iter=30, tol=1e-12, fd_h=None):
+    """Newton with a forward-difference Jacobian for ``fun: R^3 -> R^3``; returns (y, res, iters, ok)."""
+    y = np.array(y0, dtype=np.float64)
+    res, it = np.inf, 0
+    for it in range(1, max_iter + 1):
+        F = fun(y)
+        if F is None or not np.all(np.isfinite(F)):
+            return y, np.inf, it, False
+        res = float(np.max(np.abs(F)))
+        if res < tol:
+            return y, res, it, True
+        Jm = np.empty((3, 3))
+        for j in range(3):
+            h = (fd_h or 1e-7) * max(1.0, abs(y[j]))
+            e = np.zeros(3); e[j] = h
+            Fp = fun(y + e)
+            if Fp is None or not np.all(np.isfinite(Fp)):
+                Fp = F; Fm = fun(y - e)
+                if Fm is None:
+                    return y, res, it, False
+                Jm[:, j] = (F - Fm) / h
+            else:
+                Jm[:, j] = (Fp - F) / h
+        try:
+            dy = np.linalg.solve(Jm, -F)
+        except np.linalg.LinAlgError:
+            return y, res, it, False
+        lam = 1.0
+        while lam > 1e-3:
+            Fn = fun(y + lam * dy)
+            if Fn is not None and np.all(np.isfinite(Fn)) and np.max(np.abs(Fn)) < (1 - 0.1 * lam) * res + 1e-15:
+                break
+            lam *= 0.5
+        y = y + lam * dy
+    F = fun(y)
+    res = float(np.max(np.abs(F))) if F is not None else np.inf
+    return y, res, it, res < tol
+
+
+def locate(params: Params, param: str, kind: str, tau: float, sdot: float, mu: float, impacts: int,
+           turns: int = 1, tol: float = 1e-11, max_iter: int = 40) -> BifurcationPoint:
+    """Newton on the extended system ``(G, det(M - I)) = 0`` (``kind="fold"``) or ``(G, det(M + I)) = 0``
+    (``kind="flip"``) from a guess ``(tau, sdot, mu)`` near the bifurcation point."""
+    if kind not in ("fold", "flip"):
+        raise ValueError(f"kind={kind!r} is out of range: allowed 'fold' or 'flip'")
+    prob = _Problem(params, param, impacts, turns, 0 if sdot > 0 else -1)
+
+    def fun(y):
+        G, d, ok = prob.test_fn(y, kind)
+        return np.array([G[0], G[1], d]) if ok else None
+
+    y, res, it, conv = _newton(fun, [tau, sdot, mu], max_iter=max_iter, tol=tol)
+    _, M, _ = prob.eval(y)
+    return BifurcationPoint(kind, float(y[2]), float(y[0] % _TWO_PI), float(y[1]), np.linalg.eigvals(M), res,
+                            bool(conv), it, param)
+
+
+def _tangent(A: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
+    # null vector of the 2x3 matrix A (last right-singular vector)
+    _, _, vt = np.linalg.svd(A)
+    t = vt[-1]
+    if prev is not None and float(t @ prev) < 0:
+        t = -t
+    return t / np.linalg.norm(t)
+
+
+def continue_orbit(params: Params, param: str, tau0: float, sdot0: float, impacts: int, turns: int = 1,
+                   mu_range: tuple[float, float] | None = None, direction: int = 1, ds: float = 2e-3, ds_max: float = 2e-2,
+                   max_points: int = 400, locate_points: bool = True, progress=None) -> Branch:
+    """Pseudo-arclength continuation of a p-impact, m-turn periodic orbit in ``param`` (``"r"`` or
+    ``"alpha"``) starting from the orbit through the guess ``(tau0, sdot0)`` at ``params``.
+
+    ``direction`` (+1/-1) is the initial sense of ``param``; the branch may turn at folds.  Stops after
+    ``max_points`` points, when ``param`` leaves ``mu_range = (lo, hi)``, or when the
+    corrector fails at the smallest step.  Folds and flips met on the way are located with
+    :func:`locate` when ``locate_points``.
+    """
+    name = _check_mu_name(param)
+    impacts, turns = _check_counts(impacts, turns)
+    if direction not in (1, -1):
+        raise ValueError(f"direction={direction!r} is out of range: allowed +1 or -1")
+    if not (np.isfinite(ds) and 0 < ds <= ds_max):
+        raise ValueError(f"ds={ds!r} is out of range: allowed 0 < ds <= ds_max={ds_max!r}")
+    if int(max_points) < 2:
+        raise ValueError(f"max_points={max_points!r} is out of range: allowed max_points >= 2")
+    mu0 = getattr(params, name)
+    if mu_range is not None:
+        lo, hi = (check_value(name, v) for v in mu_range)
+        if not lo < hi:
+            raise ValueError(f"mu_range={mu_range!r} is out of range: allowed lo < hi")
+        if not lo <= mu0 <= hi:
+            raise ValueError(f"{name}={mu0!r} is out of range: allowed inside mu_range={mu_range!r}")
+    else:
+        lo, hi = -np.inf, np.inf
+    orb = find_periodic(params, tau0, sdot0, impacts, turns)
+    if not orb.converged:
+        raise ValueError(f"no {impacts}-impact, {turns}-turn periodic orbit found from the guess "
+                         f"(tau0={tau0!r}, sdot0={sdot0!r}) at {name}={mu0!r}")
+    x0 = (float(orb.tau[0]), float(orb.sdot[0]))
+    prob = _Problem(params, name, impacts, turns, int(orb.walls[-1]))
+    br = Branch(params, name, impacts, turns)
+    y = np.array([x0[0], x0[1], mu0])
+
+    def record(y, M, res):
+        br.points.append(OrbitPoint(float(y[0] % _TWO_PI), float(y[1]), float(y[2]), np.linalg.eigvals(M), res))
+
+    G, M, ok = prob.eval(y)
+    record(y, M, float(np.max(np.abs(G))))
+    A = np.hstack([M - np.eye(2), prob.dG_dmu(y, G)[:, None]])
+    t = _tangent(A, None)
+    if np.sign(t[2]) != direction and abs(t[2]) > 1e-12:
+        t = -t
+    h = ds
+    fails = 0
+    while len(br.points) < max_points:
+        yp = y + h * t
+        z = yp.copy()
+        conv = False
+        for _ in range(12):
+            G, M, ok = prob.eval(z)
+            if not ok:
+                break
+            F = np.array([G[0], G[1], float(t @ (z - yp))])
+            if np.max(np.abs(F)) < 1e-11:
+                conv = True
+                break
+            dG = prob.dG_dmu(z, G)
+            Jx = np.vstack([np.hstack([M - np.eye(2), dG[:, None]]), t[None, :]])
+            try:
+                z = z - np.linalg.solve(Jx, F)
+            except np.linalg.LinAlgError:
+                break
+        if not conv or np.linalg.norm(z - y) > 3 * h:
+            h *= 0.5
+            fails += 1
+            if h < 1e-9:
+                br.stop_reason = "corrector failed at the smallest step"
+                break
+            continue
+        G, M, _ = prob.eval(z)
+        A = np.hstack([M - np.eye(2), prob.dG_dmu(z, G)[:, None]])
+        t_new = _tangent(A, t)
+        prev = br.points[-1]
+        y = z
+        record(y, M, float(np.max(np.abs(G))))
+        cur = br.points[-1]
+        if locate_points:
+            f0 = np.real(np.prod(prev.multipliers - 1.0)); f1 = np.real(np.prod(cur.multipliers - 1.0))
+            if np.sign(f0) != np.sign(f1):
+                br.folds.append(locate(params, name, "fold", y[0], y[1], y[2], impacts, turns))
+            g0 = np.real(np.prod(prev.multipliers + 1.0)); g1 = np.real(np.prod(cur.multipliers + 1.0))
+            if np.sign(g0) != np.sign(g1):
+                br.flips.append(locate(params, name, "flip", y[0], y[1], y[2], impacts, turns))
+        t = t_new
+        if progress is not None:
+            progress(len(br.points), max_points)
+        if not (lo <= y[2] <= hi):
+            br.stop_reason = f"{name} left [{lo}, {hi}]"
+            break
+        if name == "r" and y[2] >= 1.0:
+            br.stop_reason = "r reached 1"
+            break
+        h = min(ds_max, h * 1.3)
+    else:
+        br.stop_reason = "max_points reached"
+    return br
+
+
+def orbit_states(params: Params, tau: float, sdot: float, impacts: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``impacts`` pre-impact states ``(theta, sdot)`` of the orbit through ``(tau, sdot)``."""
+    p = params.arrays()
+    s = make_state(tau, sdot)
+    th, sd = [float(s.theta)], [float(s.sdot)]
+    for _ in range(int(impacts) - 1):
+        s, _ = step(s, p)
+        th.append(float(s.theta)); sd.append(float(s.sdot))
+    return np.array(th), np.array(sd)
