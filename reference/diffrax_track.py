@@ -1,0 +1,345 @@
+"""Reference track 2: Eq. (3) integrated with ``diffrax.diffeqsolve`` (Dopri8) and ``diffrax.Event``.
+
+Same hybrid-ODE formulation as :mod:`reference.scipy_track` (right-hand side of Eq. 3 only, impact
+law Eqs. 9-11, shared sticking policy :func:`mapimpl.sticking.decide_stick`), written in JAX:
+
+* each flight is a chain of **monotone segments** (see :mod:`reference.scipy_track`): one
+  ``diffeqsolve`` per segment with a ``diffrax.Event`` of two real-valued, upcrossing-filtered
+  (``direction=True``) conditions, the wall ahead (``s`` or ``-1 - s``) and the velocity reversal
+  (``-sigma sdot``), located by an ``optimistix.Newton`` root find on the step's dense interpolant.
+  Diffrax gives priority to the *first* triggered condition of the pytree (not the earliest root);
+  the wall is listed first, which is right because inside a monotone segment the wall root precedes
+  the reversal root.  This is the guard for diffrax issue 507 (two crossings in one step are missed
+  by the sign check at step ends): beyond-and-back needs a velocity reversal, which ends the
+  segment.  ``dtmax`` (default 0.25) bounds the steps so that two reversals in one step stay a
+  non-generic degeneracy;
+* the restart loop over segments is a ``jax.lax.while_loop`` (bounded by ``MAX_SEGMENTS`` and the
+  longest flight ``T_MAX``), and the loop over impacts a ``jax.lax.scan``; everything is jit-compiled
+  and vmappable over initial conditions (:func:`batch_orbit`);
+* ``adjoint=diffrax.ForwardMode()`` makes the solve forward-differentiable, so
+  :func:`step_jacobian` is ``jax.jacfwd`` of one impact-to-impact step through the event solve
+  (implicit differentiation of the root find) plus the reset (third route to the Jacobian of
+  Eqs. 12-13).
+
+Float64 throughout (importing :mod:`mapimpl` enables ``jax_enable_x64``).
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import NamedTuple
+
+import numpy as np
+
+from mapimpl import _jax  # noqa: F401
+import diffrax
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+
+from mapimpl.flight import reduce_phase
+from mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState, make_state
+from mapimpl.orbit import ImpactSequence, sequence_from_states
+from mapimpl.params import ParamArrays, Params
+from mapimpl.sticking import decide_stick
+from reference._common import MAX_SEGMENTS, T_MAX, check_option, forcing_rhs, validate_start
+
+#: Default tolerances, step bound and per-segment step cap of this track.
+RTOL, ATOL, DTMAX = 1e-12, 1e-13, 0.25
+MAX_STEPS = 16384
+#: Tolerances of the Newton root find locating an event on the step's dense interpolant.
+ROOT_RTOL, ROOT_ATOL = 1e-14, 1e-13
+
+#: Flight status codes.
+HIT, NO_IMPACT, STEP_CAP = 0, 2, 3
+
+
+class Options(NamedTuple):
+    """Static solver options (hashable, validated by :func:`options`)."""
+
+    rtol: float = RTOL
+    atol: float = ATOL
+    dtmax: float = DTMAX
+    t_max: float = T_MAX
+    max_steps: int = MAX_STEPS
+
+
+def options(rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
+            max_steps: int = MAX_STEPS) -> Options:
+    """Validated :class:`Options`; ``ValueError`` names a bad option and its range."""
+    ms = int(check_option("max_steps", max_steps, 0.0, 1e7))
+    return Options(check_option("rtol", rtol, 1e-15, 1e-3), check_option("atol", atol, 0.0, 1e-3),
+                   check_option("dtmax", dtmax, 0.0, 10.0), check_option("t_max", t_max, 0.0, 1e6), ms)
+
+
+def _vector_field(t, y, args):
+    theta0, alpha, beta, gamma, _ = args
+    tau = theta0 + t
+    # Eq. (3): s'' = -alpha sin(tau) + alpha beta cos(tau) + gamma - beta s'
+    return jnp.stack([y[1], -alpha * jnp.sin(tau) + alpha * beta * jnp.cos(tau) + gamma - beta * y[1]])
+
+
+def _wall_cond(t, y, args, **kwargs):
+    sigma = args[4]
+    return jnp.where(sigma > 0, y[0], -1.0 - y[0])
+
+
+def _reversal_cond(t, y, args, **kwargs):
+    sigma = args[4]
+    return -sigma * y[1]
+
+
+_TERM = diffrax.ODETerm(_vector_field)
+_SOLVER = diffrax.Dopri8()
+
+
+def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options):
+    """One monotone segment: event solve, then an exact landing on the event time and a Newton polish.
+
+    Diffrax's Dopri8 dense interpolant is only good to ~1e-11 here (its nodes are good to ~1e-15),
+    so the event time found on the interpolant is refined: a second solve from the segment start
+    ends *exactly* at that time (a node, no interpolation), and one Newton step on the event
+    condition, ``dt = -g(y) / g'(y)``, with the vector field gives the event time and state to
+    node accuracy.  Differentiating this composition (``jax.jacfwd``) gives the implicit-function
+    derivative of the event time, as the map's Jacobian does.
+    """
+    args = (theta0, alpha, beta, gamma, sigma)
+    controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol, dtmax=opts.dtmax)
+    event = diffrax.Event([_wall_cond, _reversal_cond], root_finder=optx.Newton(rtol=ROOT_RTOL, atol=ROOT_ATOL),
+                          direction=True)
+    sol = diffrax.diffeqsolve(
+        _TERM, _SOLVER, t0=t0, t1=opts.t_max, dt0=None, y0=y0, args=args, stepsize_controller=controller,
+        event=event, saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False,
+        adjoint=diffrax.ForwardMode(),
+    )
+    wall_hit, reversal = sol.event_mask
+    ok = sol.result == diffrax.RESULTS.successful
+    # an event ended the solve; a root find that stopped short of its (ulp-level) tolerance still
+    # lies inside the step that triggered, so it is accepted as the event time
+    evt = ((sol.result == diffrax.RESULTS.event_occurred)
+           | (sol.result == diffrax.RESULTS.nonlinear_max_steps_reached)
+           | (sol.result == diffrax.RESULTS.nonlinear_divergence))
+    t_e = sol.ts[-1]
+    # land exactly on t_e (no event, node value)
+    t_land = jnp.where(evt & (t_e > t0), t_e, t0 + opts.dtmax)
+    sol2 = diffrax.diffeqsolve(
+        _TERM, _SOLVER, t0=t0, t1=t_land, dt0=None, y0=y0, args=args, stepsize_controller=controller,
+        saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False, adjoint=diffrax.ForwardMode(),
+    )
+    y_n = sol2.ys[-1]
+    landed = evt & (t_e > t0) & (sol2.result == diffrax.RESULTS.successful)
+    f = _vector_field(t_e, y_n, args)
+    g = jnp.where(wall_hit, _wall_cond(t_e, y_n, args), _reversal_cond(t_e, y_n, args))
+    dg = jnp.where(wall_hit, jnp.where(sigma > 0, f[0], -f[0]), -sigma * f[1])
+    dt = jnp.where(landed & (dg != 0.0), -g / jnp.where(dg != 0.0, dg, 1.0), 0.0)
+    y_p = y_n + f * dt
+    t_out = jnp.where(landed, t_e + dt, t_e)
+    y_out = jnp.where(landed, y_p, sol.ys[-1])
+    return t_out, y_out, wall_hit & evt, reversal & evt, ok
+
+
+class FlightResult(NamedTuple):
+    """``status`` (HIT/NO_IMPACT/STEP_CAP), flight time ``t``, ``wall`` (0/-1), velocity ``v`` just
+    before the impact, number of monotone ``segments``."""
+
+    status: jnp.ndarray
+    t: jnp.ndarray
+    wall: jnp.ndarray
+    v: jnp.ndarray
+    segments: jnp.ndarray
+
+
+def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(), active=True) -> FlightResult:
+    """First wall contact of the flight leaving ``(theta0, s0, v0)`` (local time 0), first segment
+    direction ``sigma`` (+-1).  Scalar, jit/vmap/jacfwd-able.  ``active=False`` returns at once."""
+    dtype = jnp.float64
+    init = dict(t=jnp.asarray(0.0, dtype), y=jnp.stack([jnp.asarray(s0, dtype), jnp.asarray(v0, dtype)]),
+                sigma=jnp.asarray(sigma, dtype), seg=jnp.asarray(0, jnp.int32), done=~jnp.asarray(active),
+                status=jnp.asarray(STEP_CAP, jnp.int32))
+
+    def cond(c):
+        return (~c["done"]) & (c["seg"] < MAX_SEGMENTS)
+
+    def body(c):
+        t1, y1, hit, rev, reached = _segment(c["t"], c["y"], theta0, c["sigma"], alpha, beta, gamma, opts)
+        status = jnp.where(hit, HIT, jnp.where(reached, NO_IMPACT, STEP_CAP)).astype(jnp.int32)
+        done = hit | ~rev
+        return dict(t=t1, y=y1, sigma=jnp.where(rev & ~hit, -c["sigma"], c["sigma"]), seg=c["seg"] + 1,
+                    done=done, status=jnp.where(done, status, c["status"]))
+
+    c = jax.lax.while_loop(cond, body, init)
+    hit = c["status"] == HIT
+    wall = jnp.where(c["sigma"] > 0, 0, -1).astype(jnp.int32)
+    return FlightResult(c["status"], jnp.where(hit, c["t"], jnp.inf), wall, jnp.where(hit, c["y"][1], jnp.nan),
+                        c["seg"])
+
+
+class StepInfo(NamedTuple):
+    """Sticking bookkeeping of one step (the fields :func:`mapimpl.orbit.sequence_from_states` reads)."""
+
+    stuck: jnp.ndarray
+    stick_tau: jnp.ndarray
+    release_tau: jnp.ndarray
+    segments: jnp.ndarray
+
+
+def _start(wall, stick, sd, r):
+    v0 = jnp.where(stick, 0.0, -r * sd)
+    sigma = jnp.where(v0 > 0.0, 1.0, jnp.where(v0 < 0.0, -1.0, jnp.where(wall == 0, -1.0, 1.0)))
+    return v0, sigma
+
+
+def step(state: MapState, p: ParamArrays, opts: Options = Options()):
+    """One impact-to-impact step by integration (reset Eq. 11 or the shared sticking policy, then a
+    numerically integrated flight).  Scalar state; terminal states are returned unchanged."""
+    alpha, beta, gamma, r = p
+    th, wall, sd = state.theta, state.wall, state.sdot
+    dec = decide_stick(th, wall, sd, alpha, beta, gamma, r)
+    never = dec.stick & ~jnp.isfinite(dec.delay)
+    delay = jnp.where(dec.stick & ~never, dec.delay, 0.0)
+    th0, cyc0 = reduce_phase(th + delay, state.cycles)
+    v0, sigma = _start(wall, dec.stick, sd, r)
+    active = (state.status == ACTIVE) & ~never
+    fl = flight(th0, wall.astype(jnp.float64), v0, sigma, alpha, beta, gamma, opts, active=active)
+    th1, cyc1 = reduce_phase(th0 + jnp.where(fl.status == HIT, fl.t, 0.0), cyc0)
+    status = jnp.where(
+        state.status != ACTIVE, state.status,
+        jnp.where(never, STUCK_FOREVER,
+                  jnp.where(fl.status == HIT, ACTIVE, jnp.where(fl.status == NO_IMPACT, ESCAPED, FAILED))),
+    ).astype(jnp.int32)
+    advance = status == ACTIVE
+    new = MapState(theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
+                   sdot=jnp.where(advance, fl.v, sd), wall=jnp.where(advance, fl.wall, wall), status=status)
+    tau_n = state.tau
+    info = StepInfo(stuck=dec.stick & (state.status == ACTIVE),
+                    stick_tau=jnp.where(dec.stick, tau_n + dec.t_acc, jnp.nan),
+                    release_tau=jnp.where(dec.stick & ~never, tau_n + delay, jnp.nan), segments=fl.segments)
+    return new, info
+
+
+class Trajectory(NamedTuple):
+    states: MapState
+    infos: StepInfo
+
+
+@partial(jax.jit, static_argnums=(2, 3))
+def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
+    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled."""
+
+    def body(s, _):
+        s1, info = step(s, p, opts)
+        return s1, (s1, info)
+
+    _, (states, infos) = jax.lax.scan(body, state, None, length=n)
+    return Trajectory(states, infos)
+
+
+@partial(jax.jit, static_argnums=(2, 3))
+def batch_iterate(states: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
+    """:func:`iterate` vmapped over a batch of initial states (parameters shared or batched)."""
+    axes = ParamArrays(*(0 if jnp.ndim(x) else None for x in p))
+    return jax.vmap(lambda s, q: iterate.__wrapped__(s, q, n, opts), in_axes=(0, axes))(states, p)
+
+
+@partial(jax.jit, static_argnums=(4,))
+def _free_start(theta0, s0, v0, p: ParamArrays, opts: Options) -> MapState:
+    alpha, beta, gamma, _ = p
+    a0 = -alpha * jnp.sin(theta0) + alpha * beta * jnp.cos(theta0) + gamma
+    sigma = jnp.where(v0 > 0.0, 1.0, jnp.where(v0 < 0.0, -1.0, jnp.where(a0 >= 0.0, 1.0, -1.0)))
+    sigma = jnp.where((v0 == 0.0) & (s0 == 0.0), -1.0, jnp.where((v0 == 0.0) & (s0 == -1.0), 1.0, sigma))
+    fl = flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts)
+    hit = fl.status == HIT
+    th1, cyc1 = reduce_phase(theta0 + jnp.where(hit, fl.t, 0.0), jnp.asarray(0, jnp.int64))
+    status = jnp.where(hit, ACTIVE, jnp.where(fl.status == NO_IMPACT, ESCAPED, FAILED)).astype(jnp.int32)
+    return MapState(th1, cyc1, jnp.where(hit, fl.v, v0), jnp.where(hit, fl.wall, 0).astype(jnp.int32), status)
+
+
+def _initial(params: Params, tau0: float, sdot0: float, s0: float | None, opts: Options) -> MapState:
+    if s0 is None:
+        return make_state(tau0, sdot0)
+    theta, cycles = reduce_phase(jnp.asarray(float(tau0)), jnp.asarray(0, jnp.int64))
+    a0 = forcing_rhs(float(theta), params.alpha, params.beta, params.gamma)
+    into_top = s0 == 0.0 and (sdot0 > 0.0 or (sdot0 == 0.0 and a0 > 0.0))
+    into_bot = s0 == -1.0 and (sdot0 < 0.0 or (sdot0 == 0.0 and a0 < 0.0))
+    if into_top or into_bot:  # already a pre-impact state
+        return make_state(tau0, sdot0, wall=0 if into_top else -1)
+    st = _free_start(theta, jnp.asarray(float(s0)), jnp.asarray(float(sdot0)), params.arrays(), opts)
+    return st._replace(cycles=st.cycles + cycles)
+
+
+def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+          rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
+          max_steps: int = MAX_STEPS) -> ImpactSequence:
+    """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
+
+    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`.
+    """
+    n = validate_start(params, tau0, sdot0, n_impacts, s0)
+    opts = options(rtol, atol, dtmax, t_max, max_steps)
+    first = _initial(params, tau0, sdot0, s0, opts)
+    traj = iterate(first, params.arrays(), n, opts)
+    meta = {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": n, "method": "Dopri8", "rtol": opts.rtol,
+            "atol": opts.atol, "dtmax": opts.dtmax, "t_max": opts.t_max}
+    return sequence_from_states(params, first, traj, track="diffrax", meta=meta)
+
+
+def batch_orbit(params: Params, tau0, sdot0, n_impacts: int, **opt) -> Trajectory:
+    """Batch of orbits from pre-impact states (arrays ``tau0``, ``sdot0``), one vmapped kernel.
+
+    Returns the stacked :class:`Trajectory` (leading axis: batch, then impact index 1..n).
+    """
+    tau0 = np.atleast_1d(np.asarray(tau0, dtype=np.float64))
+    sdot0 = np.atleast_1d(np.asarray(sdot0, dtype=np.float64))
+    if not (np.all(np.isfinite(tau0)) and np.all(np.isfinite(sdot0)) and np.all(sdot0 != 0.0)):
+        raise ValueError("initial tau0/sdot0 are out of range: allowed finite values with sdot0 != 0")
+    n = validate_start(params, 0.0, 1.0, n_impacts, None)
+    return batch_iterate(make_state(tau0, sdot0), params.arrays(), n, options(**opt))
+
+
+def _one_step(x, wall, p: ParamArrays, opts: Options):
+    """``(theta_n, sdot_n) -> (theta_n + dt, sdot_{n+1})`` without sticking: reset (Eq. 11) + flight."""
+    theta, sd = x[0], x[1]
+    alpha, beta, gamma, r = p
+    v0 = -r * sd
+    sigma = jnp.where(wall == 0, -1.0, 1.0)
+    fl = flight(theta, wall.astype(jnp.float64), v0, sigma, alpha, beta, gamma, opts)
+    return jnp.stack([theta + fl.t, fl.v]), fl.wall
+
+
+@partial(jax.jit, static_argnums=(3,))
+def _step_and_jac(x, wall, p, opts: Options):
+    out, w = _one_step(x, wall, p, opts)
+    jac = jax.jacfwd(lambda z: _one_step(z, wall, p, opts)[0])(x)
+    return out, w, jac
+
+
+class StepJacobian(NamedTuple):
+    """One integrated step from a pre-impact state and ``jax.jacfwd`` of it."""
+
+    tau: float
+    sdot: float
+    wall: int
+    jac: np.ndarray
+    stuck: bool
+
+
+def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, **opt) -> StepJacobian:
+    """``d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` by ``jax.jacfwd`` through the event solve and the
+    reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` and NaN state."""
+    validate_start(params, tau_n, sdot_n, 1, None)
+    opts = options(**opt)
+    if wall is None:
+        wall = 0 if sdot_n > 0 else -1
+    theta, cycles = reduce_phase(jnp.asarray(float(tau_n)), jnp.asarray(0, jnp.int64))
+    p = params.arrays()
+    dec = decide_stick(theta, wall, float(sdot_n), *p)
+    if bool(dec.stick):
+        return StepJacobian(float("nan"), float("nan"), wall, np.zeros((2, 2)), True)
+    out, w, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]), jnp.asarray(int(wall), jnp.int32), p,
+                                 opts)
+    tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
+    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False)
+
+
+__all__ = ["Options", "options", "flight", "FlightResult", "step", "iterate", "batch_iterate", "orbit",
+           "batch_orbit", "step_jacobian", "StepJacobian", "RTOL", "ATOL", "DTMAX", "HIT", "NO_IMPACT", "STEP_CAP"]

@@ -1,0 +1,385 @@
+"""Reference track 1: Eq. (3) integrated with :func:`scipy.integrate.solve_ivp` (DOP853) as a hybrid ODE.
+
+Only the right-hand side of Eq. (3) is used (see :mod:`reference._common`); the impacts are the
+events ``s = 0`` (reached upward) and ``s = -1`` (reached downward) with the reset of Eqs. (9)-(11),
+``sdot -> -r sdot``, followed by a restart.  After every impact the shared chatter/sticking policy
+(:func:`mapimpl.sticking.decide_stick`) is applied exactly as the map does: when it says *stick*,
+the orbit jumps to the release time and leaves the wall with ``sdot = 0``.
+
+**Monotone segments (the event traps).**  Every flight is integrated as a chain of *monotone
+segments*: each segment has a direction ``sigma = +-1`` (the sign of ``sdot``) and two terminal,
+direction-filtered events, both upcrossings of a function that is ``<= 0`` at the segment start:
+
+* the wall ahead: ``s`` (upper wall, ``sigma = +1``) or ``-1 - s`` (lower wall, ``sigma = -1``);
+* the velocity reversal ``-sigma sdot`` (a local extremum of ``s``): the segment ends there and the
+  next one starts with ``-sigma``.
+
+Consequences:
+
+1. *Restart on a wall never re-fires*: after an impact (or a release) the segment moves away from
+   the wall it starts on and only watches the wall ahead, which is a full gap away.  The start wall
+   is watched again only after a velocity reversal, i.e. after the flight has genuinely turned back.
+2. *Two crossings inside one step* (scipy issue 9228: a step that starts and ends inside the gap
+   while ``s`` pokes beyond a wall in between) cannot hide a crossing: ``s`` is monotone inside a
+   segment, so beyond-and-back requires a velocity reversal, and the reversal event (a sign change of
+   ``sdot`` at step ends) stops the segment first.  If both events fire in one step, scipy keeps the
+   earlier root, which is the wall.  The residual case is *two* velocity reversals inside one step
+   (an extremum and an inflection coinciding near a wall); ``max_step`` (default 0.25, well below
+   the forcing period ``2 pi``) keeps it to a non-generic, measure-zero degeneracy.
+3. *A flight that returns to the wall it left* is an ordinary reversal followed by a segment that
+   watches the start wall.
+4. *Grazing*: an excursion beyond a wall, however shallow, is caught (item 2); a tangency that stays
+   inside is a reversal.  Near grazing the impact time is ill-conditioned (``dtau ~ ds / |sdot|``),
+   for every track.
+
+**Jacobian (second route).**  :func:`step_jacobian` integrates the variational equations
+``Phi' = [[0, 1], [0, -beta]] Phi`` along the flight and composes
+
+    J = P_{n+1} . Phi . S_n . E_n,
+
+``E_n``: perturbation of the pre-impact state (tau_n, sdot_n) as a state perturbation at fixed time,
+``S_n = R + (F+ - R F-) h_x / (h_x F-)``: saltation matrix of the impact (``R = diag(1, -r)``, Eq. 11),
+``P_{n+1}``: projection onto the next impact surface (hitting-time correction).  This is an
+independent route to the analytic Jacobian of Eqs. (12)-(13) (:class:`mapimpl.impact_map.StepInfo`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, NamedTuple
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from mapimpl.orbit import ImpactSequence
+from mapimpl.params import Params
+from reference._common import (
+    MAX_SEGMENTS, T_MAX, TWO_PI, EventTable, check_option, forcing_rhs, reduce_phase, stick_decision,
+    validate_start,
+)
+
+#: Default integrator tolerances and step bound of this track.
+RTOL, ATOL, MAX_STEP = 1e-12, 1e-13, 0.25
+
+
+@dataclass(frozen=True)
+class Options:
+    """Integrator options (validated): ``rtol``, ``atol``, ``max_step`` and the longest flight ``t_max``."""
+
+    rtol: float = RTOL
+    atol: float = ATOL
+    max_step: float = MAX_STEP
+    t_max: float = T_MAX
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "rtol", check_option("rtol", self.rtol, 2.3e-14, 1e-3))
+        object.__setattr__(self, "atol", check_option("atol", self.atol, 0.0, 1e-3))
+        object.__setattr__(self, "max_step", check_option("max_step", self.max_step, 0.0, 10.0))
+        object.__setattr__(self, "t_max", check_option("t_max", self.t_max, 0.0, 1e6))
+
+
+class Flight(NamedTuple):
+    """One flight from a post-impact (or release, or free) state to the next wall contact.
+
+    ``status``: ``"hit"``, ``"no_impact"`` (no wall within ``t_max``) or ``"step_cap"``;
+    ``t``: flight time; ``wall``: 0 or -1; ``v``: velocity just before the impact;
+    ``phi``: 2x2 flow Jacobian ``d(s, sdot)(t) / d(s, sdot)(0)`` (variational equations) or None;
+    ``segments``: monotone segments integrated; ``samples``: list of ``(t_local, s, sdot)`` arrays
+    when dense sampling was requested.
+    """
+
+    status: str
+    t: float
+    wall: int
+    v: float
+    phi: np.ndarray | None
+    segments: int
+    samples: list | None
+
+
+def _make_rhs(theta0: float, p: Params, variational: bool) -> Callable:
+    a, b, g = p.alpha, p.beta, p.gamma
+
+    if not variational:
+        def rhs(t, y):
+            tau = theta0 + t
+            return np.array([y[1], -a * math.sin(tau) + a * b * math.cos(tau) + g - b * y[1]])
+        return rhs
+
+    def rhs_var(t, y):
+        tau = theta0 + t
+        # y = [s, v, Phi00, Phi01, Phi10, Phi11];  Phi' = [[0, 1], [0, -beta]] Phi
+        return np.array([y[1], -a * math.sin(tau) + a * b * math.cos(tau) + g - b * y[1],
+                         y[4], y[5], -b * y[4], -b * y[5]])
+    return rhs_var
+
+
+def _events(sigma: int):
+    if sigma > 0:
+        def wall_ev(t, y):
+            return y[0]
+    else:
+        def wall_ev(t, y):
+            return -1.0 - y[0]
+
+    def rev_ev(t, y):
+        return -sigma * y[1]
+
+    for ev in (wall_ev, rev_ev):
+        ev.terminal = True
+        ev.direction = 1.0
+    return [wall_ev, rev_ev]
+
+
+def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Options(), sigma: int | None = None,
+           variational: bool = False, points_per_unit: float | None = None) -> Flight:
+    """Integrate Eq. (3) from ``(theta0, s0, v0)`` (local time 0) to the first wall contact.
+
+    ``sigma`` is the direction of the first monotone segment (default: the sign of ``v0``; for
+    ``v0 = 0`` away from the wall the flight starts on, or the sign of the acceleration in the
+    interior).  ``variational=True`` also integrates the flow Jacobian; ``points_per_unit`` asks for
+    dense samples of ``s`` and ``sdot`` (DOP853's 7th-order interpolant).
+    """
+    if sigma is None:
+        if v0 != 0.0:
+            sigma = 1 if v0 > 0.0 else -1
+        elif s0 == 0.0:
+            sigma = -1
+        elif s0 == -1.0:
+            sigma = 1
+        else:
+            sigma = 1 if forcing_rhs(theta0, p.alpha, p.beta, p.gamma) >= 0.0 else -1
+    rhs = _make_rhs(theta0, p, variational)
+    y = np.array([s0, v0, 1.0, 0.0, 0.0, 1.0]) if variational else np.array([s0, v0])
+    t = 0.0
+    samples = [] if points_per_unit else None
+    for seg in range(1, MAX_SEGMENTS + 1):
+        sol = solve_ivp(rhs, (t, opts.t_max), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+                        max_step=opts.max_step, events=_events(sigma), dense_output=samples is not None)
+        if sol.status < 0:
+            return Flight("step_cap", math.inf, 0, math.nan, None, seg, samples)
+        if sol.status == 0:  # reached t_max without an event
+            if samples is not None:
+                _sample(sol, t, opts.t_max, points_per_unit, samples)
+            return Flight("no_impact", math.inf, 0, math.nan, None, seg, samples)
+        hit = len(sol.t_events[0]) > 0
+        k = 0 if hit else 1
+        t_e = float(sol.t_events[k][-1])
+        y_e = np.array(sol.y_events[k][-1], dtype=np.float64)
+        if samples is not None:
+            _sample(sol, t, t_e, points_per_unit, samples)
+        t_e, y_e = _land(rhs, sol, t_e, y_e, sigma, hit, opts)
+        if hit:
+            wall = 0 if sigma > 0 else -1
+            phi = y_e[2:].reshape(2, 2) if variational else None
+            return Flight("hit", t_e, wall, float(y_e[1]), phi, seg, samples)
+        # velocity reversal: continue in the other direction from the extremum
+        t, y, sigma = t_e, y_e, -sigma
+    return Flight("step_cap", math.inf, 0, math.nan, None, MAX_SEGMENTS, samples)
+
+
+def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: Options):
+    """Refine an event located on the dense interpolant: integrate from the last node exactly to
+    ``t_e`` (a node value, no interpolation error) and take one Newton step on the event condition
+    (``dt = -g / g'``, with ``g'`` from the vector field).  Returns the refined ``(t_e, y_e)``."""
+    t_prev, y_prev = float(sol.t[-2]), sol.y[:, -2]
+    if not t_e > t_prev:
+        return t_e, y_e
+    land = solve_ivp(rhs, (t_prev, t_e), y_prev, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+                     max_step=opts.max_step)
+    if land.status != 0:
+        return t_e, y_e
+    y_n = land.y[:, -1]
+    f = rhs(t_e, y_n)
+    if wall:
+        g, dg = (y_n[0], f[0]) if sigma > 0 else (-1.0 - y_n[0], -f[0])
+    else:
+        g, dg = -sigma * y_n[1], -sigma * f[1]
+    dt = -g / dg if dg != 0.0 else 0.0
+    return t_e + dt, y_n + f * dt
+
+
+def _sample(sol, t0: float, t1: float, ppu: float, out: list) -> None:
+    m = max(2, int(math.ceil((t1 - t0) * ppu)) + 1)
+    ts = np.linspace(t0, t1, m)
+    ys = sol.sol(ts)
+    out.append((ts, ys[0], ys[1]))
+
+
+class DenseTrajectory(NamedTuple):
+    """Samples of the numerically integrated trajectory: elapsed time, ``s`` and ``sdot``.
+
+    Interior samples come from the integrator's dense output; stuck intervals are sampled at the
+    wall with ``sdot = 0``.  ``segment`` numbers the flights (samples of one flight share it).
+    """
+
+    tau: np.ndarray
+    s: np.ndarray
+    sdot: np.ndarray
+    segment: np.ndarray
+
+
+def _start_sigma(wall: int, v0: float) -> int:
+    if v0 != 0.0:
+        return 1 if v0 > 0.0 else -1
+    return -1 if wall == 0 else 1
+
+
+def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, opts: Options,
+         points_per_unit: float | None):
+    n = validate_start(params, tau0, sdot0, n_impacts, s0)
+    p = params
+    table = EventTable(params, "scipy")
+    dense: list = []
+    theta, cycles = reduce_phase(float(tau0), 0)
+    status = "active"
+    flights = 0
+
+    def record(fl: Flight, theta_start: float, cycles_start: int) -> None:
+        if fl.samples is not None:
+            base = cycles_start * TWO_PI + theta_start
+            for ts, ss, vs in fl.samples:
+                dense.append((base + ts, ss, vs, np.full(len(ts), flights)))
+
+    if s0 is None:
+        sdot, wall = float(sdot0), (0 if sdot0 > 0 else -1)
+    else:
+        s0 = float(s0)
+        a0 = forcing_rhs(theta, p.alpha, p.beta, p.gamma)
+        into_top = s0 == 0.0 and (sdot0 > 0.0 or (sdot0 == 0.0 and a0 > 0.0))
+        into_bot = s0 == -1.0 and (sdot0 < 0.0 or (sdot0 == 0.0 and a0 < 0.0))
+        if into_top or into_bot:  # already a pre-impact state
+            sdot, wall = float(sdot0), (0 if into_top else -1)
+        else:
+            fl = flight(theta, s0, float(sdot0), p, opts, points_per_unit=points_per_unit)
+            record(fl, theta, cycles)
+            flights += 1
+            if fl.status != "hit":
+                return table.sequence(fl.status, _meta(tau0, sdot0, s0, n, opts)), dense
+            theta, cycles = reduce_phase(theta + fl.t, cycles)
+            sdot, wall = fl.v, fl.wall
+    table.add(0, cycles * TWO_PI + theta, wall, sdot, "impact")
+    for k in range(1, n + 1):
+        tau_n = cycles * TWO_PI + theta
+        stick, t_acc, delay = stick_decision(theta, wall, sdot, p)
+        if stick:
+            table.add(k - 1, tau_n + t_acc, wall, math.nan, "stick")
+            if not math.isfinite(delay):
+                status = "stuck_forever"
+                if points_per_unit:
+                    dense.append((np.array([tau_n + t_acc]), np.array([float(wall)]), np.zeros(1),
+                                  np.full(1, flights)))
+                break
+            table.add(k - 1, tau_n + delay, wall, math.nan, "release")
+            if points_per_unit:
+                ts = np.linspace(tau_n + t_acc, tau_n + delay, max(2, int(delay * points_per_unit)))
+                dense.append((ts, np.full(len(ts), float(wall)), np.zeros(len(ts)), np.full(len(ts), -1)))
+            th0, cyc0 = reduce_phase(theta + delay, cycles)
+            v0 = 0.0
+        else:
+            th0, cyc0 = theta, cycles
+            v0 = -p.r * sdot
+        fl = flight(th0, float(wall), v0, p, opts, sigma=_start_sigma(wall, v0), points_per_unit=points_per_unit)
+        record(fl, th0, cyc0)
+        flights += 1
+        if fl.status != "hit":
+            status = fl.status
+            break
+        theta, cycles = reduce_phase(th0 + fl.t, cyc0)
+        sdot, wall = fl.v, fl.wall
+        table.add(k, cycles * TWO_PI + theta, wall, sdot, "impact")
+    return table.sequence(status, _meta(tau0, sdot0, s0, n, opts)), dense
+
+
+def _meta(tau0, sdot0, s0, n, opts: Options) -> dict:
+    return {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": n, "method": "DOP853",
+            "rtol": opts.rtol, "atol": opts.atol, "max_step": opts.max_step, "t_max": opts.t_max}
+
+
+def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+          rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX) -> ImpactSequence:
+    """Orbit of Eq. (3) integrated numerically: impact 0 plus ``n_impacts`` impacts (track ``"scipy"``).
+
+    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`: with ``s0`` None,
+    ``(tau0, sdot0)`` is the state just before impact 0 (``sdot0 > 0`` hits ``s = 0``); with
+    ``-1 <= s0 <= 0`` it is a free-flight state.  Raises ``ValueError`` naming a bad argument.
+    """
+    seq, _ = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), None)
+    return seq
+
+
+def dense_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+                points_per_unit: float = 40.0, rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP,
+                t_max: float = T_MAX) -> tuple[ImpactSequence, DenseTrajectory]:
+    """Like :func:`orbit`, plus the dense trajectory ``s(tau)`` between the impacts (for plots, invariants)."""
+    ppu = check_option("points_per_unit", points_per_unit, 0.0, 1e6)
+    seq, parts = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), ppu)
+    if not parts:
+        e = np.empty(0)
+        return seq, DenseTrajectory(e, e, e, np.empty(0, dtype=np.int64))
+    tau, s, v, g = (np.concatenate(x) for x in zip(*parts))
+    return seq, DenseTrajectory(tau, s, v, g.astype(np.int64))
+
+
+class StepJacobian(NamedTuple):
+    """One map step by integration: next pre-impact state and the Jacobian by flow x saltation."""
+
+    tau: float
+    sdot: float
+    wall: int
+    jac: np.ndarray
+    stuck: bool
+    status: str
+
+
+def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, *, rtol: float = RTOL,
+                  atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX) -> StepJacobian:
+    """One impact-to-impact step from the pre-impact state ``(tau_n, sdot_n)`` with its Jacobian.
+
+    ``J = d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n) = P_{n+1} Phi S_n E_n`` (module docstring):
+    variational flow Jacobian ``Phi`` times the saltation matrix of impact n.  A step that sticks
+    forgets its input (``J = 0``, as in the map).
+    """
+    opts = Options(rtol, atol, max_step, t_max)
+    validate_start(params, tau_n, sdot_n, 1, None)
+    p = params
+    if wall is None:
+        wall = 0 if sdot_n > 0 else -1
+    theta, cycles = reduce_phase(float(tau_n), 0)
+    sdot_n = float(sdot_n)
+    stick, _, delay = stick_decision(theta, wall, sdot_n, p)
+    if stick:
+        if not math.isfinite(delay):
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, "stuck_forever")
+        th0, cyc0 = reduce_phase(theta + delay, cycles)
+        v0 = 0.0
+    else:
+        th0, cyc0, v0 = theta, cycles, -p.r * sdot_n
+    fl = flight(th0, float(wall), v0, p, opts, sigma=_start_sigma(wall, v0), variational=True)
+    if fl.status != "hit":
+        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), stick, fl.status)
+    th1, cyc1 = reduce_phase(th0 + fl.t, cyc0)
+    tau1 = cyc1 * TWO_PI + th1
+    if stick:
+        return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, "active")
+    f_n = forcing_rhs(theta, p.alpha, p.beta, p.gamma)
+    a_pre = f_n - p.beta * sdot_n          # acceleration just before impact n
+    a_post = f_n - p.beta * v0             # ... just after it
+    # E: (dtau_n, dsdot_n) -> state perturbation at fixed time just before impact n
+    E = np.array([[-sdot_n, 0.0], [-a_pre, 1.0]])
+    # S: saltation matrix of the impact s = wall, reset R = diag(1, -r) (Eq. 11)
+    R = np.diag([1.0, -p.r])
+    F_minus = np.array([sdot_n, a_pre])
+    F_plus = np.array([v0, a_post])
+    S = R + np.outer(F_plus - R @ F_minus, np.array([1.0, 0.0])) / sdot_n
+    # P: state perturbation at fixed time just before impact n+1 -> (dtau_{n+1}, dsdot_{n+1})
+    v1 = fl.v
+    a1 = forcing_rhs(th1, p.alpha, p.beta, p.gamma) - p.beta * v1
+    P = np.array([[-1.0 / v1, 0.0], [-a1 / v1, 1.0]])
+    J = P @ fl.phi @ S @ E
+    return StepJacobian(tau1, v1, fl.wall, J, False, "active")
+
+
+__all__ = ["Options", "Flight", "flight", "orbit", "dense_orbit", "DenseTrajectory", "step_jacobian",
+           "StepJacobian", "RTOL", "ATOL", "MAX_STEP"]
