@@ -97,6 +97,9 @@ def departure_time(tau0, s0, v0, alpha, beta, gamma):
     m2, m3, m4 = derivative_bounds(0.0, tau0, v0, alpha, beta, gamma)
     u, a = sgn * v0, sgn * fp.a
     j = sgn * (forcing_rate(tau0, alpha, beta) - beta * fp.a)
+    # at a release the contact force is zero only to rounding: treat |a| at rounding level as 0
+    a_tol = 32.0 * _EPS * (alpha * (1.0 + beta) + jnp.abs(gamma) + beta * jnp.abs(v0))
+    a = jnp.where(jnp.abs(a) <= a_tol, 0.0, a)
     tiny = 1e-300
     c1 = jnp.where(u < 0.0, 2.0 * (-u) / jnp.maximum(m2, tiny), 0.0)
     c2 = jnp.where((u <= 0.0) & (a < 0.0), 1.5 * (-a) / jnp.maximum(m3, tiny), 0.0)

@@ -179,5 +179,6 @@ def reduce_phase(theta, cycles):
     # guard the rare rounding to exactly 2*pi or just below 0
     adj = jnp.where(th >= TWO_PI, 1.0, jnp.where(th < 0.0, -1.0, 0.0))
     th = (th - adj * TWO_PI_HI) - adj * TWO_PI_LO
-    th = jnp.clip(th, 0.0, jnp.nextafter(TWO_PI, 0.0))
+    # (where, not clip: the derivative stays 1 at theta = 0 for autodiff)
+    th = jnp.where(th < 0.0, 0.0, jnp.where(th >= TWO_PI, jnp.nextafter(TWO_PI, 0.0), th))
     return th, cycles + (m + adj).astype(cycles.dtype)

@@ -1,0 +1,188 @@
+"""Impact map, Eqs. (12)-(13): Jacobian, determinant identity, sticking, Figs. 2-3, batches."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from hypothesis import given, strategies as st
+
+from mapimpl import Params
+from mapimpl.batch import batch_iterate, states
+from mapimpl.flight import forcing, forcing_rate
+from mapimpl.impact_map import ACTIVE, ESCAPED, STUCK_FOREVER, make_state, step
+from mapimpl.orbit import map_orbit
+from mapimpl.sticking import STICK_TIME, release_delay
+from tests.mpref import first_root
+
+step_jit = jax.jit(step)
+finite = dict(allow_nan=False, allow_infinity=False)
+
+
+def _next(x, p):
+    ns, _ = step(make_state(x[0], x[1]), p)
+    return jnp.array([ns.tau, ns.sdot])
+
+
+jac_autodiff = jax.jit(jax.jacfwd(_next))
+
+
+@given(tau=st.floats(0, 6.28, **finite), sdot=st.floats(0.05, 2.5, **finite), sign=st.sampled_from([1.0, -1.0]),
+       alpha=st.floats(0.5, 4, **finite), beta=st.floats(0.01, 1, **finite), gamma=st.floats(-0.3, 0.3, **finite),
+       r=st.floats(0.5, 0.95, **finite))
+def test_jacobian_analytic_vs_autodiff_and_det_identity(tau, sdot, sign, alpha, beta, gamma, r):
+    """Analytic J (implicit differentiation of s(tau_{n+1}) = wall) equals jax.jacfwd through the finder,
+    and det J = r^2 exp(-beta dt) sdot_n / sdot_{n+1}."""
+    p = Params(alpha, beta, gamma, r).arrays()
+    x = jnp.array([tau, sign * sdot])
+    ns, info = step_jit(make_state(x[0], x[1]), p)
+    if bool(info.stuck) or int(ns.status) != ACTIVE or abs(float(ns.sdot)) < 1e-3:
+        return  # sticking forgets its input (J = 0); near-grazing impacts are ill-conditioned
+    J = np.asarray(info.jac)
+    Jad = np.asarray(jac_autodiff(x, p))
+    scale = 1 + np.abs(J).max()
+    assert np.allclose(J, Jad, rtol=1e-8, atol=1e-9 * scale)
+    det = r * r * np.exp(-beta * float(info.dt)) * float(x[1]) / float(ns.sdot)
+    assert abs(np.linalg.det(J) - det) <= 1e-9 * scale**2
+
+
+def test_jacobian_vs_central_differences():
+    p = Params(3.0, 0.1, 0.1, 0.9).arrays()
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        x = jnp.array([rng.uniform(0, 6.28), rng.choice([-1, 1]) * rng.uniform(0.2, 2)])
+        ns, info = step_jit(make_state(x[0], x[1]), p)
+        if bool(info.stuck) or abs(float(ns.sdot)) < 0.05:
+            continue
+        h = 1e-6
+        fd = np.stack([(np.asarray(_next(x + h * e, p)) - np.asarray(_next(x - h * e, p))) / (2 * h)
+                       for e in jnp.eye(2)], axis=1)
+        assert np.allclose(np.asarray(info.jac), fd, rtol=1e-6, atol=1e-6)
+
+
+def test_step_matches_50_digit_root_small_beta():
+    """One map step for beta = 1e-8 against the printed Eqs. (7)-(8) solved at 50 digits."""
+    P = Params(3.0, 1e-8, 0.1, 0.9)
+    for tau, sd in [(0.4, 0.8), (2.0, -1.3), (5.0, 0.3)]:
+        ns, _ = step_jit(make_state(tau, sd), P.arrays())
+        wall = 0.0 if sd > 0 else -1.0
+        ref = first_root(tau, wall, -P.r * sd, P.alpha, P.beta, P.gamma, t_hi=20, n=4000)
+        assert abs(float(ns.tau) - (tau + float(ref[0]))) < 1e-12
+        assert abs(float(ns.sdot) - float(ref[2])) < 1e-11
+
+
+def test_fig2_is_periodic_fig3_is_not():
+    """Fig. 2 (alpha = 0.5): a periodic impact sequence (3 impacts per driving period);
+    Fig. 3 (alpha = 3): no period up to 12 impacts."""
+    o2 = map_orbit(Params(0.5, 0.1, 0.1, 0.9), 0.0, 0.5, 600)
+    tau, th, sd, w = o2.impact_arrays()
+    tail = slice(-60, None)
+    periods = [p for p in range(1, 13) if np.allclose(sd[tail][p:], sd[tail][:-p], atol=1e-9)]
+    assert periods and periods[0] == 3
+    assert np.allclose(np.diff(tau[-61::3]), 2 * np.pi, atol=1e-9)
+    o3 = map_orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 1500)
+    sd3 = o3.impact_arrays()[2][-500:]
+    for p in range(1, 13):
+        assert np.max(np.abs(sd3[p:] - sd3[:-p])) > 1e-3
+
+
+def test_chatter_ends_in_sticking_and_release_at_force_zero():
+    """alpha = 2, gamma = 1, r = 0.5: bounces accumulate at a wall, the tooth sticks, and it is
+    released where the contact force f changes sign (upper wall: f decreasing through 0; lower
+    wall: f increasing through 0)."""
+    P = Params(2.0, 0.1, 1.0, 0.5)
+    o = map_orbit(P, 0.0, 0.5, 150)
+    assert o.status == "active"
+    assert o.n_sticking >= 3
+    rel = o.kind == "release"
+    f = np.asarray(forcing(o.tau[rel], P.alpha, P.beta, P.gamma))
+    df = np.asarray(forcing_rate(o.tau[rel], P.alpha, P.beta))
+    direction = np.where(o.wall[rel] == 0, 1.0, -1.0)
+    assert np.all(np.abs(f) < 1e-12) and np.all(direction * df < 0)
+    # time increases through every event; sticking happens at the wall of the impact before it
+    assert np.all(np.diff(o.tau) >= 0)
+    for i in np.flatnonzero(o.kind == "stick"):
+        assert o.kind[i - 1] == "impact" and o.wall[i] == o.wall[i - 1]
+        assert 0 <= o.tau[i] - o.tau[i - 1] <= STICK_TIME
+
+
+def test_sticking_policy_threshold():
+    """Slow impact into a pressing wall: sticks iff the accumulation time 2u/((1-r) f) <= STICK_TIME."""
+    P = Params(3.0, 0.1, 0.1, 0.9)
+    theta = 4.0  # f(4) ~ 2.17 > 0: presses into s = 0
+    f = float(forcing(theta, P.alpha, P.beta, P.gamma))
+    u_crit = STICK_TIME * (1 - P.r) * f / 2
+    for sdot, expect in [(0.5 * u_crit / P.r, True), (2.0 * u_crit / P.r, False)]:
+        _, info = step_jit(make_state(theta, sdot), P.arrays())
+        assert bool(info.stuck) == expect
+
+
+def test_terminal_states_do_not_loop():
+    # |gamma| > alpha sqrt(1+beta^2): the force never changes sign -> chatter, stick, stuck forever
+    o = map_orbit(Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 200)
+    assert o.status == "stuck_forever"
+    # alpha = gamma = 0: coasts to rest inside the gap -> no further impact
+    s, _ = step_jit(make_state(0.0, 0.01), Params(0.0, 0.1, 0.0, 0.9).arrays())
+    assert int(s.status) == ESCAPED
+    assert int(step_jit(s, Params(0.0, 0.1, 0.0, 0.9).arrays())[0].status) == ESCAPED
+
+
+def test_release_delay_closed_form():
+    P = Params(1.0, 0.2, 0.3, 0.8)
+    for wall in (0, -1):
+        d = wall and -1 or 1
+        for th in np.linspace(0, 6.2, 7):
+            dl = float(release_delay(th, wall, P.alpha, P.beta, P.gamma))
+            grid = th + np.linspace(0, dl, 2000)[1:-1]
+            f = d * np.asarray(forcing(grid, P.alpha, P.beta, P.gamma))
+            fr = d * float(forcing(th + dl, P.alpha, P.beta, P.gamma))
+            assert abs(fr) < 1e-12
+            if d * float(forcing(th, P.alpha, P.beta, P.gamma)) > 0:
+                assert np.all(f > -1e-12)  # still pressing until the release
+
+
+def test_batch_equals_single():
+    P = Params(3.0, 0.1, 0.1, 0.9)
+    rng = np.random.default_rng(1)
+    tau, sd = rng.uniform(0, 6.28, 6), rng.uniform(0.05, 0.5, 6)
+    tr = batch_iterate(states(tau, sd), P.arrays(), 40)
+    for i in range(6):
+        o = map_orbit(P, tau[i], sd[i], 40)
+        assert np.array_equal(np.asarray(tr.states.sdot[i]), o.impact_arrays()[2][1:])
+
+
+def test_free_flight_start():
+    P = Params(3.0, 0.1, 0.1, 0.9)
+    o = map_orbit(P, 0.3, -0.2, 5, s0=-0.4)
+    ref = first_root(0.3, -0.4, -0.2, P.alpha, P.beta, P.gamma, t_hi=20, n=4000)
+    assert abs(o.tau[0] - (0.3 + float(ref[0]))) < 1e-12
+    assert o.wall[0] == ref[1]
+
+
+@pytest.mark.parametrize("bad", [dict(alpha=-1), dict(beta=0), dict(beta=float("inf")), dict(r=0), dict(r=1.01),
+                                 dict(gamma=float("nan"))])
+def test_bad_params(bad):
+    base = dict(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
+    base.update(bad)
+    name = next(iter(bad))
+    with pytest.raises(ValueError, match=f"parameter {name}="):
+        Params(**base)
+
+
+def test_bad_initial_state():
+    P = Params(3.0, 0.1, 0.1, 0.9)
+    with pytest.raises(ValueError, match="sdot0"):
+        map_orbit(P, 0.0, 0.0, 5)
+    with pytest.raises(ValueError, match="s0"):
+        map_orbit(P, 0.0, 0.1, 5, s0=0.5)
+    with pytest.raises(ValueError, match="n_impacts"):
+        map_orbit(P, 0.0, 0.1, -1)
+
+
+def test_phase_kept_for_long_orbits():
+    """tau mod 2 pi comes from the reduced phase, not from the large elapsed time."""
+    P = Params(0.5, 0.1, 0.1, 0.9)
+    s = make_state(1.0, 0.5)._replace(cycles=jnp.asarray(10**7, jnp.int64))
+    ns, _ = step_jit(s, P.arrays())
+    assert int(ns.cycles) >= 10**7
+    ns0, _ = step_jit(make_state(1.0, 0.5), P.arrays())
+    assert abs(float(ns.theta) - float(ns0.theta)) < 1e-12
