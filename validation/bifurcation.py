@@ -177,7 +177,7 @@ class Diagram:
         for i, v in enumerate(self.values):
             for j in range(self.sdot.shape[1]):
                 if self.active[i, j]:
-                    lines.append(f"{v!r},{j},{self.theta[i, j]!r},{self.sdot[i, j]!r}")
+                    lines.append(f"{float(v)!r},{j},{float(self.theta[i, j])!r},{float(self.sdot[i, j])!r}")
         return "\n".join(lines) + "\n"
 
 

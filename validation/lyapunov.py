@@ -95,8 +95,8 @@ class LyapunovResult:
     def to_csv(self) -> str:
         rows = [f"{self.param},lambda1,lambda2,lambda1_free,lambda2_free,mean_log_det,n_stuck,active"]
         for i, v in enumerate(self.values):
-            rows.append(f"{v!r},{self.lam[i, 0]!r},{self.lam[i, 1]!r},{self.lam_free[i, 0]!r},"
-                        f"{self.lam_free[i, 1]!r},{self.det_mean[i]!r},{int(self.n_stuck[i])},{bool(self.active[i])}")
+            rows.append(f"{float(v)!r},{float(self.lam[i, 0])!r},{float(self.lam[i, 1])!r},{float(self.lam_free[i, 0])!r},"
+                        f"{float(self.lam_free[i, 1])!r},{float(self.det_mean[i])!r},{int(self.n_stuck[i])},{bool(self.active[i])}")
         return "\n".join(rows) + "\n"
 
 

@@ -1,0 +1,106 @@
+"""Time series of Figs. 5, 6 and 7: the discrete velocity ``sdot_n`` just before each impact and the
+stroboscopic velocity ``sdot(2 pi k)`` sampled once per driving period.
+
+The stroboscopic value needs the flight state at ``tau = 2 pi k``: it is the closed-form flight
+(:func:`mapimpl.flight.flight`, Eqs. 7-8) from the last event before ``2 pi k`` -- the post-impact state
+``(tau_n, -r sdot_n)`` of the last impact, or the release ``(tau_rel, 0)`` after a sticking episode
+(and ``0`` while the tooth sticks).
+
+Figure parameters (alpha = 3, beta = gamma = 0.1): Fig. 5 ``r = 0.82144`` (just above r2, long
+laminar phases), Fig. 6 (further above r2; the paper does not print the value, ``r = 0.83`` here),
+Fig. 7 ``r = 0.74001`` (just below r1, band hopping).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mapimpl import _jax  # noqa: F401
+import jax.numpy as jnp
+
+from mapimpl.flight import TWO_PI, flight
+from mapimpl.orbit import ImpactSequence, map_orbit
+from mapimpl.params import Params
+
+#: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
+FIGURE_R = {"fig5": 0.82144, "fig6": 0.83, "fig7": 0.74001}
+_TP = float(TWO_PI)
+
+
+@dataclass
+class TimeSeries:
+    """``n``, ``sdot_n`` (discrete), ``k``, ``sdot_strobe`` (at tau = 2 pi k)."""
+
+    params: Params
+    n: np.ndarray
+    sdot_n: np.ndarray
+    k: np.ndarray
+    sdot_strobe: np.ndarray
+
+    def save_npz(self, path: str) -> None:
+        p = self.params
+        np.savez_compressed(path, n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe,
+                            alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r)
+
+    def to_csv(self) -> str:
+        m = max(self.n.size, self.k.size)
+        rows = ["n,sdot_n,k,sdot_strobe"]
+        for i in range(m):
+            a = f"{self.n[i]},{float(self.sdot_n[i])!r}" if i < self.n.size else ","
+            b = f"{self.k[i]},{float(self.sdot_strobe[i])!r}" if i < self.k.size else ","
+            rows.append(f"{a},{b}")
+        return "\n".join(rows) + "\n"
+
+
+def stroboscopic(seq: ImpactSequence) -> tuple[np.ndarray, np.ndarray]:
+    """``(k, sdot(2 pi k))`` for every whole period ``2 pi k`` inside the orbit's time span."""
+    p = seq.params
+    t = seq.tau
+    if t.size < 2:
+        raise ValueError("the orbit needs at least 2 events for a stroboscopic sample")
+    k = np.arange(int(np.ceil(t[0] / _TP)), int(np.floor(t[-1] / _TP)) + 1)
+    tk = k * _TP
+    j = np.searchsorted(t, tk, side="right") - 1  # last event at or before 2 pi k
+    kind = seq.kind[j]
+    # post-event initial velocity: impact -> -r sdot; release -> 0; stick -> stays on the wall (0)
+    v0 = np.where(kind == "impact", -p.r * np.nan_to_num(seq.sdot[j]), 0.0)
+    dt = tk - t[j]
+    fp = flight(jnp.asarray(dt), jnp.asarray(np.mod(t[j], _TP)), jnp.asarray(v0), p.alpha, p.beta, p.gamma)
+    v = np.where(kind == "stick", 0.0, np.asarray(fp.v))
+    return k, v
+
+
+def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, tau0: float = 0.0,
+                sdot0: float = 0.5) -> TimeSeries:
+    """Discrete and stroboscopic velocity series after ``transient`` impacts (n counted after it)."""
+    if int(n_impacts) != n_impacts or not 2 <= int(n_impacts) <= 10_000_000:
+        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer 2 <= n_impacts <= 1e7")
+    if int(transient) != transient or not 0 <= int(transient) <= 10_000_000:
+        raise ValueError(f"transient={transient!r} is out of range: allowed an integer 0 <= transient <= 1e7")
+    seq = map_orbit(params, tau0, sdot0, int(n_impacts) + int(transient))
+    keep = seq.n >= int(transient)
+    sub = ImpactSequence(params, seq.n[keep] - int(transient), seq.tau[keep], seq.theta[keep], seq.wall[keep],
+                         seq.sdot[keep], seq.kind[keep], seq.status)
+    k, v = stroboscopic(sub)
+    m = sub.kind == "impact"
+    return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0], v)
+
+
+def plot_time_series(ts: TimeSeries, path: str, title: str | None = None) -> None:
+    """Two panels, like Figs. 5-7: (a) sdot_n against n, (b) sdot(2 pi k) against k."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(2, 1, figsize=(7, 5))
+    ax[0].plot(ts.n, ts.sdot_n, ".k", ms=1)
+    ax[0].set_xlabel("n"); ax[0].set_ylabel(r"$\dot s_n$")
+    ax[1].plot(ts.k, ts.sdot_strobe, ".k", ms=1)
+    ax[1].set_xlabel("k"); ax[1].set_ylabel(r"$\dot s(2\pi k)$")
+    ax[0].set_title(title or f"alpha={ts.params.alpha}, r={ts.params.r}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
