@@ -15,6 +15,10 @@ from validation.cliutil import CliError
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
 COMMAND_MODULES = [
     "validation.commands.simulate",
+    "validation.commands.bifurcation",
+    "validation.commands.lyapunov",
+    "validation.commands.orbitcmd",
+    "validation.commands.timeseries",
 ]
 
 
