@@ -1,0 +1,76 @@
+"""Periodic orbits: Newton/Floquet, continuation through the fold r2 (Fig. 4), bad inputs."""
+
+import numpy as np
+import pytest
+
+from mapimpl.params import Params
+from mapimpl.periodic import find_periodic
+from validation.continuation import closed_form_det, continue_orbit, locate, orbit_states
+from validation.crises import attractor_point, goy_exponent, fit_crisis_fixed
+
+
+@pytest.fixture(scope="module")
+def orbit6():
+    p = Params(3.0, 0.1, 0.1, 0.80)
+    th, sd = attractor_point(p, 3000)
+    return p, find_periodic(p, th, sd, 6)
+
+
+def test_floquet_product_equals_closed_form_dets(orbit6):
+    # Fig. 4: stable 6-impact period-1 orbit below r2
+    p, o = orbit6
+    assert o.converged and o.stable
+    prod = np.prod(o.multipliers).real
+    assert prod == pytest.approx(closed_form_det(p, 6), rel=1e-10)
+    # and step by step: prod_n r^2 exp(-beta dt_n) sdot_n / sdot_{n+1} with the orbit's own times
+    th, sd = orbit_states(p, o.tau[0], o.sdot[0], 6)
+    dt = np.diff(np.unwrap(np.append(th, o.tau[0]), period=2 * np.pi))
+    dt = np.mod(dt, 2 * np.pi)
+    steps = p.r ** 2 * np.exp(-p.beta * dt) * sd / np.roll(sd, -1)
+    assert np.prod(steps) == pytest.approx(prod, rel=1e-10)
+    assert dt.sum() == pytest.approx(2 * np.pi, rel=1e-12)
+
+
+def test_continuation_passes_fold_r2(orbit6):
+    p, o = orbit6
+    br = continue_orbit(p, "r", o.tau[0], o.sdot[0], 6, mu_range=(0.79, 0.83), ds=5e-3, ds_max=2e-2,
+                        max_points=14)
+    assert br.folds, br.stop_reason
+    f = br.folds[0]
+    assert f.converged and f.kind == "fold"
+    m = np.sort(np.abs(f.multipliers))
+    assert m[1] == pytest.approx(1.0, abs=1e-8)
+    mu = br.arrays()["mu"]
+    assert np.all(mu <= f.mu + 1e-9)  # a fold is the end of the branch in r
+    mult = br.arrays()["mult_re"].max(axis=1)
+    # the largest real multiplier crosses +1: < 1 on the node side of the fold, > 1 on the saddle side
+    k = int(np.argmax(mu))
+    a, b = mult[:k], mult[k + 1:]
+    assert a.size and b.size
+    assert (a.max() < 1.0 < b.min()) or (b.max() < 1.0 < a.min())
+    # locating again from a point further away gives the same r2 to 1e-9
+    g = locate(p, "r", "fold", o.tau[0], o.sdot[0], 0.82, 6)
+    assert g.mu == pytest.approx(f.mu, abs=1e-9)
+
+
+def test_goy_fixed_exponent_fit_recovers_critical_value():
+    rng = np.random.default_rng(1)
+    mu = np.linspace(1.0, 1.1, 8)
+    T = 5.0 * (1.2 - mu) ** -0.8 * (1 + 0.01 * rng.standard_normal(8))
+    mc, err, _ = fit_crisis_fixed(mu, T, 0.01 * T, 0.8)
+    assert abs(mc - 1.2) < 4 * err + 1e-12 and err < 5e-3
+    assert goy_exponent([4.0, 0.05]) == pytest.approx(0.5 + np.log(4) / np.log(20))
+
+
+@pytest.mark.parametrize("call", [
+    lambda: continue_orbit(Params(3, .1, .1, .8), "beta", 0.0, 0.5, 6),
+    lambda: continue_orbit(Params(3, .1, .1, .8), "r", 0.0, 0.5, 0),
+    lambda: continue_orbit(Params(3, .1, .1, .8), "r", 0.0, 0.5, 6, direction=2),
+    lambda: continue_orbit(Params(3, .1, .1, .8), "r", 0.0, 0.5, 6, mu_range=(0.9, 0.95)),
+    lambda: locate(Params(3, .1, .1, .8), "r", "cusp", 0.0, 0.5, 0.8, 6),
+    lambda: closed_form_det(Params(3, .1, .1, .8), 6, 0),
+    lambda: goy_exponent([0.5, 0.2]),
+])
+def test_bad_inputs(call):
+    with pytest.raises(ValueError):
+        call()
