@@ -1,0 +1,322 @@
+"""Transient durations of many initial conditions (Section 4 of the paper), chunked and jit-compiled.
+
+**Setting.**  alpha = 1.245 (just past the crisis alpha_1 ~ 1.2437 of Fig. 8), r = 0.9,
+beta = gamma = 0.1: the chaotic attractor has become a chaotic saddle and orbits end on the stable
+4-impact period-1 orbit, found here by Newton's method (:func:`mapimpl.periodic.find_periodic`)
+from the end of a long orbit, never hard-coded.
+
+**Transient duration.**  ``n(IC)`` = the number of map iterations (impacts) until the pre-impact
+state first lies within ``delta`` of a point of that periodic orbit, in the sup norm of
+``(tau mod 2 pi, sdot)`` with the phase difference wrapped and the wall required to match.  The
+engine records the first-hit iteration for several deltas at once (``deltas``) and stops an orbit
+when it is within the smallest one, or after ``cap`` iterations (censored).
+
+**Initial conditions.**  ``ic_mode="pre-impact"`` (default, the paper's map variables): ``(tau0,
+sdot0)`` is the state just before an impact, ``sdot0 > 0`` at ``s = 0``.  ``ic_mode="free"``: a
+free-flight state ``s(tau0) = s0``, ``sdot(tau0) = sdot0`` (e.g. ``s0 = -1``: just after leaving
+the lower wall); its first impact is found with :func:`mapimpl.impact_map.free_flight_start` and
+becomes iteration 0.  Initial conditions that chatter and stick go through the sticking policy
+of :mod:`mapimpl.sticking` like every impact; ``nstick`` counts the episodes per orbit.
+
+**Engine.**  :mod:`validation.transient.kernel`: ``lanes`` orbits advance together in one
+vmapped micro-step kernel; lanes are refilled from the chunk's queue as orbits end; a
+``lax.while_loop`` over blocks of micro-steps exits early when the chunk is done, and returns to
+Python every ``max_blocks`` blocks to draw the progress bar.  Memory holds the lanes and a few
+integers per initial condition of the chunk, never histories.  Runs on a GPU unchanged (larger
+``lanes`` pays there).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from mapimpl import _jax  # noqa: F401
+import jax
+import jax.numpy as jnp
+
+from mapimpl.finder import MAX_STEPS, T_MAX
+from mapimpl.impact_map import ACTIVE, free_flight_start
+from mapimpl.params import Params
+from mapimpl.sticking import STICK_TIME
+from validation.transient import kernel as K
+
+#: The setting of the paper's Figs. 9-11.
+PAPER_PARAMS = Params(alpha=1.245, beta=0.1, gamma=0.1, r=0.9)
+#: The paper's box (Figs. 10 and 11): 3.0 < tau0 < 3.5, 0 < sdot0 < 0.5.
+PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
+#: Default capture distance and the distances recorded alongside it.
+DELTA = 1e-3
+DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
+IC_MODES = ("pre-impact", "free")
+
+
+class ProgressBar:
+    """A minimal progress bar on stderr (no dependency); silent when ``enabled`` is False."""
+
+    def __init__(self, total: int, label: str = "", enabled: bool = True, width: int = 30):
+        self.total, self.label, self.enabled, self.width = max(int(total), 1), label, enabled, width
+        self.t0 = time.perf_counter()
+        self._last = -1.0
+
+    def update(self, done: int, extra: str = "") -> None:
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if done < self.total and now - self._last < 0.5:
+            return
+        self._last = now
+        f = min(done / self.total, 1.0)
+        bar = "#" * int(f * self.width)
+        el = now - self.t0
+        eta = el * (1 - f) / f if f > 0 else float("nan")
+        sys.stderr.write(f"\r{self.label} [{bar:<{self.width}}] {done}/{self.total} {el:6.1f}s eta {eta:6.1f}s {extra}")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+@dataclass
+class PeriodicTarget:
+    """The attracting periodic orbit: its ``impacts`` pre-impact states and Floquet multipliers."""
+
+    theta: np.ndarray
+    sdot: np.ndarray
+    wall: np.ndarray
+    multipliers: np.ndarray
+    residual: float
+
+
+@lru_cache(maxsize=16)
+def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tuple = (3.2, 0.3),
+                    settle: int = 4000) -> PeriodicTarget:
+    """Find the stable ``impacts``-impact period-1 orbit by Newton (Fig. 8's orbit for alpha > alpha_1).
+
+    A long orbit from ``guess`` settles near it; :func:`mapimpl.periodic.find_periodic` refines it.
+    Raises ``ValueError`` if Newton fails or the orbit is not stable.
+    """
+    from mapimpl.orbit import map_orbit
+    from mapimpl.periodic import find_periodic
+
+    # follow the orbit until it repeats every ``impacts`` impacts (the transient has ended)
+    tau, sdot = float(guess[0]), float(guess[1])
+    for _ in range(25):
+        seq = map_orbit(params, tau, sdot, settle)
+        _, th, sd, _ = seq.impact_arrays()
+        if seq.status != "active" or len(th) < 2 * impacts + 1:
+            raise ValueError(f"orbit from guess={guess} ended ({seq.status}); cannot locate the periodic orbit")
+        tau, sdot = float(th[-1]), float(sd[-1])
+        dth = np.abs(np.angle(np.exp(1j * (th[-1 - impacts:] - th[-1 - 2 * impacts:-impacts]))))
+        if np.max(dth) < 1e-6 and np.max(np.abs(sd[-1 - impacts:] - sd[-1 - 2 * impacts:-impacts])) < 1e-6:
+            break
+    po = find_periodic(params, tau, sdot, impacts)
+    if not po.converged or not po.stable:
+        raise ValueError(f"no stable {impacts}-impact period-1 orbit found from guess={guess} "
+                         f"(converged={po.converged}, |multipliers|={np.abs(po.multipliers)})")
+    # the wall of each pre-impact state follows the sign of its velocity (sdot > 0 hits s = 0);
+    # note ``po.walls`` lists the walls of the *following* states (pfold records states after a step)
+    wall = np.where(np.asarray(po.sdot) > 0, 0, -1).astype(np.int32)
+    return PeriodicTarget(np.asarray(po.tau), np.asarray(po.sdot), wall,
+                          np.asarray(po.multipliers), float(po.residual))
+
+
+@dataclass
+class TransientResult:
+    """Per-initial-condition results (flat arrays of length N, in input order).
+
+    ``hit[:, j]``: first iteration within ``deltas[j]`` (-1: never, within the cap);
+    ``n``: iterations performed; ``status``: :data:`kernel.STATUS_NAMES`; ``nstick``: sticking
+    episodes.  ``duration(delta)`` gives the transient durations with censored orbits set to
+    ``cap`` and a mask of censored ones.
+    """
+
+    tau0: np.ndarray
+    sdot0: np.ndarray
+    hit: np.ndarray
+    n: np.ndarray
+    status: np.ndarray
+    nstick: np.ndarray
+    deltas: np.ndarray
+    delta: float
+    cap: int
+    params: Params
+    ic_mode: str
+    s0: float | None
+    target: PeriodicTarget
+    elapsed: float
+    meta: dict = field(default_factory=dict)
+
+    def column(self, delta: float | None = None) -> int:
+        d = self.delta if delta is None else float(delta)
+        j = np.flatnonzero(np.isclose(self.deltas, d, rtol=1e-12, atol=0))
+        if len(j) == 0:
+            raise ValueError(f"delta={delta!r} is out of range: allowed one of the recorded deltas {list(self.deltas)}")
+        return int(j[0])
+
+    def duration(self, delta: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(durations, censored)``: iterations to come within ``delta`` (``cap`` when never)."""
+        h = self.hit[:, self.column(delta)]
+        censored = h < 0
+        return np.where(censored, self.cap, h), censored
+
+    @property
+    def impacts(self) -> int:
+        """Total map iterations performed (the engine's work)."""
+        return int(np.sum(self.n))
+
+    @property
+    def n_stuck_orbits(self) -> int:
+        """Orbits with at least one sticking episode."""
+        return int(np.sum(self.nstick > 0))
+
+    def summary(self) -> dict:
+        d, c = self.duration()
+        return {
+            "n_ic": int(len(self.n)), "cap": self.cap, "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0,
+            "censored": int(c.sum()), "mean_duration_uncensored": float(d[~c].mean()) if (~c).any() else math.nan,
+            "orbits_with_sticking": self.n_stuck_orbits, "sticking_episodes": int(self.nstick.sum()),
+            "status_counts": {K.STATUS_NAMES[s]: int(np.sum(self.status == s)) for s in np.unique(self.status)},
+            "impacts": self.impacts, "elapsed_s": self.elapsed,
+            "impacts_per_s": self.impacts / self.elapsed if self.elapsed > 0 else math.nan,
+        }
+
+
+def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
+    tau0 = np.atleast_1d(np.asarray(tau0, dtype=np.float64)).ravel()
+    sdot0 = np.atleast_1d(np.asarray(sdot0, dtype=np.float64)).ravel()
+    if tau0.shape != sdot0.shape:
+        raise ValueError(f"tau0 and sdot0 must have the same length (got {tau0.size} and {sdot0.size})")
+    if tau0.size == 0:
+        raise ValueError("tau0 is empty: allowed at least one initial condition")
+    if not np.all(np.isfinite(tau0)) or np.any(np.abs(tau0) > 1e6):
+        raise ValueError("tau0 is out of range: allowed finite values with |tau0| <= 1e6")
+    if not np.all(np.isfinite(sdot0)):
+        raise ValueError("sdot0 is out of range: allowed finite values")
+    if ic_mode not in IC_MODES:
+        raise ValueError(f"ic_mode={ic_mode!r} is out of range: allowed one of {', '.join(IC_MODES)}")
+    if ic_mode == "pre-impact":
+        if np.any(sdot0 == 0.0):
+            raise ValueError("sdot0 is out of range: a pre-impact state needs sdot0 != 0 (> 0 hits s = 0, < 0 hits s = -1)")
+    else:
+        if s0 is None or not (math.isfinite(float(s0)) and -1.0 <= float(s0) <= 0.0):
+            raise ValueError(f"s0={s0!r} is out of range: allowed -1 <= s0 <= 0 for ic_mode='free'")
+    return tau0, sdot0
+
+
+_free_start_v = jax.jit(jax.vmap(free_flight_start, in_axes=(0, None, 0, None)))
+
+
+def initial_states(params: Params, tau0, sdot0, ic_mode="pre-impact", s0=None):
+    """Pre-impact states ``(theta, sdot, wall, ok)`` of the initial conditions (numpy arrays)."""
+    tau0, sdot0 = _check_ic_arrays(tau0, sdot0, ic_mode, s0)
+    if ic_mode == "pre-impact":
+        th = np.asarray(K._reduce(jnp.asarray(tau0)))
+        return th, sdot0.copy(), np.where(sdot0 > 0, 0, -1).astype(np.int32), np.ones(tau0.size, bool)
+    st = _free_start_v(jnp.asarray(tau0), jnp.asarray(float(s0)), jnp.asarray(sdot0), params.arrays())
+    ok = np.asarray(st.status) == ACTIVE
+    return (np.asarray(st.theta), np.asarray(st.sdot), np.asarray(st.wall, dtype=np.int32), ok)
+
+
+def _validate_run(deltas, delta, cap, lanes, block, chunk):
+    d = np.asarray(sorted(set(float(x) for x in deltas) | {float(delta)}, reverse=True), dtype=np.float64)
+    if not (math.isfinite(float(delta)) and float(delta) > 0):
+        raise ValueError(f"delta={delta!r} is out of range: allowed 0 < delta (finite)")
+    if np.any(~np.isfinite(d)) or np.any(d <= 0) or np.any(d > 10):
+        raise ValueError(f"deltas={list(deltas)!r} are out of range: allowed 0 < delta <= 10")
+    if int(cap) != cap or not (1 <= int(cap) <= 10**8):
+        raise ValueError(f"cap={cap!r} is out of range: allowed integer 1 <= cap <= 1e8")
+    for name, v, hi in (("lanes", lanes, 1 << 22), ("block", block, 1 << 16), ("chunk", chunk, 1 << 26)):
+        if int(v) != v or not (1 <= int(v) <= hi):
+            raise ValueError(f"{name}={v!r} is out of range: allowed integer 1 <= {name} <= {hi}")
+    return d
+
+
+def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str = "pre-impact", s0=None,
+                    delta: float = DELTA, deltas=DELTAS, cap: int = 20000, lanes: int | None = None,
+                    block: int = 32, chunk: int = 1 << 18, progress: bool | None = None,
+                    label: str = "transients", target: PeriodicTarget | None = None,
+                    stick_time: float = STICK_TIME) -> TransientResult:
+    """Transient duration of every initial condition ``(tau0[i], sdot0[i])`` (see module docstring).
+
+    ``cap``: most map iterations per orbit; ``lanes``: orbits advanced together (default 512 on
+    CPU, 16384 on an accelerator); ``block``: micro-steps between refills; ``chunk``: initial
+    conditions per kernel launch (bounds memory).  ``progress``: progress bar on stderr (default:
+    when stderr is a terminal).  Deterministic: no randomness inside.
+    """
+    d = _validate_run(deltas, delta, cap, lanes or 1, block, chunk)
+    if target is None:
+        target = periodic_target(params)
+    th, sd, wall, ok = initial_states(params, tau0, sdot0, ic_mode, s0)
+    tau0a = np.atleast_1d(np.asarray(tau0, np.float64)).ravel()
+    sdot0a = np.atleast_1d(np.asarray(sdot0, np.float64)).ravel()
+    n_ic = th.size
+    if lanes is None:
+        lanes = 512 if jax.default_backend() == "cpu" else 16384
+    lanes = int(min(lanes, max(n_ic, 1)))
+    if progress is None:
+        progress = sys.stderr.isatty()
+    k = K.make_consts((params.alpha, params.beta, params.gamma, params.r), target.theta, target.sdot, target.wall,
+                      d, int(cap), stick_time=stick_time, t_max=T_MAX, max_steps=MAX_STEPS)
+    nd = d.size
+    hit = np.full((n_ic, nd), -1, np.int32)
+    nn = np.zeros(n_ic, np.int32)
+    status = np.full(n_ic, K.NOT_RUN, np.int32)
+    nstick = np.zeros(n_ic, np.int32)
+    # orbits whose free flight never reaches a wall are not run
+    status[~ok] = K.ESCAPED
+    idx_ok = np.flatnonzero(ok)
+    bar = ProgressBar(idx_ok.size, label, progress)
+    t0 = time.perf_counter()
+    done_total = 0
+    for c0 in range(0, idx_ok.size, int(chunk)):
+        sel = idx_ok[c0:c0 + int(chunk)]
+        m = sel.size
+        q_th, q_sd, q_w = jnp.asarray(th[sel]), jnp.asarray(sd[sel]), jnp.asarray(wall[sel])
+        res = dict(n=jnp.zeros(m, jnp.int32), status=jnp.full(m, K.NOT_RUN, jnp.int32),
+                   nstick=jnp.zeros(m, jnp.int32), hitn=jnp.full((m, nd), -1, jnp.int32))
+        carry = (K.idle_lanes(min(lanes, m), nd), res, jnp.asarray(0, jnp.int32))
+        while True:
+            carry, nb = K.run_blocks(carry, q_th, q_sd, q_w, k, block=int(block), max_blocks=64)
+            lanes_s, res, next_ic = carry
+            busy = bool(jnp.any(lanes_s["mode"] != K.MODE_IDLE)) or int(next_ic) < m
+            n_done = int(next_ic) - int(jnp.sum(lanes_s["ic"] >= 0))
+            bar.update(done_total + n_done)
+            if not busy:
+                break
+        done_total += m
+        hit[sel] = np.asarray(res["hitn"])
+        nn[sel] = np.asarray(res["n"])
+        status[sel] = np.asarray(res["status"])
+        nstick[sel] = np.asarray(res["nstick"])
+    elapsed = time.perf_counter() - t0
+    bar.update(idx_ok.size)
+    bar.close()
+    return TransientResult(tau0a, sdot0a, hit, nn, status, nstick, d, float(delta), int(cap), params, ic_mode,
+                           None if s0 is None else float(s0), target, elapsed,
+                           meta={"lanes": lanes, "block": int(block), "chunk": int(chunk),
+                                 "backend": jax.default_backend()})
+
+
+def grid(box=PAPER_BOX, nx: int = 400, ny: int = 400):
+    """Cell-centred ``nx`` x ``ny`` mesh over ``box = (tau_lo, tau_hi, sdot_lo, sdot_hi)``.
+
+    Returns ``(TAU, SDOT)`` of shape ``(ny, nx)`` (cell centres: the open box's edges, e.g.
+    ``sdot0 = 0``, are never sampled).
+    """
+    t_lo, t_hi, s_lo, s_hi = (float(x) for x in box)
+    if not (t_lo < t_hi and s_lo < s_hi) or not all(math.isfinite(x) for x in box):
+        raise ValueError(f"box={box!r} is out of range: allowed finite (tau_lo < tau_hi, sdot_lo < sdot_hi)")
+    for name, v in (("nx", nx), ("ny", ny)):
+        if int(v) != v or not (1 <= int(v) <= 20000):
+            raise ValueError(f"{name}={v!r} is out of range: allowed integer 1 <= {name} <= 20000")
+    tx = t_lo + (np.arange(nx) + 0.5) * (t_hi - t_lo) / nx
+    sy = s_lo + (np.arange(ny) + 0.5) * (s_hi - s_lo) / ny
+    return np.meshgrid(tx, sy)
