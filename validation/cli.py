@@ -15,6 +15,7 @@ from validation.cliutil import CliError
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
 COMMAND_MODULES = [
     "validation.commands.simulate",
+    "validation.commands.report",
     "validation.commands.bifurcation",
     "validation.commands.lyapunov",
     "validation.commands.orbitcmd",
