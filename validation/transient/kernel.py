@@ -228,7 +228,8 @@ def micro_step(s, k):
     step_n = jnp.abs(xn - x)
     # Newton error after this step ~ |g''/(2 g')| step^2: accept without re-evaluating when it is
     # far below an ulp (the finder instead evaluates once more to see a step <= 2 ulp)
-    quad_ok = ok & (jnp.abs(a) * step_n * step_n <= 1e-3 * _EPS * jnp.abs(dg) * jnp.abs(xn))
+    # (M2 >= |s''| bounds g'' over the whole flight, so the estimate holds far from the root too)
+    quad_ok = ok & (m2 * step_n * step_n <= 1e-3 * _EPS * jnp.abs(dg) * jnp.abs(xn))
     conv = (g == 0.0) | tiny | (step_n <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n) | quad_ok
     xn = jnp.where(g == 0.0, x, xn)
     kN = s["k"] + 1
@@ -280,13 +281,17 @@ def micro_step(s, k):
     th0_stick = _reduce(th1 + jnp.where(stick & ~stuck_forever, delay, 0.0))
 
     # set-up of a new flight from (th0, s0, v0) with known sin/cos: departure certificate, bounds
-    def setup(sn0, cs0, v0, s0):
+    def setup(sn0, cs0, v0, s0, release):
         on_t, on_b = s0 == 0.0, s0 == -1.0
         sgn = jnp.where(on_t, 1.0, -1.0)
         a0 = -alpha * sn0 + alpha * beta * cs0 + gamma - beta * v0
         bc = jnp.abs(beta * (v0 - alpha * cs0) - gamma)
         dm2, dm3, dm4 = alpha + bc, alpha + beta * bc, alpha + beta * beta * bc
         uu, aa = sgn * v0, sgn * a0
+        # at a release the contact force is zero by construction (a downward zero crossing of f);
+        # a rounding-level "still pressing" aa > 0 would deny the departure certificate and end the
+        # flight at once with a spurious zero-velocity graze
+        aa = jnp.where(release, jnp.minimum(aa, 0.0), aa)
         jj = sgn * ((-alpha * cs0 - alpha * beta * sn0) - beta * a0)
         tiny = 1e-300
         c1 = jnp.where(uu < 0.0, 2.0 * (-uu) / jnp.maximum(dm2, tiny), 0.0)
@@ -302,7 +307,7 @@ def micro_step(s, k):
     su_cs = cs1
     su_v0 = jnp.where(inS, 0.0, -r * v1)
     su_s0 = jnp.where(inS, s["s0"], s0_new)
-    tdep_new, bc_new = setup(su_sn, su_cs, su_v0, su_s0)
+    tdep_new, bc_new = setup(su_sn, su_cs, su_v0, su_s0, inS)
     start_flight = go_free | inS
     (hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free, th0_stick, tdep_new, bc_new, su_v0,
      start_flight) = _barrier((hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free, th0_stick,
@@ -421,3 +426,30 @@ def run_blocks(carry, queue_th, queue_sd, queue_wall, k, block=32, max_blocks=64
     lanes, res, next_ic = carry
     lanes, res, next_ic, nb = jax.lax.while_loop(cond, body, (lanes, res, next_ic, jnp.asarray(0, jnp.int32)))
     return (lanes, res, next_ic), nb
+
+
+@partial(jax.jit, static_argnames=("n_impacts",))
+def trace(theta0, sdot0, wall0, k, n_impacts: int):
+    """Pre-impact states ``(theta, sdot, wall, nstick)`` after each of ``n_impacts`` map iterations of
+    one orbit, computed by the engine's micro-steps (for tests against :func:`mapimpl.impact_map.step`).
+    Entries after the orbit ended (stuck forever, escaped) are NaN."""
+    lane = jax.tree_util.tree_map(lambda x: x[0], idle_lanes(1, k["deltas"].shape[0]))
+    lane.update(mode=jnp.int32(MODE_L), ic=jnp.int32(0), th=jnp.asarray(theta0, jnp.float64),
+                sd=jnp.asarray(sdot0, jnp.float64), wall=jnp.asarray(wall0, jnp.int32))
+    hist = jnp.full((n_impacts + 1, 3), jnp.nan)
+
+    def cond(c):
+        l, h, it = c
+        return (l["mode"] != MODE_IDLE) & (l["n"] < n_impacts) & (it < 200 * (n_impacts + 1))
+
+    def body(c):
+        l, h, it = c
+        l2 = micro_step(l, k)
+        arrived = l2["n"] != l["n"]
+        row = jnp.stack([l2["th"], l2["sd"], l2["wall"].astype(jnp.float64)])
+        h = jnp.where(arrived, h.at[l2["n"]].set(row), h)
+        return l2, h, it + 1
+
+    hist = hist.at[0].set(jnp.stack([lane["th"], lane["sd"], lane["wall"].astype(jnp.float64)]))
+    lane, hist, _ = jax.lax.while_loop(cond, body, (lane, hist, jnp.asarray(0, jnp.int32)))
+    return hist

@@ -1,0 +1,213 @@
+"""Statistics of Section 4: survival curve and Eq. (14) fit (Fig. 11), uncertain fraction and
+uncertainty exponent (Fig. 10), transient basins (Fig. 9).
+
+Eq. (14): ``N(n) = N0 exp(-kappa n / <n>)``.  ``N(n)`` is the number of initial conditions still
+transient after ``n`` iterations (duration > n).  We fit ``ln N(n)`` linearly in ``n`` over a fit
+range ``[n_lo, n_hi]`` (default: from ``n_lo`` = the median duration, past the fast tongues of
+Fig. 9(a), up to the ``n`` where ``N`` falls to ``n_min_count`` = 100, below which Poisson noise
+dominates); the slope is ``-1/tau_fit``.  ``<n>`` is the mean transient duration over all
+initial conditions (censored ones counted at the cap: a lower bound, exact when none is censored).
+Then ``kappa = <n> / tau_fit``.  For a pure exponential with ``<n>`` its mean, ``kappa = 1``
+exactly; ``kappa < 1`` means the tail decays more slowly than the mean suggests (an excess of
+short transients).  Standard errors: the ordinary least-squares one (which treats the highly
+correlated cumulative counts as independent and so is far too small, like the paper's
+``+-0.001``) and a bootstrap over initial conditions (the honest one).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def _check_durations(durations, censored=None):
+    d = np.asarray(durations)
+    if d.ndim != 1 or d.size == 0:
+        raise ValueError("durations must be a non-empty 1-D array")
+    if not np.all(np.isfinite(d)) or np.any(d < 0):
+        raise ValueError("durations are out of range: allowed finite values >= 0")
+    c = np.zeros(d.shape, bool) if censored is None else np.asarray(censored, bool)
+    if c.shape != d.shape:
+        raise ValueError("censored must have the same shape as durations")
+    return d.astype(np.int64), c
+
+
+def survival(durations, n_max: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``(n, N)``: number of initial conditions with duration > n, for n = 0..n_max (non-increasing)."""
+    d, _ = _check_durations(durations)
+    n_max = int(d.max()) if n_max is None else int(n_max)
+    if n_max < 0:
+        raise ValueError(f"n_max={n_max} is out of range: allowed n_max >= 0")
+    counts = np.bincount(np.minimum(d, n_max + 1), minlength=n_max + 2)
+    # N(n) = #(d > n) = total - #(d <= n)
+    N = d.size - np.cumsum(counts)[: n_max + 1]
+    return np.arange(n_max + 1), N
+
+
+def linear_fit(x, y, w=None):
+    """Weighted least squares ``y = a + b x``: ``(a, b, se_a, se_b)`` (standard errors from residuals)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if x.size < 3 or x.shape != y.shape:
+        raise ValueError("linear_fit needs at least 3 points of matching shape")
+    w = np.ones_like(x) if w is None else np.asarray(w, float)
+    W = w.sum()
+    xm, ym = (w * x).sum() / W, (w * y).sum() / W
+    sxx = (w * (x - xm) ** 2).sum()
+    if sxx <= 0:
+        raise ValueError("linear_fit needs at least two distinct x values")
+    b = (w * (x - xm) * (y - ym)).sum() / sxx
+    a = ym - b * xm
+    res = y - a - b * x
+    dof = x.size - 2
+    s2 = (w * res ** 2).sum() / dof * (x.size / W)  # residual variance (weights normalised to mean 1)
+    se_b = math.sqrt(s2 / (sxx * x.size / W))
+    se_a = math.sqrt(s2 * (1.0 / x.size + xm * xm / (sxx * x.size / W)))
+    return a, b, se_a, se_b
+
+
+@dataclass
+class SurvivalFit:
+    """Eq. (14) fit: ``N0``, ``kappa``, ``mean_n`` (``<n>``), ``tau_fit`` (decay time) and errors."""
+
+    N0: float
+    kappa: float
+    kappa_se_ls: float
+    kappa_se_boot: float
+    mean_n: float
+    mean_n_se: float
+    tau_fit: float
+    tau_fit_se_ls: float
+    tau_fit_se_boot: float
+    n_lo: int
+    n_hi: int
+    n_ic: int
+    n_censored: int
+
+    def as_dict(self) -> dict:
+        return {k: (float(v) if isinstance(v, (float, np.floating)) else int(v)) for k, v in self.__dict__.items()}
+
+
+def _fit_range(N, n_lo, n_hi, n_min_count):
+    if n_hi is None:
+        below = np.flatnonzero(N < n_min_count)
+        n_hi = int(below[0]) - 1 if below.size else N.size - 1
+    return int(n_lo), int(min(n_hi, N.size - 1))
+
+
+def _fit_once(d, n_lo, n_hi, n_max):
+    n, N = survival(d, n_max)
+    sel = (n >= n_lo) & (n <= n_hi) & (N > 0)
+    a, b, se_a, se_b = linear_fit(n[sel], np.log(N[sel]), w=N[sel])
+    return a, b, se_a, se_b
+
+
+def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | None = None, n_hi: int | None = None,
+                 n_min_count: int = 100, n_boot: int = 200, seed: int = 0) -> SurvivalFit:
+    """Fit Eq. (14) to the survival curve of ``durations`` (see the module docstring).
+
+    ``censored`` marks orbits stopped at ``cap`` (their duration is >= cap); the fit range must end
+    below the cap.  Deterministic (``seed``).  Raises ``ValueError`` on bad input or an empty range.
+    """
+    d, c = _check_durations(durations, censored)
+    cap = int(d.max()) if cap is None else int(cap)
+    if n_boot < 0 or int(n_boot) != n_boot:
+        raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
+    if n_min_count < 1:
+        raise ValueError(f"n_min_count={n_min_count!r} is out of range: allowed >= 1")
+    n_lo = int(np.median(d)) if n_lo is None else int(n_lo)
+    _, N = survival(d, cap)
+    n_lo, n_hi = _fit_range(N, n_lo, n_hi, n_min_count)
+    if n_hi >= cap and c.any():
+        n_hi = cap - 1
+    if not (0 <= n_lo < n_hi - 2):
+        raise ValueError(f"fit range n_lo={n_lo}, n_hi={n_hi} is empty: allowed 0 <= n_lo < n_hi - 2")
+    a, b, se_a, se_b = _fit_once(d, n_lo, n_hi, cap)
+    if not b < 0:
+        raise ValueError("survival curve does not decay over the fit range")
+    mean_n = float(d.mean())
+    mean_se = float(d.std(ddof=1) / math.sqrt(d.size)) if d.size > 1 else math.nan
+    tau = -1.0 / b
+    kappa = mean_n / tau
+    kappa_se_ls = mean_n * se_b  # slope error only, <n> held fixed (what a plain LS fit reports)
+    tau_se_ls = se_b / b ** 2
+    rng = np.random.default_rng(seed)
+    ks, ts = [], []
+    for _ in range(int(n_boot)):
+        db = d[rng.integers(0, d.size, d.size)]
+        try:
+            _, bb, _, _ = _fit_once(db, n_lo, n_hi, cap)
+        except ValueError:
+            continue
+        if bb < 0:
+            ts.append(-1.0 / bb)
+            ks.append(db.mean() * -bb)
+    kse = float(np.std(ks, ddof=1)) if len(ks) > 1 else math.nan
+    tse = float(np.std(ts, ddof=1)) if len(ts) > 1 else math.nan
+    return SurvivalFit(float(math.exp(a)), float(kappa), float(kappa_se_ls), kse, mean_n, mean_se, float(tau),
+                       float(tau_se_ls), tse, n_lo, n_hi, int(d.size), int(c.sum()))
+
+
+# ---------------------------------------------------------------- uncertainty exponent (Fig. 10)
+
+@dataclass
+class UncertaintyFit:
+    """``f(eps) ~ C eps^phi``: exponent ``phi`` with least-squares and bootstrap standard errors."""
+
+    n_threshold: int
+    eps: np.ndarray
+    f: np.ndarray
+    phi: float
+    phi_se_ls: float
+    phi_se_boot: float
+    log10_C: float
+    n_points: int
+
+    def as_dict(self) -> dict:
+        return {"n_threshold": self.n_threshold, "eps": self.eps.tolist(), "f": self.f.tolist(), "phi": self.phi,
+                "phi_se_ls": self.phi_se_ls, "phi_se_boot": self.phi_se_boot, "log10_C": self.log10_C,
+                "n_points": self.n_points}
+
+
+def uncertain_fraction(dA, dB, dC, n_threshold: int) -> np.ndarray:
+    """``f(eps)`` for every eps: ``dA`` shape (P,), ``dB``/``dC`` shape (P, E) (durations at
+    ``tau0 +- eps``).  Returns shape (E,)."""
+    unc = _uncertain(dA, dB, dC, n_threshold)
+    return unc.mean(axis=0)
+
+
+def _uncertain(dA, dB, dC, n_threshold):
+    dA, dB, dC = np.asarray(dA), np.asarray(dB), np.asarray(dC)
+    if dB.shape != dC.shape or dB.ndim != 2 or dB.shape[0] != dA.shape[0]:
+        raise ValueError("dB and dC must have shape (len(dA), n_eps)")
+    if int(n_threshold) < 1:
+        raise ValueError(f"n_threshold={n_threshold!r} is out of range: allowed >= 1")
+    a = (dA < n_threshold)[:, None]
+    return ((dB < n_threshold) != a) | ((dC < n_threshold) != a)
+
+
+def fit_uncertainty(eps, unc: np.ndarray, n_threshold: int, n_boot: int = 200, seed: int = 0) -> UncertaintyFit:
+    """Fit ``log10 f = log10 C + phi log10 eps`` (ordinary least squares over the eps with f > 0) and
+    bootstrap the exponent by resampling the random points.  ``unc``: boolean (P, E) uncertain mask."""
+    eps = np.asarray(eps, float)
+    unc = np.asarray(unc, bool)
+    if eps.ndim != 1 or unc.ndim != 2 or unc.shape[1] != eps.size:
+        raise ValueError("unc must have shape (n_points, len(eps))")
+    if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
+        raise ValueError("eps is out of range: allowed eps > 0")
+    f = unc.mean(axis=0)
+    ok = f > 0
+    if ok.sum() < 3:
+        raise ValueError("fewer than 3 eps values with a nonzero uncertain fraction: cannot fit an exponent")
+    a, b, se_a, se_b = linear_fit(np.log10(eps[ok]), np.log10(f[ok]))
+    rng = np.random.default_rng(seed)
+    bs = []
+    P = unc.shape[0]
+    for _ in range(int(n_boot)):
+        fb = unc[rng.integers(0, P, P)].mean(axis=0)
+        okb = fb > 0
+        if okb.sum() >= 3:
+            bs.append(linear_fit(np.log10(eps[okb]), np.log10(fb[okb]))[1])
+    return UncertaintyFit(int(n_threshold), eps, f, float(b), float(se_b),
+                          float(np.std(bs, ddof=1)) if len(bs) > 1 else math.nan, float(a), int(P))
