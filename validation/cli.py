@@ -20,6 +20,9 @@ COMMAND_MODULES = [
     "validation.commands.lyapunov",
     "validation.commands.orbitcmd",
     "validation.commands.timeseries",
+    "validation.commands.basins",
+    "validation.commands.uncertainty",
+    "validation.commands.transients",
 ]
 
 

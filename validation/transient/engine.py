@@ -246,8 +246,8 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
                     stick_time: float = STICK_TIME) -> TransientResult:
     """Transient duration of every initial condition ``(tau0[i], sdot0[i])`` (see module docstring).
 
-    ``cap``: most map iterations per orbit; ``lanes``: orbits advanced together (default 512 on
-    CPU, 16384 on an accelerator); ``block``: micro-steps between refills; ``chunk``: initial
+    ``cap``: most map iterations per orbit; ``lanes``: orbits advanced together (default: a power of two near N/16,
+    at most 2048 on CPU, 65536 on an accelerator); ``block``: micro-steps between refills; ``chunk``: initial
     conditions per kernel launch (bounds memory).  ``progress``: progress bar on stderr (default:
     when stderr is a terminal).  Deterministic: no randomness inside.
     """
@@ -259,7 +259,10 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     sdot0a = np.atleast_1d(np.asarray(sdot0, np.float64)).ravel()
     n_ic = th.size
     if lanes is None:
-        lanes = 512 if jax.default_backend() == "cpu" else 16384
+        # enough lanes to amortise per-operation overhead, few enough that each lane serves ~16
+        # orbits (short tail when the queue runs dry)
+        top = 2048 if jax.default_backend() == "cpu" else 65536
+        lanes = int(min(top, max(64, 2 ** int(math.log2(max(n_ic // 16, 1))))))
     lanes = int(min(lanes, max(n_ic, 1)))
     if progress is None:
         progress = sys.stderr.isatty()

@@ -1,0 +1,48 @@
+"""Fig. 10 of the paper: fraction f(eps) of eps-uncertain initial conditions and the uncertainty
+exponent, for transient durations n = 500 and 1000 (alpha = 1.245).
+
+Random points A in 3.0 < tau0 < 3.5, 0 < sdot0 < 0.5 (--seed); A is eps-uncertain when
+B = (tau0 + eps, sdot0) or C = (tau0 - eps, sdot0) lies in the other transient basin
+(duration < n vs >= n).  Fits f ~ eps^phi with least-squares and bootstrap errors.
+Writes uncertainty.npz, uncertainty.csv, uncertainty.json and fig10_uncertainty.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from validation.cliutil import positive_int
+from validation.commands._transient_common import add_common, print_summary
+
+NAME = "uncertainty"
+HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    add_common(p)
+    p.add_argument("--points", type=positive_int("--points"), default=None, help="random points (quick 300, paper 3000)")
+    p.add_argument("--eps-min", type=float, default=1e-9, help="smallest eps (default 1e-9)")
+    p.add_argument("--eps-max", type=float, default=1e-3, help="largest eps (default 1e-3)")
+    p.add_argument("--n-eps", type=positive_int("--n-eps"), default=None, help="eps values, log-spaced (quick 7, paper 13)")
+    p.add_argument("--ns", type=int, nargs="+", default=[500, 1000], help="durations n (default 500 1000)")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the points (default 0)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from validation.cliutil import params_from
+    from validation.transient.experiments import uncertainty
+
+    if not (0 < args.eps_min < args.eps_max <= 0.1):
+        raise ValueError(f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "
+                         "allowed 0 < eps-min < eps-max <= 0.1")
+    eps = None
+    if args.n_eps is not None or args.eps_min != 1e-9 or args.eps_max != 1e-3:
+        n_eps = args.n_eps or (7 if args.profile == "quick" else 13)
+        eps = np.logspace(np.log10(args.eps_min), np.log10(args.eps_max), n_eps)
+    s = uncertainty(outdir=args.outdir, profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
+                    seed=args.seed, delta=args.delta, params=params_from(args),
+                    progress=False if args.no_progress else None, lanes=args.lanes)
+    print_summary(s)
+    return 0
