@@ -23,6 +23,7 @@ COMMAND_MODULES = [
     "validation.commands.basins",
     "validation.commands.uncertainty",
     "validation.commands.transients",
+    "validation.commands.check",
 ]
 
 

@@ -1,0 +1,107 @@
+"""Score an implementation's impact sequences against the golden conformance suite (docs/golden.md).
+
+PATH is a directory holding one <case-id>.csv per case, in the impact-sequence layout
+(header n,tau,tau_mod_2pi,wall,sdot,kind; extra trailing columns are ignored). Each case passes when
+every row matches: n, wall and kind exactly, tau, tau_mod_2pi (circular) and sdot within the case's
+absolute/relative tolerances. Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
+input (missing file or column, wrong header, non-numeric value, wrong row count).
+
+With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from validation.cliutil import CliError
+
+NAME = "check"
+HELP = "score another implementation's output against the golden conformance suite"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", nargs="?", default=None,
+                   help="directory with one <case-id>.csv per case (omit with --self)")
+    p.add_argument("--suite", default=None, help="suite directory (default: validation/golden/cases)")
+    p.add_argument("--cases", nargs="+", default=None, metavar="ID", help="only these case ids")
+    p.add_argument("--self", dest="self_check", action="store_true",
+                   help="run our own track on every case and score it")
+    p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
+                   help="track used by --self (default map)")
+    p.add_argument("--write", default=None, metavar="DIR",
+                   help="with --self: also write the track's <case-id>.csv files to DIR")
+    p.add_argument("--quiet", action="store_true", help="print only the summary line")
+
+
+def _self_outputs(cases, track: str, write: str | None):
+    from validation.golden.suite import run_case, sequence_from_impacts
+
+    try:
+        if track != "map":
+            import importlib
+
+            from validation.tracks import _MODULES
+
+            importlib.import_module(_MODULES[track])
+    except ImportError as e:
+        raise CliError(f"track {track!r} is not available: {e}") from None
+    out = {}
+    for case in cases:
+        seq = run_case(case, track)
+        label = f"<{track} track, case {case.id}>"
+        if write:
+            path = Path(write) / f"{case.id}.csv"
+            try:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(seq.to_csv())
+            except OSError as e:
+                raise CliError(f"--write: cannot write {str(path)!r}: {e.strerror}") from None
+            label = str(path)
+        out[case.id] = sequence_from_impacts(seq, label)
+    return out
+
+
+def run(args: argparse.Namespace) -> int:
+    from validation.golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence, \
+        summary_table
+
+    if args.self_check and args.path is not None:
+        raise CliError("give either PATH or --self, not both")
+    if not args.self_check and args.path is None:
+        raise CliError("missing PATH (a directory with one <case-id>.csv per case), or use --self")
+    if args.write and not args.self_check:
+        raise CliError("--write needs --self")
+    suite = Path(args.suite) if args.suite else DEFAULT_SUITE
+    try:
+        cases = load_suite(suite, args.cases)
+    except MalformedFile as e:
+        raise CliError(f"suite: {e}") from None
+    if not cases:
+        raise CliError(f"suite {str(suite)!r} has no cases")
+    if args.self_check:
+        outputs = _self_outputs(cases, args.track, args.write)
+    else:
+        root = Path(args.path)
+        if not root.is_dir():
+            raise CliError(f"{str(root)!r} is not a directory (expected one <case-id>.csv per case)")
+        outputs = {}
+        errors = []
+        for case in cases:
+            try:
+                outputs[case.id] = read_sequence(root / f"{case.id}.csv", expected_rows=len(case.expected))
+            except MalformedFile as e:
+                errors.append(str(e))
+        if errors:
+            for e in errors:
+                print(f"gear-rattle check: error: {e}", file=sys.stderr)
+            return 2
+    scores = []
+    for case in cases:
+        try:
+            scores.append(score_sequence(case, outputs[case.id]))
+        except MalformedFile as e:
+            raise CliError(str(e)) from None
+    table = summary_table(scores)
+    print(table if not args.quiet else table.splitlines()[-1])
+    return 0 if all(s.passed for s in scores) else 1

@@ -1,0 +1,391 @@
+"""Regenerate the golden conformance suite: ``python -m validation.golden.generate [--cases ID ...]``.
+
+Every case is certified from scratch with ball arithmetic (:mod:`validation.golden.certify`) and
+written to ``validation/golden/cases/<id>/`` (``settings.json``, ``expected.csv``,
+``provenance.json``).  Deterministic: the same software writes byte-identical files.  The map and
+scipy tracks are run on every case and their deviations recorded in the provenance ("agreed by two
+tracks"); they never feed the expected numbers.
+
+Case settings that are *found* rather than chosen (the grazing initial velocities, the chaotic
+horizon) are computed here, by documented rules, every time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from flint import arb
+
+from mapimpl.params import Params
+from mapimpl.sticking import STICK_TIME
+from validation.golden import certify as cert
+from validation.golden.suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
+    sequence_from_impacts
+
+FIG2 = Params(0.5, 0.1, 0.1, 0.9)
+FIG3 = Params(3.0, 0.1, 0.1, 0.9)
+
+
+def tol(tau: float, sdot: float | None = None) -> dict:
+    sdot = tau if sdot is None else sdot
+    return {"tau": {"abs": tau, "rel": 0.0}, "tau_mod_2pi": {"abs": tau, "rel": 0.0},
+            "sdot": {"abs": sdot, "rel": 0.0}}
+
+
+#: Tolerance of most cases: a float64 implementation with event location to ~1e-12 passes easily,
+#: an impact time off by 1e-6 fails.
+TOL = tol(1e-9)
+#: Chaotic case: tolerance and the per-impact error a good float64 implementation starts from.
+CHAOS_TOL, CHAOS_ERR0, CHAOS_SAFETY = 1e-8, 1e-12, 10.0
+#: Radius limit (fraction of the tolerance) at which a certified run stops.
+RADIUS_FRACTION = 1e-6
+#: Target pre-impact speed of the grazing impact, and the initial-velocity offset of the near miss.
+GRAZE_SPEED, NEAR_MISS_OFFSET = 1e-3, 1e-7
+
+
+@dataclass
+class Spec:
+    id: str
+    description: str
+    params: Params
+    tau0: float
+    sdot0: float
+    n_impacts: int
+    s0: float | None = None
+    tolerances: dict = field(default_factory=lambda: TOL)
+    tags: tuple = ()
+    notes: dict = field(default_factory=dict)
+    prec: int = cert.PREC
+
+
+# ---------------------------------------------------------------------------------------------
+# settings found by rules
+
+
+def _first_impact(params: Params, tau0: float, sdot0: float):
+    from validation.tracks import orbit
+
+    seq = orbit("map", params, tau0, sdot0, 1)
+    return int(seq.wall[1]), float(seq.sdot[1])
+
+
+def _bisect(pred, lo: float, hi: float, iters: int = 60) -> tuple[float, float]:
+    """``pred(lo)`` false, ``pred(hi)`` true; returns the final (lo, hi)."""
+    if pred(lo) or not pred(hi):
+        raise RuntimeError("bisection bracket does not bracket the predicate change")
+    for _ in range(iters):
+        m = 0.5 * (lo + hi)
+        if pred(m):
+            hi = m
+        else:
+            lo = m
+    return lo, hi
+
+
+def grazing_sdot0(params: Params, tau0: float, lo: float, hi: float, speed: float) -> float:
+    """Initial pre-impact velocity (12 significant digits) whose flight reaches the lower wall with
+    pre-impact speed about ``speed`` (bisection on the map's first impact)."""
+    def pred(s):
+        w, v = _first_impact(params, tau0, s)
+        return w == -1 and abs(v) >= speed
+    _, h = _bisect(pred, lo, hi)
+    return float(f"{h:.12g}")
+
+
+def near_miss_sdot0(params: Params, tau0: float, lo: float, hi: float, offset: float) -> float:
+    """Initial velocity ``offset`` below the threshold at which the flight first reaches the lower
+    wall: the flight approaches it tangentially, misses, and returns to the wall it left."""
+    lo, _ = _bisect(lambda s: _first_impact(params, tau0, s)[0] == -1, lo, hi)
+    return float(f"{lo - offset:.12g}")
+
+
+def chaos_horizon(params: Params) -> tuple[int, float]:
+    """Impacts ``n`` with ``CHAOS_ERR0 * exp(lambda1 n) * CHAOS_SAFETY <= CHAOS_TOL`` (lambda1 per impact,
+    QR method over 5000 impacts after 500, rounded to 3 decimals)."""
+    from validation.lyapunov import lyapunov
+
+    lam = float(lyapunov(params, "r", [params.r], n=5000, transient=500).lam[0, 0])
+    lam = round(lam, 3)
+    if not lam > 0:
+        raise RuntimeError(f"lambda1={lam} is not positive: not a chaotic case")
+    return int(math.floor(math.log(CHAOS_TOL / (CHAOS_ERR0 * CHAOS_SAFETY)) / lam)), lam
+
+
+def specs() -> list[Spec]:
+    """The cases, in order (ids are folder names)."""
+    graze_v = grazing_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
+    miss_v = near_miss_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
+    n_chaos, lam = chaos_horizon(FIG3)
+    return [
+        Spec("0001-regular-fig2", "Paper Fig. 2 parameters (alpha=0.5): regular rattling, transient into the "
+             "periodic motion; pre-impact start (tau0, sdot0) = (0, 0.5) on the upper wall.",
+             FIG2, 0.0, 0.5, 20, tags=("regular", "paper")),
+        Spec("0002-chaotic-fig3", "Paper Fig. 3 parameters (alpha=3): chaotic rattling, short horizon set by the "
+             "largest Lyapunov exponent so that a float64 implementation's error stays below the tolerance.",
+             FIG3, 0.0, 0.5, n_chaos, tolerances=tol(CHAOS_TOL), tags=("chaotic", "paper"),
+             notes={"lyapunov_lambda1_per_impact": lam,
+                    "horizon_rule": f"n = floor(ln(tol / (err0 * safety)) / lambda1) with tol={CHAOS_TOL:g}, "
+                                    f"err0={CHAOS_ERR0:g} (per-impact error of a good float64 solver), "
+                                    f"safety={CHAOS_SAFETY:g}; errors grow like exp(lambda1 n)"}),
+        Spec("0003-free-flight-start", "Start in free flight (tau0, s0, sdot0) = (1, -0.3, 0.2), Fig. 2 parameters: "
+             "impact 0 is the first wall reached.", FIG2, 1.0, 0.2, 20, s0=-0.3, tags=("regular", "free-flight")),
+        Spec("0004-grazing-impact", f"Near-tangential impact: from the upper wall at tau0=2 the flight reaches the "
+             f"lower wall with pre-impact speed ~{GRAZE_SPEED:g} (impact 1). Impact times near a graze are "
+             "ill-conditioned (dtau ~ gap error / speed), hence the looser tolerance.",
+             FIG2, 2.0, graze_v, 10, tolerances=tol(1e-7), tags=("grazing",),
+             notes={"sdot0_rule": f"bisection on sdot0 in [0.40, 0.41] for a first impact on the lower wall "
+                                  f"with |sdot| >= {GRAZE_SPEED:g}, rounded to 12 significant digits"}),
+        Spec("0005-near-miss-return", "Near miss: the flight from the upper wall approaches the lower wall "
+             "tangentially without touching it and returns to the wall it left (impact 1 on s=0). Tests that no "
+             "spurious contact is reported.", FIG2, 2.0, miss_v, 10, tolerances=tol(1e-7),
+             tags=("grazing", "return-to-start-wall"),
+             notes={"sdot0_rule": f"{NEAR_MISS_OFFSET:g} below the bisected threshold sdot0 at which the first "
+                                  "impact switches to the lower wall, rounded to 12 significant digits"}),
+        Spec("0006-return-to-start-wall", "A full flight returning to the wall it left (impact 1 on s=0 after "
+             "leaving s=0 with speed 0.36), then regular rattling (Fig. 2 parameters).",
+             FIG2, 2.0, 0.4, 20, tags=("return-to-start-wall",)),
+        Spec("0007-chatter-sticking", "Chatter to sticking: alpha=2, beta=0.1, gamma=1, r=0.5. Bounces on the upper "
+             "wall accumulate; the tooth sticks (policy: accumulation time <= STICK_TIME) and is released where the "
+             "contact force changes sign (closed form); then flies on.",
+             Params(2.0, 0.1, 1.0, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking")),
+        Spec("0008-stuck-forever", "Chatter ending stuck forever: alpha=0.5, gamma=0.9 > R = alpha sqrt(1+beta^2), "
+             "r=0.5; the contact force never changes sign, the orbit ends with status stuck_forever.",
+             Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking", "stuck-forever")),
+        Spec("0009-small-beta", "Very small damping beta=1e-8 (alpha=1, gamma=0.1, r=0.9): the printed Eq. (7) "
+             "cancels like gamma/beta^2; implementations must evaluate the flight without that loss.",
+             Params(1.0, 1e-8, 0.1, 0.9), 0.0, 0.5, 20, tags=("small-beta",)),
+        Spec("0010-negative-gamma", "Negative constant torque gamma=-0.2 (alpha=1, beta=0.1, r=0.8), start on the "
+             "lower wall (sdot0 < 0).", Params(1.0, 0.1, -0.2, 0.8), 0.0, -0.5, 20, tags=("negative-gamma",)),
+        Spec("0011-small-beta-negative-gamma", "beta=1e-6 with gamma=-0.05 (alpha=0.8, r=0.95), free-flight start "
+             "at rest in the middle of the backlash. The orbit is irregular (errors grow ~10x per 3 impacts), hence "
+             "the short horizon.", Params(0.8, 1e-6, -0.05, 0.95), 0.5, 0.0, 10, s0=-0.5,
+             tags=("small-beta", "negative-gamma", "free-flight")),
+    ]
+
+
+# ---------------------------------------------------------------------------------------------
+# files
+
+
+def _g(x: float) -> str:
+    return "%.17g" % x
+
+
+def _radius(x: float) -> str:
+    """Upper bound with 3 significant digits (never below ``x``)."""
+    return "%.2e" % (x * 1.01) if x > 0 else "0"
+
+
+def _printed(ball: arb) -> tuple[float, float]:
+    """The float64 to print and a rigorous bound of |printed - true| (ball radius + rounding)."""
+    x = cert.nearest_float(ball)
+    err = abs(arb(x) - ball)
+    return x, 0.0 if err.is_zero() else cert.upper_float(err)
+
+
+def expected_csv(orb: cert.CertifiedOrbit) -> str:
+    lines = [",".join(COLUMNS + RADIUS_COLUMNS)]
+    for e in orb.events:
+        tau, rt = _printed(e.tau)
+        th, rth = _printed(e.theta)
+        th = th % (2 * math.pi) if th >= 2 * math.pi or th < 0 else th
+        if e.sdot is None:
+            sd, rsd = "", ""
+        else:
+            v, r = _printed(e.sdot)
+            sd, rsd = _g(v), _radius(r)
+        lines.append(",".join([str(e.n), _g(tau), _g(th), str(e.wall), sd, e.kind, _radius(rt), _radius(rth), rsd]))
+    return "\n".join(lines) + "\n"
+
+
+def settings_json(spec: Spec, orb: cert.CertifiedOrbit) -> dict:
+    p = spec.params
+    ini = {"kind": "pre-impact", "tau0": spec.tau0, "sdot0": spec.sdot0} if spec.s0 is None else \
+        {"kind": "free-flight", "tau0": spec.tau0, "s0": spec.s0, "sdot0": spec.sdot0}
+    return {
+        "id": spec.id, "description": spec.description, "tags": list(spec.tags),
+        "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
+        "initial_state": ini, "n_impacts": spec.n_impacts, "stick_time": STICK_TIME,
+        "expected_rows": len(orb.events), "expected_status": orb.status,
+        "tolerances": spec.tolerances,
+        "exact_columns": ["n", "wall", "kind"],
+        "notes": spec.notes,
+    }
+
+
+def _versions() -> dict:
+    import flint
+    import numpy
+    import scipy
+    import jax
+
+    return {"python": ".".join(platform.python_version_tuple()[:2]), "python-flint": flint.__version__,
+            "numpy": numpy.__version__, "scipy": scipy.__version__, "jax": jax.__version__}
+
+
+def _track_agreement(case: Case, tracks=("map", "scipy")) -> dict:
+    from validation.golden.suite import run_case
+
+    out = {}
+    for tr in tracks:
+        try:
+            seq = run_case(case, tr)
+        except ImportError as e:  # pragma: no cover - environment dependent
+            out[tr] = {"available": False, "reason": str(e)}
+            continue
+        got = sequence_from_impacts(seq, f"<{tr} track>")
+        if len(got) != len(case.expected):
+            out[tr] = {"rows": len(got), "agrees": False, "reason": "different number of rows"}
+            continue
+        sc = score_sequence(case, got)
+        out[tr] = {"agrees": sc.passed, "status": seq.status,
+                   "max_abs_error": {c: float("%.1e" % sc.columns[c].max_error) for c in ("tau", "tau_mod_2pi", "sdot")},
+                   "digits": {c: round(sc.columns[c].digits, 1) for c in ("tau", "tau_mod_2pi", "sdot")}}
+    return out
+
+
+def provenance_json(spec: Spec, orb: cert.CertifiedOrbit, radii: dict, agreement: dict | None) -> dict:
+    rows = []
+    fl = {f["impact"]: f for f in orb.flights}
+    for k, e in enumerate(orb.events):
+        r = {"line": k + 2, "n": e.n, "kind": e.kind, "source": e.note.get("source", "")}
+        if e.kind == "impact" and e.n in fl and e.note.get("source") == "certified flight":
+            f = fl[e.n]
+            r.update({"wall": f["wall"], "root_bracket": ["%.6g" % f["bracket"][0], "%.6g" % f["bracket"][1]],
+                      "positive_gap_pieces": f["pieces"], "departure": "%.3g" % f["departure"]})
+        if e.kind == "release":
+            r["pressing_pieces"] = e.note.get("pieces")
+        rows.append(r)
+    return {
+        "id": spec.id,
+        "generator": "python -m validation.golden.generate",
+        "method": {
+            "impacts": "certified: ball arithmetic (python-flint arb) on the closed-form flight, Eqs. (7)-(8); "
+                       "(a) unique root: sign change of the gap and derivative enclosure excluding 0 on the root "
+                       "bracket; (b) no earlier wall contact: [0, t_lo] covered by pieces on which both gap "
+                       "enclosures are > 0; states propagated impact to impact as balls (mean-value form with the "
+                       "analytic Jacobian, intersected with the direct enclosure). See validation/golden/certify.py.",
+            "initial_state": "exact (float64 inputs are exact binary numbers)",
+            "stick_rows": "policy values (tau_n + t_acc, accumulation-point formula of mapimpl/sticking.py), "
+                          "not solutions of the ODE; the sticking decision itself is certified definite",
+            "release_rows": "closed-form zero of the contact force f, certified (sign change, f' excludes 0) and "
+                            "f certified pressing on the whole stuck interval before it",
+            "printed_values": "float64 nearest to the ball midpoint, 17 significant digits; the *_radius columns "
+                              "bound |printed - true| (ball radius + rounding), rounded up",
+        },
+        "precision_bits": orb.prec,
+        "stop_reason": orb.stop_reason,
+        "status": orb.status,
+        "radius": radii,
+        "notes": spec.notes,
+        "tracks_agreement": agreement,
+        "software": _versions(),
+        "rows": rows,
+    }
+
+
+def closest_approach(spec: Spec) -> str:
+    """Certified enclosure of the smallest distance to the lower wall during the first flight
+    (the lowest point, where ``s' = 0``), for the near-miss case."""
+    with cert.precision(spec.prec):
+        m = cert.Model(spec.params)
+        fl = cert.Flight(m, cert.exact(spec.tau0), arb(0), -m.r * cert.exact(spec.sdot0))
+        # the lowest point: first zero of s' (s' < 0 after leaving the upper wall), bracketed on a grid
+        t_prev, t = arb(0), arb(0)
+        for k in range(1, 4001):
+            t = arb(k) / 400
+            if fl.v(t) > 0:
+                break
+            t_prev = t
+        else:  # pragma: no cover
+            raise cert.CertificationError("no lowest point found")
+        lo, hi = t_prev, t
+        for _ in range(200):
+            mid = (lo + hi) / 2
+            if fl.v(mid) > 0:
+                hi = mid
+            else:
+                lo = mid
+        gap = fl.gap(-1, cert.span(lo, hi))  # the minimum of s + 1 lies in [lo, hi]
+        return f"{float(gap.mid()):.6e} (certified enclosure radius {float(gap.rad()):.1e})"
+
+
+def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
+    """Certify one case; returns ``(settings, expected_csv_text, provenance)``."""
+    tol_min = min(min(v["abs"] for v in spec.tolerances.values()), 1.0)
+    orb = cert.certify_orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, prec=spec.prec,
+                             radius_limit=RADIUS_FRACTION * tol_min)
+    if orb.stop_reason.startswith("radius"):
+        raise cert.CertificationError(f"{spec.id}: {orb.stop_reason}: lower n_impacts or raise prec")
+    text = expected_csv(orb)
+    settings = settings_json(spec, orb)
+    # radii as printed (bounds on |printed - true|)
+    import csv as _csv
+
+    rows = list(_csv.DictReader(text.splitlines()))
+    radii = {}
+    for c in RADIUS_COLUMNS:
+        vals = sorted(float(r[c]) for r in rows if r[c] != "")
+        radii[c] = {"max": "%.2e" % vals[-1], "median": "%.2e" % vals[len(vals) // 2]} if vals else {}
+    radii["ball"] = {
+        "tau_max": "%.2e" % max(float(e.tau.rad()) for e in orb.events),
+        "sdot_max": "%.2e" % max([float(e.sdot.rad()) for e in orb.events if e.sdot is not None] or [0.0]),
+        "meaning": "largest certified ball radius (before printing as float64)",
+    }
+    if "near-miss" in spec.id:
+        spec.notes["closest_approach_to_lower_wall"] = closest_approach(spec)
+    agreement = None
+    if tracks:
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as d:
+            Path(d, "expected.csv").write_text(text)
+            exp = read_sequence(Path(d, "expected.csv"), expected_rows=len(rows), required_extra=RADIUS_COLUMNS)
+        agreement = _track_agreement(Case(spec.id, Path("."), settings, exp))
+    return settings, text, provenance_json(spec, orb, radii, agreement)
+
+
+def write_case(folder: Path, settings: dict, text: str, prov: dict) -> None:
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "settings.json").write_text(json.dumps(settings, indent=1) + "\n")
+    (folder / "expected.csv").write_text(text)
+    (folder / "provenance.json").write_text(json.dumps(prov, indent=1) + "\n")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m validation.golden.generate", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default=str(DEFAULT_SUITE), help="suite directory (default: the committed one)")
+    ap.add_argument("--cases", nargs="*", default=None, help="only these case ids")
+    ap.add_argument("--no-tracks", action="store_true", help="skip the map/scipy agreement in the provenance")
+    args = ap.parse_args(argv)
+    t0 = time.time()
+    all_specs = specs()
+    known = [s.id for s in all_specs]
+    if args.cases:
+        bad = [c for c in args.cases if c not in known]
+        if bad:
+            print(f"unknown case id(s): {', '.join(bad)} (known: {', '.join(known)})", file=sys.stderr)
+            return 2
+    for spec in all_specs:
+        if args.cases and spec.id not in args.cases:
+            continue
+        t = time.time()
+        settings, text, prov = build_case(spec, tracks=not args.no_tracks)
+        write_case(Path(args.out) / spec.id, settings, text, prov)
+        agree = prov["tracks_agreement"] or {}
+        ok = ", ".join(f"{k}: {'agrees' if v.get('agrees') else 'DISAGREES'}" for k, v in agree.items())
+        print(f"{spec.id}: {settings['expected_rows']} rows, status {settings['expected_status']}, "
+              f"max tau radius {prov['radius']['tau_radius'].get('max')}, {ok} ({time.time() - t:.1f} s)")
+    print(f"done in {time.time() - t0:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
