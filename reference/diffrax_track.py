@@ -6,12 +6,15 @@ law Eqs. 9-11, shared sticking policy :func:`mapimpl.sticking.decide_stick`), wr
 * each flight is a chain of **monotone segments** (see :mod:`reference.scipy_track`): one
   ``diffeqsolve`` per segment with a ``diffrax.Event`` of two real-valued, upcrossing-filtered
   (``direction=True``) conditions, the wall ahead (``s`` or ``-1 - s``) and the velocity reversal
-  (``-sigma sdot``), located by an ``optimistix.Newton`` root find on the step's dense interpolant.
+  (``-sigma sdot``), located by an ``optimistix.Bisection`` root find on the step's dense interpolant
+  (then refined to node accuracy, see :func:`_segment`).
   Diffrax gives priority to the *first* triggered condition of the pytree (not the earliest root);
   the wall is listed first, which is right because inside a monotone segment the wall root precedes
   the reversal root.  This is the guard for diffrax issue 507 (two crossings in one step are missed
   by the sign check at step ends): beyond-and-back needs a velocity reversal, which ends the
-  segment.  ``dtmax`` (default 0.25) bounds the steps so that two reversals in one step stay a
+  segment; if the extremum lies *beyond* the wall, the segment is solved again on exactly
+  [start, extremum] with the wall condition only, where ``s`` is monotone and ends beyond the wall, so
+  the crossing is a sign change at a step end.  ``dtmax`` (default 0.25) bounds the steps so that two reversals in one step stay a
   non-generic degeneracy;
 * the restart loop over segments is a ``jax.lax.while_loop`` (bounded by ``MAX_SEGMENTS`` and the
   longest flight ``T_MAX``), and the loop over impacts a ``jax.lax.scan``; everything is jit-compiled
@@ -47,7 +50,8 @@ from reference._common import MAX_SEGMENTS, T_MAX, check_option, forcing_rhs, va
 #: Default tolerances, step bound and per-segment step cap of this track.
 RTOL, ATOL, DTMAX = 1e-12, 1e-13, 0.25
 MAX_STEPS = 16384
-#: Tolerances of the Newton root find locating an event on the step's dense interpolant.
+#: Tolerances of the bisection root find locating an event on the step's dense interpolant (a bracket
+#: is always available; Newton started at the step end fails when that end is an extremum of s).
 ROOT_RTOL, ROOT_ATOL = 1e-14, 1e-13
 
 #: Flight status codes.
@@ -73,7 +77,7 @@ def options(rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max:
 
 
 def _vector_field(t, y, args):
-    theta0, alpha, beta, gamma, _ = args
+    theta0, alpha, beta, gamma = args[:4]
     tau = theta0 + t
     # Eq. (3): s'' = -alpha sin(tau) + alpha beta cos(tau) + gamma - beta s'
     return jnp.stack([y[1], -alpha * jnp.sin(tau) + alpha * beta * jnp.cos(tau) + gamma - beta * y[1]])
@@ -85,15 +89,20 @@ def _wall_cond(t, y, args, **kwargs):
 
 
 def _reversal_cond(t, y, args, **kwargs):
-    sigma = args[4]
-    return -sigma * y[1]
+    sigma, watch = args[4], args[5]
+    return jnp.where(watch, -sigma * y[1], -1.0)
+
+
+def _cond(t, y, args, **kwargs):
+    """max(wall ahead, reversal): its first upcrossing is the earlier of the two events."""
+    return jnp.maximum(_wall_cond(t, y, args), _reversal_cond(t, y, args))
 
 
 _TERM = diffrax.ODETerm(_vector_field)
 _SOLVER = diffrax.Dopri8()
 
 
-def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options):
+def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=None, watch=True):
     """One monotone segment: event solve, then an exact landing on the event time and a Newton polish.
 
     Diffrax's Dopri8 dense interpolant is only good to ~1e-11 here (its nodes are good to ~1e-15),
@@ -103,25 +112,30 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options):
     node accuracy.  Differentiating this composition (``jax.jacfwd``) gives the implicit-function
     derivative of the event time, as the map's Jacobian does.
     """
-    args = (theta0, alpha, beta, gamma, sigma)
+    args = (theta0, alpha, beta, gamma, sigma, jnp.asarray(watch))
+    t_end = opts.t_max if t_end is None else t_end
     controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol, dtmax=opts.dtmax)
-    event = diffrax.Event([_wall_cond, _reversal_cond], root_finder=optx.Newton(rtol=ROOT_RTOL, atol=ROOT_ATOL),
+    event = diffrax.Event(_cond, root_finder=optx.Bisection(rtol=ROOT_RTOL, atol=ROOT_ATOL, flip=False),
                           direction=True)
     sol = diffrax.diffeqsolve(
-        _TERM, _SOLVER, t0=t0, t1=opts.t_max, dt0=None, y0=y0, args=args, stepsize_controller=controller,
+        _TERM, _SOLVER, t0=t0, t1=t_end, dt0=None, y0=y0, args=args, stepsize_controller=controller,
         event=event, saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False,
         adjoint=diffrax.ForwardMode(),
     )
-    wall_hit, reversal = sol.event_mask
-    ok = sol.result == diffrax.RESULTS.successful
-    # an event ended the solve; a root find that stopped short of its (ulp-level) tolerance still
-    # lies inside the step that triggered, so it is accepted as the event time
-    evt = ((sol.result == diffrax.RESULTS.event_occurred)
-           | (sol.result == diffrax.RESULTS.nonlinear_max_steps_reached)
-           | (sol.result == diffrax.RESULTS.nonlinear_divergence))
-    t_e = sol.ts[-1]
-    # land exactly on t_e (no event, node value)
-    t_land = jnp.where(evt & (t_e > t0), t_e, t0 + opts.dtmax)
+    # Under vmap diffrax runs the root find for every lane once any lane has an event; lanes without
+    # an event then get a meaningless bisection result and a nonlinear-solver result code.  So the
+    # event flag is taken from the event mask, and a lane without event has reached t_end (or failed).
+    nonlin = ((sol.result == diffrax.RESULTS.nonlinear_max_steps_reached)
+              | (sol.result == diffrax.RESULTS.nonlinear_divergence))
+    evt = sol.event_mask & ((sol.result == diffrax.RESULTS.event_occurred) | nonlin)
+    ok = ~sol.event_mask & ((sol.result == diffrax.RESULTS.successful) | nonlin)
+    y_i = sol.ys[-1]
+    wall_first = _wall_cond(0.0, y_i, args) >= _reversal_cond(0.0, y_i, args)
+    wall_hit, reversal = evt & wall_first, evt & ~wall_first
+    t_e = jnp.where(evt, sol.ts[-1], t_end)
+    # land exactly on t_e (no event, node value); without an event, on t_end when the state there is
+    # needed (the bounded re-solve of a missed crossing), else a short dummy solve
+    t_land = jnp.where(evt & (t_e > t0), t_e, jnp.where(jnp.asarray(watch), t0 + opts.dtmax, t_end))
     sol2 = diffrax.diffeqsolve(
         _TERM, _SOLVER, t0=t0, t1=t_land, dt0=None, y0=y0, args=args, stepsize_controller=controller,
         saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False, adjoint=diffrax.ForwardMode(),
@@ -134,8 +148,8 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options):
     dt = jnp.where(landed & (dg != 0.0), -g / jnp.where(dg != 0.0, dg, 1.0), 0.0)
     y_p = y_n + f * dt
     t_out = jnp.where(landed, t_e + dt, t_e)
-    y_out = jnp.where(landed, y_p, sol.ys[-1])
-    return t_out, y_out, wall_hit & evt, reversal & evt, ok
+    y_out = jnp.where(landed, y_p, jnp.where(evt, y_i, y_n))
+    return t_out, y_out, wall_hit, reversal, ok
 
 
 class FlightResult(NamedTuple):
@@ -153,19 +167,34 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
     """First wall contact of the flight leaving ``(theta0, s0, v0)`` (local time 0), first segment
     direction ``sigma`` (+-1).  Scalar, jit/vmap/jacfwd-able.  ``active=False`` returns at once."""
     dtype = jnp.float64
+    t_max = jnp.asarray(opts.t_max, dtype)
     init = dict(t=jnp.asarray(0.0, dtype), y=jnp.stack([jnp.asarray(s0, dtype), jnp.asarray(v0, dtype)]),
                 sigma=jnp.asarray(sigma, dtype), seg=jnp.asarray(0, jnp.int32), done=~jnp.asarray(active),
-                status=jnp.asarray(STEP_CAP, jnp.int32))
+                status=jnp.asarray(STEP_CAP, jnp.int32), t_end=t_max, watch=jnp.asarray(True))
 
     def cond(c):
         return (~c["done"]) & (c["seg"] < MAX_SEGMENTS)
 
     def body(c):
-        t1, y1, hit, rev, reached = _segment(c["t"], c["y"], theta0, c["sigma"], alpha, beta, gamma, opts)
-        status = jnp.where(hit, HIT, jnp.where(reached, NO_IMPACT, STEP_CAP)).astype(jnp.int32)
-        done = hit | ~rev
-        return dict(t=t1, y=y1, sigma=jnp.where(rev & ~hit, -c["sigma"], c["sigma"]), seg=c["seg"] + 1,
-                    done=done, status=jnp.where(done, status, c["status"]))
+        sig, watch = c["sigma"], c["watch"]
+        t1, y1, hit, rev, reached = _segment(c["t"], c["y"], theta0, sig, alpha, beta, gamma, opts,
+                                             c["t_end"], watch)
+        beyond = jnp.where(sig > 0, y1[0] > 0.0, y1[0] < -1.0)
+        # the extremum lies beyond the wall ahead: the crossing happened inside one step (diffrax
+        # issue 507).  s is monotone on [t, t1]: solve again on exactly that interval, wall only.
+        retry = watch & rev & beyond & ~hit
+        turn = (watch & rev & ~beyond & ~hit) | (~watch & ~hit & reached)
+        done = hit | (~retry & ~turn)
+        status = jnp.where(hit, HIT, jnp.where(watch & reached, NO_IMPACT, STEP_CAP)).astype(jnp.int32)
+        advance = ~retry
+        # restart at an extremum with sdot = -sigma * 1e-300 (it is 0 there to rounding, and its
+        # derivative along the extremum is 0): the combined condition then starts strictly negative,
+        # so a short return to a wall inside the first step is an upcrossing with a valid bracket
+        y1 = jnp.where(turn, y1.at[1].set(-sig * 1e-300), y1)
+        return dict(t=jnp.where(advance, t1, c["t"]), y=jnp.where(advance, y1, c["y"]),
+                    sigma=jnp.where(turn, -sig, sig), seg=c["seg"] + 1, done=done,
+                    status=jnp.where(done, status, c["status"]),
+                    t_end=jnp.where(retry, t1, t_max), watch=~retry)
 
     c = jax.lax.while_loop(cond, body, init)
     hit = c["status"] == HIT

@@ -23,7 +23,9 @@ Consequences:
    while ``s`` pokes beyond a wall in between) cannot hide a crossing: ``s`` is monotone inside a
    segment, so beyond-and-back requires a velocity reversal, and the reversal event (a sign change of
    ``sdot`` at step ends) stops the segment first.  If both events fire in one step, scipy keeps the
-   earlier root, which is the wall.  The residual case is *two* velocity reversals inside one step
+   earlier root, which is the wall.  If only the reversal fires and the extremum lies *beyond* the
+   wall, the crossing happened inside that step: ``s`` is monotone between the segment start and the
+   extremum, so a second solve on exactly that interval sees the sign change and locates it.  The residual case is *two* velocity reversals inside one step
    (an extremum and an inflection coinciding near a wall); ``max_step`` (default 0.25, well below
    the forcing period ``2 pi``) keeps it to a non-generic, measure-zero degeneracy.
 3. *A flight that returns to the wall it left* is an ordinary reversal followed by a segment that
@@ -167,9 +169,19 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
         k = 0 if hit else 1
         t_e = float(sol.t_events[k][-1])
         y_e = np.array(sol.y_events[k][-1], dtype=np.float64)
-        if samples is not None:
-            _sample(sol, t, t_e, points_per_unit, samples)
         t_e, y_e = _land(rhs, sol, t_e, y_e, sigma, hit, opts)
+        if not hit and (y_e[0] > 0.0 if sigma > 0 else y_e[0] < -1.0):
+            # the extremum lies beyond the wall ahead: s crossed it and came back inside one step
+            # (scipy issue 9228).  s is monotone on [t, t_e], so a solve that ends at t_e sees the
+            # crossing as a sign change and locates it.
+            sol2 = solve_ivp(rhs, (t, t_e), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+                             max_step=opts.max_step, events=_events(sigma)[:1])
+            if sol2.status == 1 and len(sol2.t_events[0]):
+                hit = True
+                t_e, y_e = _land(rhs, sol2, float(sol2.t_events[0][-1]),
+                                 np.array(sol2.y_events[0][-1], dtype=np.float64), sigma, True, opts)
+        if samples is not None:
+            _sample(sol, t, t_e, points_per_unit, samples, y_e)
         if hit:
             wall = 0 if sigma > 0 else -1
             phi = y_e[2:].reshape(2, 2) if variational else None
@@ -200,11 +212,13 @@ def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: O
     return t_e + dt, y_n + f * dt
 
 
-def _sample(sol, t0: float, t1: float, ppu: float, out: list) -> None:
+def _sample(sol, t0: float, t1: float, ppu: float, out: list, y1: np.ndarray | None = None) -> None:
     m = max(2, int(math.ceil((t1 - t0) * ppu)) + 1)
     ts = np.linspace(t0, t1, m)
     ys = sol.sol(ts)
-    out.append((ts, ys[0], ys[1]))
+    if y1 is not None:  # the refined event state
+        ys[:, -1] = y1[: ys.shape[0]]
+    out.append((ts, ys[0].copy(), ys[1].copy()))
 
 
 class DenseTrajectory(NamedTuple):
@@ -241,6 +255,9 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
             base = cycles_start * TWO_PI + theta_start
             for ts, ss, vs in fl.samples:
                 dense.append((base + ts, ss, vs, np.full(len(ts), flights)))
+            if fl.status == "hit":  # end exactly on the recorded impact time (same phase bookkeeping)
+                th1, cyc1 = reduce_phase(theta_start + fl.t, cycles_start)
+                dense[-1][0][-1] = cyc1 * TWO_PI + th1
 
     if s0 is None:
         sdot, wall = float(sdot0), (0 if sdot0 > 0 else -1)

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from mapimpl import _jax  # noqa: F401
 import jax
 
+from mapimpl.finder import first_impact
 from mapimpl.impact_map import make_state, step
 from mapimpl.params import Params
 
@@ -39,6 +40,9 @@ state_st = st.tuples(st.floats(0.0, 2 * math.pi, exclude_max=True), st.floats(0.
     lambda t: (t[0], t[1] * t[2]))
 
 map_step = jax.jit(step)
+_first_impact_jit = jax.jit(first_impact)
+#: One orbit length for all map_orbit calls of the tests (the map compiles once per length).
+N_ORBIT = 40
 
 
 def forcing(tau: float, p: Params) -> float:
@@ -70,3 +74,23 @@ def map_one(p: Params, tau: float, sdot: float):
     """Map step from a pre-impact state: ``(state, info)`` as Python-friendly numpy values."""
     s, info = map_step(make_state(tau, sdot), p.arrays())
     return jax.tree.map(np.asarray, s), jax.tree.map(np.asarray, info)
+
+
+def v0_for_apex(depth: float, beta: float = 0.1, gamma: float = -0.5) -> float:
+    """With alpha = 0 (constant forcing gamma < 0), the launch speed from s = -1 whose apex is
+    ``depth`` beyond the upper wall (``depth < 0``: apex inside, a near miss).  Closed form + bisection."""
+    from scipy.optimize import brentq
+
+    g, b = gamma, beta
+
+    def apex(v0):
+        t = math.log((v0 - g / b) / (-g / b)) / b
+        return -1.0 + (v0 - g / b) * (-math.expm1(-b * t)) / b + g * t / b
+
+    return brentq(lambda v: apex(v) - depth, 0.1, 10.0, xtol=1e-15, rtol=1e-15)
+
+
+def map_first_impact(theta0: float, s0: float, v0: float, p: Params):
+    """The map's certified first impact of a flight (for trap tests): ``(status, t, wall, v)``."""
+    h = _first_impact_jit(theta0, s0, v0, p.alpha, p.beta, p.gamma)
+    return int(h.status), float(h.t), int(h.wall), float(h.v)
