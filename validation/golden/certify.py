@@ -168,11 +168,11 @@ class Flight:
         return -v if wall == 0 else v
 
     def gap_enclosure(self, wall: int, ta: arb, tb: arb) -> arb:
-        """Enclosure of the gap to ``wall`` over ``[ta, tb]`` (second-order Taylor form)."""
-        m = (ta + tb) / 2
-        h = (tb - ta) / 2
-        d = span(-h, h)
-        q = span(arb(0), h * h) / 2
+        """Enclosure of the gap to ``wall`` over ``[ta, tb]``: second-order Taylor form about the exact
+        midpoint ``m``, ``s(m) + s'(m) d + s''([ta, tb]) [0, |d|^2]/2`` with ``d`` enclosing ``t - m``."""
+        m = ((ta + tb) / 2).mid()  # an exact point; d encloses t - m for every t in [ta, tb]
+        d = span(ta, tb) - m
+        q = span(arb(0), arb(d.abs_upper()) ** 2) / 2
         sign = -1 if wall == 0 else 1
         s_enc = self.s(m) + self.v(m) * d + self.a(span(ta, tb)) * q
         return sign * s_enc + (0 if wall == 0 else 1)
@@ -332,9 +332,7 @@ def mod_two_pi(tau: arb) -> arb:
     two_pi = 2 * arb.pi()
     k = (tau / two_pi).floor()
     if not k.is_exact():
-        kk = (tau / two_pi)
-        # the ball straddles a multiple of 2 pi: keep the branch of the midpoint (circular value)
-        k = arb(int(float(kk.mid()) // 1))
+        raise CertificationError("tau mod 2 pi: the ball straddles a multiple of 2 pi")
     return tau - k * two_pi
 
 
@@ -521,7 +519,9 @@ def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: flo
     of every partial derivative of every term (a factor ~50 per impact at alpha = 3).
     """
     crude_tau, crude_v = tau0 + c_box.t, c_box.v
-    if tau0.is_exact() and v0.is_exact():
+    if release or (tau0.is_exact() and v0.is_exact()):
+        # after a release only the true release time (a zero of f) leaves the wall: the midpoint of
+        # its ball is not a physical state, so the direct (tiny) enclosure is used as it is
         return crude_tau, crude_v
     m_tau, m_v = arb(tau0.mid()), arb(v0.mid())
     c_pt = certified_flight(model, m_tau, s0, m_v, release=release, prec=prec, t_max=t_max)

@@ -170,6 +170,14 @@ def specs() -> list[Spec]:
     ]
 
 
+def spec_from_settings(settings: dict, prec: int = cert.PREC) -> Spec:
+    """The :class:`Spec` of a committed ``settings.json`` (to re-certify a case without the searches)."""
+    ini = settings["initial_state"]
+    return Spec(settings["id"], settings["description"], Params(**settings["params"]), ini["tau0"], ini["sdot0"],
+                int(settings["n_impacts"]), s0=ini.get("s0"), tolerances=settings["tolerances"],
+                tags=tuple(settings.get("tags", ())), notes=dict(settings.get("notes", {})), prec=prec)
+
+
 # ---------------------------------------------------------------------------------------------
 # files
 
@@ -195,7 +203,6 @@ def expected_csv(orb: cert.CertifiedOrbit) -> str:
     for e in orb.events:
         tau, rt = _printed(e.tau)
         th, rth = _printed(e.theta)
-        th = th % (2 * math.pi) if th >= 2 * math.pi or th < 0 else th
         if e.sdot is None:
             sd, rsd = "", ""
         else:
