@@ -15,8 +15,6 @@ from validation.golden.suite import (
     DEFAULT_SUITE, RADIUS_COLUMNS, TWO_PI, case_ids, load_case, load_suite, read_sequence,
 )
 
-flint = pytest.importorskip("flint")
-
 CASES = case_ids()
 
 
@@ -219,6 +217,7 @@ def test_other_suite_directory(tmp_path, map_outputs, capsys):
 
 @pytest.mark.parametrize("cid", ["0003-free-flight-start", "0008-stuck-forever", "0005-near-miss-return"])
 def test_recertification_reproduces_the_committed_files(cid):
+    pytest.importorskip("flint")
     from validation.golden.generate import build_case, spec_from_settings
 
     folder = DEFAULT_SUITE / cid
@@ -232,7 +231,8 @@ def test_recertification_reproduces_the_committed_files(cid):
 
 def test_certified_first_impact_agrees_with_50_digit_bisection():
     """Independent check of one enclosure: dense sampling + bisection at 50 digits (tests/mpref.py)."""
-    import mpmath as mp
+    mp = pytest.importorskip("mpmath")
+    pytest.importorskip("flint")
     from flint import arb
 
     from mapimpl.params import Params
@@ -250,6 +250,7 @@ def test_certified_first_impact_agrees_with_50_digit_bisection():
 
 
 def test_certification_refuses_what_it_cannot_prove():
+    pytest.importorskip("flint")
     from flint import arb
 
     from mapimpl.params import Params
