@@ -223,7 +223,7 @@ def settings_json(spec: Spec, orb: cert.CertifiedOrbit) -> dict:
         "expected_rows": len(orb.events), "expected_status": orb.status,
         "tolerances": spec.tolerances,
         "exact_columns": ["n", "wall", "kind"],
-        "notes": spec.notes,
+        "notes": dict(spec.notes),
     }
 
 
@@ -346,6 +346,14 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
         "sdot_max": "%.2e" % max([float(e.sdot.rad()) for e in orb.events if e.sdot is not None] or [0.0]),
         "meaning": "largest certified ball radius (before printing as float64)",
     }
+    if "chaotic" in spec.tags:
+        imp = [(e.n, float(e.tau.rad())) for e in orb.events if e.kind == "impact" and e.n >= 1]
+        xs = [n for n, r in imp if r > 0]
+        ys = [math.log(r) for n, r in imp if r > 0]
+        xm, ym = sum(xs) / len(xs), sum(ys) / len(ys)
+        slope = sum((x - xm) * (y - ym) for x, y in zip(xs, ys)) / sum((x - xm) ** 2 for x in xs)
+        spec.notes["certified_radius_growth_per_impact"] = (
+            f"{slope:.2f} (least-squares slope of ln(tau ball radius) over the impacts; compare lambda1)")
     if "near-miss" in spec.id:
         spec.notes["closest_approach_to_lower_wall"] = closest_approach(spec)
     agreement = None

@@ -250,7 +250,8 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
         ratio = np.where(mask, diff / np.maximum(allowed, 1e-300), 0.0)
         ok = bool(np.all(diff[mask] <= allowed[mask])) and missing.size == 0
         worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if ratio.size and not ok else -1)
-        scale = np.full(e.shape, TWO_PI) if c == "tau_mod_2pi" else e
+        # relative error; the scale is 2 pi for the phase and at least 1 for the elapsed time
+        scale = np.full(e.shape, TWO_PI) if c == "tau_mod_2pi" else (np.maximum(np.abs(e), 1.0) if c == "tau" else e)
         cols[c] = ColumnScore(c, ok, float(np.max(diff[mask])) if mask.any() else 0.0, worst,
                               _digits(diff[mask], scale[mask]))
     passed = all(s.passed for s in cols.values())
