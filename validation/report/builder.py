@@ -22,6 +22,7 @@ from validation.report.document import Section, render_html, render_markdown, su
 #: Section modules, in report order.
 SECTIONS = [
     "validation.report.sec_timeseries",
+    "validation.report.sec_crosstrack",
     "validation.report.sec_dynamics",
 ]
 
