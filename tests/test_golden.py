@@ -130,7 +130,7 @@ def _one_line_error(capsys, *needles):
     assert "Traceback" not in err[0]
 
 
-@pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric", "row_count", "missing_file",
+@pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric", "missing_file",
                                   "bad_kind", "empty_sdot_on_impact"])
 def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kind):
     _, out = map_outputs
@@ -150,9 +150,6 @@ def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kin
     elif kind == "non_numeric":
         lines[4] = lines[4].replace(lines[4].split(",")[4], "fast", 1)
         needles += ["line 5", "sdot", "fast"]
-    elif kind == "row_count":
-        lines = lines[:-1]
-        needles += ["row count"]
     elif kind == "missing_file":
         f.unlink()
         needles += ["missing file"]
@@ -287,3 +284,17 @@ def test_release_times_are_zeros_of_the_contact_force():
     idx = np.nonzero(e.kind == "stick")[0]
     assert np.all(e.tau[idx] - e.tau[idx - 1] <= case.settings["stick_time"])
     assert math.isclose(case.settings["stick_time"], 1e-6)
+
+
+def test_missing_event_fails_the_case(map_outputs, tmp_path, capsys):
+    """A well-formed output with one event fewer (e.g. a missed impact) is a failed case (exit 1),
+    not a malformed file."""
+    _, out = map_outputs
+    cid = "0007-chatter-sticking"
+    d = tmp_path / "short"
+    d.mkdir()
+    lines = (out / f"{cid}.csv").read_text().splitlines()
+    (d / f"{cid}.csv").write_text("\n".join(lines[:-1]) + "\n")
+    capsys.readouterr()
+    assert main(["check", str(d), "--cases", cid]) == 1
+    assert "wrong number of events" in capsys.readouterr().out

@@ -4,7 +4,7 @@ PATH is a directory holding one <case-id>.csv per case, in the impact-sequence l
 (header n,tau,tau_mod_2pi,wall,sdot,kind; extra trailing columns are ignored). Each case passes when
 every row matches: n, wall and kind exactly, tau, tau_mod_2pi (circular) and sdot within the case's
 absolute/relative tolerances. Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
-input (missing file or column, wrong header, non-numeric value, wrong row count).
+input (missing file or column, wrong header, non-numeric value).
 
 With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead."""
 
