@@ -229,9 +229,10 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
         # episode) is a wrong answer, not a malformed file: the case fails
         k = min(len(got), len(exp))
         diff = np.nonzero((got.kind[:k] != exp.kind[:k]) | (got.wall[:k] != exp.wall[:k]))[0]
-        first = int(diff[0]) if diff.size else k
+        where = (f"first differing event at line {int(diff[0]) + 2}" if diff.size
+                 else f"the first {k} events agree in kind and wall")
         return CaseScore(case.id, False, {}, f"wrong number of events: {len(got)} rows, expected {len(exp)} "
-                                             f"(first differing event at line {first + 2} of {got.path})")
+                                             f"({where} of {got.path})")
     cols: dict[str, ColumnScore] = {}
     for c in EXACT_COLUMNS:
         a, e = getattr(got, c), getattr(exp, c)
