@@ -251,7 +251,7 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     conditions per kernel launch (bounds memory).  ``progress``: progress bar on stderr (default:
     when stderr is a terminal).  Deterministic: no randomness inside.
     """
-    d = _validate_run(deltas, delta, cap, lanes or 1, block, chunk)
+    d = _validate_run(deltas, delta, cap, 1 if lanes is None else lanes, block, chunk)
     if target is None:
         target = periodic_target(params)
     th, sd, wall, ok = initial_states(params, tau0, sdot0, ic_mode, s0)
@@ -286,7 +286,10 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
         res = dict(n=jnp.zeros(m, jnp.int32), status=jnp.full(m, K.NOT_RUN, jnp.int32),
                    nstick=jnp.zeros(m, jnp.int32), hitn=jnp.full((m, nd), -1, jnp.int32))
         carry = (K.idle_lanes(min(lanes, m), nd), res, jnp.asarray(0, jnp.int32))
-        while True:
+        # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded;
+        # the guard only turns an engine bug into an error instead of a hang
+        max_calls = 1 + (int(cap) + 1) * 200 * (m // lanes + 2) // (int(block) * 64)
+        for _call in range(max_calls):
             carry, nb = K.run_blocks(carry, q_th, q_sd, q_w, k, block=int(block), max_blocks=64)
             lanes_s, res, next_ic = carry
             busy = bool(jnp.any(lanes_s["mode"] != K.MODE_IDLE)) or int(next_ic) < m
@@ -294,6 +297,8 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
             bar.update(done_total + n_done)
             if not busy:
                 break
+        else:
+            raise RuntimeError("transient engine made no progress (bug): queue not drained")
         done_total += m
         hit[sel] = np.asarray(res["hitn"])
         nn[sel] = np.asarray(res["n"])
