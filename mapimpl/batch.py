@@ -1,6 +1,7 @@
 """Batches of orbits: the map (Eqs. 12-13) vmapped over initial conditions (and, optionally,
-parameters), jit-compiled, float64.  A batch gives the same numbers as single-orbit calls
-(the same scalar kernel is vmapped).
+parameters), jit-compiled, float64.  A batch gives the single-orbit numbers to rounding: the
+same scalar kernel is vmapped, but XLA compiles the vectorised program separately, so results can
+differ by a few ulps per step (and chaotic orbits then diverge at their Lyapunov rate).
 """
 
 from __future__ import annotations

@@ -179,11 +179,15 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         g, dg = gap_of(x, top)
         lo_n = jnp.where(g > 0.0, x, n["lo"])
         hi_n = jnp.where(g > 0.0, n["hi"], x)
-        xn = x - g / dg
+        dx = -g / dg
+        # converged when the Newton correction is below rounding: checked before the bracket
+        # safeguard, which would otherwise reject a sub-ulp step and fall back to bisection
+        landed = (g == 0.0) | (jnp.isfinite(dx) & (jnp.abs(dx) <= 2.0 * _EPS * jnp.abs(x)))
+        xn = x + dx
         ok = jnp.isfinite(xn) & (xn > lo_n) & (xn < hi_n)
         xn = jnp.where(ok, xn, 0.5 * (lo_n + hi_n))
-        conv = (g == 0.0) | (jnp.abs(xn - x) <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n)
-        xn = jnp.where(g == 0.0, x, xn)
+        conv = landed | (jnp.abs(xn - x) <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n)
+        xn = jnp.where(landed, x, xn)
         return dict(x=xn, lo=lo_n, hi=hi_n, conv=conv, k=n["k"] + 1)
 
     need = status == HIT

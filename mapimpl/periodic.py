@@ -107,5 +107,6 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
         s, _info = step(s, p)
         taus.append(float(s.theta)); sds.append(float(s.sdot))
     Jn = np.asarray(J)
+    # the scan records the walls of states 1..p; state p is state 0, so roll to align with tau/sdot
     return PeriodicOrbit(params, int(impacts), int(turns), np.mod(np.array(taus), float(TWO_PI)), np.array(sds),
-                         np.asarray(walls), np.linalg.eigvals(Jn), Jn, res, conv, it)
+                         np.roll(np.asarray(walls), 1), np.linalg.eigvals(Jn), Jn, res, conv, it)

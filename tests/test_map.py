@@ -141,13 +141,23 @@ def test_release_delay_closed_form():
 
 
 def test_batch_equals_single():
+    """The vmapped batch gives the single-orbit numbers to rounding: one step from the same states
+    agrees to a few ulps (XLA compiles the vmapped and the scalar kernel separately, so bitwise
+    equality is not promised), and a non-chaotic orbit (Fig. 2) agrees to 1e-12 after 40 impacts."""
     P = Params(3.0, 0.1, 0.1, 0.9)
     rng = np.random.default_rng(1)
-    tau, sd = rng.uniform(0, 6.28, 6), rng.uniform(0.05, 0.5, 6)
-    tr = batch_iterate(states(tau, sd), P.arrays(), 40)
-    for i in range(6):
-        o = map_orbit(P, tau[i], sd[i], 40)
-        assert np.array_equal(np.asarray(tr.states.sdot[i]), o.impact_arrays()[2][1:])
+    tau, sd = rng.uniform(0, 6.28, 64), rng.uniform(0.05, 0.5, 64) * rng.choice([-1, 1], 64)
+    tr = batch_iterate(states(tau, sd), P.arrays(), 1)
+    for i in range(0, 64, 7):
+        o = map_orbit(P, tau[i], sd[i], 1)
+        assert int(tr.states.wall[i, 0]) == o.wall[-1]
+        assert abs(float(tr.states.tau[i, 0]) - o.tau[-1]) <= 8e-16 * max(1.0, abs(o.tau[-1]))
+        assert abs(float(tr.states.sdot[i, 0]) - o.sdot[-1]) <= 8e-16 * max(1.0, abs(o.sdot[-1]))
+    P2 = Params(0.5, 0.1, 0.1, 0.9)
+    tr2 = batch_iterate(states(tau[:4], np.abs(sd[:4])), P2.arrays(), 40)
+    for i in range(4):
+        o = map_orbit(P2, tau[i], abs(sd[i]), 40)
+        assert np.allclose(np.asarray(tr2.states.sdot[i]), o.impact_arrays()[2][1:], rtol=0, atol=1e-12)
 
 
 def test_free_flight_start():
@@ -186,3 +196,25 @@ def test_phase_kept_for_long_orbits():
     assert int(ns.cycles) >= 10**7
     ns0, _ = step_jit(make_state(1.0, 0.5), P.arrays())
     assert abs(float(ns.theta) - float(ns0.theta)) < 1e-12
+
+
+def test_periodic_orbit_walls_align_with_states():
+    """PeriodicOrbit.walls[k] is the wall hit by the pre-impact state (tau[k], sdot[k])."""
+    from mapimpl.periodic import find_periodic
+
+    P = Params(0.5, 0.1, 0.1, 0.9)
+    o = map_orbit(P, 0.0, 0.5, 300)
+    _, th, sd, _ = o.impact_arrays()
+    po = find_periodic(P, th[-3], sd[-3], 3)
+    assert po.converged
+    assert np.array_equal(po.walls, np.where(po.sdot > 0, 0, -1))
+
+
+def test_newton_stops_when_landed_on_the_root():
+    """The root polish stops once the Newton correction is below rounding (no bisection fallback):
+    the impact is found in few safe steps and matches the 50-digit root."""
+    from mapimpl.finder import first_impact
+
+    h = jax.jit(first_impact)(4.0, 0.0, -0.3, 3.0, 0.1, 0.1)
+    ref = first_root(4.0, 0.0, -0.3, 3.0, 0.1, 0.1, t_lo=1e-4, t_hi=1.0, n=2000)
+    assert abs(float(h.t) - float(ref[0])) < 1e-14

@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
         o = find_periodic(base, tau0, sdot0, args.impacts, args.turns)
         lines = [f"converged: {o.converged} (residual {o.residual:.2e}, {o.iterations} iterations)",
                  "k,tau_mod_2pi,sdot,wall"]
-        lines += [f"{k},{float(t)!r},{float(s)!r},{int(w)}" for k, (t, s, w) in enumerate(zip(o.tau, o.sdot, np.roll(o.walls, 1)))]
+        lines += [f"{k},{float(t)!r},{float(s)!r},{int(w)}" for k, (t, s, w) in enumerate(zip(o.tau, o.sdot, o.walls))]
         lines.append("multipliers: " + ", ".join(f"{complex(m):.12g}" for m in o.multipliers))
         lines.append(f"product of multipliers: {np.prod(o.multipliers).real:.12g}; closed form r^(2p) exp(-2 pi m beta): "
                      f"{closed_form_det(base, args.impacts, args.turns):.12g}; stable: {o.stable}")

@@ -122,7 +122,7 @@ def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tupl
         raise ValueError(f"no stable {impacts}-impact period-1 orbit found from guess={guess} "
                          f"(converged={po.converged}, |multipliers|={np.abs(po.multipliers)})")
     # the wall of each pre-impact state follows the sign of its velocity (sdot > 0 hits s = 0);
-    # note ``po.walls`` lists the walls of the *following* states (pfold records states after a step)
+    # (po.walls lists the same walls, aligned with po.tau and po.sdot)
     wall = np.where(np.asarray(po.sdot) > 0, 0, -1).astype(np.int32)
     return PeriodicTarget(np.asarray(po.tau), np.asarray(po.sdot), wall,
                           np.asarray(po.multipliers), float(po.residual))
