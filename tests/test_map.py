@@ -24,6 +24,7 @@ def _next(x, p):
 
 
 jac_autodiff = jax.jit(jax.jacfwd(_next))
+next_jit = jax.jit(_next)
 
 
 @given(tau=st.floats(0, 6.28, **finite), sdot=st.floats(0.05, 2.5, **finite), sign=st.sampled_from([1.0, -1.0]),
@@ -54,7 +55,7 @@ def test_jacobian_vs_central_differences():
         if bool(info.stuck) or abs(float(ns.sdot)) < 0.05:
             continue
         h = 1e-6
-        fd = np.stack([(np.asarray(_next(x + h * e, p)) - np.asarray(_next(x - h * e, p))) / (2 * h)
+        fd = np.stack([(np.asarray(next_jit(x + h * e, p)) - np.asarray(next_jit(x - h * e, p))) / (2 * h)
                        for e in jnp.eye(2)], axis=1)
         assert np.allclose(np.asarray(info.jac), fd, rtol=1e-6, atol=1e-6)
 

@@ -24,6 +24,7 @@ SECTIONS = [
     "validation.report.sec_timeseries",
     "validation.report.sec_crosstrack",
     "validation.report.sec_dynamics",
+    "validation.report.sec_transients",
 ]
 
 PROFILES = ("quick", "paper")
