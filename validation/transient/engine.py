@@ -44,6 +44,7 @@ from mapimpl.finder import MAX_STEPS, T_MAX
 from mapimpl.impact_map import ACTIVE, free_flight_start
 from mapimpl.params import Params
 from mapimpl.sticking import STICK_TIME
+from validation.progress import Progress
 from validation.transient import kernel as K
 
 #: The setting of the paper's Figs. 9-11.
@@ -54,34 +55,6 @@ PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
 DELTA = 1e-3
 DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
 IC_MODES = ("pre-impact", "free")
-
-
-class ProgressBar:
-    """A minimal progress bar on stderr (no dependency); silent when ``enabled`` is False."""
-
-    def __init__(self, total: int, label: str = "", enabled: bool = True, width: int = 30):
-        self.total, self.label, self.enabled, self.width = max(int(total), 1), label, enabled, width
-        self.t0 = time.perf_counter()
-        self._last = -1.0
-
-    def update(self, done: int, extra: str = "") -> None:
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        if done < self.total and now - self._last < 0.5:
-            return
-        self._last = now
-        f = min(done / self.total, 1.0)
-        bar = "#" * int(f * self.width)
-        el = now - self.t0
-        eta = el * (1 - f) / f if f > 0 else float("nan")
-        sys.stderr.write(f"\r{self.label} [{bar:<{self.width}}] {done}/{self.total} {el:6.1f}s eta {eta:6.1f}s {extra}")
-        sys.stderr.flush()
-
-    def close(self) -> None:
-        if self.enabled:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
 
 
 @dataclass
@@ -276,7 +249,7 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     # orbits whose free flight never reaches a wall are not run
     status[~ok] = K.ESCAPED
     idx_ok = np.flatnonzero(ok)
-    bar = ProgressBar(idx_ok.size, label, progress)
+    bar = Progress(label, bool(progress), total=idx_ok.size)
     t0 = time.perf_counter()
     done_total = 0
     for c0 in range(0, idx_ok.size, int(chunk)):
