@@ -27,34 +27,29 @@ def params_from(args: argparse.Namespace) -> Params:
     return Params(args.alpha, args.beta, args.gamma, args.r)
 
 
-def positive_int(name: str):
-    """argparse type: an integer >= 1, with a message naming the option."""
+def int_at_least(name: str, lo: int):
+    """argparse type: an integer >= ``lo``, with a message naming the option and the range."""
 
     def conv(text: str) -> int:
         try:
             v = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer") from None
-        if v < 1:
-            raise argparse.ArgumentTypeError(f"{name}={v} is out of range: allowed {name} >= 1")
+        if v < lo:
+            raise argparse.ArgumentTypeError(f"{name}={v} is out of range: allowed {name} >= {lo}")
         return v
 
     return conv
+
+
+def positive_int(name: str):
+    """argparse type: an integer >= 1."""
+    return int_at_least(name, 1)
 
 
 def nonneg_int(name: str):
     """argparse type: an integer >= 0."""
-
-    def conv(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer") from None
-        if v < 0:
-            raise argparse.ArgumentTypeError(f"{name}={v} is out of range: allowed {name} >= 0")
-        return v
-
-    return conv
+    return int_at_least(name, 0)
 
 
 def write_text(text: str, output: str | None) -> None:
