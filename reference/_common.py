@@ -15,6 +15,8 @@ every track applies exactly the same policy).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import math
 from dataclasses import dataclass, field
 
@@ -98,6 +100,19 @@ def stick_decision(theta: float, wall: int, sdot: float, p: Params) -> tuple[boo
     """
     d = _decide_jit(theta, wall, sdot, p.alpha, p.beta, p.gamma, p.r, stick_time=STICK_TIME)
     return bool(d.stick), float(d.t_acc), float(d.delay)
+
+
+class StepJacobian(NamedTuple):
+    """One impact-to-impact step by integration, with its Jacobian (both reference tracks):
+    the next pre-impact state, ``jac = d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)`` (0 if the step
+    sticks), and the orbit status after the step."""
+
+    tau: float
+    sdot: float
+    wall: int
+    jac: np.ndarray
+    stuck: bool
+    status: str
 
 
 @dataclass

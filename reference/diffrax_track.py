@@ -45,7 +45,7 @@ from mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState,
 from mapimpl.orbit import ImpactSequence, sequence_from_states
 from mapimpl.params import ParamArrays, Params
 from mapimpl.sticking import decide_stick
-from reference._common import MAX_SEGMENTS, T_MAX, check_option, forcing_rhs, validate_start
+from reference._common import MAX_SEGMENTS, T_MAX, StepJacobian, check_option, forcing_rhs, validate_start
 
 #: Default tolerances, step bound and per-segment step cap of this track.
 RTOL, ATOL, DTMAX = 1e-12, 1e-13, 0.25
@@ -342,16 +342,6 @@ def _step_and_jac(x, wall, p, opts: Options):
     return out, w, jac
 
 
-class StepJacobian(NamedTuple):
-    """One integrated step from a pre-impact state and ``jax.jacfwd`` of it."""
-
-    tau: float
-    sdot: float
-    wall: int
-    jac: np.ndarray
-    stuck: bool
-
-
 def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, **opt) -> StepJacobian:
     """``d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` by ``jax.jacfwd`` through the event solve and the
     reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` and NaN state."""
@@ -363,11 +353,12 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     p = params.arrays()
     dec = decide_stick(theta, wall, float(sdot_n), *p)
     if bool(dec.stick):
-        return StepJacobian(float("nan"), float("nan"), wall, np.zeros((2, 2)), True)
+        status = "active" if np.isfinite(float(dec.delay)) else "stuck_forever"
+        return StepJacobian(float("nan"), float("nan"), wall, np.zeros((2, 2)), True, status)
     out, w, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]), jnp.asarray(int(wall), jnp.int32), p,
                                  opts)
     tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
-    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False)
+    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, "active")
 
 
 __all__ = ["Options", "options", "flight", "FlightResult", "step", "iterate", "batch_iterate", "orbit",

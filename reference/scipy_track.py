@@ -57,6 +57,7 @@ from scipy.integrate import solve_ivp
 from mapimpl.orbit import ImpactSequence
 from mapimpl.params import Params
 from reference._common import (
+    StepJacobian,
     MAX_SEGMENTS, T_MAX, TWO_PI, EventTable, check_option, forcing_rhs, reduce_phase, stick_decision,
     validate_start,
 )
@@ -337,17 +338,6 @@ def dense_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: f
         return seq, DenseTrajectory(e, e, e, np.empty(0, dtype=np.int64))
     tau, s, v, g = (np.concatenate(x) for x in zip(*parts))
     return seq, DenseTrajectory(tau, s, v, g.astype(np.int64))
-
-
-class StepJacobian(NamedTuple):
-    """One map step by integration: next pre-impact state and the Jacobian by flow x saltation."""
-
-    tau: float
-    sdot: float
-    wall: int
-    jac: np.ndarray
-    stuck: bool
-    status: str
 
 
 def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, *, rtol: float = RTOL,
