@@ -74,3 +74,10 @@ def test_console_script_no_traceback():
     p = subprocess.run([sys.executable, "-m", "validation", "simulate", "--r", "2"], capture_output=True, text=True)
     assert p.returncode == 2
     assert p.stderr.strip().count("\n") == 0 and "allowed 0 < r <= 1" in p.stderr
+
+
+def test_ended_orbit_is_reported(capsys):
+    """An orbit that stops (here: alpha = gamma = 0, it coasts to rest) is said on stderr, not silent."""
+    rc, out, err = run_cli(["simulate", "--alpha", "0", "--gamma", "0", "--s0", "-0.5", "--sdot0", "0.01"], capsys)
+    assert rc == 0 and out.strip() == "n,tau,tau_mod_2pi,wall,sdot,kind"
+    assert "status no_impact" in err

@@ -38,6 +38,14 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--plot-span={args.plot_span!r} is out of range: allowed > 0")
     seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0)
     write_text(seq.to_csv() if args.format == "csv" else seq.to_json() + "\n", args.output)
+    if seq.status != "active":
+        import sys
+
+        why = {"no_impact": "no wall is reached within the flight horizon T_MAX",
+               "stuck_forever": "the tooth sticks to a wall and the forcing never releases it",
+               "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
+        print(f"gear-rattle simulate: note: the orbit ended after {int(seq.impacts.sum())} impacts "
+              f"(status {seq.status}: {why})", file=sys.stderr)
     if args.plot:
         from validation.plots import plot_time_series
 
