@@ -212,31 +212,54 @@ def _validate_run(deltas, delta, cap, lanes, block, chunk):
     return d
 
 
+def engine_devices(devices=None) -> list:
+    """Devices the engine spreads its queue over: ``devices`` (a count or a list of JAX devices),
+    default all devices of JAX's default backend (one per core on the CPU, see :mod:`mapimpl._jax`;
+    the accelerator(s) when there is one)."""
+    avail = jax.devices()
+    if devices is None:
+        return list(avail)
+    if isinstance(devices, (int, np.integer)) and not isinstance(devices, bool):
+        if not 1 <= int(devices) <= len(avail):
+            raise ValueError(f"devices={devices!r} is out of range: allowed 1 <= devices <= {len(avail)} "
+                             f"(the {jax.default_backend()} devices JAX sees)")
+        return list(avail[:int(devices)])
+    out = list(devices)
+    if not out:
+        raise ValueError("devices is empty: allowed a positive count or a list of JAX devices")
+    return out
+
+
+def _default_lanes(n_per_device: int) -> int:
+    # enough lanes to amortise per-operation overhead, few enough that each lane serves ~16 orbits
+    # (short tail when the queue runs dry)
+    top = 2048 if jax.default_backend() == "cpu" else 65536
+    return int(min(top, max(64, 2 ** int(math.log2(max(n_per_device // 16, 1))))))
+
+
 def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str = "pre-impact", s0=None,
                     delta: float = DELTA, deltas=DELTAS, cap: int = 20000, lanes: int | None = None,
                     block: int = 32, chunk: int = 1 << 18, progress: bool | None = None,
                     label: str = "transients", target: PeriodicTarget | None = None,
-                    stick_time: float = STICK_TIME) -> TransientResult:
+                    stick_time: float = STICK_TIME, devices=None) -> TransientResult:
     """Transient duration of every initial condition ``(tau0[i], sdot0[i])`` (see module docstring).
 
-    ``cap``: most map iterations per orbit; ``lanes``: orbits advanced together (default: a power of two near N/16,
-    at most 2048 on CPU, 65536 on an accelerator); ``block``: micro-steps between refills; ``chunk``: initial
-    conditions per kernel launch (bounds memory).  ``progress``: progress bar on stderr (default:
-    when stderr is a terminal).  Deterministic: no randomness inside.
+    ``cap``: most map iterations per orbit; ``lanes``: orbits advanced together per device (default: a power of
+    two near N/16 per device, at most 2048 on CPU, 65536 on an accelerator); ``block``: micro-steps between
+    refills; ``chunk``: initial conditions per kernel launch (bounds memory); ``devices``: a count or list of
+    JAX devices to spread the initial conditions over (default: all of the default backend, see
+    :func:`engine_devices`).  ``progress``: progress bar on stderr (default: when stderr is a terminal).
+    Deterministic: no randomness inside, and each orbit's arithmetic does not depend on its lane, device or
+    neighbours, so results do not depend on ``lanes``, ``chunk`` or ``devices``.
     """
     d = _validate_run(deltas, delta, cap, 1 if lanes is None else lanes, block, chunk)
+    devs = engine_devices(devices)
     if target is None:
         target = periodic_target(params)
     th, sd, wall, ok = initial_states(params, tau0, sdot0, ic_mode, s0)
     tau0a = np.atleast_1d(np.asarray(tau0, np.float64)).ravel()
     sdot0a = np.atleast_1d(np.asarray(sdot0, np.float64)).ravel()
     n_ic = th.size
-    if lanes is None:
-        # enough lanes to amortise per-operation overhead, few enough that each lane serves ~16
-        # orbits (short tail when the queue runs dry)
-        top = 2048 if jax.default_backend() == "cpu" else 65536
-        lanes = int(min(top, max(64, 2 ** int(math.log2(max(n_ic // 16, 1))))))
-    lanes = int(min(lanes, max(n_ic, 1)))
     if progress is None:
         progress = sys.stderr.isatty()
     k = K.make_consts((params.alpha, params.beta, params.gamma, params.r), target.theta, target.sdot, target.wall,
@@ -249,41 +272,61 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     # orbits whose free flight never reaches a wall are not run
     status[~ok] = K.ESCAPED
     idx_ok = np.flatnonzero(ok)
+    ndev = max(1, min(len(devs), idx_ok.size))
+    devs = devs[:ndev]
+    if lanes is None:
+        lanes = _default_lanes(min(idx_ok.size, int(chunk)) // ndev)
+    k_dev = [jax.device_put(k, dv) for dv in devs]
     bar = Progress(label, bool(progress), total=idx_ok.size)
     t0 = time.perf_counter()
     done_total = 0
     for c0 in range(0, idx_ok.size, int(chunk)):
-        sel = idx_ok[c0:c0 + int(chunk)]
-        m = sel.size
-        q_th, q_sd, q_w = jnp.asarray(th[sel]), jnp.asarray(sd[sel]), jnp.asarray(wall[sel])
-        res = dict(n=jnp.zeros(m, jnp.int32), status=jnp.full(m, K.NOT_RUN, jnp.int32),
-                   nstick=jnp.zeros(m, jnp.int32), hitn=jnp.full((m, nd), -1, jnp.int32))
-        carry = (K.idle_lanes(min(lanes, m), nd), res, jnp.asarray(0, jnp.int32))
+        # each device gets every ndev-th initial condition of the chunk (similar mixes of short and
+        # long transients, so the devices finish together)
+        jobs = []
+        for j, dv in enumerate(devs):
+            sel = idx_ok[c0:c0 + int(chunk)][j::ndev]
+            m = sel.size
+            if m == 0:
+                continue
+            q = tuple(jax.device_put(jnp.asarray(a[sel]), dv) for a in (th, sd, wall))
+            res = dict(n=jnp.zeros(m, jnp.int32), status=jnp.full(m, K.NOT_RUN, jnp.int32),
+                       nstick=jnp.zeros(m, jnp.int32), hitn=jnp.full((m, nd), -1, jnp.int32))
+            carry = jax.device_put((K.idle_lanes(int(min(lanes, m)), nd), res, jnp.asarray(0, jnp.int32)), dv)
+            jobs.append({"sel": sel, "m": m, "q": q, "k": k_dev[j], "carry": carry, "busy": True, "done": 0})
         # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded;
         # the guard only turns an engine bug into an error instead of a hang
-        max_calls = 1 + (int(cap) + 1) * 200 * (m // lanes + 2) // (int(block) * 64)
+        m_max = max(jb["m"] for jb in jobs)
+        max_calls = 1 + (int(cap) + 1) * 200 * (m_max // int(lanes) + 2) // (int(block) * 64)
         for _call in range(max_calls):
-            carry, nb = K.run_blocks(carry, q_th, q_sd, q_w, k, block=int(block), max_blocks=64)
-            lanes_s, res, next_ic = carry
-            busy = bool(jnp.any(lanes_s["mode"] != K.MODE_IDLE)) or int(next_ic) < m
-            n_done = int(next_ic) - int(jnp.sum(lanes_s["ic"] >= 0))
-            bar.update(done_total + n_done)
-            if not busy:
+            # dispatch to every busy device first (asynchronous), then wait: the devices run concurrently
+            for jb in jobs:
+                if jb["busy"]:
+                    jb["carry"], _ = K.run_blocks(jb["carry"], *jb["q"], jb["k"], block=int(block), max_blocks=64)
+            for jb in jobs:
+                if jb["busy"]:
+                    lanes_s, _, next_ic = jb["carry"]
+                    jb["busy"] = bool(jnp.any(lanes_s["mode"] != K.MODE_IDLE)) or int(next_ic) < jb["m"]
+                    jb["done"] = int(next_ic) - int(jnp.sum(lanes_s["ic"] >= 0))
+            bar.update(done_total + sum(jb["done"] for jb in jobs))
+            if not any(jb["busy"] for jb in jobs):
                 break
         else:
             raise RuntimeError("transient engine made no progress (bug): queue not drained")
-        done_total += m
-        hit[sel] = np.asarray(res["hitn"])
-        nn[sel] = np.asarray(res["n"])
-        status[sel] = np.asarray(res["status"])
-        nstick[sel] = np.asarray(res["nstick"])
+        for jb in jobs:
+            res, sel = jb["carry"][1], jb["sel"]
+            done_total += jb["m"]
+            hit[sel] = np.asarray(res["hitn"])
+            nn[sel] = np.asarray(res["n"])
+            status[sel] = np.asarray(res["status"])
+            nstick[sel] = np.asarray(res["nstick"])
     elapsed = time.perf_counter() - t0
     bar.update(idx_ok.size)
     bar.close()
     return TransientResult(tau0a, sdot0a, hit, nn, status, nstick, d, float(delta), int(cap), params, ic_mode,
                            None if s0 is None else float(s0), target, elapsed,
-                           meta={"lanes": lanes, "block": int(block), "chunk": int(chunk),
-                                 "backend": jax.default_backend()})
+                           meta={"lanes": int(lanes), "block": int(block), "chunk": int(chunk),
+                                 "backend": jax.default_backend(), "devices": len(devs)})
 
 
 def grid(box=PAPER_BOX, nx: int = 400, ny: int = 400):
