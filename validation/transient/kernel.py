@@ -154,25 +154,22 @@ def idle_lanes(nlanes, ndelta):
     return out
 
 
-def micro_step(s, k):
-    """One micro-step of one lane (scalar state ``s``; vmapped by the engine)."""
-    alpha, beta, gamma, r = k["alpha"], k["beta"], k["gamma"], k["r"]
-    mode = s["mode"]
-    inA, inB, inN, inS, inL = (mode == MODE_A), (mode == MODE_B), (mode == MODE_N), (mode == MODE_S), (mode == MODE_L)
-    # ---------------- one flight evaluation ----------------
-    t_eval = jnp.where(inA, s["ta"], jnp.where(inB, s["tb"], jnp.where(inN, s["x"], 0.0)))
-    ds, v, a, e = _barrier(flight_sc(t_eval, s["sn0"], s["cs0"], s["v0"], alpha, beta, gamma), k["true"])
-    b = s["bc"] * e
-    m2, m3 = alpha + b, alpha + beta * b
-    du, dl = _gaps(s["s0"], ds)
-    on_top, on_bot = s["s0"] == 0.0, s["s0"] == -1.0
+def _safe_step(ds, v, a, b, ta, H, it, tdep, s0, k):
+    """One safe step of phase 1 of :func:`mapimpl.finder.first_impact` from the flight state
+    ``(ds, v, a)`` at ``t_a`` (``b = |beta (v0 - alpha cos tau0) - gamma| e^{-beta t_a}``, the decaying
+    part of the bounds ``M2 = alpha + b`` and ``M3 = alpha + beta b`` of ``|s''|``, ``|s'''|``).
 
-    # ---------------- A: safe step (first half of the finder body) ----------------
-    ta, H = s["ta"], s["H"]
+    Returns whether the step *moves* (a full window, or straight on to ``t_a + h_near``), where to
+    (``t_next``), the next window ``H_new``, and for a bracket test: the near wall, the safe time
+    ``h_near``, the test point ``t_a + w_b`` and whether the root in the window is unique."""
+    alpha, beta = k["alpha"], k["beta"]
+    m2, m3 = alpha + b, alpha + beta * b
+    du, dl = _gaps(s0, ds)
+    on_top, on_bot = s0 == 0.0, s0 == -1.0
     duA, dlA = jnp.maximum(du, 0.0), jnp.maximum(dl, 0.0)
     hu = safe_time(duA, v, jnp.minimum(a + m3 * H, m2))
     hl = safe_time(dlA, -v, jnp.minimum(-a + m3 * H, m2))
-    rem = s["tdep"] - ta
+    rem = tdep - ta
     hu = jnp.where(on_top & (rem > 0.0), jnp.maximum(hu, rem), hu)
     hl = jnp.where(on_bot & (rem > 0.0), jnp.maximum(hl, rem), hl)
     top_near = hu <= hl
@@ -196,15 +193,28 @@ def micro_step(s, k):
     # failed test continues at t_a + h_near anyway, so go there at once (same certificate, one
     # evaluation less)
     skip_b = ~windowed & ~(jnp.isfinite(h_est) & (h_est < w)) & (ta + h_near > ta)
-    H_newA = jnp.where(windowed, jnp.minimum(2.0 * H, _H_MAX), jnp.clip(3.0 * h_near, 1e-300, _H_MAX))
-    itA = s["it"] + 1
-    # windowed: full step, stays in A unless beyond t_max or out of steps
-    A_win_t = jnp.where(windowed, ta + H, ta + h_near)
-    A_move = windowed | skip_b
-    A_beyond = A_win_t > k["t_max"]
-    A_capped = itA >= k["max_steps"]
-    (top_near, h_near, windowed, A_move, A_win_t, w_b, unique, H_newA, A_beyond, A_capped) = _barrier(
-        (top_near, h_near, windowed, A_move, A_win_t, w_b, unique, H_newA, A_beyond, A_capped), k["true"])
+    H_new = jnp.where(windowed, jnp.minimum(2.0 * H, _H_MAX), jnp.clip(3.0 * h_near, 1e-300, _H_MAX))
+    it_new = it + 1
+    # windowed: a full step; skip_b: on to t_a + h_near; either way beyond t_max or out of steps ends it
+    t_next = jnp.where(windowed, ta + H, ta + h_near)
+    move = windowed | skip_b
+    out = dict(top_near=top_near, h_near=h_near, move=move, t_next=t_next, w_b=w_b, unique=unique, H_new=H_new,
+               beyond=t_next > k["t_max"], capped=it_new >= k["max_steps"], it=it_new)
+    return _barrier(out, k["true"])
+
+
+def micro_step(s, k):
+    """One micro-step of one lane (scalar state ``s``; vmapped by the engine)."""
+    alpha, beta, gamma, r = k["alpha"], k["beta"], k["gamma"], k["r"]
+    mode = s["mode"]
+    inA, inB, inN, inS, inL = (mode == MODE_A), (mode == MODE_B), (mode == MODE_N), (mode == MODE_S), (mode == MODE_L)
+    # ---------------- one flight evaluation ----------------
+    t_eval = jnp.where(inA, s["ta"], jnp.where(inB, s["tb"], jnp.where(inN, s["x"], 0.0)))
+    ds, v, a, e = _barrier(flight_sc(t_eval, s["sn0"], s["cs0"], s["v0"], alpha, beta, gamma), k["true"])
+    b = s["bc"] * e
+    m2 = alpha + b
+    du, dl = _gaps(s["s0"], ds)
+    ta, H = s["ta"], s["H"]
 
     # ---------------- B: bracket test at t_b ----------------
     g_b = jnp.where(s["topn"], du, dl)
@@ -246,8 +256,8 @@ def micro_step(s, k):
     t_hit = jnp.where(inN, xn, ta)
     v_hit = jnp.where(inN, v + a * (xn - x), s["va"])
     top_hit = jnp.where(inN, s["top"], s["topn"])
-    escaped = (inA & A_move & A_beyond) | (inB & ~bracket & ~stalled & B_beyond)
-    failed = ((inA & A_move & ~A_beyond & A_capped) | (inB & ~bracket & ~stalled & ~B_beyond & B_capped))
+    escaped = inB & ~bracket & ~stalled & B_beyond
+    failed = inB & ~bracket & ~stalled & ~B_beyond & B_capped
 
     # ---------------- impact processing (or a freshly loaded pre-impact state) ----------------
     th1 = jnp.where(inL, s["th"], _reduce(s["th0"] + t_hit))
@@ -303,43 +313,54 @@ def micro_step(s, k):
         c2 = jnp.where((uu <= 0.0) & (aa < 0.0), 1.5 * (-aa) / jnp.maximum(dm3, tiny), 0.0)
         c3 = jnp.where((uu <= 0.0) & (aa <= 0.0) & (jj < 0.0), 2.0 * (-jj) / jnp.maximum(dm4, tiny), 0.0)
         tdep = jnp.where(on_t | on_b, 0.5 * jnp.maximum(c1, jnp.maximum(c2, c3)), 0.0)
-        return tdep, bc
+        return tdep, bc, a0
 
     # free flight right after the impact (no sticking): start phase th1, v0 = -r v1
     s0_new = wall1.astype(jnp.float64)
     # S mode: th0/s0 already stored, v0 = 0, sin/cos(th0) = (sn1, cs1) from the second unit
-    su_sn = sn1
-    su_cs = cs1
     su_v0 = jnp.where(inS, 0.0, -r * v1)
     su_s0 = jnp.where(inS, s["s0"], s0_new)
-    tdep_new, bc_new = setup(su_sn, su_cs, su_v0, su_s0, inS)
+    tdep_new, bc_new, a0_new = setup(sn1, cs1, su_v0, su_s0, inS)
     start_flight = go_free | inS
-    (hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free, th0_stick, tdep_new, bc_new, su_v0,
-     start_flight) = _barrier((hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free, th0_stick,
-                               tdep_new, bc_new, su_v0, start_flight), k["true"])
+    (hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free, th0_stick, tdep_new, bc_new, a0_new,
+     su_v0, su_s0, start_flight) = _barrier((hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free,
+                                            th0_stick, tdep_new, bc_new, a0_new, su_v0, su_s0, start_flight),
+                                           k["true"])
+
+    # ---------------- A: one safe step ----------------
+    # from this micro-step's evaluation (mode A), or from t = 0 of the flight that starts now: the
+    # state there is (ds, v, a) = (0, v0, a0) in closed form, so a new flight needs no evaluation
+    # for its first step.  (A lane never does both: lanes in mode A do not arrive at an impact.)
+    doA = inA | start_flight
+    ta_in = jnp.where(inA, ta, 0.0)
+    H_in = jnp.where(inA, H, _H0)
+    v_in = jnp.where(inA, v, su_v0)
+    A = _safe_step(jnp.where(inA, ds, 0.0), v_in, jnp.where(inA, a, a0_new), jnp.where(inA, b, bc_new), ta_in, H_in,
+                   jnp.where(inA, s["it"], 0), jnp.where(inA, s["tdep"], tdep_new), jnp.where(inA, s["s0"], su_s0), k)
+    escaped = escaped | (doA & A["move"] & A["beyond"])
+    failed = failed | (doA & A["move"] & ~A["beyond"] & A["capped"])
 
     # ---------------- next state ----------------
     ns = dict(s)
     # mode transitions
     new_mode = mode
-    new_mode = jnp.where(inA & ~A_move, MODE_B, new_mode)
     new_mode = jnp.where(inB & bracket, MODE_N, new_mode)
     new_mode = jnp.where(inB & ~bracket & ~stalled, MODE_A, new_mode)
-    new_mode = jnp.where(start_flight, MODE_A, new_mode)
+    new_mode = jnp.where(doA, jnp.where(A["move"], MODE_A, MODE_B), new_mode)
     new_mode = jnp.where(go_stick, MODE_S, new_mode)
     lane_end = orbit_end | escaped | failed
     new_mode = jnp.where(lane_end, MODE_IDLE, new_mode)
     ns["mode"] = new_mode.astype(jnp.int32)
-    # A
-    ns["ta"] = jnp.where(inA & A_move, A_win_t, jnp.where(inB & ~bracket & ~stalled, B_t_new, ta))
-    ns["H"] = jnp.where(inA & A_move, H_newA, jnp.where(inB, s["hnew"], H))
-    ns["it"] = jnp.where(inA, itA, s["it"])
-    ns["tb"] = jnp.where(inA, ta + w_b, s["tb"])
-    ns["topn"] = jnp.where(inA, top_near, s["topn"])
-    ns["uniq"] = jnp.where(inA, unique, s["uniq"])
-    ns["hnear"] = jnp.where(inA, h_near, s["hnear"])
-    ns["hnew"] = jnp.where(inA, H_newA, s["hnew"])
-    ns["va"] = jnp.where(inA, v, s["va"])
+    # A (after a safe step) and B -> A (after a failed bracket test)
+    ns["ta"] = jnp.where(doA, jnp.where(A["move"], A["t_next"], ta_in), jnp.where(inB & ~bracket & ~stalled, B_t_new, ta))
+    ns["H"] = jnp.where(doA, jnp.where(A["move"], A["H_new"], H_in), jnp.where(inB, s["hnew"], H))
+    ns["it"] = jnp.where(doA, A["it"], s["it"])
+    ns["tb"] = jnp.where(doA, ta_in + A["w_b"], s["tb"])
+    ns["topn"] = jnp.where(doA, A["top_near"], s["topn"])
+    ns["uniq"] = jnp.where(doA, A["unique"], s["uniq"])
+    ns["hnear"] = jnp.where(doA, A["h_near"], s["hnear"])
+    ns["hnew"] = jnp.where(doA, A["H_new"], s["hnew"])
+    ns["va"] = jnp.where(doA, v_in, s["va"])
     # B -> N initialisation (lo = t_a, hi = t_b, x = midpoint); N update
     ns["lo"] = jnp.where(inB, ta, jnp.where(inN, lo_n, s["lo"]))
     ns["hi"] = jnp.where(inB, s["tb"], jnp.where(inN, hi_n, s["hi"]))
@@ -361,13 +382,10 @@ def micro_step(s, k):
     ns["th0"] = jnp.where(go_free, th1, jnp.where(go_stick, th0_stick, s["th0"]))
     ns["s0"] = jnp.where(go_on, s0_new, s["s0"])
     ns["v0"] = jnp.where(start_flight, su_v0, jnp.where(go_stick, 0.0, s["v0"]))
-    ns["sn0"] = jnp.where(start_flight, su_sn, s["sn0"])
-    ns["cs0"] = jnp.where(start_flight, su_cs, s["cs0"])
+    ns["sn0"] = jnp.where(start_flight, sn1, s["sn0"])
+    ns["cs0"] = jnp.where(start_flight, cs1, s["cs0"])
     ns["tdep"] = jnp.where(start_flight, tdep_new, s["tdep"])
     ns["bc"] = jnp.where(start_flight, bc_new, s["bc"])
-    ns["ta"] = jnp.where(start_flight, 0.0, ns["ta"])
-    ns["H"] = jnp.where(start_flight, _H0, ns["H"])
-    ns["it"] = jnp.where(start_flight, 0, ns["it"])
     # idle lanes do not change
     idle = mode == MODE_IDLE
     return jax.tree_util.tree_map(lambda old, new: jnp.where(idle, old, new), s, ns)
