@@ -55,6 +55,9 @@ PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
 DELTA = 1e-3
 DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
 IC_MODES = ("pre-impact", "free")
+#: Tail of a run: once the queue is empty and at most 1/TAIL_SHRINK of the lanes are busy, the busy
+#: ones move to a block TAIL_SHRINK times smaller (not below TAIL_MIN_LANES lanes).
+TAIL_SHRINK, TAIL_MIN_LANES = 8, 32
 
 
 @dataclass
@@ -305,9 +308,17 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
                     jb["carry"], _ = K.run_blocks(jb["carry"], *jb["q"], jb["k"], block=int(block), max_blocks=64)
             for jb in jobs:
                 if jb["busy"]:
-                    lanes_s, _, next_ic = jb["carry"]
-                    jb["busy"] = bool(jnp.any(lanes_s["mode"] != K.MODE_IDLE)) or int(next_ic) < jb["m"]
-                    jb["done"] = int(next_ic) - int(jnp.sum(lanes_s["ic"] >= 0))
+                    lanes_s, res_s, next_ic = jb["carry"]
+                    n_busy = int(jnp.sum(lanes_s["mode"] != K.MODE_IDLE))
+                    drained = int(next_ic) >= jb["m"]
+                    jb["busy"] = n_busy > 0 or not drained
+                    jb["done"] = int(next_ic) - n_busy
+                    # the tail: queue empty, few long orbits left -> fewer lanes (same results)
+                    size = lanes_s["mode"].shape[0]
+                    while drained and 0 < n_busy <= size // TAIL_SHRINK and size // TAIL_SHRINK >= TAIL_MIN_LANES:
+                        size //= TAIL_SHRINK
+                    if size < lanes_s["mode"].shape[0]:
+                        jb["carry"] = (K.compact(lanes_s, size=size), res_s, next_ic)
             bar.update(done_total + sum(jb["done"] for jb in jobs))
             if not any(jb["busy"] for jb in jobs):
                 break

@@ -426,6 +426,19 @@ def _store(res, lanes):
     return out, lanes
 
 
+@partial(jax.jit, static_argnames=("size",))
+def compact(lanes, size: int):
+    """The lanes packed into a block of ``size`` lanes: busy ones first (in lane order), then idle ones.
+
+    For the tail of a run, when the queue is empty and only a few long orbits are left: a micro-step
+    costs the same for idle and busy lanes, so the last orbits finish far sooner on fewer lanes.  The
+    caller ensures at most ``size`` lanes are busy (a lane whose finished orbit is not yet stored
+    counts as busy)."""
+    busy = (lanes["mode"] != MODE_IDLE) | (lanes["ic"] >= 0)
+    order = jnp.argsort(~busy, stable=True)[:size]
+    return jax.tree_util.tree_map(lambda x: x[order], lanes)
+
+
 @partial(jax.jit, static_argnames=("block", "max_blocks"))
 def run_blocks(carry, queue_th, queue_sd, queue_wall, k, block=32, max_blocks=64):
     """Advance the engine by up to ``max_blocks`` blocks of ``block`` micro-steps (early exit when
