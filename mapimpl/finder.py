@@ -8,11 +8,14 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
    :func:`mapimpl.flight.derivative_bounds`.  Then ``gap(t_a + h) >= d - u h - A h^2 / 2``, so no
    wall can be reached for ``h < safe_time(d, u, A)`` (smallest positive root).  Stepping by the
    smaller safe time of the two walls is certified.
-2. **Certified bracket.**  Each step also looks at ``t_b = t_a + min(2 h_near, h_far, H)``.  If the
-   near wall is crossed at ``t_b`` *and* either the velocity or the acceleration provably keeps its
-   sign on ``[t_a, t_b]`` (bounds again), the gap is monotone or convex/concave there, so the bracket
-   holds exactly one root, and no earlier root exists (step 1).  A safeguarded Newton iteration then
-   finds it to a few ulps.
+2. **Certified bracket.**  A step that is not a full window ``H`` looks at a point ``t_b`` in
+   ``(t_a, t_a + w]``, ``w = min(2 h_near, h_far, H)``: just past the root that the local quadratic
+   predicts (else ``t_a + w``).  If the near wall is crossed at ``t_b`` *and* either the velocity or
+   the acceleration provably keeps its sign on ``[t_a, t_a + w]`` (bounds again), the gap is monotone
+   or convex/concave there, so the bracket ``[t_a, t_b]`` holds exactly one root, and no earlier root
+   exists (step 1).  A safeguarded Newton iteration, started from the tangent at ``t_b``, finds it to
+   a few ulps.  When the quadratic predicts no root inside the window the test is skipped: a failed
+   test would continue at ``t_a + h_near``, which is where the step goes.
 3. **Start on a wall.**  A flight that starts on a wall (gap exactly 0, see :mod:`mapimpl.flight`)
    first gets a departure certificate ``[0, t_dep]`` during which it provably cannot return
    (Taylor bounds of order 2, 3 or 4, so it also covers a release from sticking with
@@ -23,7 +26,10 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
    a wall, e.g. small ``alpha`` and ``gamma``) and more than ``max_steps`` iterations (status
    ``STEP_CAP``) end the search.  Every loop is bounded.
 
-All code is branch-free ``jax.numpy`` inside ``lax.while_loop`` so it jit-compiles and vmaps.
+All code is branch-free ``jax.numpy`` inside ``lax.while_loop`` so it jit-compiles and vmaps.  The
+decisions :func:`safe_step`, :func:`bracket_test` and :func:`newton_step` and the departure certificate
+:func:`departure_time_sc` are the one implementation of the method: the transient engine's micro-step
+kernel (:mod:`validation.transient.kernel`) calls the same functions.
 """
 
 from __future__ import annotations
@@ -34,7 +40,7 @@ from mapimpl import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.flight import derivative_bounds, flight, forcing_rate
+from mapimpl.flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
 
 #: Status codes of a flight search.
 HIT, GRAZE, NO_IMPACT, STEP_CAP = 0, 1, 2, 3
@@ -84,19 +90,22 @@ def _gaps(s0, ds):
     return -s0 - ds, (s0 + 1.0) + ds
 
 
-def departure_time(tau0, s0, v0, alpha, beta, gamma):
-    """Length of an interval ``[0, t_dep]`` in which a flight starting on a wall cannot return to it.
+def departure_time_sc(sin0, cos0, s0, v0, alpha, beta, gamma):
+    """Length of an interval ``[0, t_dep]`` in which a flight starting on a wall cannot return to it
+    (``sin0, cos0``: sin and cos of the start phase).
 
     Zero when the start is not on a wall or nothing can be certified (moving into the wall, or at
     rest and pressed into it).  Taylor bounds: ``u t + A t^2/2`` (moving away), ``a t^2/2 + M3 t^3/6``
-    (at rest, pulled away), ``j t^3/6 + M4 t^4/24`` (release point, ``a = 0``, ``j`` pulls away).
+    (at rest, pulled away), ``j t^3/6 + M4 t^4/24`` (release point, ``a = 0``, ``j`` pulls away), with
+    ``M2, M3, M4`` of :func:`mapimpl.flight.derivative_bounds` at ``t = 0``.
     """
     on_top, on_bot = s0 == 0.0, s0 == -1.0
     sgn = jnp.where(on_top, 1.0, -1.0)  # direction toward the start wall
-    fp = flight(jnp.zeros_like(v0), tau0, v0, alpha, beta, gamma)
-    m2, m3, m4 = derivative_bounds(0.0, tau0, v0, alpha, beta, gamma)
-    u, a = sgn * v0, sgn * fp.a
-    j = sgn * (forcing_rate(tau0, alpha, beta) - beta * fp.a)
+    a0 = forcing_sc(sin0, cos0, alpha, beta, gamma) - beta * v0  # Eq. (3) at t = 0
+    bc = jnp.abs(beta * (v0 - alpha * cos0) - gamma)
+    m2, m3, m4 = alpha + bc, alpha + beta * bc, alpha + beta * beta * bc
+    u, a = sgn * v0, sgn * a0
+    j = sgn * (forcing_rate_sc(sin0, cos0, alpha, beta) - beta * a0)
     # at a release the contact force is zero only to rounding: treat |a| at rounding level as 0
     a_tol = 32.0 * _EPS * (alpha * (1.0 + beta) + jnp.abs(gamma) + beta * jnp.abs(v0))
     a = jnp.where(jnp.abs(a) <= a_tol, 0.0, a)
@@ -107,6 +116,115 @@ def departure_time(tau0, s0, v0, alpha, beta, gamma):
     return jnp.where(on_top | on_bot, 0.5 * jnp.maximum(c1, jnp.maximum(c2, c3)), 0.0)
 
 
+def departure_time(tau0, s0, v0, alpha, beta, gamma):
+    """:func:`departure_time_sc` at the start phase ``tau0``."""
+    return departure_time_sc(jnp.sin(tau0), jnp.cos(tau0), s0, v0, alpha, beta, gamma)
+
+
+class SafeStep(NamedTuple):
+    """Result of :func:`safe_step`.
+
+    ``move``: go on to ``t_next`` with window ``H_new`` (a full window, or straight on to
+    ``t_a + h_near`` when no root is predicted inside the window); ``beyond`` / ``capped``: that move
+    passes ``t_max`` / uses up ``max_steps``.  Otherwise test the near wall (``top_near``) at ``t_b``
+    with :func:`bracket_test`.  ``it``: steps used including this one.
+    """
+
+    move: jnp.ndarray
+    t_next: jnp.ndarray
+    H_new: jnp.ndarray
+    beyond: jnp.ndarray
+    capped: jnp.ndarray
+    it: jnp.ndarray
+    top_near: jnp.ndarray
+    h_near: jnp.ndarray
+    t_b: jnp.ndarray
+    unique: jnp.ndarray
+
+
+def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> SafeStep:
+    """One certified safe step (method, steps 1-2) from the flight state at ``t_a``.
+
+    ``ds, v, a``: displacement from ``s0``, velocity and acceleration at ``t_a`` (Eqs. 7-8 and
+    Eq. 3); ``m2, m3``: bounds of ``|s''|``, ``|s'''|`` for times ``>= t_a``; ``H``: the current window;
+    ``it``: steps so far; ``t_dep``: departure certificate of the flight.
+    """
+    du, dl = _gaps(s0, ds)
+    on_top, on_bot = s0 == 0.0, s0 == -1.0
+    du, dl = jnp.maximum(du, 0.0), jnp.maximum(dl, 0.0)
+    hu = safe_time(du, v, jnp.minimum(a + m3 * H, m2))
+    hl = safe_time(dl, -v, jnp.minimum(-a + m3 * H, m2))
+    rem = t_dep - t_a
+    hu = jnp.where(on_top & (rem > 0.0), jnp.maximum(hu, rem), hu)
+    hl = jnp.where(on_bot & (rem > 0.0), jnp.maximum(hl, rem), hl)
+    top_near = hu <= hl
+    h_near = jnp.minimum(hu, hl)
+    h_far = jnp.maximum(hu, hl)
+    windowed = h_near >= H
+    w = jnp.minimum(jnp.minimum(2.0 * h_near, h_far), H)
+    amax = jnp.minimum(jnp.abs(a) + m3 * w, m2)
+    unique = (jnp.abs(v) > amax * w) | (jnp.abs(a) > m3 * w)
+    # test point: just past the root predicted by the local quadratic (Taylor error <= M3 h^3/6),
+    # still inside [t_a, t_a + w] so the certificate holds; the test doubles as the first Newton
+    # evaluation
+    d_near = jnp.where(top_near, du, dl)
+    u_near = jnp.where(top_near, v, -v)
+    a_near = jnp.where(top_near, a, -a)
+    h_est = safe_time(d_near, u_near, a_near)
+    slope = jnp.maximum(u_near + a_near * h_est, 1e-300)
+    h_try = h_est + 2.0 * (m3 * h_est * h_est * h_est / 6.0) / slope + 4.0 * _EPS * (t_a + h_est)
+    w_b = jnp.where(jnp.isfinite(h_try) & (h_try > 0.0), jnp.minimum(w, h_try), w)
+    # no root predicted inside the window: a test at its end would almost surely fail, and a failed
+    # test continues at t_a + h_near anyway, so go there at once (same certificate, one evaluation less)
+    skip_test = ~windowed & ~(jnp.isfinite(h_est) & (h_est < w)) & (t_a + h_near > t_a)
+    H_new = jnp.where(windowed, jnp.minimum(2.0 * H, _H_MAX), jnp.clip(3.0 * h_near, 1e-300, _H_MAX))
+    it_new = it + 1
+    t_next = jnp.where(windowed, t_a + H, t_a + h_near)
+    return SafeStep(move=windowed | skip_test, t_next=t_next, H_new=H_new, beyond=t_next > t_max,
+                    capped=it_new >= max_steps, it=it_new, top_near=top_near, h_near=h_near, t_b=t_a + w_b,
+                    unique=unique)
+
+
+def bracket_test(g_b, dg_b, t_a, t_b, h_near, unique):
+    """Method, step 2: the gap ``g_b`` (derivative ``dg_b``) to the near wall at the test point ``t_b``.
+
+    Returns ``(bracket, stalled, x0)``: whether ``[t_a, t_b]`` holds exactly one root; whether no
+    progress is possible (a safe step below one ulp of ``t_a``: a graze at ``t_a``); and the Newton
+    start (the zero of the tangent at ``t_b`` when it lies in the bracket, else the midpoint).
+    Neither bracket nor stalled: go on to ``t_a + h_near``.
+    """
+    bracket = (g_b <= 0.0) & unique
+    stalled = (~bracket) & (t_a + h_near <= t_a)
+    x0 = t_b - g_b / dg_b
+    x0 = jnp.where(jnp.isfinite(x0) & (x0 > t_a) & (x0 < t_b), x0, 0.5 * (t_a + t_b))
+    return bracket, stalled, x0
+
+
+def newton_step(x, g, dg, lo, hi, m2, k):
+    """One safeguarded Newton iteration on a certified bracket ``[lo, hi]`` (method, step 2).
+
+    ``g, dg``: gap and its derivative at ``x``; ``m2 >= |g''|``; ``k``: iterations so far.  Returns
+    ``(x_new, lo, hi, done, k + 1)``; ``done`` when ``x_new`` is the root to rounding, or after
+    ``_NEWTON_ITERS`` iterations.
+    """
+    lo_n = jnp.where(g > 0.0, x, lo)
+    hi_n = jnp.where(g > 0.0, hi, x)
+    raw = x - g / dg
+    # a Newton step below 2 ulp means x is the root to rounding (checked before the bracket safeguard,
+    # which would reject the step raw == x == hi that rounding produces there and bisect ~50 times)
+    tiny = jnp.isfinite(raw) & (jnp.abs(raw - x) <= 2.0 * _EPS * jnp.abs(x))
+    ok = jnp.isfinite(raw) & (raw > lo_n) & (raw < hi_n)
+    xn = jnp.where(ok, raw, jnp.where(tiny, x, 0.5 * (lo_n + hi_n)))
+    step = jnp.abs(xn - x)
+    # the error after this step is <= |g''| step^2 / (2 |g'|), and M2 bounds g'' over the whole
+    # flight: accept without another evaluation when that is far below an ulp
+    quad_ok = ok & (m2 * step * step <= 1e-3 * _EPS * jnp.abs(dg) * jnp.abs(xn))
+    conv = (g == 0.0) | tiny | (step <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n) | quad_ok
+    xn = jnp.where(g == 0.0, x, xn)
+    k_new = k + 1
+    return xn, lo_n, hi_n, conv | (k_new >= _NEWTON_ITERS), k_new
+
+
 def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_STEPS) -> Hit:
     """First impact of the flight leaving ``(tau0, s0, v0)``, ``-1 <= s0 <= 0`` (scalar inputs).
 
@@ -115,14 +233,13 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
     """
     tau0, s0, v0 = (jnp.asarray(x, jnp.float64) for x in (tau0, s0, v0))
     t_dep = departure_time(tau0, s0, v0, alpha, beta, gamma)
-    on_top, on_bot = s0 == 0.0, s0 == -1.0
 
     def gap_of(t, wall_top):
         fp = flight(t, tau0, v0, alpha, beta, gamma)
         du, dl = _gaps(s0, fp.ds)
         return jnp.where(wall_top, du, dl), jnp.where(wall_top, -fp.v, fp.v)
 
-    # ---- phase 1: certified safe stepping until a bracket [lo, hi] with one root ----
+    # ---- phase 1: certified safe steps until a bracket [lo, hi] with one root ----
     def cond(c):
         return ~c["done"]
 
@@ -130,69 +247,39 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         t_a, H = c["t"], c["H"]
         fp = flight(t_a, tau0, v0, alpha, beta, gamma)
         m2, m3, _ = derivative_bounds(t_a, tau0, v0, alpha, beta, gamma)
-        du, dl = _gaps(s0, fp.ds)
-        du, dl = jnp.maximum(du, 0.0), jnp.maximum(dl, 0.0)
-        hu = safe_time(du, fp.v, jnp.minimum(fp.a + m3 * H, m2))
-        hl = safe_time(dl, -fp.v, jnp.minimum(-fp.a + m3 * H, m2))
-        rem = t_dep - t_a
-        hu = jnp.where(on_top & (rem > 0.0), jnp.maximum(hu, rem), hu)
-        hl = jnp.where(on_bot & (rem > 0.0), jnp.maximum(hl, rem), hl)
-        top_near = hu <= hl
-        h_near = jnp.minimum(hu, hl)
-        h_far = jnp.maximum(hu, hl)
-        windowed = h_near >= H
-        # certified bracket test
-        w = jnp.minimum(jnp.minimum(2.0 * h_near, h_far), H)
-        t_b = t_a + w
-        g_b, _ = gap_of(t_b, top_near)
-        amax = jnp.minimum(jnp.abs(fp.a) + m3 * w, m2)
-        unique = (jnp.abs(fp.v) > amax * w) | (jnp.abs(fp.a) > m3 * w)
-        bracket = (~windowed) & (g_b <= 0.0) & unique
-        # no progress possible: touching the wall to within rounding
-        stalled = (~windowed) & (~bracket) & (t_a + h_near <= t_a)
-        step = jnp.where(windowed, H, h_near)
-        t_new = jnp.where(bracket | stalled, t_a, t_a + step)
-        H_new = jnp.where(windowed, jnp.minimum(2.0 * H, _H_MAX), jnp.clip(3.0 * h_near, 1e-300, _H_MAX))
-        it = c["it"] + 1
+        st = safe_step(fp.ds, fp.v, fp.a, m2, m3, t_a, H, c["it"], t_dep, s0, t_max, max_steps)
+        g_b, dg_b = gap_of(st.t_b, st.top_near)
+        bracket, stalled, x0 = bracket_test(g_b, dg_b, t_a, st.t_b, st.h_near, st.unique)
+        bracket, stalled = bracket & ~st.move, stalled & ~st.move
+        t_new = jnp.where(st.move, st.t_next, jnp.where(bracket | stalled, t_a, t_a + st.h_near))
         beyond = t_new > t_max
-        capped = it >= max_steps
+        capped = st.it >= max_steps
         status = jnp.where(bracket, HIT, jnp.where(stalled, GRAZE, jnp.where(beyond, NO_IMPACT, STEP_CAP)))
-        done = bracket | stalled | beyond | capped
         return dict(
-            t=t_new, H=H_new, it=it, done=done, hi=jnp.where(bracket, t_b, t_new),
-            top=jnp.where(bracket | stalled, top_near, c["top"]), status=status,
+            t=t_new, H=st.H_new, it=st.it, done=bracket | stalled | beyond | capped,
+            hi=jnp.where(bracket, st.t_b, t_new), x0=x0,
+            top=jnp.where(bracket | stalled, st.top_near, c["top"]), status=status,
         )
 
     init = dict(
         t=jnp.zeros_like(v0), H=jnp.asarray(_H0, jnp.float64), it=jnp.asarray(0, jnp.int32),
-        done=jnp.asarray(False), hi=jnp.zeros_like(v0), top=jnp.asarray(True), status=jnp.asarray(STEP_CAP),
+        done=jnp.asarray(False), hi=jnp.zeros_like(v0), x0=jnp.zeros_like(v0), top=jnp.asarray(True),
+        status=jnp.asarray(STEP_CAP),
     )
     c = jax.lax.while_loop(cond, body, init)
     lo, hi, top, status = c["t"], c["hi"], c["top"], c["status"]
 
     # ---- phase 2: safeguarded Newton on the bracket (exactly one root inside) ----
-    def ncond(n):
-        return (~n["conv"]) & (n["k"] < _NEWTON_ITERS)
+    m2 = derivative_bounds(lo, tau0, v0, alpha, beta, gamma)[0]
 
     def nbody(n):
-        x = n["x"]
-        g, dg = gap_of(x, top)
-        lo_n = jnp.where(g > 0.0, x, n["lo"])
-        hi_n = jnp.where(g > 0.0, n["hi"], x)
-        dx = -g / dg
-        # converged when the Newton correction is below rounding: checked before the bracket
-        # safeguard, which would otherwise reject a sub-ulp step and fall back to bisection
-        landed = (g == 0.0) | (jnp.isfinite(dx) & (jnp.abs(dx) <= 2.0 * _EPS * jnp.abs(x)))
-        xn = x + dx
-        ok = jnp.isfinite(xn) & (xn > lo_n) & (xn < hi_n)
-        xn = jnp.where(ok, xn, 0.5 * (lo_n + hi_n))
-        conv = landed | (jnp.abs(xn - x) <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n)
-        xn = jnp.where(landed, x, xn)
-        return dict(x=xn, lo=lo_n, hi=hi_n, conv=conv, k=n["k"] + 1)
+        g, dg = gap_of(n["x"], top)
+        x, lo_n, hi_n, done, k = newton_step(n["x"], g, dg, n["lo"], n["hi"], m2, n["k"])
+        return dict(x=x, lo=lo_n, hi=hi_n, done=done, k=k)
 
     need = status == HIT
-    n0 = dict(x=0.5 * (lo + hi), lo=lo, hi=hi, conv=~need, k=jnp.asarray(0, jnp.int32))
-    n = jax.lax.while_loop(ncond, nbody, n0)
+    n0 = dict(x=c["x0"], lo=lo, hi=hi, done=~need, k=jnp.asarray(0, jnp.int32))
+    n = jax.lax.while_loop(lambda n: ~n["done"], nbody, n0)
     t_hit = jnp.where(need, n["x"], lo)
     ok = (status == HIT) | (status == GRAZE)
     v_hit = flight(t_hit, tau0, v0, alpha, beta, gamma).v

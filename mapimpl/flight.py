@@ -104,12 +104,22 @@ def forcing(tau, alpha, beta, gamma):
     On a wall with ``sdot = 0`` this is the contact acceleration: it presses into the upper wall
     ``s = 0`` when positive and into the lower wall ``s = -1`` when negative.
     """
-    return -alpha * jnp.sin(tau) + alpha * beta * jnp.cos(tau) + gamma
+    return forcing_sc(jnp.sin(tau), jnp.cos(tau), alpha, beta, gamma)
+
+
+def forcing_sc(sin_t, cos_t, alpha, beta, gamma):
+    """:func:`forcing` from ``sin(tau), cos(tau)``."""
+    return -alpha * sin_t + alpha * beta * cos_t + gamma
 
 
 def forcing_rate(tau, alpha, beta):
     """df/dtau = -alpha cos(tau) - alpha beta sin(tau)."""
-    return -alpha * jnp.cos(tau) - alpha * beta * jnp.sin(tau)
+    return forcing_rate_sc(jnp.sin(tau), jnp.cos(tau), alpha, beta)
+
+
+def forcing_rate_sc(sin_t, cos_t, alpha, beta):
+    """:func:`forcing_rate` from ``sin(tau), cos(tau)``."""
+    return -alpha * cos_t - alpha * beta * sin_t
 
 
 class FlightPoint(NamedTuple):

@@ -28,7 +28,7 @@ from typing import NamedTuple
 from mapimpl import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from mapimpl.flight import TWO_PI, forcing, forcing_rate
+from mapimpl.flight import TWO_PI, forcing_rate_sc, forcing_sc
 
 #: Predicted chatter accumulation time below which the tooth is stuck to the wall (units of tau).
 STICK_TIME = 1e-6
@@ -66,10 +66,15 @@ class StickDecision(NamedTuple):
 
 def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:
     """Apply the sticking policy to an impact at phase ``theta`` on ``wall`` with pre-impact ``sdot``."""
+    return decide_stick_sc(theta, jnp.sin(theta), jnp.cos(theta), wall, sdot, alpha, beta, gamma, r, stick_time)
+
+
+def decide_stick_sc(theta, sin_t, cos_t, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:
+    """:func:`decide_stick` with ``sin(theta), cos(theta)`` given."""
     d = wall_direction(wall)
     u = r * jnp.abs(sdot)
-    f_in = d * forcing(theta, alpha, beta, gamma)
-    pressing = (f_in > 0.0) | ((f_in == 0.0) & (d * forcing_rate(theta, alpha, beta) > 0.0))
+    f_in = d * forcing_sc(sin_t, cos_t, alpha, beta, gamma)
+    pressing = (f_in > 0.0) | ((f_in == 0.0) & (d * forcing_rate_sc(sin_t, cos_t, alpha, beta) > 0.0))
     denom = (1.0 - r) * f_in
     t_acc = jnp.where(u == 0.0, 0.0, jnp.where(denom > 0.0, 2.0 * u / jnp.where(denom > 0.0, denom, 1.0), jnp.inf))
     delay = release_delay(theta, wall, alpha, beta, gamma)

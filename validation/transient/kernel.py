@@ -6,9 +6,9 @@ lane is done, so a batch of map steps costs the maximum, not the mean, number of
 kernel flattens everything into one uniform *micro-step*, one closed-form flight evaluation per
 lane, driven by a per-lane state machine:
 
-``A``  safe step at ``t_a`` (the body of phase 1 of :func:`mapimpl.finder.first_impact`, first half);
-``B``  bracket test at ``t_b`` (second half, only when the step was not a full window);
-``N``  one safeguarded Newton iteration on the certified bracket (phase 2);
+``A``  safe step at ``t_a`` (:func:`mapimpl.finder.safe_step`);
+``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_test`, when the step did not move on);
+``N``  one safeguarded Newton iteration on the certified bracket (:func:`mapimpl.finder.newton_step`);
 ``S``  set-up of a flight that starts after a sticking episode (needs sin/cos of a new phase);
 ``L``  a freshly loaded initial condition (its pre-impact state is processed as an impact).
 
@@ -18,13 +18,17 @@ flight is set up.  When its orbit is done, the lane is refilled from the queue o
 conditions at the end of the current block of micro-steps.  So lanes are busy almost all the time
 regardless of how the finder iterations and transient lengths are distributed.
 
-The arithmetic and the decisions are those of :func:`mapimpl.impact_map.step` (same safe-step
-rule, same bracket certificate, same Newton safeguards, same sticking policy), with three
-performance changes that move results by a few ulps only (tests compare with ``step``):
-sin/cos of the flight start phase are computed once per flight instead of at every evaluation,
-sin/cos come from :func:`validation.transient.fastmath.sincos` (vectorised fdlibm kernels), and
-``sin t`` inside ``sigma`` is taken from the double-angle formula.  The velocity at the Newton
-root is extrapolated from the last Newton evaluation (``v + a dx`` with ``|dx| <= 2 ulp``).
+The decisions are the finder's own functions -- :func:`mapimpl.finder.safe_step`,
+:func:`~mapimpl.finder.bracket_test`, :func:`~mapimpl.finder.newton_step` and
+:func:`~mapimpl.finder.departure_time_sc` -- and the sticking policy is that of
+:mod:`mapimpl.sticking`; only the control flow differs (one evaluation per micro-step instead of
+nested loops).  A new flight's first safe step needs no evaluation: its state at ``t = 0`` is
+``(0, v0, a0)`` in closed form, so it is taken in the impact's micro-step.  Three performance changes
+move results by a few ulps only (tests compare with :func:`mapimpl.impact_map.step`): sin/cos of the
+flight start phase are computed once per flight instead of at every evaluation, sin/cos come from
+:func:`validation.transient.fastmath.sincos` (vectorised fdlibm kernels), and ``sin t`` inside
+``sigma`` is taken from the double-angle formula.  The velocity at the Newton root is extrapolated
+from the last Newton evaluation (``v + a dx`` with ``dx`` below rounding).
 """
 
 from __future__ import annotations
@@ -35,9 +39,9 @@ from mapimpl import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.finder import _EPS, _H0, _H_MAX, _NEWTON_ITERS, MAX_STEPS, T_MAX, _gaps, safe_time
-from mapimpl.flight import TWO_PI, TWO_PI_HI, TWO_PI_LO, phi1, phi2, _horner, _SIGMA_COEFFS, _SERIES_X
-from mapimpl.sticking import STICK_TIME
+from mapimpl.finder import _H0, MAX_STEPS, T_MAX, _gaps, bracket_test, departure_time_sc, newton_step, safe_step
+from mapimpl.flight import TWO_PI, TWO_PI_HI, TWO_PI_LO, _SERIES_X, _SIGMA_COEFFS, _horner, forcing_sc, phi1, phi2
+from mapimpl.sticking import STICK_TIME, decide_stick_sc
 from validation.transient.fastmath import sincos
 
 # lane modes
@@ -95,23 +99,12 @@ def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
     return ds, v, a, e
 
 
-class Consts(dict):
-    """(Unused marker; constants are passed as a plain dict pytree.)"""
-
-
 def make_consts(params, orbit_theta, orbit_sdot, orbit_wall, deltas, cap, stick_time=STICK_TIME, t_max=T_MAX,
                 max_steps=MAX_STEPS):
     """Pytree of run constants (float64 / int32 JAX arrays)."""
     alpha, beta, gamma, r = (jnp.asarray(x, jnp.float64) for x in params)
-    R = alpha * jnp.sqrt(1.0 + beta * beta)
-    Rs = jnp.where(R > 0.0, R, 1.0)
-    c = gamma / Rs
-    cc = jnp.clip(c, -1.0, 1.0)
     return dict(
         alpha=alpha, beta=beta, gamma=gamma, r=r,
-        # release_delay constants of mapimpl.sticking (per parameter set, not per lane)
-        rel_phi=jnp.arctan(beta), rel_psi_top=jnp.arcsin(cc), rel_psi_bot=jnp.pi - jnp.arcsin(cc),
-        never_top=(R <= 0.0) | (c >= 1.0), never_bot=(R <= 0.0) | (-c >= 1.0),
         po_th=jnp.asarray(orbit_theta, jnp.float64), po_v=jnp.asarray(orbit_sdot, jnp.float64),
         po_w=jnp.asarray(orbit_wall, jnp.int32), deltas=jnp.asarray(deltas, jnp.float64),
         cap=jnp.asarray(cap, jnp.int32), stick_time=jnp.asarray(stick_time, jnp.float64),
@@ -154,55 +147,6 @@ def idle_lanes(nlanes, ndelta):
     return out
 
 
-def _safe_step(ds, v, a, b, ta, H, it, tdep, s0, k):
-    """One safe step of phase 1 of :func:`mapimpl.finder.first_impact` from the flight state
-    ``(ds, v, a)`` at ``t_a`` (``b = |beta (v0 - alpha cos tau0) - gamma| e^{-beta t_a}``, the decaying
-    part of the bounds ``M2 = alpha + b`` and ``M3 = alpha + beta b`` of ``|s''|``, ``|s'''|``).
-
-    Returns whether the step *moves* (a full window, or straight on to ``t_a + h_near``), where to
-    (``t_next``), the next window ``H_new``, and for a bracket test: the near wall, the safe time
-    ``h_near``, the test point ``t_a + w_b`` and whether the root in the window is unique."""
-    alpha, beta = k["alpha"], k["beta"]
-    m2, m3 = alpha + b, alpha + beta * b
-    du, dl = _gaps(s0, ds)
-    on_top, on_bot = s0 == 0.0, s0 == -1.0
-    duA, dlA = jnp.maximum(du, 0.0), jnp.maximum(dl, 0.0)
-    hu = safe_time(duA, v, jnp.minimum(a + m3 * H, m2))
-    hl = safe_time(dlA, -v, jnp.minimum(-a + m3 * H, m2))
-    rem = tdep - ta
-    hu = jnp.where(on_top & (rem > 0.0), jnp.maximum(hu, rem), hu)
-    hl = jnp.where(on_bot & (rem > 0.0), jnp.maximum(hl, rem), hl)
-    top_near = hu <= hl
-    h_near = jnp.minimum(hu, hl)
-    h_far = jnp.maximum(hu, hl)
-    windowed = h_near >= H
-    w = jnp.minimum(jnp.minimum(2.0 * h_near, h_far), H)
-    amax = jnp.minimum(jnp.abs(a) + m3 * w, m2)
-    unique = (jnp.abs(v) > amax * w) | (jnp.abs(a) > m3 * w)
-    # bracket end: the finder tests t_a + w; we test just past the root predicted by the local
-    # quadratic (Taylor error <= M3 h^3/6), still inside [t_a, t_a + w] so the certificate holds,
-    # and the bracket test doubles as the first Newton evaluation.
-    d_near = jnp.where(top_near, duA, dlA)
-    u_near = jnp.where(top_near, v, -v)
-    a_near = jnp.where(top_near, a, -a)
-    h_est = safe_time(d_near, u_near, a_near)
-    slope = jnp.maximum(u_near + a_near * h_est, 1e-300)
-    h_try = h_est + 2.0 * (m3 * h_est * h_est * h_est / 6.0) / slope + 4.0 * _EPS * (ta + h_est)
-    w_b = jnp.where(jnp.isfinite(h_try) & (h_try > 0.0), jnp.minimum(w, h_try), w)
-    # no root predicted inside the window: a bracket test at its end would almost surely fail, and a
-    # failed test continues at t_a + h_near anyway, so go there at once (same certificate, one
-    # evaluation less)
-    skip_b = ~windowed & ~(jnp.isfinite(h_est) & (h_est < w)) & (ta + h_near > ta)
-    H_new = jnp.where(windowed, jnp.minimum(2.0 * H, _H_MAX), jnp.clip(3.0 * h_near, 1e-300, _H_MAX))
-    it_new = it + 1
-    # windowed: a full step; skip_b: on to t_a + h_near; either way beyond t_max or out of steps ends it
-    t_next = jnp.where(windowed, ta + H, ta + h_near)
-    move = windowed | skip_b
-    out = dict(top_near=top_near, h_near=h_near, move=move, t_next=t_next, w_b=w_b, unique=unique, H_new=H_new,
-               beyond=t_next > k["t_max"], capped=it_new >= k["max_steps"], it=it_new)
-    return _barrier(out, k["true"])
-
-
 def micro_step(s, k):
     """One micro-step of one lane (scalar state ``s``; vmapped by the engine)."""
     alpha, beta, gamma, r = k["alpha"], k["beta"], k["gamma"], k["r"]
@@ -218,37 +162,17 @@ def micro_step(s, k):
 
     # ---------------- B: bracket test at t_b ----------------
     g_b = jnp.where(s["topn"], du, dl)
-    bracket = (g_b <= 0.0) & s["uniq"]
-    stalled = (~bracket) & (ta + s["hnear"] <= ta)
+    dg_b = jnp.where(s["topn"], -v, v)
+    bracket, stalled, x_b = bracket_test(g_b, dg_b, ta, s["tb"], s["hnear"], s["uniq"])
     B_t_new = ta + s["hnear"]
     B_beyond = B_t_new > k["t_max"]
     B_capped = s["it"] >= k["max_steps"]
-    dg_b = jnp.where(s["topn"], -v, v)
-    x_b = s["tb"] - g_b / dg_b
-    x_b = jnp.where(jnp.isfinite(x_b) & (x_b > ta) & (x_b < s["tb"]), x_b, 0.5 * (ta + s["tb"]))
 
     # ---------------- N: safeguarded Newton iteration ----------------
     x = s["x"]
     g = jnp.where(s["top"], du, dl)
     dg = jnp.where(s["top"], -v, v)
-    lo_n = jnp.where(g > 0.0, x, s["lo"])
-    hi_n = jnp.where(g > 0.0, s["hi"], x)
-    raw = x - g / dg
-    # a Newton step below 2 ulp means x is the root to rounding (the finder's safeguard would
-    # reject the step ``raw == x == hi_n`` that rounding produces there and fall back to ~50
-    # bisections; we stop instead)
-    tiny = jnp.isfinite(raw) & (jnp.abs(raw - x) <= 2.0 * _EPS * jnp.abs(x))
-    ok = jnp.isfinite(raw) & (raw > lo_n) & (raw < hi_n)
-    xn = jnp.where(ok, raw, jnp.where(tiny, x, 0.5 * (lo_n + hi_n)))
-    step_n = jnp.abs(xn - x)
-    # Newton error after this step ~ |g''/(2 g')| step^2: accept without re-evaluating when it is
-    # far below an ulp (the finder instead evaluates once more to see a step <= 2 ulp)
-    # (M2 >= |s''| bounds g'' over the whole flight, so the estimate holds far from the root too)
-    quad_ok = ok & (m2 * step_n * step_n <= 1e-3 * _EPS * jnp.abs(dg) * jnp.abs(xn))
-    conv = (g == 0.0) | tiny | (step_n <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n) | quad_ok
-    xn = jnp.where(g == 0.0, x, xn)
-    kN = s["k"] + 1
-    N_done = conv | (kN >= _NEWTON_ITERS)
+    xn, lo_n, hi_n, N_done, kN = newton_step(x, g, dg, s["lo"], s["hi"], m2, s["k"])
     lo_n, hi_n, xn, N_done = _barrier((lo_n, hi_n, xn, N_done), k["true"])
 
     # ---------------- search outcome ----------------
@@ -275,19 +199,8 @@ def micro_step(s, k):
     hitn = jnp.where(newly, n1, s["hitn"])
     converged = jnp.all(hitn >= 0)
     capped = n1 >= k["cap"]
-    # sticking policy (mapimpl.sticking.decide_stick with sin/cos given)
-    dwall = jnp.where(wall1 == 0, 1.0, -1.0)
-    u = r * jnp.abs(v1)
-    f1 = -alpha * sn1 + alpha * beta * cs1 + gamma
-    fr1 = -alpha * cs1 - alpha * beta * sn1
-    f_in = dwall * f1
-    pressing = (f_in > 0.0) | ((f_in == 0.0) & (dwall * fr1 > 0.0))
-    denom = (1.0 - r) * f_in
-    t_acc = jnp.where(u == 0.0, 0.0, jnp.where(denom > 0.0, 2.0 * u / jnp.where(denom > 0.0, denom, 1.0), jnp.inf))
-    psi = jnp.where(wall1 == 0, k["rel_psi_top"], k["rel_psi_bot"])
-    never_rel = jnp.where(wall1 == 0, k["never_top"], k["never_bot"])
-    delay = jnp.where(never_rel, jnp.inf, jnp.mod(k["rel_phi"] + psi - th1, TWO_PI))
-    stick = pressing & (t_acc <= k["stick_time"]) & (delay > t_acc)
+    # sticking policy
+    stick, _, delay = decide_stick_sc(th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k["stick_time"])
     stuck_forever = stick & ~jnp.isfinite(delay)
     orbit_end = arrive & (converged | capped | stuck_forever)
     go_on = arrive & ~orbit_end
@@ -295,24 +208,12 @@ def micro_step(s, k):
     go_free = go_on & ~stick
     th0_stick = _reduce(th1 + jnp.where(stick & ~stuck_forever, delay, 0.0))
 
-    # set-up of a new flight from (th0, s0, v0) with known sin/cos: departure certificate, bounds
-    def setup(sn0, cs0, v0, s0, release):
-        on_t, on_b = s0 == 0.0, s0 == -1.0
-        sgn = jnp.where(on_t, 1.0, -1.0)
-        a0 = -alpha * sn0 + alpha * beta * cs0 + gamma - beta * v0
+    # set-up of a new flight from (th0, s0, v0) with known sin/cos: departure certificate, the
+    # decaying part of the derivative bounds, the acceleration at t = 0 (Eq. 3)
+    def setup(sn0, cs0, v0, s0):
+        tdep = departure_time_sc(sn0, cs0, s0, v0, alpha, beta, gamma)
         bc = jnp.abs(beta * (v0 - alpha * cs0) - gamma)
-        dm2, dm3, dm4 = alpha + bc, alpha + beta * bc, alpha + beta * beta * bc
-        uu, aa = sgn * v0, sgn * a0
-        # at a release the contact force is zero by construction (a downward zero crossing of f);
-        # a rounding-level "still pressing" aa > 0 would deny the departure certificate and end the
-        # flight at once with a spurious zero-velocity graze
-        aa = jnp.where(release, jnp.minimum(aa, 0.0), aa)
-        jj = sgn * ((-alpha * cs0 - alpha * beta * sn0) - beta * a0)
-        tiny = 1e-300
-        c1 = jnp.where(uu < 0.0, 2.0 * (-uu) / jnp.maximum(dm2, tiny), 0.0)
-        c2 = jnp.where((uu <= 0.0) & (aa < 0.0), 1.5 * (-aa) / jnp.maximum(dm3, tiny), 0.0)
-        c3 = jnp.where((uu <= 0.0) & (aa <= 0.0) & (jj < 0.0), 2.0 * (-jj) / jnp.maximum(dm4, tiny), 0.0)
-        tdep = jnp.where(on_t | on_b, 0.5 * jnp.maximum(c1, jnp.maximum(c2, c3)), 0.0)
+        a0 = forcing_sc(sn0, cs0, alpha, beta, gamma) - beta * v0
         return tdep, bc, a0
 
     # free flight right after the impact (no sticking): start phase th1, v0 = -r v1
@@ -320,7 +221,7 @@ def micro_step(s, k):
     # S mode: th0/s0 already stored, v0 = 0, sin/cos(th0) = (sn1, cs1) from the second unit
     su_v0 = jnp.where(inS, 0.0, -r * v1)
     su_s0 = jnp.where(inS, s["s0"], s0_new)
-    tdep_new, bc_new, a0_new = setup(sn1, cs1, su_v0, su_s0, inS)
+    tdep_new, bc_new, a0_new = setup(sn1, cs1, su_v0, su_s0)
     start_flight = go_free | inS
     (hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free, th0_stick, tdep_new, bc_new, a0_new,
      su_v0, su_s0, start_flight) = _barrier((hitn, converged, stuck_forever, orbit_end, go_on, go_stick, go_free,
@@ -335,10 +236,12 @@ def micro_step(s, k):
     ta_in = jnp.where(inA, ta, 0.0)
     H_in = jnp.where(inA, H, _H0)
     v_in = jnp.where(inA, v, su_v0)
-    A = _safe_step(jnp.where(inA, ds, 0.0), v_in, jnp.where(inA, a, a0_new), jnp.where(inA, b, bc_new), ta_in, H_in,
-                   jnp.where(inA, s["it"], 0), jnp.where(inA, s["tdep"], tdep_new), jnp.where(inA, s["s0"], su_s0), k)
-    escaped = escaped | (doA & A["move"] & A["beyond"])
-    failed = failed | (doA & A["move"] & ~A["beyond"] & A["capped"])
+    b_in = jnp.where(inA, b, bc_new)
+    A = _barrier(safe_step(jnp.where(inA, ds, 0.0), v_in, jnp.where(inA, a, a0_new), alpha + b_in, alpha + beta * b_in,
+                           ta_in, H_in, jnp.where(inA, s["it"], 0), jnp.where(inA, s["tdep"], tdep_new),
+                           jnp.where(inA, s["s0"], su_s0), k["t_max"], k["max_steps"]), k["true"])
+    escaped = escaped | (doA & A.move & A.beyond)
+    failed = failed | (doA & A.move & ~A.beyond & A.capped)
 
     # ---------------- next state ----------------
     ns = dict(s)
@@ -346,20 +249,20 @@ def micro_step(s, k):
     new_mode = mode
     new_mode = jnp.where(inB & bracket, MODE_N, new_mode)
     new_mode = jnp.where(inB & ~bracket & ~stalled, MODE_A, new_mode)
-    new_mode = jnp.where(doA, jnp.where(A["move"], MODE_A, MODE_B), new_mode)
+    new_mode = jnp.where(doA, jnp.where(A.move, MODE_A, MODE_B), new_mode)
     new_mode = jnp.where(go_stick, MODE_S, new_mode)
     lane_end = orbit_end | escaped | failed
     new_mode = jnp.where(lane_end, MODE_IDLE, new_mode)
     ns["mode"] = new_mode.astype(jnp.int32)
     # A (after a safe step) and B -> A (after a failed bracket test)
-    ns["ta"] = jnp.where(doA, jnp.where(A["move"], A["t_next"], ta_in), jnp.where(inB & ~bracket & ~stalled, B_t_new, ta))
-    ns["H"] = jnp.where(doA, jnp.where(A["move"], A["H_new"], H_in), jnp.where(inB, s["hnew"], H))
-    ns["it"] = jnp.where(doA, A["it"], s["it"])
-    ns["tb"] = jnp.where(doA, ta_in + A["w_b"], s["tb"])
-    ns["topn"] = jnp.where(doA, A["top_near"], s["topn"])
-    ns["uniq"] = jnp.where(doA, A["unique"], s["uniq"])
-    ns["hnear"] = jnp.where(doA, A["h_near"], s["hnear"])
-    ns["hnew"] = jnp.where(doA, A["H_new"], s["hnew"])
+    ns["ta"] = jnp.where(doA, jnp.where(A.move, A.t_next, ta_in), jnp.where(inB & ~bracket & ~stalled, B_t_new, ta))
+    ns["H"] = jnp.where(doA, jnp.where(A.move, A.H_new, H_in), jnp.where(inB, s["hnew"], H))
+    ns["it"] = jnp.where(doA, A.it, s["it"])
+    ns["tb"] = jnp.where(doA, A.t_b, s["tb"])
+    ns["topn"] = jnp.where(doA, A.top_near, s["topn"])
+    ns["uniq"] = jnp.where(doA, A.unique, s["uniq"])
+    ns["hnear"] = jnp.where(doA, A.h_near, s["hnear"])
+    ns["hnew"] = jnp.where(doA, A.H_new, s["hnew"])
     ns["va"] = jnp.where(doA, v_in, s["va"])
     # B -> N initialisation (lo = t_a, hi = t_b, x = midpoint); N update
     ns["lo"] = jnp.where(inB, ta, jnp.where(inN, lo_n, s["lo"]))
