@@ -101,7 +101,6 @@ def sequence_from_states(params: Params, first: MapState, traj, track: str = "ma
     st, info = traj.states, traj.infos
     status = np.asarray(st.status)
     taus = np.concatenate([[float(first.tau)], np.asarray(st.tau)])
-    thetas = np.concatenate([[float(first.theta)], np.asarray(st.theta)])
     sdots = np.concatenate([[float(first.sdot)], np.asarray(st.sdot)])
     walls = np.concatenate([[int(first.wall)], np.asarray(st.wall)])
     alive = np.concatenate([[int(first.status) == ACTIVE], status == ACTIVE])

@@ -20,7 +20,7 @@ import jax
 import jax.numpy as jnp
 
 from mapimpl.flight import TWO_PI
-from mapimpl.impact_map import ACTIVE, MapState, make_state, step
+from mapimpl.impact_map import ACTIVE, make_state, step
 from mapimpl.params import ParamArrays, Params
 
 
@@ -40,6 +40,9 @@ def pfold(tau, sdot, p: ParamArrays, n_steps: int, wall=None):
 
     (sp, J), (walls, stuck) = jax.lax.scan(body, (s, jnp.eye(2)), None, length=n_steps)
     return sp.tau, sp.sdot, J, walls, jnp.any(stuck), sp.status == ACTIVE
+
+
+_step = jax.jit(step)
 
 
 @dataclass
@@ -104,7 +107,7 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     taus, sds = [x[0]], [x[1]]
     s = make_state(x[0], x[1], wall0)
     for _ in range(int(impacts) - 1):
-        s, _info = step(s, p)
+        s, _info = _step(s, p)
         taus.append(float(s.theta)); sds.append(float(s.sdot))
     Jn = np.asarray(J)
     # the scan records the walls of states 1..p; state p is state 0, so roll to align with tau/sdot
