@@ -16,7 +16,7 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="capture distance to the periodic orbit (sup norm of (tau mod 2pi, sdot); default 1e-3)")
     p.add_argument("--outdir", default="out/transients", help="output directory (default out/transients)")
     p.add_argument("--lanes", type=positive_int("--lanes"), default=None,
-                   help="orbits advanced together (default: ~N/16, at most 2048 on CPU)")
+                   help="orbits advanced together per device (default: ~N/16, at most 512 on CPU)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
 
 
