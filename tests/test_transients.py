@@ -137,6 +137,53 @@ def test_uncertain_fraction_definition():
     assert np.allclose(A.uncertain_fraction(dA, dB, dC, 500), [2 / 3])
 
 
+def test_results_do_not_depend_on_devices_lanes_or_tail_compaction(target, monkeypatch):
+    """Each orbit's arithmetic is its own: splitting the queue over devices, the lane count and the
+    tail compaction (256 lanes -> 32 once the queue is empty) leave every result bit-identical."""
+    rng = np.random.default_rng(3)
+    tau0, sdot0 = rng.uniform(3.0, 3.5, 400), rng.uniform(1e-6, 0.5, 400)
+    kw = dict(cap=3000, progress=False, target=target)
+    ref = transient_times(tau0, sdot0, lanes=LANES, devices=1, **kw)
+    sizes = []
+    compact = K.compact
+    monkeypatch.setattr(K, "compact", lambda lanes, size: (sizes.append(size), compact(lanes, size=size))[1])
+    runs = [transient_times(tau0, sdot0, lanes=256, devices=1, **kw)]
+    assert sizes == [32]  # the tail ran on 32 lanes
+    if len(jax.devices()) >= 2:
+        runs.append(transient_times(tau0, sdot0, lanes=256, devices=2, **kw))
+    for r in runs:
+        for name in ("hit", "n", "status", "nstick"):
+            assert np.array_equal(getattr(r, name), getattr(ref, name)), name
+    assert (ref.n == 3000).any() and (ref.n < 3000).any()  # both censored and finished orbits
+
+
+def test_compact_keeps_busy_lanes_in_order():
+    lanes = K.idle_lanes(8, 1)
+    lanes["mode"] = jnp.array([K.MODE_IDLE, K.MODE_A, K.MODE_IDLE, K.MODE_N, K.MODE_IDLE, K.MODE_IDLE,
+                               K.MODE_B, K.MODE_IDLE], jnp.int32)
+    lanes["ic"] = jnp.array([-1, 5, -1, 2, -1, -1, 9, -1], jnp.int32)
+    out = K.compact(lanes, size=4)
+    assert out["mode"].shape == (4,)
+    assert np.asarray(out["ic"]).tolist() == [5, 2, 9, -1]
+    assert np.asarray(out["mode"]).tolist() == [K.MODE_A, K.MODE_N, K.MODE_B, K.MODE_IDLE]
+
+
+def test_bad_devices(target):
+    with pytest.raises(ValueError, match="devices"):
+        transient_times([3.2], [0.3], progress=False, target=target, devices=0)
+    with pytest.raises(ValueError, match="devices"):
+        transient_times([3.2], [0.3], progress=False, target=target, devices=len(jax.devices()) + 1)
+
+
+def test_bad_cpu_device_env_var():
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", "import mapimpl"], capture_output=True, text=True,
+                          env={**__import__("os").environ, "GEAR_RATTLE_CPU_DEVICES": "0"})
+    assert proc.returncode != 0 and "GEAR_RATTLE_CPU_DEVICES" in proc.stderr and "allowed" in proc.stderr
+
+
 @pytest.mark.parametrize("kwargs,word", [
     (dict(delta=-1.0), "delta"), (dict(cap=0), "cap"), (dict(ic_mode="post"), "ic_mode"),
     (dict(ic_mode="free", s0=0.5), "s0"), (dict(lanes=0), "lanes"), (dict(block=0), "block"),
