@@ -21,9 +21,11 @@ of :mod:`mapimpl.sticking` like every impact; ``nstick`` counts the episodes per
 **Engine.**  :mod:`validation.transient.kernel`: ``lanes`` orbits advance together in one
 vmapped micro-step kernel; lanes are refilled from the chunk's queue as orbits end; a
 ``lax.while_loop`` over blocks of micro-steps exits early when the chunk is done, and returns to
-Python every ``max_blocks`` blocks to draw the progress bar.  Memory holds the lanes and a few
-integers per initial condition of the chunk, never histories.  Runs on a GPU unchanged (larger
-``lanes`` pays there).
+Python every ``max_blocks`` blocks to draw the progress bar; once the queue is empty and few lanes
+are busy, the busy ones move to a smaller block (:func:`kernel.compact`).  The queue is split over
+all devices of the default backend, one driver thread each (on the CPU one device per core, see
+:mod:`mapimpl._jax`).  Memory holds the lanes and a few integers per initial condition of the
+chunk, never histories.  Runs on a GPU unchanged (larger ``lanes`` pays there).
 """
 
 from __future__ import annotations
