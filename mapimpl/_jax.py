@@ -35,10 +35,11 @@ def _wanted_cpu_devices() -> int:
     return n
 
 
+# (jax_num_cpu_devices exists from JAX 0.5; older versions keep one CPU device)
 if "xla_force_host_platform_device_count" not in os.environ.get("XLA_FLAGS", "") \
-        and jax.config.jax_num_cpu_devices < 0:
+        and getattr(jax.config, "jax_num_cpu_devices", 0) < 0:
     _n = _wanted_cpu_devices()
     try:
         jax.config.update("jax_num_cpu_devices", _n)
-    except RuntimeError:  # JAX already started: keep its device count
+    except (RuntimeError, AttributeError):  # JAX already started: keep its device count
         pass
