@@ -17,12 +17,12 @@ import time
 
 import numpy as np
 
-import mapimpl  # noqa: F401
+import gear_rattle.mapimpl  # noqa: F401
 import jax
 
-from mapimpl import Params
-from mapimpl.batch import batch_advance, states
-from mapimpl.impact_map import iterate, make_state, step
+from gear_rattle.mapimpl import Params
+from gear_rattle.mapimpl.batch import batch_advance, states
+from gear_rattle.mapimpl.impact_map import iterate, make_state, step
 
 
 def _time(fn, repeat=3):

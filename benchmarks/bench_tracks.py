@@ -13,13 +13,13 @@ import time
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from gear_rattle.mapimpl import _jax  # noqa: F401
 import jax
 
-from mapimpl.batch import batch_iterate, states
-from mapimpl.orbit import map_orbit
-from mapimpl.params import Params
-from reference import diffrax_track, scipy_track
+from gear_rattle.mapimpl.batch import batch_iterate, states
+from gear_rattle.mapimpl.orbit import map_orbit
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.reference import diffrax_track, scipy_track
 
 
 def _time(fn, repeat: int = 1) -> float:

@@ -2,7 +2,7 @@
 
 Measures map iterations (impacts) per second:
 
-* engine: :func:`validation.transient.engine.transient_times` on random ICs of the paper's box,
+* engine: :func:`mapimpl.engine.transients.transient_times` on random ICs of the paper's box,
   once on all devices of the default backend (on the CPU one XLA device per core, see
   ``mapimpl/_jax.py``) and once on one device (steady state: compilation is done by a warm-up on
   the same shapes);
@@ -24,8 +24,12 @@ import numpy as np
 
 import jax
 
-from mapimpl.impact_map import make_state, step
-from validation.transient.engine import PAPER_PARAMS, engine_devices, periodic_target, transient_times
+from gear_rattle import use_cpu_devices
+
+use_cpu_devices()
+
+from gear_rattle.mapimpl.impact_map import make_state, step
+from gear_rattle.mapimpl.engine.transients import PAPER_PARAMS, engine_devices, periodic_target, transient_times
 
 
 def bench_engine(n_ic, cap, lanes, devices=None, seed=0):

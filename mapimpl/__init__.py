@@ -3,7 +3,7 @@
 Importing this package switches JAX to float64 (``jax_enable_x64``).
 """
 
-from mapimpl import _jax  # noqa: F401
-from mapimpl.params import PAPER_FIG3, ParamArrays, Params, validate_arrays
+from . import _jax  # noqa: F401
+from .params import PAPER_FIG3, ParamArrays, Params, validate_arrays
 
 __all__ = ["Params", "ParamArrays", "PAPER_FIG3", "validate_arrays"]

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from mapimpl.flight import flight
-from mapimpl.orbit import ImpactSequence
+from .flight import flight
+from .orbit import ImpactSequence
 
 
 def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | None = None):

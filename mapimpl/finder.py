@@ -29,18 +29,18 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
 All code is branch-free ``jax.numpy`` inside ``lax.while_loop`` so it jit-compiles and vmaps.  The
 decisions :func:`safe_step`, :func:`bracket_test` and :func:`newton_step` and the departure certificate
 :func:`departure_time_sc` are the one implementation of the method: the transient engine's micro-step
-kernel (:mod:`validation.transient.kernel`) calls the same functions.
+kernel (:mod:`mapimpl.engine.kernel`) calls the same functions.
 """
 
 from __future__ import annotations
 
 from typing import NamedTuple
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
+from .flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
 
 #: Status codes of a flight search.
 HIT, GRAZE, NO_IMPACT, STEP_CAP = 0, 1, 2, 3

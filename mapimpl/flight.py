@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax.numpy as jnp
 
 TWO_PI = 2.0 * jnp.pi

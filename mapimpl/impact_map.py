@@ -28,14 +28,14 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
-from mapimpl.flight import TWO_PI, forcing, phi1, reduce_phase
-from mapimpl.params import ParamArrays
-from mapimpl.sticking import STICK_TIME, decide_stick
+from .finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
+from .flight import TWO_PI, forcing, phi1, reduce_phase
+from .params import ParamArrays
+from .sticking import STICK_TIME, decide_stick
 
 #: Orbit status codes: ACTIVE orbits go on; the others are terminal (the state is frozen).
 ACTIVE, STUCK_FOREVER, ESCAPED, FAILED = 0, 1, 2, 3

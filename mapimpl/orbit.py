@@ -17,12 +17,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax
 
-from mapimpl.flight import TWO_PI
-from mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, MapState, free_flight_start, iterate, make_state
-from mapimpl.params import Params
+from .flight import TWO_PI
+from .impact_map import ACTIVE, ORBIT_STATUS_NAMES, MapState, free_flight_start, iterate, make_state
+from .params import Params
 
 KINDS = ("impact", "stick", "release")
 COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")

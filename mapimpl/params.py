@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401  (enables float64)
+from . import _jax  # noqa: F401  (enables float64)
 import jax.numpy as jnp
 
 #: Human-readable allowed range of each parameter, used in error messages.

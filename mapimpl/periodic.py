@@ -15,13 +15,13 @@ from functools import partial
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.flight import TWO_PI
-from mapimpl.impact_map import ACTIVE, make_state, step
-from mapimpl.params import ParamArrays, Params
+from .flight import TWO_PI
+from .impact_map import ACTIVE, make_state, step
+from .params import ParamArrays, Params
 
 
 @partial(jax.jit, static_argnums=(3,))

@@ -25,10 +25,10 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from mapimpl import _jax  # noqa: F401
+from . import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from mapimpl.flight import TWO_PI, forcing_rate_sc, forcing_sc
+from .flight import TWO_PI, forcing_rate_sc, forcing_sc
 
 #: Predicted chatter accumulation time below which the tooth is stuck to the wall (units of tau).
 STICK_TIME = 1e-6

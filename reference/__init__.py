@@ -10,6 +10,6 @@ Both return :class:`mapimpl.orbit.ImpactSequence` (tracks ``"scipy"`` / ``"diffr
 shared sticking policy of :mod:`mapimpl.sticking`.  The submodules are imported lazily (diffrax is heavy).
 """
 
-from reference._common import T_MAX
+from ._common import T_MAX
 
 __all__ = ["T_MAX", "scipy_track", "diffrax_track"]

@@ -22,12 +22,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401  (float64)
+from ..mapimpl import _jax  # noqa: F401  (float64)
 import jax
 
-from mapimpl.orbit import ImpactSequence
-from mapimpl.params import Params
-from mapimpl.sticking import STICK_TIME, decide_stick
+from ..mapimpl.orbit import ImpactSequence
+from ..mapimpl.params import Params
+from ..mapimpl.sticking import STICK_TIME, decide_stick
 
 #: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
 #: :data:`mapimpl.finder.T_MAX`, restated here so the reference does not import the finder).

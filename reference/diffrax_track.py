@@ -34,18 +34,18 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from ..mapimpl import _jax  # noqa: F401
 import diffrax
 import jax
 import jax.numpy as jnp
 import optimistix as optx
 
-from mapimpl.flight import reduce_phase
-from mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState, make_state
-from mapimpl.orbit import ImpactSequence, sequence_from_states
-from mapimpl.params import ParamArrays, Params
-from mapimpl.sticking import decide_stick
-from reference._common import MAX_SEGMENTS, T_MAX, StepJacobian, check_option, forcing_rhs, validate_start
+from ..mapimpl.flight import reduce_phase
+from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState, make_state
+from ..mapimpl.orbit import ImpactSequence, sequence_from_states
+from ..mapimpl.params import ParamArrays, Params
+from ..mapimpl.sticking import decide_stick
+from ._common import MAX_SEGMENTS, T_MAX, StepJacobian, check_option, forcing_rhs, validate_start
 
 #: Default tolerances, step bound and per-segment step cap of this track.
 RTOL, ATOL, DTMAX = 1e-12, 1e-13, 0.25

@@ -54,9 +54,9 @@ from typing import Callable, NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from mapimpl.orbit import ImpactSequence
-from mapimpl.params import Params
-from reference._common import (
+from ..mapimpl.orbit import ImpactSequence
+from ..mapimpl.params import Params
+from ._common import (
     StepJacobian,
     MAX_SEGMENTS, T_MAX, TWO_PI, EventTable, check_option, forcing_rhs, reduce_phase, stick_decision,
     validate_start,

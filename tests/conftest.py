@@ -4,7 +4,10 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 from hypothesis import settings  # noqa: E402
 
-import mapimpl  # noqa: E402,F401  (float64)
+from gear_rattle import use_cpu_devices  # noqa: E402  (imports JAX with float64)
+
+# the engine tests compare runs on one and on several XLA CPU devices
+use_cpu_devices()
 
 settings.register_profile("ci", deadline=None, max_examples=40, derandomize=True)
 settings.register_profile("long", deadline=None, max_examples=3000)

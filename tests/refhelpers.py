@@ -12,12 +12,12 @@ import math
 import numpy as np
 from hypothesis import strategies as st
 
-from mapimpl import _jax  # noqa: F401
+from gear_rattle.mapimpl import _jax  # noqa: F401
 import jax
 
-from mapimpl.finder import first_impact
-from mapimpl.impact_map import make_state, step
-from mapimpl.params import Params
+from gear_rattle.mapimpl.finder import first_impact
+from gear_rattle.mapimpl.impact_map import make_state, step
+from gear_rattle.mapimpl.params import Params
 
 #: Stated one-step agreement with the map (measured worst case ~5e-13, see docs/reference_track.md):
 #: |dtau| <= TAU_TOL + DS_TOL / |sdot_{n+1}|  (a displacement error DS_TOL turns into a time error

@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from validation.cli import main
+from gear_rattle.validation.cli import main
 
 
 def run_cli(args, capsys):
@@ -71,7 +71,7 @@ def test_bad_input_one_line_exit_2(args, needle, capsys):
 
 
 def test_console_script_no_traceback():
-    p = subprocess.run([sys.executable, "-m", "validation", "simulate", "--r", "2"], capture_output=True, text=True)
+    p = subprocess.run([sys.executable, "-m", "gear_rattle.validation", "simulate", "--r", "2"], capture_output=True, text=True)
     assert p.returncode == 2
     assert p.stderr.strip().count("\n") == 0 and "allowed 0 < r <= 1" in p.stderr
 

@@ -17,14 +17,14 @@ import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings
 
-from mapimpl import _jax  # noqa: F401
+from gear_rattle.mapimpl import _jax  # noqa: F401
 import jax
 
-from mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, Trajectory, make_state
-from mapimpl.orbit import sequence_from_states
-from mapimpl.params import Params
-from reference import diffrax_track as D
-from reference import scipy_track as S
+from gear_rattle.mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, Trajectory, make_state
+from gear_rattle.mapimpl.orbit import sequence_from_states
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.reference import diffrax_track as D
+from gear_rattle.reference import scipy_track as S
 from refhelpers import map_one, map_step, near_graze, params_st, sdot_tol, state_st, tau_tol
 
 CI = settings(deadline=None, max_examples=15, derandomize=True)

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from mapimpl.params import Params
-from validation.bifurcation import bifurcation_diagram
-from validation.cli import main
-from validation.timeseries import time_series
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.validation.dynamics.bifurcation import bifurcation_diagram
+from gear_rattle.validation.cli import main
+from gear_rattle.validation.dynamics.timeseries import time_series
 
 
 def test_fig2_parameters_give_a_single_point_set():

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from validation.crises import locate_alpha1, locate_r1, locate_r2
+from gear_rattle.validation.dynamics.crises import locate_alpha1, locate_r1, locate_r2
 
 
 @pytest.mark.slow

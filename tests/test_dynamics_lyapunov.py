@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from mapimpl.params import Params
-from mapimpl.periodic import find_periodic
-from validation.crises import attractor_point
-from validation.lyapunov import lyapunov, raw_product_overflow
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.mapimpl.periodic import find_periodic
+from gear_rattle.validation.dynamics.crises import attractor_point
+from gear_rattle.validation.dynamics.lyapunov import lyapunov, raw_product_overflow
 
 
 def test_sum_equals_closed_form_mean_log_det():

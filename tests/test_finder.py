@@ -10,7 +10,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from mapimpl.finder import GRAZE, HIT, NO_IMPACT, first_impact, safe_time
+from gear_rattle.mapimpl.finder import GRAZE, HIT, NO_IMPACT, first_impact, safe_time
 from tests.mpref import first_root, s_and_v
 
 A, B, G = 3.0, 0.1, 0.1

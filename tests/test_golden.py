@@ -9,8 +9,8 @@ import shutil
 import numpy as np
 import pytest
 
-from validation.cli import main
-from validation.golden.suite import (
+from gear_rattle.validation.cli import main
+from gear_rattle.validation.golden.suite import (
     DEFAULT_SUITE, RADIUS_COLUMNS, TWO_PI, case_ids, load_case, load_suite, read_sequence,
 )
 
@@ -190,7 +190,7 @@ def test_check_self_reports_unavailable_track(monkeypatch, capsys):
     real = importlib.import_module
 
     def fake(name, *a, **k):
-        if name == "reference.diffrax_track":
+        if name == "gear_rattle.reference.diffrax_track":
             raise ImportError("No module named 'diffrax'")
         return real(name, *a, **k)
 
@@ -214,7 +214,7 @@ def test_other_suite_directory(tmp_path, map_outputs, capsys):
 @pytest.mark.parametrize("cid", ["0003-free-flight-start", "0008-stuck-forever", "0005-near-miss-return"])
 def test_recertification_reproduces_the_committed_files(cid):
     pytest.importorskip("flint")
-    from validation.golden.generate import build_case, spec_from_settings
+    from gear_rattle.validation.golden.generate import build_case, spec_from_settings
 
     folder = DEFAULT_SUITE / cid
     settings = json.loads((folder / "settings.json").read_text())
@@ -231,9 +231,9 @@ def test_certified_first_impact_agrees_with_50_digit_bisection():
     pytest.importorskip("flint")
     from flint import arb
 
-    from mapimpl.params import Params
+    from gear_rattle.mapimpl.params import Params
     from tests.mpref import first_root
-    from validation.golden import certify as C
+    from gear_rattle.validation.golden import certify as C
 
     p = Params(0.5, 0.1, 0.1, 0.9)
     with C.precision(256):
@@ -249,8 +249,8 @@ def test_certification_refuses_what_it_cannot_prove():
     pytest.importorskip("flint")
     from flint import arb
 
-    from mapimpl.params import Params
-    from validation.golden import certify as C
+    from gear_rattle.mapimpl.params import Params
+    from gear_rattle.validation.golden import certify as C
 
     p = Params(0.5, 0.1, 0.1, 0.9)
     with C.precision(128):

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from mapimpl import Params
-from mapimpl.batch import batch_iterate, states
-from mapimpl.flight import forcing, forcing_rate
-from mapimpl.impact_map import ACTIVE, ESCAPED, STUCK_FOREVER, make_state, step
-from mapimpl.orbit import map_orbit
-from mapimpl.sticking import STICK_TIME, release_delay
+from gear_rattle.mapimpl import Params
+from gear_rattle.mapimpl.batch import batch_iterate, states
+from gear_rattle.mapimpl.flight import forcing, forcing_rate
+from gear_rattle.mapimpl.impact_map import ACTIVE, ESCAPED, STUCK_FOREVER, make_state, step
+from gear_rattle.mapimpl.orbit import map_orbit
+from gear_rattle.mapimpl.sticking import STICK_TIME, release_delay
 from tests.mpref import first_root
 
 step_jit = jax.jit(step)
@@ -201,7 +201,7 @@ def test_phase_kept_for_long_orbits():
 
 def test_periodic_orbit_walls_align_with_states():
     """PeriodicOrbit.walls[k] is the wall hit by the pre-impact state (tau[k], sdot[k])."""
-    from mapimpl.periodic import find_periodic
+    from gear_rattle.mapimpl.periodic import find_periodic
 
     P = Params(0.5, 0.1, 0.1, 0.9)
     o = map_orbit(P, 0.0, 0.5, 300)
@@ -214,7 +214,7 @@ def test_periodic_orbit_walls_align_with_states():
 def test_newton_stops_when_landed_on_the_root():
     """The root polish stops once the Newton correction is below rounding (no bisection fallback):
     the impact is found in few safe steps and matches the 50-digit root."""
-    from mapimpl.finder import first_impact
+    from gear_rattle.mapimpl.finder import first_impact
 
     h = jax.jit(first_impact)(4.0, 0.0, -0.3, 3.0, 0.1, 0.1)
     ref = first_root(4.0, 0.0, -0.3, 3.0, 0.1, 0.1, t_lo=1e-4, t_hi=1.0, n=2000)

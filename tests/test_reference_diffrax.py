@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mapimpl import _jax  # noqa: F401
+from gear_rattle.mapimpl import _jax  # noqa: F401
 import jax
 
-from mapimpl.finder import HIT
-from mapimpl.orbit import map_orbit
-from mapimpl.params import Params
-from reference import diffrax_track as D
+from gear_rattle.mapimpl.finder import HIT
+from gear_rattle.mapimpl.orbit import map_orbit
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.reference import diffrax_track as D
 from refhelpers import N_ORBIT, map_first_impact, v0_for_apex
 
 _flight = jax.jit(D.flight)

@@ -10,11 +10,11 @@ import pytest
 from hypothesis import example, given, settings
 from scipy.integrate import solve_ivp
 
-from mapimpl.finder import GRAZE, HIT
-from mapimpl.orbit import map_orbit
-from mapimpl.params import Params
-from mapimpl.sticking import release_delay
-from reference import scipy_track as S
+from gear_rattle.mapimpl.finder import GRAZE, HIT
+from gear_rattle.mapimpl.orbit import map_orbit
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.mapimpl.sticking import release_delay
+from gear_rattle.reference import scipy_track as S
 from refhelpers import N_ORBIT, map_first_impact, map_one, params_st, state_st, v0_for_apex
 
 CI = settings(deadline=None, max_examples=12, derandomize=True)

@@ -7,10 +7,10 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mapimpl.impact_map import iterate, make_state
-from validation.transient import analysis as A
-from validation.transient import kernel as K
-from validation.transient.engine import (PAPER_PARAMS, grid, periodic_target, transient_times)
+from gear_rattle.mapimpl.impact_map import iterate, make_state
+from gear_rattle.validation.transient import analysis as A
+from gear_rattle.mapimpl.engine import kernel as K
+from gear_rattle.mapimpl.engine.transients import (PAPER_PARAMS, grid, periodic_target, transient_times)
 
 P = PAPER_PARAMS
 LANES = 64  # one kernel shape for every engine test (one compilation)
@@ -176,12 +176,34 @@ def test_bad_devices(target):
 
 
 def test_bad_cpu_device_env_var():
+    import os
     import subprocess
     import sys
 
-    proc = subprocess.run([sys.executable, "-c", "import mapimpl"], capture_output=True, text=True,
-                          env={**__import__("os").environ, "GEAR_RATTLE_CPU_DEVICES": "0"})
+    env = {**os.environ, "GEAR_RATTLE_CPU_DEVICES": "0"}
+    proc = subprocess.run([sys.executable, "-c", "import gear_rattle; gear_rattle.use_cpu_devices()"],
+                          capture_output=True, text=True, env=env)
     assert proc.returncode != 0 and "GEAR_RATTLE_CPU_DEVICES" in proc.stderr and "allowed" in proc.stderr
+    # on the command line: one line, exit status 2, no traceback
+    proc = subprocess.run([sys.executable, "-m", "gear_rattle.validation", "simulate", "--impacts", "1"],
+                          capture_output=True, text=True, env=env)
+    assert proc.returncode == 2 and "GEAR_RATTLE_CPU_DEVICES" in proc.stderr
+    assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_library_import_changes_neither_devices_nor_matplotlib_backend():
+    """Importing the library enables float64 only: no XLA device split, no matplotlib backend switch."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import matplotlib; b = matplotlib.get_backend(); import gear_rattle, jax; "
+            "import gear_rattle.validation.report.sec_dynamics, gear_rattle.validation.plots; "
+            "print(len(jax.devices()), jax.config.jax_enable_x64, matplotlib.get_backend() == b)")
+    env = {k: v for k, v in os.environ.items() if k not in ("GEAR_RATTLE_CPU_DEVICES", "XLA_FLAGS", "MPLBACKEND")}
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["1", "True", "True"]
 
 
 @pytest.mark.parametrize("kwargs,word", [
@@ -209,7 +231,7 @@ def test_bad_ic_inputs(target):
 
 
 def test_cli_bad_input_exit_2(capsys):
-    from validation.cli import main
+    from gear_rattle.validation.cli import main
 
     assert main(["transients", "--delta", "-1", "--no-progress"]) == 2
     assert "delta" in capsys.readouterr().err
@@ -220,7 +242,7 @@ def test_fig11_paper_scale():
     """Fig. 11 (paper: <n> = 2272, kappa = 0.893): 400 x 400 mesh, cap 20000.  We assert the
     exponential law holds (kappa within 0.2 of 1 with a positive decay time) and <n> within a
     factor 2 of the paper's; the exact values are reported in docs/transients.md."""
-    from validation.transient.experiments import transients
+    from gear_rattle.validation.transient.experiments import transients
 
     s = transients(outdir="/tmp/gear_rattle_fig11", profile="paper", progress=False)
     f = s["fits"]["0.001"]
@@ -232,7 +254,7 @@ def test_fig11_paper_scale():
 def test_fig10_paper_scale():
     """Fig. 10 (paper: exponents 0.010 +- 0.001 at n = 500, 0.003 +- 0.002 at n = 1000): the
     exponents are near zero (riddled-like basins)."""
-    from validation.transient.experiments import uncertainty
+    from gear_rattle.validation.transient.experiments import uncertainty
 
     s = uncertainty(outdir="/tmp/gear_rattle_fig10", profile="paper", progress=False)
     for n in ("500", "1000"):

@@ -10,20 +10,21 @@ import argparse
 import importlib
 import sys
 
-from validation.cliutil import CliError
+from ..mapimpl._jax import use_cpu_devices
+from .cliutil import CliError
 
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
 COMMAND_MODULES = [
-    "validation.commands.simulate",
-    "validation.commands.report",
-    "validation.commands.bifurcation",
-    "validation.commands.lyapunov",
-    "validation.commands.orbitcmd",
-    "validation.commands.timeseries",
-    "validation.commands.basins",
-    "validation.commands.uncertainty",
-    "validation.commands.transients",
-    "validation.commands.check",
+    "gear_rattle.validation.commands.simulate",
+    "gear_rattle.validation.commands.report",
+    "gear_rattle.validation.commands.bifurcation",
+    "gear_rattle.validation.commands.lyapunov",
+    "gear_rattle.validation.commands.orbitcmd",
+    "gear_rattle.validation.commands.timeseries",
+    "gear_rattle.validation.commands.basins",
+    "gear_rattle.validation.commands.uncertainty",
+    "gear_rattle.validation.commands.transients",
+    "gear_rattle.validation.commands.check",
 ]
 
 
@@ -51,6 +52,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        # the command line (not the library) spreads the engine over one XLA CPU device per core
+        use_cpu_devices()
         return int(args._run(args) or 0)
     except (ValueError, CliError) as e:
         print(f"gear-rattle {args.command}: error: {e}", file=sys.stderr)

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from mapimpl.params import Params
+from ..mapimpl.params import Params
 
 
 class CliError(Exception):

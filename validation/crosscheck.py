@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mapimpl import Params
-from mapimpl.flight import forcing
-from mapimpl.impact_map import ACTIVE, make_state, step
+from ..mapimpl import Params
+from ..mapimpl.flight import forcing
+from ..mapimpl.impact_map import ACTIVE, make_state, step
 
 #: The declared cross-validation domain (issue 3).
 DOMAIN = {"alpha": (0.0, 5.0), "beta": (0.01, 1.0), "gamma": (-0.5, 0.5), "r": (0.3, 1.0), "sdot": (0.05, 3.0)}
@@ -60,7 +60,7 @@ class OneStep:
 def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
                        tracks=("scipy", "diffrax")) -> list[OneStep]:
     """Next impact from ``n`` random pre-impact states on the map and on the numerical tracks."""
-    from validation.tracks import orbit
+    from .tracks import orbit
 
     cases = random_cases(n, seed)
     res = {t: {"tau": [], "sdot": [], "mis": 0, "graze": 0} for t in tracks}
@@ -103,8 +103,8 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
     """The step Jacobian by three routes at ``n`` random states (sticking and near-grazing steps skipped)."""
     import jax
 
-    from reference import diffrax_track as D
-    from reference import scipy_track as S
+    from ..reference import diffrax_track as D
+    from ..reference import scipy_track as S
 
     step_j = jax.jit(step)
     cs, cd, skipped = [], [], 0

@@ -1,15 +1,12 @@
-"""Figures (matplotlib, Agg backend): the paper's Figs. 2-3 time series of an orbit."""
+"""Figures: the paper's Figs. 2-3 time series of an orbit."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from mapimpl.dense import dense  # noqa: E402
-from mapimpl.orbit import ImpactSequence  # noqa: E402
+from ..mapimpl.dense import dense
+from ..mapimpl.orbit import ImpactSequence
+from .figures import subplots
 
 
 def plot_time_series(seq: ImpactSequence, path: str, span: float = 50.0, title: str | None = None) -> None:
@@ -25,7 +22,7 @@ def plot_time_series(seq: ImpactSequence, path: str, span: float = 50.0, title: 
     keep = tau <= t_end
     tau, s = tau[keep], s[keep]
     drive = p.alpha * np.sin(tau)
-    fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, ax = subplots(2, 1, figsize=(8, 6), sharex=True)
     ax[0].plot(tau, drive, color="0.5", lw=0.8, label="driving gear flanks")
     ax[0].plot(tau, drive + 1.0, color="0.5", lw=0.8)
     ax[0].plot(tau, drive - s, color="C0", lw=1.0, label="driven gear")
@@ -44,4 +41,3 @@ def plot_time_series(seq: ImpactSequence, path: str, span: float = 50.0, title: 
     ax[1].legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    plt.close(fig)

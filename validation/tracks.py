@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import importlib
 
-from mapimpl.orbit import ImpactSequence, map_orbit
-from mapimpl.params import Params
+from ..mapimpl.orbit import ImpactSequence, map_orbit
+from ..mapimpl.params import Params
 
 TRACKS = ("map", "scipy", "diffrax")
-_MODULES = {"scipy": "reference.scipy_track", "diffrax": "reference.diffrax_track"}
+_MODULES = {"scipy": "gear_rattle.reference.scipy_track", "diffrax": "gear_rattle.reference.diffrax_track"}
 
 
 def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,

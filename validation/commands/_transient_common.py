@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from validation.cliutil import add_param_args, positive_int
+from ..cliutil import add_param_args, positive_int
 
 
 def add_common(p: argparse.ArgumentParser) -> None:

@@ -10,8 +10,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation.cliutil import positive_int
-from validation.commands._transient_common import add_common, print_summary
+from ..cliutil import positive_int
+from ._transient_common import add_common, print_summary
 
 NAME = "basins"
 HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
@@ -27,8 +27,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.cliutil import params_from
-    from validation.transient.experiments import basins
+    from ..cliutil import params_from
+    from ..transient.experiments import basins
 
     s = basins(outdir=args.outdir, profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
                ns=tuple(args.ns), delta=args.delta, params=params_from(args),

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import argparse
 
-from validation.cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
+from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
 
 NAME = "bifurcation"
 HELP = "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure"
@@ -33,8 +33,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.bifurcation import bifurcation_diagram, plot_diagram
-    from validation.progress import Progress
+    from ..dynamics.bifurcation import bifurcation_diagram, plot_diagram
+    from ...mapimpl.progress import Progress
 
     base = params_from(args)
     check_writable(args.output, "--output")
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
         write_text(d.to_csv(), args.output)
     lyap = None
     if args.lyapunov:
-        from validation.lyapunov import lyapunov
+        from ..dynamics.lyapunov import lyapunov
 
         res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))

@@ -14,7 +14,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from validation.cliutil import CliError
+from ..cliutil import CliError
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -35,13 +35,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _self_outputs(cases, track: str, write: str | None):
-    from validation.golden.suite import run_case, sequence_from_impacts
+    from ..golden.suite import run_case, sequence_from_impacts
 
     try:
         if track != "map":
             import importlib
 
-            from validation.tracks import _MODULES
+            from ..tracks import _MODULES
 
             importlib.import_module(_MODULES[track])
     except ImportError as e:
@@ -63,7 +63,7 @@ def _self_outputs(cases, track: str, write: str | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence, \
+    from ..golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence, \
         summary_table
 
     if args.self_check and args.path is not None:

@@ -9,7 +9,7 @@ import argparse
 
 import numpy as np
 
-from validation.cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
+from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
 
 NAME = "lyapunov"
 HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
@@ -31,8 +31,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.lyapunov import lyapunov
-    from validation.progress import Progress
+    from ..dynamics.lyapunov import lyapunov
+    from ...mapimpl.progress import Progress
 
     base = params_from(args)
     check_writable(args.output, "--output")
@@ -49,15 +49,11 @@ def run(args: argparse.Namespace) -> int:
     else:
         write_text(res.to_csv(), args.output)
     if args.plot:
-        import matplotlib
+        from ..figures import subplots
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(7, 3.5))
+        fig, ax = subplots(figsize=(7, 3.5))
         ax.plot(values, res.lam_free[:, 0], "-", label=r"$\lambda_1$")
         ax.plot(values, res.lam_free[:, 1], "-", label=r"$\lambda_2$")
         ax.axhline(0, color="gray", lw=0.5)
         ax.set_xlabel(args.param); ax.set_ylabel("per impact"); ax.legend()
-        fig.tight_layout(); fig.savefig(args.plot, dpi=150); plt.close(fig)
-    return 0
+        fig.tight_layout(); fig.savefig(args.plot, dpi=150);    return 0

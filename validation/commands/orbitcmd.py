@@ -10,7 +10,7 @@ import argparse
 
 import numpy as np
 
-from validation.cliutil import add_param_args, check_writable, params_from, positive_int, write_text
+from ..cliutil import add_param_args, check_writable, params_from, positive_int, write_text
 
 NAME = "orbit"
 HELP = "periodic orbits: find, continue in r or alpha, fold and flip points"
@@ -38,10 +38,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import sys
 
-    from mapimpl.periodic import find_periodic
-    from validation.continuation import closed_form_det, continue_orbit
-    from validation.crises import attractor_point
-    from validation.progress import Progress
+    from ...mapimpl.periodic import find_periodic
+    from ..dynamics.continuation import closed_form_det, continue_orbit
+    from ..dynamics.crises import attractor_point
+    from ...mapimpl.progress import Progress
 
     base = params_from(args)
     check_writable(args.output, "--output")
@@ -85,12 +85,9 @@ def run(args: argparse.Namespace) -> int:
     for f in br.folds + br.flips:
         print(f.describe(), file=out)
     if args.plot:
-        import matplotlib
+        from ..figures import subplots
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+        fig, ax = subplots(2, 1, figsize=(7, 5), sharex=True)
         st = a["stable"]
         ax[0].plot(a["mu"], a["sdot"], "-", color="gray", lw=0.6)
         ax[0].plot(a["mu"][st], a["sdot"][st], ".b", ms=3, label="stable")
@@ -102,5 +99,4 @@ def run(args: argparse.Namespace) -> int:
             for x in ax:
                 x.axvline(f.mu, color="g" if f.kind == "fold" else "m", lw=0.6)
         ax[1].set_ylabel("|Floquet multipliers|"); ax[1].set_xlabel(args.param)
-        fig.tight_layout(); fig.savefig(args.plot, dpi=150); plt.close(fig)
-    return 0
+        fig.tight_layout(); fig.savefig(args.plot, dpi=150);    return 0

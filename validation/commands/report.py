@@ -21,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import sys
 
-    from validation.report.builder import build_report
+    from ..report.builder import build_report
 
     path, ok = build_report(args.profile, args.out, args.sections, seed=args.seed, progress=not args.quiet,
                             argv=["gear-rattle", *sys.argv[1:]])

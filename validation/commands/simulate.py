@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from validation.cliutil import add_param_args, check_writable, nonneg_int, params_from, write_text
+from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, write_text
 
 NAME = "simulate"
 HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
@@ -29,7 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.tracks import orbit
+    from ..tracks import orbit
 
     params = params_from(args)
     check_writable(args.output, "--output")
@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"gear-rattle simulate: note: the orbit ended after {int(seq.impacts.sum())} impacts "
               f"(status {seq.status}: {why})", file=sys.stderr)
     if args.plot:
-        from validation.plots import plot_time_series
+        from ..plots import plot_time_series
 
         plot_time_series(seq, args.plot, span=args.plot_span)
     return 0

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 
-from validation.cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
+from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
 
 NAME = "timeseries"
 HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
@@ -24,7 +24,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.timeseries import FIGURE_R, plot_time_series, time_series
+    from ..dynamics.timeseries import FIGURE_R, plot_time_series, time_series
 
     base = params_from(args)
     if args.figure:

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import argparse
 
-from validation.cliutil import positive_int
-from validation.commands._transient_common import add_common, print_summary
+from ..cliutil import positive_int
+from ._transient_common import add_common, print_summary
 
 NAME = "transients"
 HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
@@ -28,8 +28,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.cliutil import params_from
-    from validation.transient.experiments import transients
+    from ..cliutil import params_from
+    from ..transient.experiments import transients
 
     params = params_from(args)
     s = transients(outdir=args.outdir, profile=args.profile, nx=args.n, cap=args.cap, delta=args.delta,

@@ -13,8 +13,8 @@ import argparse
 
 import numpy as np
 
-from validation.cliutil import positive_int
-from validation.commands._transient_common import add_common, print_summary
+from ..cliutil import positive_int
+from ._transient_common import add_common, print_summary
 
 NAME = "uncertainty"
 HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
@@ -31,8 +31,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from validation.cliutil import params_from
-    from validation.transient.experiments import uncertainty
+    from ..cliutil import params_from
+    from ..transient.experiments import uncertainty
 
     if not (0 < args.eps_min < args.eps_max <= 0.1):
         raise ValueError(f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "

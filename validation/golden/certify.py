@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 
 from flint import arb, ctx
 
-from mapimpl.params import Params
-from mapimpl.sticking import STICK_TIME
+from ...mapimpl.params import Params
+from ...mapimpl.sticking import STICK_TIME
 
 #: Default working precision in bits (about 96 decimal digits).
 PREC = 320

@@ -1,4 +1,4 @@
-"""Regenerate the golden conformance suite: ``python -m validation.golden.generate [--cases ID ...]``.
+"""Regenerate the golden conformance suite: ``python -m gear_rattle.validation.golden.generate [--cases ID ...]``.
 
 Every case is certified from scratch with ball arithmetic (:mod:`validation.golden.certify`) and
 written to ``validation/golden/cases/<id>/`` (``settings.json``, ``expected.csv``,
@@ -23,10 +23,10 @@ from pathlib import Path
 
 from flint import arb
 
-from mapimpl.params import Params
-from mapimpl.sticking import STICK_TIME
-from validation.golden import certify as cert
-from validation.golden.suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
+from ...mapimpl.params import Params
+from ...mapimpl.sticking import STICK_TIME
+from . import certify as cert
+from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
     sequence_from_impacts
 
 FIG2 = Params(0.5, 0.1, 0.1, 0.9)
@@ -70,7 +70,7 @@ class Spec:
 
 
 def _first_impact(params: Params, tau0: float, sdot0: float):
-    from validation.tracks import orbit
+    from ..tracks import orbit
 
     seq = orbit("map", params, tau0, sdot0, 1)
     return int(seq.wall[1]), float(seq.sdot[1])
@@ -109,7 +109,7 @@ def near_miss_sdot0(params: Params, tau0: float, lo: float, hi: float, offset: f
 def chaos_horizon(params: Params) -> tuple[int, float]:
     """Impacts ``n`` with ``CHAOS_ERR0 * exp(lambda1 n) * CHAOS_SAFETY <= CHAOS_TOL`` (lambda1 per impact,
     QR method over 5000 impacts after 500, rounded to 3 decimals)."""
-    from validation.lyapunov import lyapunov
+    from ..dynamics.lyapunov import lyapunov
 
     lam = float(lyapunov(params, "r", [params.r], n=5000, transient=500).lam[0, 0])
     lam = round(lam, 3)
@@ -238,7 +238,7 @@ def _versions() -> dict:
 
 
 def _track_agreement(case: Case, tracks=("map", "scipy")) -> dict:
-    from validation.golden.suite import run_case
+    from .suite import run_case
 
     out = {}
     for tr in tracks:
@@ -272,7 +272,7 @@ def provenance_json(spec: Spec, orb: cert.CertifiedOrbit, radii: dict, agreement
         rows.append(r)
     return {
         "id": spec.id,
-        "generator": "python -m validation.golden.generate",
+        "generator": "python -m gear_rattle.validation.golden.generate",
         "method": {
             "impacts": "certified: ball arithmetic (python-flint arb) on the closed-form flight, Eqs. (7)-(8); "
                        "(a) unique root: sign change of the gap and derivative enclosure excluding 0 on the root "
@@ -375,7 +375,7 @@ def write_case(folder: Path, settings: dict, text: str, prov: dict) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m validation.golden.generate", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m gear_rattle.validation.golden.generate", description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default=str(DEFAULT_SUITE), help="suite directory (default: the committed one)")
     ap.add_argument("--cases", nargs="*", default=None, help="only these case ids")
     ap.add_argument("--no-tracks", action="store_true", help="skip the map/scipy agreement in the provenance")

@@ -17,14 +17,14 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from validation.report.document import Section, render_html, render_markdown, summary_rows
+from .document import Section, render_html, render_markdown, summary_rows
 
 #: Section modules, in report order.
 SECTIONS = [
-    "validation.report.sec_timeseries",
-    "validation.report.sec_crosstrack",
-    "validation.report.sec_dynamics",
-    "validation.report.sec_transients",
+    "gear_rattle.validation.report.sec_timeseries",
+    "gear_rattle.validation.report.sec_crosstrack",
+    "gear_rattle.validation.report.sec_dynamics",
+    "gear_rattle.validation.report.sec_transients",
 ]
 
 PROFILES = ("quick", "paper")

@@ -3,7 +3,7 @@ one-step Jacobian by three routes, computed for this report."""
 
 from __future__ import annotations
 
-from validation.report.document import Number, Section
+from .document import Number, Section
 
 KEY = "crosstrack"
 TITLE = "Cross-track agreement: closed form (Eqs. 7-8, 12-13) vs Eq. (3) integrated by scipy and diffrax"
@@ -12,7 +12,7 @@ SETTINGS = {"quick": {"one_step": 16, "jacobian": 6}, "paper": {"one_step": 200,
 
 
 def build(ctx) -> Section:
-    from validation.crosscheck import DOMAIN, jacobian_agreement, one_step_agreement
+    from ..crosscheck import DOMAIN, jacobian_agreement, one_step_agreement
 
     sec = Section(KEY, TITLE)
     st = SETTINGS[ctx.profile]

@@ -3,14 +3,11 @@ intermittency point r2, the interior crisis r1 and the crisis alpha1 (Section 3 
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from mapimpl import Params  # noqa: E402
-from validation.report.document import Number, Section, deviation  # noqa: E402
+from ...mapimpl import Params
+from ..figures import subplots
+from .document import Number, Section, deviation
 
 KEY = "dynamics"
 TITLE = "Figs. 4-8: bifurcations, Lyapunov exponents, intermittency (r2) and crises (r1, alpha1)"
@@ -29,15 +26,15 @@ SETTINGS = {
 
 
 def _diagram_with_lyapunov(ctx, sec, fig, param, lo, hi, base, settings, marks):
-    from validation.bifurcation import bifurcation_diagram
-    from validation.lyapunov import lyapunov
+    from ..dynamics.bifurcation import bifurcation_diagram
+    from ..dynamics.lyapunov import lyapunov
 
     n_values = settings["fig4_values" if param == "r" else "fig8_values"]
     d = bifurcation_diagram(base, param, lo, hi, n_values=n_values, transient=settings["transient"],
                             keep=settings["keep"], mode="fixed")
     lam = lyapunov(base, param, d.values, n=settings["lyap_n"], transient=settings["transient"])
     path = ctx.fig_dir / f"{fig.replace('. ', '').lower()}_bifurcation.png"
-    f, ax = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    f, ax = subplots(2, 1, figsize=(8, 6.5), sharex=True)
     vv = np.repeat(d.values, d.sdot.shape[1]) if d.sdot.ndim == 2 else d.values
     ax[0].plot(vv, np.ravel(d.sdot), ",", color="k", alpha=0.6)
     ax[0].set_ylabel(r"$\dot s_n$")
@@ -55,7 +52,6 @@ def _diagram_with_lyapunov(ctx, sec, fig, param, lo, hi, base, settings, marks):
                     f"{settings['transient']} impacts discarded")
     f.tight_layout()
     f.savefig(path, dpi=110)
-    plt.close(f)
     sec.fig(path, f"{fig}(a) bifurcation diagram of sdot_n and {fig}(b) Lyapunov exponents (QR method, "
                   f"{settings['lyap_n']} impacts) against {param}; dashed lines: values located below.")
     err = np.nanmax(lam.sum_error) if np.any(np.isfinite(lam.sum_error)) else float("nan")
@@ -63,8 +59,8 @@ def _diagram_with_lyapunov(ctx, sec, fig, param, lo, hi, base, settings, marks):
 
 
 def build(ctx) -> Section:
-    from validation.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
-    from validation.timeseries import FIGURE_R, plot_time_series, time_series
+    from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
+    from ..dynamics.timeseries import FIGURE_R, plot_time_series, time_series
 
     sec = Section(KEY, TITLE)
     st = SETTINGS[ctx.profile]
@@ -118,7 +114,7 @@ def build(ctx) -> Section:
     # laminar-length plot (type-I intermittency)
     ls = r2["laminar"]
     path = ctx.fig_dir / "intermittency_laminar.png"
-    fg, ax = plt.subplots(figsize=(5.5, 4))
+    fg, ax = subplots(figsize=(5.5, 4))
     ax.errorbar(r2["dr"], ls.mean, yerr=ls.sem, fmt="o")
     xx = np.array([r2["dr"].min(), r2["dr"].max()])
     k = np.exp(np.mean(np.log(ls.mean) - r2["slope"] * np.log(r2["dr"])))
@@ -126,8 +122,7 @@ def build(ctx) -> Section:
     ax.plot(xx, k * xx ** -0.5 * (r2["dr"].min() ** (r2["slope"] + 0.5)), ":", label="slope -1/2")
     ax.set_xscale("log"); ax.set_yscale("log")
     ax.set_xlabel("r - r2"); ax.set_ylabel("mean laminar length (impacts)")
-    ax.legend(fontsize=8); fg.tight_layout(); fg.savefig(path, dpi=110); plt.close(fg)
-    sec.fig(path, "Type-I intermittency above r2: mean laminar length against r - r2 (computed).")
+    ax.legend(fontsize=8); fg.tight_layout(); fg.savefig(path, dpi=110);    sec.fig(path, "Type-I intermittency above r2: mean laminar length against r - r2 (computed).")
 
     d_r2 = r2["r2"] - PAPER_R2_FIG5
     sec.numbers.append(Number(

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from mapimpl import Params
-from mapimpl.orbit import map_orbit
-from mapimpl.periodic import find_periodic
-from validation.report.document import Number, Section
+from ...mapimpl import Params
+from ...mapimpl.orbit import map_orbit
+from ...mapimpl.periodic import find_periodic
+from .document import Number, Section
 
 KEY = "timeseries"
 TITLE = "Figs. 2-3: regular and chaotic rattling (time series)"
@@ -22,8 +22,8 @@ def _period(sd: np.ndarray, max_p: int = 12, atol: float = 1e-9) -> int | None:
 
 
 def build(ctx) -> Section:
-    from validation.lyapunov import lyapunov
-    from validation.plots import plot_time_series
+    from ..dynamics.lyapunov import lyapunov
+    from ..plots import plot_time_series
 
     sec = Section(KEY, TITLE)
     n = 600 if ctx.quick else 5000

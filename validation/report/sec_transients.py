@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from validation.report.document import Number, Section, deviation
+from .document import Number, Section, deviation
 
 KEY = "transients"
 TITLE = "Figs. 9-11: transient basins, uncertainty exponents, transient-time statistics (alpha = 1.245)"
@@ -17,7 +17,7 @@ PAPER_PHI = {500: (0.010, 0.001), 1000: (0.003, 0.002)}
 
 
 def build(ctx) -> Section:
-    from validation.transient.experiments import basins, transients, uncertainty
+    from ..transient.experiments import basins, transients, uncertainty
 
     sec = Section(KEY, TITLE)
     data = ctx.out_dir / "data" / "transients"
@@ -79,7 +79,7 @@ def build(ctx) -> Section:
     # refit this run's durations with the two other natural conventions
     import numpy as np
 
-    from validation.transient import analysis as A
+    from ..transient import analysis as A
 
     z = np.load(data / "transients.npz")
     k = [float(x) for x in z["deltas"]].index(float(z["delta"]))

@@ -14,9 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
-from mapimpl.params import Params
-from validation.transient import analysis as A
-from validation.transient.engine import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS, grid, transient_times
+from matplotlib.patches import Rectangle
+
+from ...mapimpl.params import Params
+from ..figures import subplots
+from . import analysis as A
+from ...mapimpl.engine.transients import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS, grid, transient_times
 
 PROFILES = ("quick", "paper")
 BASIN_NS = (90, 500, 1000, 2000)
@@ -37,15 +40,6 @@ def _profile(profile, quick, paper):
     if profile not in PROFILES:
         raise ValueError(f"profile={profile!r} is out of range: allowed one of {', '.join(PROFILES)}")
     return quick if profile == "quick" else paper
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 # ------------------------------------------------------------------------------------- Fig. 9
@@ -69,12 +63,11 @@ def basins(outdir="out/transients", profile="quick", nx=None, ny=None, window=BA
     fractions = {int(n): float(np.mean(D < n)) for n in ns}
     np.savez_compressed(out / "basins.npz", tau0=T, sdot0=S, duration=D, censored=cens.reshape(T.shape),
                         nstick=res.nstick.reshape(T.shape), ns=np.array(ns), delta=delta, window=np.array(window))
-    plt = _plt()
-    fig, axs = plt.subplots(2, 2, figsize=(9, 7), sharex=True, sharey=True)
+    fig, axs = subplots(2, 2, figsize=(9, 7), sharex=True, sharey=True)
     for ax, n, lab in zip(axs.ravel(), ns, "abcd"):
         ax.imshow(D < n, origin="lower", extent=window, aspect="auto", cmap="Greys", vmin=0, vmax=1,
                   interpolation="nearest")
-        ax.add_patch(plt.Rectangle((PAPER_BOX[0], PAPER_BOX[2]), PAPER_BOX[1] - PAPER_BOX[0],
+        ax.add_patch(Rectangle((PAPER_BOX[0], PAPER_BOX[2]), PAPER_BOX[1] - PAPER_BOX[0],
                                    PAPER_BOX[3] - PAPER_BOX[2], fill=False, ec="C3", lw=1))
         ax.set_title(f"({lab}) n = {n}: black = duration < n ({100 * fractions[n]:.1f}%)", fontsize=9)
     for ax in axs[1]:
@@ -85,7 +78,6 @@ def basins(outdir="out/transients", profile="quick", nx=None, ny=None, window=BA
                  fontsize=10)
     fig.tight_layout()
     fig.savefig(out / "fig9_basins.png", dpi=110)
-    plt.close(fig)
     summary = {"figure": "9", "nx": nx, "ny": ny, "window": list(window), "ns": list(ns), "delta": delta,
                "short_fraction": fractions, "orbits_with_sticking": res.n_stuck_orbits,
                "engine": res.summary()}
@@ -137,8 +129,7 @@ def uncertainty(outdir="out/transients", profile="quick", n_points=None, eps=Non
         fs = [A._uncertain(dA, dB, dC, n).mean(axis=0) for n in ns]
         for i, e in enumerate(eps):
             fh.write(f"{e!r}," + ",".join(repr(float(f[i])) for f in fs) + "\n")
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, ax = subplots(figsize=(6, 4.5))
     for n, mk in zip(ns, ("s", "o", "^", "v")):
         f = A._uncertain(dA, dB, dC, n).mean(axis=0)
         ax.loglog(eps, np.where(f > 0, f, np.nan), mk, mfc="none" if mk == "s" else None, label=f"n = {n}")
@@ -152,7 +143,6 @@ def uncertainty(outdir="out/transients", profile="quick", n_points=None, eps=Non
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "fig10_uncertainty.png", dpi=110)
-    plt.close(fig)
     summary = {"figure": "10", "n_points": n_points, "eps": eps.tolist(), "seed": seed, "delta": delta,
                "fits": {str(n): (fits[n].as_dict() if fits[n] is not None else None) for n in ns},
                "paper": {"500": [0.010, 0.001], "1000": [0.003, 0.002]}, "engine": res.summary()}
@@ -194,8 +184,7 @@ def transients(outdir="out/transients", profile="quick", nx=None, ny=None, cap=N
         for i in range(0, len(n), step):
             fh.write(f"{n[i]},{N[i]}\n")
     main = fits.get(float(delta))
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, ax = subplots(figsize=(6, 4.5))
     ax.semilogy(n, np.where(N > 0, N, np.nan), "-", lw=1, label=f"N(n), delta = {delta:g}")
     if main is not None:
         xs = np.array([main.n_lo, main.n_hi])
@@ -207,7 +196,6 @@ def transients(outdir="out/transients", profile="quick", nx=None, ny=None, cap=N
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "fig11_survival.png", dpi=110)
-    plt.close(fig)
     summary = {"figure": "11", "nx": nx, "ny": ny, "cap": cap, "box": list(box), "delta": delta,
                "ic_mode": ic_mode, "s0": s0,
                "fits": {f"{d:g}": (f.as_dict() if f is not None else None) for d, f in fits.items()},

@@ -23,12 +23,12 @@ from functools import partial
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from ...mapimpl import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.impact_map import ACTIVE, MapState, make_state, step
-from mapimpl.params import ParamArrays, Params, validate_arrays
+from ...mapimpl.impact_map import ACTIVE, MapState, make_state, step
+from ...mapimpl.params import ParamArrays, Params, validate_arrays
 
 #: Parameters a diagram can vary.
 DIAGRAM_PARAMS = ("r", "alpha")
@@ -219,13 +219,10 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
 
 def plot_diagram(diag: Diagram, path: str, lyap=None, title: str | None = None) -> None:
     """Draw the diagram (and, if given, the Lyapunov exponents ``(values, lambdas (n, 2))`` below it)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..figures import subplots
 
     rows = 2 if lyap is not None else 1
-    fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.5), sharex=True, squeeze=False)
+    fig, axes = subplots(rows, 1, figsize=(7, 3.2 * rows + 0.5), sharex=True, squeeze=False)
     ax = axes[0, 0]
     x = np.repeat(diag.values, diag.sdot.shape[1])
     ax.plot(x, diag.sdot.ravel(), ",k", alpha=0.5)
@@ -241,4 +238,3 @@ def plot_diagram(diag: Diagram, path: str, lyap=None, title: str | None = None) 
     axes[-1, 0].set_xlabel(diag.param)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
-    plt.close(fig)

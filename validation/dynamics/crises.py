@@ -2,7 +2,7 @@
 Section 3 and Fig. 8, located with error bars.
 
 * ``r2`` (alpha = 3): saddle-node (fold) of the 6-impact period-1 orbit, located to ~12 digits by
-  Newton on the extended system (:mod:`validation.continuation`).  Above r2 the orbit is gone and its
+  Newton on the extended system (:mod:`validation.dynamics.continuation`).  Above r2 the orbit is gone and its
   ghost gives type-I intermittency: :func:`laminar_statistics` measures laminar phases (runs of impacts
   within ``eps`` of the fold orbit) and :func:`fit_power_law` fits ``<l> ~ (r - r2)^(-nu)`` with the
   known r2 (theory: ``nu = 1/2``).
@@ -29,14 +29,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from ...mapimpl import _jax  # noqa: F401
 
-from mapimpl.flight import TWO_PI
-from mapimpl.impact_map import make_state
-from mapimpl.params import Params
-from mapimpl.periodic import find_periodic
-from validation.bifurcation import _adv_batch, _rec_batch, check_int, param_arrays
-from validation.continuation import Branch, continue_orbit, orbit_states
+from ...mapimpl.flight import TWO_PI
+from ...mapimpl.impact_map import make_state
+from ...mapimpl.params import Params
+from ...mapimpl.periodic import find_periodic
+from .bifurcation import _adv_batch, _rec_batch, check_int, param_arrays
+from .continuation import Branch, continue_orbit, orbit_states
 
 _TP = float(TWO_PI)
 
@@ -148,7 +148,7 @@ class LaminarStats:
 def laminar_statistics(r_values, r2_orbit, n_impacts: int = 200_000, eps: float = 0.05, min_length: int = 12,
                        base: Params = R2_START, chunk: int = 20000, progress=None) -> LaminarStats:
     """Type-I intermittency above r2: laminar phases are runs of at least ``min_length`` impacts within
-    ``eps`` of the fold orbit ``r2_orbit`` (a :class:`validation.continuation.BifurcationPoint` or
+    ``eps`` of the fold orbit ``r2_orbit`` (a :class:`validation.dynamics.continuation.BifurcationPoint` or
     ``(theta, sdot)`` arrays of its 6 points).  One orbit per r value, vectorised."""
     n_impacts = check_int("n_impacts", n_impacts, 1000, 100_000_000)
     if not (np.isfinite(eps) and eps > 0):

@@ -26,7 +26,7 @@ nested loops).  A new flight's first safe step needs no evaluation: its state at
 ``(0, v0, a0)`` in closed form, so it is taken in the impact's micro-step.  Three performance changes
 move results by a few ulps only (tests compare with :func:`mapimpl.impact_map.step`): sin/cos of the
 flight start phase are computed once per flight instead of at every evaluation, sin/cos come from
-:func:`validation.transient.fastmath.sincos` (vectorised fdlibm kernels), and ``sin t`` inside
+:func:`mapimpl.engine.fastmath.sincos` (vectorised fdlibm kernels), and ``sin t`` inside
 ``sigma`` is taken from the double-angle formula.  The velocity at the Newton root is extrapolated
 from the last Newton evaluation (``v + a dx`` with ``dx`` below rounding).
 """
@@ -35,14 +35,14 @@ from __future__ import annotations
 
 from functools import partial
 
-from mapimpl import _jax  # noqa: F401
+from .. import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.finder import _H0, MAX_STEPS, T_MAX, _gaps, bracket_test, departure_time_sc, newton_step, safe_step
-from mapimpl.flight import TWO_PI, TWO_PI_HI, TWO_PI_LO, _SERIES_X, _SIGMA_COEFFS, _horner, forcing_sc, phi1, phi2
-from mapimpl.sticking import STICK_TIME, decide_stick_sc
-from validation.transient.fastmath import sincos
+from ..finder import _H0, MAX_STEPS, T_MAX, _gaps, bracket_test, departure_time_sc, newton_step, safe_step
+from ..flight import TWO_PI, TWO_PI_HI, TWO_PI_LO, _SERIES_X, _SIGMA_COEFFS, _horner, forcing_sc, phi1, phi2
+from ..sticking import STICK_TIME, decide_stick_sc
+from .fastmath import sincos
 
 # lane modes
 MODE_A, MODE_B, MODE_N, MODE_S, MODE_L, MODE_IDLE = 0, 1, 2, 3, 4, 5

@@ -18,7 +18,7 @@ the lower wall); its first impact is found with :func:`mapimpl.impact_map.free_f
 becomes iteration 0.  Initial conditions that chatter and stick go through the sticking policy
 of :mod:`mapimpl.sticking` like every impact; ``nstick`` counts the episodes per orbit.
 
-**Engine.**  :mod:`validation.transient.kernel`: ``lanes`` orbits advance together in one
+**Engine.**  :mod:`mapimpl.engine.kernel`: ``lanes`` orbits advance together in one
 vmapped micro-step kernel; lanes are refilled from the chunk's queue as orbits end; a
 ``lax.while_loop`` over blocks of micro-steps exits early when the chunk is done, and returns to
 Python every ``max_blocks`` blocks to draw the progress bar; once the queue is empty and few lanes
@@ -40,16 +40,16 @@ from functools import lru_cache
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from .. import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.finder import MAX_STEPS, T_MAX
-from mapimpl.impact_map import ACTIVE, free_flight_start
-from mapimpl.params import Params
-from mapimpl.sticking import STICK_TIME
-from validation.progress import Progress
-from validation.transient import kernel as K
+from ..finder import MAX_STEPS, T_MAX
+from ..impact_map import ACTIVE, free_flight_start
+from ..params import Params
+from ..sticking import STICK_TIME
+from ..progress import Progress
+from . import kernel as K
 
 #: The setting of the paper's Figs. 9-11.
 PAPER_PARAMS = Params(alpha=1.245, beta=0.1, gamma=0.1, r=0.9)
@@ -83,8 +83,8 @@ def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tupl
     A long orbit from ``guess`` settles near it; :func:`mapimpl.periodic.find_periodic` refines it.
     Raises ``ValueError`` if Newton fails or the orbit is not stable.
     """
-    from mapimpl.orbit import map_orbit
-    from mapimpl.periodic import find_periodic
+    from ..orbit import map_orbit
+    from ..periodic import find_periodic
 
     # follow the orbit until it repeats every ``impacts`` impacts (the transient has ended)
     tau, sdot = float(guess[0]), float(guess[1])

@@ -29,13 +29,13 @@ from functools import partial
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from ...mapimpl import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from mapimpl.impact_map import ACTIVE, MapState, make_state, step
-from mapimpl.params import ParamArrays, Params
-from validation.bifurcation import _adv_batch, _axes, check_int, param_arrays
+from ...mapimpl.impact_map import ACTIVE, MapState, make_state, step
+from ...mapimpl.params import ParamArrays, Params
+from .bifurcation import _adv_batch, _axes, check_int, param_arrays
 
 
 def _qr_run(st: MapState, p: ParamArrays, n: int):

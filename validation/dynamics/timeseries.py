@@ -17,12 +17,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mapimpl import _jax  # noqa: F401
+from ...mapimpl import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from mapimpl.flight import TWO_PI, flight
-from mapimpl.orbit import ImpactSequence, map_orbit
-from mapimpl.params import Params
+from ...mapimpl.flight import TWO_PI, flight
+from ...mapimpl.orbit import ImpactSequence, map_orbit
+from ...mapimpl.params import Params
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
 FIGURE_R = {"fig5": 0.82144, "fig6": 0.83, "fig7": 0.74001}
@@ -90,12 +90,9 @@ def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, ta
 
 def plot_time_series(ts: TimeSeries, path: str, title: str | None = None) -> None:
     """Two panels, like Figs. 5-7: (a) sdot_n against n, (b) sdot(2 pi k) against k."""
-    import matplotlib
+    from ..figures import subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(2, 1, figsize=(7, 5))
+    fig, ax = subplots(2, 1, figsize=(7, 5))
     ax[0].plot(ts.n, ts.sdot_n, ".k", ms=1)
     ax[0].set_xlabel("n"); ax[0].set_ylabel(r"$\dot s_n$")
     ax[1].plot(ts.k, ts.sdot_strobe, ".k", ms=1)
@@ -103,4 +100,3 @@ def plot_time_series(ts: TimeSeries, path: str, title: str | None = None) -> Non
     ax[0].set_title(title or f"alpha={ts.params.alpha}, r={ts.params.r}")
     fig.tight_layout()
     fig.savefig(path, dpi=150)
-    plt.close(fig)

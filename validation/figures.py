@@ -1,0 +1,15 @@
+"""Figures without pyplot: every plot of the project is drawn on a :class:`matplotlib.figure.Figure`
+and saved with :meth:`~matplotlib.figure.Figure.savefig`, so the library never selects or changes a
+matplotlib backend and never touches pyplot's global figure list."""
+
+from __future__ import annotations
+
+
+def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
+    """``(fig, axes)`` like :func:`matplotlib.pyplot.subplots` (``figsize``/``dpi``/``layout`` go to the
+    figure, the rest to :meth:`Figure.subplots`), without pyplot."""
+    from matplotlib.figure import Figure
+
+    fig_kw = {k: kwargs.pop(k) for k in ("figsize", "dpi", "layout") if k in kwargs}
+    fig = Figure(**fig_kw)
+    return fig, fig.subplots(nrows, ncols, **kwargs)
