@@ -35,7 +35,7 @@ import jax.numpy as jnp
 from .finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
 from .flight import TWO_PI, forcing, phi1, reduce_phase
 from .params import ParamArrays
-from .sticking import STICK_TIME, decide_stick
+from .sticking import STICK_TIME, decide_stick, released_turns
 
 #: Orbit status codes: ACTIVE orbits go on; the others are terminal (the state is frozen).
 ACTIVE, STUCK_FOREVER, ESCAPED, FAILED = 0, 1, 2, 3
@@ -107,8 +107,12 @@ def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
     th, wall, sd = state.theta, state.wall, state.sdot
     dec = decide_stick(th, wall, sd, alpha, beta, gamma, r, stick_time)
     never = dec.stick & ~jnp.isfinite(dec.delay)
-    delay = jnp.where(dec.stick & ~never, dec.delay, 0.0)
-    th0, cyc0 = reduce_phase(th + delay, state.cycles)
+    released = dec.stick & ~never
+    delay = jnp.where(released, dec.delay, 0.0)
+    # a released tooth leaves the wall at the canonical release phase (a function of the parameters
+    # alone), not at th + delay rounded: every orbit that sticks continues on the same orbit
+    th0 = jnp.where(released, dec.phase, th)
+    cyc0 = state.cycles + jnp.where(released, released_turns(th, delay, dec.phase), 0).astype(state.cycles.dtype)
     v0 = jnp.where(dec.stick, 0.0, -r * sd)
     s0 = wall.astype(jnp.float64)
     hit = first_impact(th0, s0, v0, alpha, beta, gamma, t_max=t_max)

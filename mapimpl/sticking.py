@@ -12,7 +12,8 @@ at the accumulation point, the infinitely many remaining bounces are replaced by
 point: the tooth *sticks* to the wall at ``tau + t_acc`` with ``s = wall``, ``sdot = 0``.  It stays
 there until the contact acceleration ``f`` changes sign, found in closed form
 (``f = gamma - R sin(tau - phi)``, ``R = alpha sqrt(1 + beta^2)``, ``phi = atan(beta)``), and then
-leaves the wall with ``sdot = 0``.  The error of the jump is ``O(t_acc^2)`` in time
+leaves the wall with ``sdot = 0`` at the canonical release phase (:func:`release_phase`, a function of
+the parameters alone, so every orbit that sticks continues on one post-release orbit).  The error of the jump is ``O(t_acc^2)`` in time
 (below 1e-10 for the default).  When ``|gamma| >= R`` the forcing never changes sign and the tooth
 stays stuck forever (a terminal state of the orbit).  With ``r = 1`` nothing accumulates and there
 is no sticking.  An impact with ``u = 0`` while pressed (grazing into a pressing wall) sticks at once.
@@ -28,7 +29,7 @@ from typing import NamedTuple
 from . import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from .flight import TWO_PI, forcing_rate_sc, forcing_sc
+from .flight import TWO_PI, forcing_rate_sc, forcing_sc, reduce_phase
 
 #: Predicted chatter accumulation time below which the tooth is stuck to the wall (units of tau).
 STICK_TIME = 1e-6
@@ -39,10 +40,17 @@ def wall_direction(wall):
     return jnp.where(wall == 0, 1.0, -1.0)
 
 
-def release_delay(theta, wall, alpha, beta, gamma):
-    """Time from phase ``theta`` until the contact force at ``wall`` stops pressing (``inf`` if never).
+def release_phase(wall, alpha, beta, gamma):
+    """The canonical release phase at ``wall``: ``(phase, never)``.
 
-    The release is the first downward zero crossing of ``dir * f`` after ``theta`` (closed form).
+    The contact force ``f = gamma - R sin(tau - phi)`` (``R = alpha sqrt(1 + beta^2)``,
+    ``phi = atan(beta)``) stops pressing into the upper wall where it falls through zero,
+    ``tau = phi + asin(gamma/R)``, and into the lower wall where it rises through zero,
+    ``tau = phi + pi - asin(gamma/R)`` (mod 2 pi).  The phase is a function of the parameters
+    alone, computed by this one float64 expression: every orbit that sticks to a wall is released
+    at the same phase with ``sdot = 0``, so all of them continue on *one* post-release orbit (bit for
+    bit, whatever their own sticking phase).  ``never``: the force never changes sign
+    (``|gamma| >= R`` on the pressing side): stuck forever.
     """
     R = alpha * jnp.sqrt(1.0 + beta * beta)
     phi = jnp.arctan(beta)
@@ -51,17 +59,34 @@ def release_delay(theta, wall, alpha, beta, gamma):
     never = (R <= 0.0) | (jnp.where(wall == 0, c, -c) >= 1.0)
     cc = jnp.clip(c, -1.0, 1.0)
     psi = jnp.where(wall == 0, jnp.arcsin(cc), jnp.pi - jnp.arcsin(cc))
-    delay = jnp.mod(phi + psi - theta, TWO_PI)
+    phase, _ = reduce_phase(phi + psi, jnp.zeros(jnp.shape(phi + psi), jnp.int32))
+    return phase, never
+
+
+def release_delay(theta, wall, alpha, beta, gamma):
+    """Time from phase ``theta`` until the contact force at ``wall`` stops pressing (``inf`` if never):
+    the first downward zero crossing of ``dir * f`` after ``theta``, at :func:`release_phase`."""
+    phase, never = release_phase(wall, alpha, beta, gamma)
+    delay = jnp.mod(phase - theta, TWO_PI)
     return jnp.where(never, jnp.inf, delay)
+
+
+def released_turns(theta, delay, phase):
+    """Whole driving periods to add to the turn counter of an orbit stuck at phase ``theta``
+    (``0 <= theta < 2 pi``) and released ``delay`` later at the canonical ``phase``: ``theta +
+    delay = phase + 2 pi turns`` up to rounding (so ``turns`` is 0 or 1)."""
+    return jnp.round((theta + delay - phase) / TWO_PI).astype(jnp.int32)
 
 
 class StickDecision(NamedTuple):
     """``stick``: the tooth sticks; ``t_acc``: accumulation delay; ``delay``: release delay from
-    the impact (``inf`` = stuck forever)."""
+    the impact (``inf`` = stuck forever); ``phase``: the canonical release phase of the wall
+    (:func:`release_phase`; the flight after a release starts there)."""
 
     stick: jnp.ndarray
     t_acc: jnp.ndarray
     delay: jnp.ndarray
+    phase: jnp.ndarray
 
 
 def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:
@@ -77,6 +102,7 @@ def decide_stick_sc(theta, sin_t, cos_t, wall, sdot, alpha, beta, gamma, r, stic
     pressing = (f_in > 0.0) | ((f_in == 0.0) & (d * forcing_rate_sc(sin_t, cos_t, alpha, beta) > 0.0))
     denom = (1.0 - r) * f_in
     t_acc = jnp.where(u == 0.0, 0.0, jnp.where(denom > 0.0, 2.0 * u / jnp.where(denom > 0.0, denom, 1.0), jnp.inf))
-    delay = release_delay(theta, wall, alpha, beta, gamma)
+    phase, never = release_phase(wall, alpha, beta, gamma)
+    delay = jnp.where(never, jnp.inf, jnp.mod(phase - theta, TWO_PI))
     stick = pressing & (t_acc <= stick_time) & (delay > t_acc)
-    return StickDecision(stick, t_acc, delay)
+    return StickDecision(stick, t_acc, delay, phase)

@@ -93,13 +93,21 @@ def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0
 _decide_jit = jax.jit(decide_stick, static_argnames=("stick_time",))
 
 
-def stick_decision(theta: float, wall: int, sdot: float, p: Params) -> tuple[bool, float, float]:
+def stick_decision(theta: float, wall: int, sdot: float, p: Params) -> tuple[bool, float, float, float]:
     """The shared sticking policy (:func:`mapimpl.sticking.decide_stick`) on Python floats.
 
-    Returns ``(stick, t_acc, delay)`` (``delay = inf``: stuck forever).
+    Returns ``(stick, t_acc, delay, phase)`` (``delay = inf``: stuck forever; ``phase``: the canonical
+    release phase, where the flight after a release starts).
     """
     d = _decide_jit(theta, wall, sdot, p.alpha, p.beta, p.gamma, p.r, stick_time=STICK_TIME)
-    return bool(d.stick), float(d.t_acc), float(d.delay)
+    return bool(d.stick), float(d.t_acc), float(d.delay), float(d.phase)
+
+
+def release_start(theta: float, cycles: int, delay: float, phase: float) -> tuple[float, int]:
+    """Start ``(theta0, cycles0)`` of the flight after a release: the canonical release ``phase`` and
+    the turn counter advanced by the whole periods elapsed while stuck (as
+    :func:`mapimpl.sticking.released_turns`)."""
+    return phase, cycles + int(round((theta + delay - phase) / TWO_PI))
 
 
 class StepJacobian(NamedTuple):

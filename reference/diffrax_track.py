@@ -44,7 +44,7 @@ from ..mapimpl.flight import reduce_phase
 from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState, make_state
 from ..mapimpl.orbit import ImpactSequence, sequence_from_states
 from ..mapimpl.params import ParamArrays, Params
-from ..mapimpl.sticking import decide_stick
+from ..mapimpl.sticking import decide_stick, released_turns
 from ._common import MAX_SEGMENTS, T_MAX, StepJacobian, check_option, forcing_rhs, validate_start
 
 #: Default tolerances, step bound and per-segment step cap of this track.
@@ -225,8 +225,10 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     th, wall, sd = state.theta, state.wall, state.sdot
     dec = decide_stick(th, wall, sd, alpha, beta, gamma, r)
     never = dec.stick & ~jnp.isfinite(dec.delay)
-    delay = jnp.where(dec.stick & ~never, dec.delay, 0.0)
-    th0, cyc0 = reduce_phase(th + delay, state.cycles)
+    released = dec.stick & ~never
+    delay = jnp.where(released, dec.delay, 0.0)
+    th0 = jnp.where(released, dec.phase, th)  # the canonical release phase (as the map)
+    cyc0 = state.cycles + jnp.where(released, released_turns(th, delay, dec.phase), 0).astype(state.cycles.dtype)
     v0, sigma = _start(wall, dec.stick, sd, r)
     active = (state.status == ACTIVE) & ~never
     fl = flight(th0, wall.astype(jnp.float64), v0, sigma, alpha, beta, gamma, opts, active=active)

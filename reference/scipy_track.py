@@ -58,7 +58,7 @@ from ..mapimpl.orbit import ImpactSequence
 from ..mapimpl.params import Params
 from ._common import (
     StepJacobian,
-    MAX_SEGMENTS, T_MAX, TWO_PI, EventTable, check_option, forcing_rhs, reduce_phase, stick_decision,
+    MAX_SEGMENTS, T_MAX, TWO_PI, EventTable, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
     validate_start,
 )
 
@@ -280,7 +280,7 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
     table.add(0, cycles * TWO_PI + theta, wall, sdot, "impact")
     for k in range(1, n + 1):
         tau_n = cycles * TWO_PI + theta
-        stick, t_acc, delay = stick_decision(theta, wall, sdot, p)
+        stick, t_acc, delay, phase = stick_decision(theta, wall, sdot, p)
         if stick:
             table.add(k - 1, tau_n + t_acc, wall, math.nan, "stick")
             if not math.isfinite(delay):
@@ -293,7 +293,7 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
             if points_per_unit:
                 ts = np.linspace(tau_n + t_acc, tau_n + delay, max(2, int(delay * points_per_unit)))
                 dense.append((ts, np.full(len(ts), float(wall)), np.zeros(len(ts)), np.full(len(ts), -1)))
-            th0, cyc0 = reduce_phase(theta + delay, cycles)
+            th0, cyc0 = release_start(theta, cycles, delay, phase)
             v0 = 0.0
         else:
             th0, cyc0 = theta, cycles
@@ -355,11 +355,11 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
         wall = 0 if sdot_n > 0 else -1
     theta, cycles = reduce_phase(float(tau_n), 0)
     sdot_n = float(sdot_n)
-    stick, _, delay = stick_decision(theta, wall, sdot_n, p)
+    stick, _, delay, phase = stick_decision(theta, wall, sdot_n, p)
     if stick:
         if not math.isfinite(delay):
             return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, "stuck_forever")
-        th0, cyc0 = reduce_phase(theta + delay, cycles)
+        th0, cyc0 = release_start(theta, cycles, delay, phase)
         v0 = 0.0
     else:
         th0, cyc0, v0 = theta, cycles, -p.r * sdot_n

@@ -200,13 +200,13 @@ def micro_step(s, k):
     converged = jnp.all(hitn >= 0)
     capped = n1 >= k["cap"]
     # sticking policy
-    stick, _, delay = decide_stick_sc(th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k["stick_time"])
+    stick, _, delay, rel_phase = decide_stick_sc(th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k["stick_time"])
     stuck_forever = stick & ~jnp.isfinite(delay)
     orbit_end = arrive & (converged | capped | stuck_forever)
     go_on = arrive & ~orbit_end
     go_stick = go_on & stick
     go_free = go_on & ~stick
-    th0_stick = _reduce(th1 + jnp.where(stick & ~stuck_forever, delay, 0.0))
+    th0_stick = rel_phase  # the canonical release phase: every stuck orbit leaves from the same state
 
     # set-up of a new flight from (th0, s0, v0) with known sin/cos: departure certificate, the
     # decaying part of the derivative bounds, the acceleration at t = 0 (Eq. 3)
