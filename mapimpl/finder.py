@@ -41,10 +41,11 @@ import jax
 import jax.numpy as jnp
 
 from .flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
+from .status import Flight
 
-#: Status codes of a flight search.
-HIT, GRAZE, NO_IMPACT, STEP_CAP = 0, 1, 2, 3
-STATUS_NAMES = {HIT: "hit", GRAZE: "graze", NO_IMPACT: "no_impact", STEP_CAP: "step_cap"}
+#: Status codes of a flight search (:class:`gear_rattle.mapimpl.status.Flight`).
+HIT, GRAZE, NO_IMPACT, STEP_CAP = (int(f) for f in (Flight.HIT, Flight.GRAZE, Flight.NO_IMPACT, Flight.STEP_CAP))
+STATUS_NAMES = {int(f): f.name.lower() for f in Flight}
 
 #: Longest flight searched (in units of tau) before giving up with NO_IMPACT.
 T_MAX = 2000.0

@@ -35,11 +35,15 @@ import jax.numpy as jnp
 from .finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
 from .flight import TWO_PI, forcing, phi1, reduce_phase
 from .params import ParamArrays
+from .status import ORBIT_NAMES, Orbit
 from .sticking import STICK_TIME, decide_stick, released_turns
 
-#: Orbit status codes: ACTIVE orbits go on; the others are terminal (the state is frozen).
-ACTIVE, STUCK_FOREVER, ESCAPED, FAILED = 0, 1, 2, 3
-ORBIT_STATUS_NAMES = {ACTIVE: "active", STUCK_FOREVER: "stuck_forever", ESCAPED: "no_impact", FAILED: "step_cap"}
+#: Orbit status codes (:class:`gear_rattle.mapimpl.status.Orbit`): ACTIVE orbits go on; the others are
+#: terminal (the state is frozen).  A flight that ends NO_IMPACT / STEP_CAP ends its orbit with the
+#: orbit status of the same name and value.
+ACTIVE, STUCK_FOREVER = int(Orbit.ACTIVE), int(Orbit.STUCK_FOREVER)
+ESCAPED, FAILED = int(Orbit.NO_IMPACT), int(Orbit.STEP_CAP)  # old names of NO_IMPACT / STEP_CAP
+ORBIT_STATUS_NAMES = ORBIT_NAMES
 
 
 class MapState(NamedTuple):
@@ -121,7 +125,7 @@ def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
     status = jnp.where(
         state.status != ACTIVE, state.status,
         jnp.where(never, STUCK_FOREVER,
-                  jnp.where(ok, ACTIVE, jnp.where(hit.status == NO_IMPACT, ESCAPED, FAILED))),
+                  jnp.where(ok, ACTIVE, hit.status)),
     ).astype(jnp.int32)
     advance = status == ACTIVE
     new = MapState(
@@ -153,7 +157,7 @@ def free_flight_start(tau0, s0, sdot0, p: ParamArrays, t_max=T_MAX) -> MapState:
                        t_max=t_max)
     th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
     ok = (hit.status == HIT) | (hit.status == GRAZE)
-    status = jnp.where(ok, ACTIVE, jnp.where(hit.status == NO_IMPACT, ESCAPED, FAILED)).astype(jnp.int32)
+    status = jnp.where(ok, ACTIVE, hit.status).astype(jnp.int32)
     return MapState(jnp.where(ok, th1, th0), jnp.where(ok, cyc1, cyc0), jnp.where(ok, hit.v, sdot0),
                     jnp.where(ok, hit.wall, 0).astype(jnp.int32), status)
 

@@ -94,15 +94,18 @@ def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME
     return decide_stick_sc(theta, jnp.sin(theta), jnp.cos(theta), wall, sdot, alpha, beta, gamma, r, stick_time)
 
 
-def decide_stick_sc(theta, sin_t, cos_t, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:
-    """:func:`decide_stick` with ``sin(theta), cos(theta)`` given."""
+def decide_stick_sc(theta, sin_t, cos_t, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME,
+                    release=None) -> StickDecision:
+    """:func:`decide_stick` with ``sin(theta), cos(theta)`` given; ``release``: ``(phase, never)`` of
+    :func:`release_phase` for ``wall`` when the caller has it already (the engine computes it once
+    per orbit: it depends on the parameters alone)."""
     d = wall_direction(wall)
     u = r * jnp.abs(sdot)
     f_in = d * forcing_sc(sin_t, cos_t, alpha, beta, gamma)
     pressing = (f_in > 0.0) | ((f_in == 0.0) & (d * forcing_rate_sc(sin_t, cos_t, alpha, beta) > 0.0))
     denom = (1.0 - r) * f_in
     t_acc = jnp.where(u == 0.0, 0.0, jnp.where(denom > 0.0, 2.0 * u / jnp.where(denom > 0.0, denom, 1.0), jnp.inf))
-    phase, never = release_phase(wall, alpha, beta, gamma)
+    phase, never = release_phase(wall, alpha, beta, gamma) if release is None else release
     delay = jnp.where(never, jnp.inf, jnp.mod(phase - theta, TWO_PI))
     stick = pressing & (t_acc <= stick_time) & (delay > t_acc)
     return StickDecision(stick, t_acc, delay, phase)

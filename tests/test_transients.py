@@ -1,6 +1,7 @@
-"""Transient engine (issue 5, Section 4 of the paper): equality with the per-orbit map, early exit,
-survival curve, Eq. (14) and uncertainty-exponent fits on synthetic data, input validation.
-Paper-scale comparisons (Figs. 10 and 11) are opt-in: ``pytest -m slow``."""
+"""Transient durations (Section 4 of the paper, Figs. 9-11): the periodic target, durations equal to
+per-orbit ones, survival curve, Eq. (14) and uncertainty-exponent fits on synthetic data, input
+validation.  The engine itself is tested in test_engine.py.  Paper-scale comparisons (Figs. 10 and
+11) are opt-in: ``pytest -m slow``."""
 
 import jax
 import jax.numpy as jnp
@@ -9,7 +10,6 @@ import pytest
 
 from gear_rattle.mapimpl.impact_map import iterate, make_state
 from gear_rattle.validation.transient import analysis as A
-from gear_rattle.mapimpl.engine import kernel as K
 from gear_rattle.mapimpl.engine.transients import (PAPER_PARAMS, grid, periodic_target, transient_times)
 
 P = PAPER_PARAMS
@@ -39,19 +39,6 @@ def _ref_states(tau0, sdot0, n):
     return th, sd, w, int(np.asarray(tr.infos.stuck).sum())
 
 
-@pytest.mark.parametrize("tau0,sdot0", [(3.1, 0.2), (3.4, 0.01), (3.29, 0.0568)])
-def test_engine_step_equals_map_step(target, tau0, sdot0):
-    """One engine map iteration from every state of a 200-impact reference orbit (mapimpl.step),
-    sticking episodes included, agrees to 1e-13."""
-    th, sd, w, nstick = _ref_states(tau0, sdot0, 200)
-    k = K.make_consts(tuple(P.arrays()), target.theta, target.sdot, target.wall, np.array([1e-12]), 10**6)
-    one = jax.jit(jax.vmap(lambda a, b, c: K.trace(a, b, c, k, 1)))
-    h = np.asarray(one(jnp.asarray(th[:-1]), jnp.asarray(sd[:-1]), jnp.asarray(w[:-1], dtype=jnp.int32)))
-    dth = np.abs(np.angle(np.exp(1j * (h[:, 1, 0] - th[1:]))))
-    assert np.all(h[:, 1, 2] == w[1:])
-    assert dth.max() < 1e-13 and np.abs(h[:, 1, 1] - sd[1:]).max() < 1e-13
-
-
 def _ref_duration(tau0, sdot0, target, delta, n):
     th, sd, w, _ = _ref_states(tau0, sdot0, n)
     dth = np.abs(th[:, None] - target.theta[None])
@@ -74,25 +61,13 @@ def test_engine_durations_equal_per_orbit_durations(target):
     assert short.size >= 3
     for i in short:
         assert dur[i] == _ref_duration(tau0[i], sdot0[i], target, res.delta, 150)
-    # capped orbits report exactly the cap; deltas nest (smaller delta -> later or equal hit)
-    assert np.all(res.n[cens] == 150)
+    # censored orbits ran to the cap, or stuck and the post-release orbit takes them past it;
+    # deltas nest (smaller delta -> later or equal hit)
+    assert np.all((res.n[cens] == 150) | (res.first_stick[cens] >= 0))
+    assert np.all(res.n[cens & (res.first_stick < 0)] == 150)
     h = res.hit
     both = (h >= 0).all(axis=1)
     assert np.all(np.diff(h[both], axis=1) >= 0)
-
-
-def test_early_exit_and_refill(target):
-    """The block loop stops as soon as the queue is done, long before max_blocks."""
-    k = K.make_consts(tuple(P.arrays()), target.theta, target.sdot, target.wall, np.array([1e-3]), 5)
-    m = 40
-    q = (jnp.full(m, 3.2), jnp.full(m, 0.3), jnp.zeros(m, jnp.int32))
-    res = dict(n=jnp.zeros(m, jnp.int32), status=jnp.full(m, K.NOT_RUN, jnp.int32),
-               nstick=jnp.zeros(m, jnp.int32), hitn=jnp.full((m, 1), -1, jnp.int32))
-    carry = (K.idle_lanes(8, 1), res, jnp.asarray(0, jnp.int32))
-    (lanes, res, nxt), nb = K.run_blocks(carry, *q, k, block=32, max_blocks=64)
-    assert int(nxt) == m and bool(jnp.all(lanes["mode"] == K.MODE_IDLE))
-    assert 1 <= int(nb) < 64  # 40 orbits of 5 impacts on 8 lanes: a few blocks
-    assert np.all(np.asarray(res["n"]) == 5) and np.all(np.asarray(res["status"]) == K.CAPPED)
 
 
 def test_survival_monotone_and_counts():
@@ -135,37 +110,6 @@ def test_uncertain_fraction_definition():
     dB = np.array([[10], [600], [600]])
     dC = np.array([[10], [10], [10]])
     assert np.allclose(A.uncertain_fraction(dA, dB, dC, 500), [2 / 3])
-
-
-def test_results_do_not_depend_on_devices_lanes_or_tail_compaction(target, monkeypatch):
-    """Each orbit's arithmetic is its own: splitting the queue over devices, the lane count and the
-    tail compaction (256 lanes -> 32 once the queue is empty) leave every result bit-identical."""
-    rng = np.random.default_rng(3)
-    tau0, sdot0 = rng.uniform(3.0, 3.5, 400), rng.uniform(1e-6, 0.5, 400)
-    kw = dict(cap=3000, progress=False, target=target)
-    ref = transient_times(tau0, sdot0, lanes=LANES, devices=1, **kw)
-    sizes = []
-    compact = K.compact
-    monkeypatch.setattr(K, "compact", lambda lanes, size: (sizes.append(size), compact(lanes, size=size))[1])
-    runs = [transient_times(tau0, sdot0, lanes=256, devices=1, **kw)]
-    assert sizes == [32]  # the tail ran on 32 lanes
-    if len(jax.devices()) >= 2:
-        runs.append(transient_times(tau0, sdot0, lanes=256, devices=2, **kw))
-    for r in runs:
-        for name in ("hit", "n", "status", "nstick"):
-            assert np.array_equal(getattr(r, name), getattr(ref, name)), name
-    assert (ref.n == 3000).any() and (ref.n < 3000).any()  # both censored and finished orbits
-
-
-def test_compact_keeps_busy_lanes_in_order():
-    lanes = K.idle_lanes(8, 1)
-    lanes["mode"] = jnp.array([K.MODE_IDLE, K.MODE_A, K.MODE_IDLE, K.MODE_N, K.MODE_IDLE, K.MODE_IDLE,
-                               K.MODE_B, K.MODE_IDLE], jnp.int32)
-    lanes["ic"] = jnp.array([-1, 5, -1, 2, -1, -1, 9, -1], jnp.int32)
-    out = K.compact(lanes, size=4)
-    assert out["mode"].shape == (4,)
-    assert np.asarray(out["ic"]).tolist() == [5, 2, 9, -1]
-    assert np.asarray(out["mode"]).tolist() == [K.MODE_A, K.MODE_N, K.MODE_B, K.MODE_IDLE]
 
 
 def test_bad_devices(target):

@@ -1,0 +1,306 @@
+"""Run the engine: many orbits of the impact map on every device, each watched by observers.
+
+:func:`run` takes initial conditions (pre-impact states ``(theta, sdot, wall)``), parameters (one
+set for all, or one per initial condition), observers (:mod:`gear_rattle.mapimpl.engine.observers`)
+and a cap on the impacts per orbit, and returns per initial condition the impacts done, how the
+orbit ended (:class:`gear_rattle.mapimpl.status.Orbit`), its sticking episodes, its final state and
+the observers' outputs (:class:`EngineResult`).
+
+How: the initial conditions are split over the devices of JAX's default backend (on the CPU one
+device per core when :func:`gear_rattle.use_cpu_devices` was called; an accelerator otherwise), every
+``ndev``-th one to a device, and one Python thread per device drives its queue through
+:func:`kernel.run_blocks` (JAX releases the GIL while it compiles and runs).  Within a device,
+``lanes`` orbits advance together and idle lanes are refilled from the queue after every block of
+micro-steps; once the queue is empty and few lanes are busy, the busy ones move to a smaller block
+(:func:`kernel.compact`).  Memory holds the lanes and the per-orbit results of one chunk of initial
+conditions, never histories.  Queues are padded to a power of two so one compilation serves many
+sizes.  Ctrl-C stops every device thread within one kernel call (a fraction of a second) and raises
+``KeyboardInterrupt``.  Deterministic: no randomness inside, and each orbit's arithmetic does not
+depend on its lane, block, chunk or device (see :mod:`kernel`).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import _jax  # noqa: F401
+import jax
+import jax.numpy as jnp
+
+from ..finder import MAX_STEPS, T_MAX
+from ..params import Params, validate_arrays
+from ..progress import Progress
+from ..status import ORBIT_NAMES, Orbit
+from ..sticking import STICK_TIME
+from . import kernel as K
+from .observers import Observer
+
+#: Tail of a run: once the queue is empty and at most 1/TAIL_SHRINK of the lanes are busy, the busy
+#: ones move to a block TAIL_SHRINK times smaller (not below TAIL_MIN_LANES lanes).
+TAIL_SHRINK, TAIL_MIN_LANES = 8, 32
+#: Largest cap on impacts per orbit.
+MAX_CAP = 2_000_000_000
+#: Memory budget for the per-orbit results of one chunk (bytes).
+CHUNK_BYTES = 256 << 20
+
+
+@dataclass
+class EngineResult:
+    """Per-initial-condition results (flat arrays in input order) of :func:`run`.
+
+    ``n``: impacts done (the index of the last pre-impact state reached); ``status``: how the orbit
+    ended (:class:`~gear_rattle.mapimpl.status.Orbit` codes); ``nstick``: sticking episodes;
+    ``first_stick``: index of the impact whose step first stuck (-1: never); ``theta, sdot, wall,
+    cycles``: the last pre-impact state (tau = 2 pi cycles + theta, counted from the start);
+    ``obs``: one dict of output arrays per observer.
+    """
+
+    n: np.ndarray
+    status: np.ndarray
+    nstick: np.ndarray
+    first_stick: np.ndarray
+    theta: np.ndarray
+    sdot: np.ndarray
+    wall: np.ndarray
+    cycles: np.ndarray
+    obs: tuple
+    elapsed: float
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def impacts(self) -> int:
+        """Map iterations performed (the engine's work)."""
+        return int(np.sum(self.n))
+
+    def status_counts(self) -> dict[str, int]:
+        """``{status name: count}``."""
+        return {ORBIT_NAMES[int(s)]: int(np.sum(self.status == s)) for s in np.unique(self.status)}
+
+
+def engine_devices(devices=None) -> list:
+    """Devices the engine spreads its queue over: ``devices`` (a count or a list of JAX devices),
+    default all devices of JAX's default backend."""
+    avail = jax.devices()
+    if devices is None:
+        return list(avail)
+    if isinstance(devices, (int, np.integer)) and not isinstance(devices, bool):
+        if not 1 <= int(devices) <= len(avail):
+            raise ValueError(f"devices={devices!r} is out of range: allowed 1 <= devices <= {len(avail)} "
+                             f"(the {jax.default_backend()} devices JAX sees)")
+        return list(avail[:int(devices)])
+    out = list(devices)
+    if not out:
+        raise ValueError("devices is empty: allowed a positive count or a list of JAX devices")
+    return out
+
+
+def default_lanes(n_per_device: int) -> int:
+    """Enough lanes to amortise per-operation overhead, few enough that each lane serves ~16 orbits
+    (short tail when the queue runs dry); on the CPU at most 512 (the working set stays in cache
+    when every core runs a device; Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048), on an
+    accelerator up to 65536.  A multiple of :data:`kernel.LANE_QUANTUM`."""
+    top = 512 if jax.default_backend() == "cpu" else 65536
+    return K.padded_lanes(min(top, max(64, 2 ** int(math.log2(max(n_per_device // 16, 1))))))
+
+
+def _check_int(name, v, lo, hi):
+    try:
+        iv = int(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={v!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
+    if iv != v or not lo <= iv <= hi:
+        raise ValueError(f"{name}={v!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
+    return iv
+
+
+def _params_arrays(params, n: int) -> dict:
+    """Per-orbit parameter arrays (validated) from a Params or a mapping/ParamArrays of arrays."""
+    if isinstance(params, Params):
+        vals = (params.alpha, params.beta, params.gamma, params.r)
+    else:
+        try:
+            vals = tuple(params[k] for k in ("alpha", "beta", "gamma", "r")) if isinstance(params, dict) \
+                else tuple(params)
+        except (TypeError, KeyError):
+            raise ValueError("params is out of range: allowed a Params or per-orbit arrays "
+                             "(alpha, beta, gamma, r)") from None
+    pa = validate_arrays(*vals)
+    out = {}
+    for name, x in zip(("alpha", "beta", "gamma", "r"), pa):
+        a = np.asarray(x, np.float64)
+        if a.ndim and a.size != n:
+            raise ValueError(f"params.{name} has {a.size} values: allowed one or one per initial condition ({n})")
+        out[name] = np.broadcast_to(a, (n,)).copy()
+    return out
+
+
+def _pow2(m: int) -> int:
+    return 1 << max(0, int(m - 1).bit_length())
+
+
+def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, observers) -> None:
+    """Run one device's queue to the end: blocks of micro-steps, progress, and the tail compaction."""
+    # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded; the
+    # guard only turns an engine bug into an error instead of a hang
+    size = jb["carry"][0]["mode"].shape[0]
+    max_calls = 1 + (cap + 1) * 200 * (jb["m"] // size + 2) // (block * 64)
+    for _call in range(max_calls):
+        if stop_event.is_set():
+            return
+        jb["carry"], _ = K.run_blocks(jb["carry"], jb["q"], jb["k"], observers, block=block, max_blocks=64)
+        lanes_s, res_s, next_ic = jb["carry"]
+        n_busy = int(jnp.sum(lanes_s["mode"] != K.MODE_IDLE))
+        drained = int(next_ic) >= jb["m"]
+        report(jb, int(next_ic) - n_busy)
+        if drained and n_busy == 0:
+            return
+        size = lanes_s["mode"].shape[0]
+        while drained and n_busy <= size // TAIL_SHRINK and size // TAIL_SHRINK >= TAIL_MIN_LANES:
+            size //= TAIL_SHRINK
+        if size < lanes_s["mode"].shape[0]:
+            jb["carry"] = (K.compact(lanes_s, size=K.padded_lanes(size)), res_s, next_ic)
+    raise RuntimeError("engine made no progress (bug): queue not drained")
+
+
+def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = (), *, cap: int,
+        stop_at_stick: bool = False, lanes: int | None = None, block: int = 32, chunk: int | None = None,
+        devices=None, progress=None, label: str = "engine", stick_time: float = STICK_TIME,
+        t_max: float = T_MAX, max_steps: int = MAX_STEPS) -> EngineResult:
+    """Iterate the impact map from every initial condition until its observers stop it, it reaches
+    ``cap`` impacts, or it ends (stuck forever, no impact, step cap); see the module docstring.
+
+    ``theta, sdot, wall``: pre-impact states (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1);
+    ``params``: a :class:`~gear_rattle.mapimpl.params.Params` or per-orbit arrays ``(alpha, beta, gamma,
+    r)``; ``stop_at_stick``: stop an orbit at its first sticking episode (status ``STUCK``: every
+    orbit that sticks continues on one post-release orbit, which the caller runs once);
+    ``lanes``: orbits advanced together per device (default :func:`default_lanes`, padded to a
+    multiple of :data:`kernel.LANE_QUANTUM`); ``block``: micro-steps between refills; ``chunk``:
+    initial conditions per kernel launch (default: bounded by memory); ``devices``: a count or list
+    of JAX devices (default all of the default backend); ``progress``: True/False, a callable
+    ``(done, total)``, or None (a bar when stderr is a terminal).
+    """
+    obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
+    if not all(isinstance(o, Observer) for o in obs):
+        raise ValueError("observers is out of range: allowed Observer instances")
+    th = np.atleast_1d(np.asarray(theta, np.float64)).ravel()
+    sd = np.atleast_1d(np.asarray(sdot, np.float64)).ravel()
+    w = np.atleast_1d(np.asarray(wall)).ravel()
+    if not (th.shape == sd.shape == w.shape):
+        raise ValueError(f"theta, sdot and wall must have the same length (got {th.size}, {sd.size}, {w.size})")
+    if th.size == 0:
+        raise ValueError("theta is empty: allowed at least one initial condition")
+    if not np.all(np.isfinite(th)) or np.any(np.abs(th) > 1e6):
+        raise ValueError("theta is out of range: allowed finite values with |theta| <= 1e6")
+    if not np.all(np.isfinite(sd)) or np.any(sd == 0.0):
+        raise ValueError("sdot is out of range: a pre-impact state needs a finite sdot != 0")
+    if not np.all(np.isin(w, (0, -1))):
+        raise ValueError("wall is out of range: allowed 0 (s = 0) or -1 (s = -1)")
+    w = w.astype(np.int32)
+    cap = _check_int("cap", cap, 1, MAX_CAP)
+    block = _check_int("block", block, 1, 1 << 16)
+    if lanes is not None:
+        lanes = _check_int("lanes", lanes, 1, 1 << 22)
+    if chunk is not None:
+        chunk = _check_int("chunk", chunk, 1, 1 << 26)
+    if not (math.isfinite(stick_time) and stick_time >= 0):
+        raise ValueError(f"stick_time={stick_time!r} is out of range: allowed finite stick_time >= 0")
+    pa = _params_arrays(params, th.size)
+    from ..flight import reduce_phase
+
+    thr = np.asarray(reduce_phase(jnp.asarray(th), jnp.zeros(th.size, jnp.int32))[0])
+    cyc_start = np.floor_divide(th - thr + np.pi, 2 * np.pi).astype(np.int64)  # turns removed by the reduction
+
+    devs = engine_devices(devices)
+    ndev = max(1, min(len(devs), th.size))
+    devs = devs[:ndev]
+    per_ic = 48 + sum(int(np.prod(o.fields()[nm][1], dtype=np.int64)) * 8 for o in obs for nm in o.outputs())
+    if chunk is None:
+        chunk = int(max(4096, min(1 << 18, CHUNK_BYTES // per_ic)))
+    if lanes is None:
+        lanes = default_lanes(min(th.size, chunk) // ndev)
+    lanes = K.padded_lanes(lanes)
+    k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps)
+    k_dev = [jax.device_put(k, dv) for dv in devs]
+    n = th.size
+    out = {name: np.zeros(n, dt) for name, dt in (("n", np.int32), ("status", np.int32), ("nst", np.int32),
+                                                   ("nstk", np.int32), ("th", np.float64), ("sd", np.float64),
+                                                   ("wall", np.int32), ("cyc", np.int64))}
+    out_obs = tuple({nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()}
+                    for o in obs)
+    if callable(progress) and not isinstance(progress, bool):
+        bar = Progress(label, True, total=n)
+        sink = progress
+    else:
+        show = sys.stderr.isatty() if progress is None else bool(progress)
+        bar, sink = Progress(label, show, total=n), None
+    stop_event = threading.Event()
+    t0 = time.perf_counter()
+    done_total = 0
+    for c0 in range(0, n, chunk):
+        idx = np.arange(c0, min(n, c0 + chunk))
+        jobs = []
+        for j, dv in enumerate(devs):
+            sel = idx[j::ndev]
+            m = sel.size
+            if m == 0:
+                continue
+            mp = _pow2(max(m, lanes))
+            pad = lambda a, v: np.concatenate([a, np.full(mp - m, v, a.dtype)])  # noqa: E731
+            q = dict(K.prepare_queue(pad(thr[sel], 0.0), pad(sd[sel], 1.0), pad(w[sel], 0), pad(pa["alpha"][sel], 1.0),
+                                     pad(pa["beta"][sel], 0.1), pad(pa["gamma"][sel], 0.0), pad(pa["r"][sel], 0.9)))
+            q["n_ic"] = jnp.asarray(m, jnp.int32)  # the queue is padded to mp entries; the first m are loaded
+            carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs),
+                     jnp.asarray(0, jnp.int32))
+            jobs.append({"sel": sel, "m": m, "q": jax.device_put(q, dv), "k": k_dev[j],
+                         "carry": jax.device_put(carry, dv), "done": 0})
+        lock = threading.Lock()
+
+        def report(jb, n_done, _base=done_total, _jobs=jobs):
+            with lock:
+                jb["done"] = n_done
+                tot = _base + sum(x["done"] for x in _jobs)
+                bar.update(tot)
+                if sink is not None:
+                    sink(tot, n)
+
+        pool = ThreadPoolExecutor(max_workers=len(jobs))
+        futures = [pool.submit(_drive, jb, cap, block, report, stop_event, obs) for jb in jobs]
+        try:
+            for f in futures:
+                while True:
+                    try:
+                        f.result(timeout=0.2)
+                        break
+                    except TimeoutError:
+                        continue
+        except BaseException:
+            stop_event.set()
+            pool.shutdown(wait=True, cancel_futures=True)
+            bar.close()
+            raise
+        pool.shutdown(wait=True)
+        for jb in jobs:
+            res, sel = jb["carry"][1], jb["sel"]
+            m = jb["m"]
+            done_total += m
+            for name in out:
+                out[name][sel] = np.asarray(res[name])[:m]
+            for o_out, r_o in zip(out_obs, res["obs"]):
+                for nm in o_out:
+                    o_out[nm][sel] = np.asarray(r_o[nm])[:m]
+    elapsed = time.perf_counter() - t0
+    bar.update(n)
+    bar.close()
+    out["cyc"] = out["cyc"] + cyc_start
+    return EngineResult(out["n"], out["status"], out["nst"], out["nstk"], out["th"], out["sd"], out["wall"],
+                        out["cyc"], out_obs, elapsed,
+                        meta={"lanes": int(lanes), "block": int(block), "chunk": int(chunk),
+                              "backend": jax.default_backend(), "devices": len(devs), "cap": cap,
+                              "stop_at_stick": bool(stop_at_stick), "observers": [type(o).__name__ for o in obs]})
