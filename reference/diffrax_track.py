@@ -29,6 +29,7 @@ Float64 throughout (importing :mod:`mapimpl` enables ``jax_enable_x64``).
 
 from __future__ import annotations
 
+import math
 from functools import partial
 from typing import NamedTuple
 
@@ -41,13 +42,16 @@ import jax.numpy as jnp
 import optimistix as optx
 
 from ..mapimpl.flight import reduce_phase
-from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState, make_state
+from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, ORBIT_STATUS_NAMES, STUCK_FOREVER, MapState, make_state
 from ..mapimpl.orbit import sequence_from_states
 from ..mapimpl.params import ParamArrays, Params
-from ..mapimpl.results import STATUS_ACTIVE, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian, TrackFunctions
+from ..mapimpl.results import (
+    STATUS_ACTIVE, STATUS_NO_IMPACT, STATUS_STEP_CAP, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian,
+    TrackFunctions,
+)
 from ..mapimpl.sticking import decide_stick, released_turns
 from . import events as ev
-from ._common import StepInfo, check_option, forcing_rhs, validate_start
+from ._common import StepInfo, check_option, forcing_rhs, start_wall, validate_start
 from .events import MAX_SEGMENTS, T_MAX
 
 #: Default tolerances, step bound and per-segment step cap of this track.
@@ -317,36 +321,47 @@ def batch_orbit(params: Params, tau0, sdot0, n_impacts: int, **opt) -> Trajector
 
 
 def _one_step(x, wall, p: ParamArrays, opts: Options):
-    """``(theta_n, sdot_n) -> (theta_n + dt, sdot_{n+1})`` without sticking: reset (Eq. 11) + flight."""
+    """``(theta_n, sdot_n) -> (theta_n + dt, sdot_{n+1})`` without sticking: reset (Eq. 11) + flight.
+    Also returns the wall and the flight status code of the new impact."""
     theta, sd = x[0], x[1]
     alpha, beta, gamma, r = p
     v0 = -r * sd
     fl = flight(theta, wall.astype(jnp.float64), v0, ev.restart_direction(wall, v0), alpha, beta, gamma, opts)
-    return jnp.stack([theta + fl.t, fl.v]), fl.wall
+    return jnp.stack([theta + fl.t, fl.v]), (fl.wall, fl.status)
 
 
 @partial(jax.jit, static_argnums=(3,))
 def _step_and_jac(x, wall, p, opts: Options):
-    out, w = _one_step(x, wall, p, opts)
+    out, (w, status) = _one_step(x, wall, p, opts)
     jac = jax.jacfwd(lambda z: _one_step(z, wall, p, opts)[0])(x)
-    return out, w, jac
+    return out, w, status, jac
+
+
+_FLIGHT_FAILURE = {NO_IMPACT: STATUS_NO_IMPACT, STEP_CAP: STATUS_STEP_CAP}
 
 
 def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, **opt) -> StepJacobian:
     """``d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` by ``jax.jacfwd`` through the event solve and the
-    reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` and NaN state."""
+    reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` (the next state
+    is the impact after the release, NaN if stuck forever); a flight without impact gives NaN."""
     validate_start(params, tau_n, sdot_n, 1, None)
     opts = options(**opt)
-    if wall is None:
-        wall = 0 if sdot_n > 0 else -1
+    wall = start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(jnp.asarray(float(tau_n)), jnp.asarray(0, jnp.int64))
     p = params.arrays()
     dec = decide_stick(theta, wall, float(sdot_n), *p)
     if bool(dec.stick):
-        status = STATUS_ACTIVE if np.isfinite(float(dec.delay)) else STATUS_STUCK_FOREVER
-        return StepJacobian(float("nan"), float("nan"), wall, np.zeros((2, 2)), True, status)
-    out, w, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]), jnp.asarray(int(wall), jnp.int32), p,
-                                 opts)
+        if not np.isfinite(float(dec.delay)):
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, STATUS_STUCK_FOREVER)
+        new = jax.tree.map(lambda a: a[0], iterate(make_state(tau_n, sdot_n, wall), p, 1, opts).states)
+        status = int(new.status)
+        if status != ACTIVE:
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, ORBIT_STATUS_NAMES[status])
+        return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.zeros((2, 2)), True, STATUS_ACTIVE)
+    out, w, fstat, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]),
+                                       jnp.asarray(int(wall), jnp.int32), p, opts)
+    if int(fstat) != HIT:
+        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[int(fstat)])
     tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
     return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, STATUS_ACTIVE)
 

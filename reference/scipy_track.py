@@ -62,7 +62,7 @@ from ..mapimpl.params import Params
 from ..mapimpl.results import STATUS_ACTIVE, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian, TrackFunctions
 from . import events as ev
 from ._common import (
-    TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
+    TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, start_wall, stick_decision,
     validate_start,
 )
 from .events import MAX_SEGMENTS, T_MAX
@@ -342,8 +342,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     opts = Options(rtol, atol, max_step, t_max)
     validate_start(params, tau_n, sdot_n, 1, None)
     p = params
-    if wall is None:
-        wall = 0 if sdot_n > 0 else -1
+    wall = start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(float(tau_n), 0)
     sdot_n = float(sdot_n)
     stick, _, delay, phase = stick_decision(theta, wall, sdot_n, p)
@@ -356,9 +355,10 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
         th0, cyc0, v0 = theta, cycles, -p.r * sdot_n
     fl = flight(th0, float(wall), v0, p, opts, sigma=ev.restart_direction(wall, v0), variational=True)
     if fl.status != _HIT:
-        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), stick, fl.status)
+        jac = np.zeros((2, 2)) if stick else np.full((2, 2), np.nan)
+        return StepJacobian(math.nan, math.nan, wall, jac, stick, fl.status)
     th1, cyc1 = reduce_phase(th0 + fl.t, cyc0)
-    tau1 = cyc1 * TWO_PI + th1
+    tau1 = float(cyc1 * TWO_PI + th1)
     if stick:
         return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, STATUS_ACTIVE)
     f_n = forcing_rhs(theta, p.alpha, p.beta, p.gamma)

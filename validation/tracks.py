@@ -23,6 +23,7 @@ from ..mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, make_state, step
 from ..mapimpl.orbit import initial_state, map_orbit
 from ..mapimpl.params import Params
 from ..mapimpl.results import ImpactSequence, StepJacobian, Track, TrackFunctions
+from ..reference._common import start_wall
 
 #: The track names, the closed form first.
 TRACKS = ("map", "scipy", "diffrax")
@@ -53,14 +54,12 @@ def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None
     if not isinstance(params, Params):
         raise ValueError(f"params={params!r} is out of range: allowed a mapimpl.params.Params")
     initial_state(params, tau, sdot)  # validates tau and sdot
-    if wall is not None and wall not in (0, -1):
-        raise ValueError(f"wall={wall!r} is out of range: allowed 0 or -1")
+    wall = start_wall(wall, sdot)
     new, info = _step_jit(make_state(tau, sdot, wall), params.arrays())
     stuck, status = bool(info.stuck), int(new.status)
     if status != ACTIVE:
         jac = np.zeros((2, 2)) if stuck else np.full((2, 2), np.nan)
-        w = int(new.wall) if wall is None else int(wall)
-        return StepJacobian(math.nan, math.nan, w, jac, stuck, ORBIT_STATUS_NAMES[status])
+        return StepJacobian(math.nan, math.nan, wall, jac, stuck, ORBIT_STATUS_NAMES[status])
     return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.asarray(info.jac), stuck,
                         ORBIT_STATUS_NAMES[status])
 
