@@ -86,16 +86,6 @@ def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0
     return n
 
 
-def start_wall(wall: int | None, sdot: float) -> int:
-    """The wall of a pre-impact state: ``wall`` (0 or -1) or, if None, the one ``sdot`` points to
-    (``sdot > 0``: 0, else -1).  ``ValueError`` for another value."""
-    if wall is None:
-        return 0 if sdot > 0 else -1
-    if isinstance(wall, bool) or wall not in (0, -1):
-        raise ValueError(f"wall={wall!r} is out of range: allowed 0 (s = 0) or -1 (s = -1)")
-    return int(wall)
-
-
 _decide_jit = jax.jit(decide_stick, static_argnames=("stick_time",))
 
 

@@ -51,7 +51,7 @@ from ..mapimpl.results import (
 )
 from ..mapimpl.sticking import decide_stick, released_turns
 from . import events as ev
-from ._common import StepInfo, check_option, forcing_rhs, start_wall, validate_start
+from ._common import StepInfo, check_option, forcing_rhs, validate_start
 from .events import MAX_SEGMENTS, T_MAX
 
 #: Default tolerances, step bound and per-segment step cap of this track.
@@ -346,7 +346,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     is the impact after the release, NaN if stuck forever); a flight without impact gives NaN."""
     validate_start(params, tau_n, sdot_n, 1, None)
     opts = options(**opt)
-    wall = start_wall(wall, sdot_n)
+    wall = ev.start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(jnp.asarray(float(tau_n)), jnp.asarray(0, jnp.int64))
     p = params.arrays()
     dec = decide_stick(theta, wall, float(sdot_n), *p)

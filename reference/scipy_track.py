@@ -62,7 +62,7 @@ from ..mapimpl.params import Params
 from ..mapimpl.results import STATUS_ACTIVE, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian, TrackFunctions
 from . import events as ev
 from ._common import (
-    TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, start_wall, stick_decision,
+    TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
     validate_start,
 )
 from .events import MAX_SEGMENTS, T_MAX
@@ -342,7 +342,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     opts = Options(rtol, atol, max_step, t_max)
     validate_start(params, tau_n, sdot_n, 1, None)
     p = params
-    wall = start_wall(wall, sdot_n)
+    wall = ev.start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(float(tau_n), 0)
     sdot_n = float(sdot_n)
     stick, _, delay, phase = stick_decision(theta, wall, sdot_n, p)

@@ -129,6 +129,13 @@ def test_pre_impact_wall(s0, sdot0, a0, wall):
     assert ev.pre_impact_wall(s0, sdot0, a0) == wall
 
 
+def test_start_wall():
+    assert ev.start_wall(None, 0.4) == 0 and ev.start_wall(None, -0.4) == -1 and ev.start_wall(-1, 0.4) == -1
+    for bad in (1, -2, True, 0.5):
+        with pytest.raises(ValueError, match="wall=.* is out of range: allowed 0"):
+            ev.start_wall(bad, 0.4)
+
+
 def test_caps():
     assert ev.T_MAX == MAP_T_MAX  # restated, not imported: the reference does not use the finder
     assert isinstance(ev.MAX_SEGMENTS, int) and ev.MAX_SEGMENTS >= 1000

@@ -23,7 +23,7 @@ from ..mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, make_state, step
 from ..mapimpl.orbit import initial_state, map_orbit
 from ..mapimpl.params import Params
 from ..mapimpl.results import ImpactSequence, StepJacobian, Track, TrackFunctions
-from ..reference._common import start_wall
+from ..reference.events import start_wall
 
 #: The track names, the closed form first.
 TRACKS = ("map", "scipy", "diffrax")
