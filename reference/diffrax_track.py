@@ -205,7 +205,7 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
 
     c = jax.lax.while_loop(cond, body, init)
     hit = c["status"] == HIT
-    wall = jnp.asarray(ev.wall_ahead(c["sigma"])).astype(jnp.int32)
+    wall = ev.wall_ahead(c["sigma"]).astype(jnp.int32)
     return FlightResult(c["status"], jnp.where(hit, c["t"], jnp.inf), wall, jnp.where(hit, c["y"][1], jnp.nan),
                         c["seg"])
 
