@@ -31,7 +31,7 @@ TRACKS = ("map", "scipy", "diffrax")
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: str = "map",
           s0: float | None = None, **options):
-    """Impact sequence of one orbit (:class:`gear_rattle.mapimpl.orbit.ImpactSequence`) on ``track``:
+    """Impact sequence of one orbit (:class:`gear_rattle.mapimpl.results.ImpactSequence`) on ``track``:
     impact 0 is the pre-impact state ``(tau0, sdot0)`` (or, with ``s0``, the first impact of the
     free flight from ``(tau0, s0, sdot0)``), then ``n_impacts`` further impacts."""
     from .validation.tracks import orbit as _orbit

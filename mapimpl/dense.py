@@ -13,7 +13,7 @@ from . import _jax  # noqa: F401
 import jax.numpy as jnp
 
 from .flight import flight
-from .orbit import ImpactSequence
+from .results import ImpactSequence
 
 
 def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | None = None):

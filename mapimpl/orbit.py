@@ -1,6 +1,7 @@
-"""The impact-sequence result type shared by every track, and the map track's orbit driver.
+"""The map track's orbit driver, and the event table of a trajectory of pre-impact states.
 
-An :class:`ImpactSequence` lists the events of one orbit in time order: impacts (``kind ==
+An :class:`~mapimpl.results.ImpactSequence` (every track's result type, :mod:`mapimpl.results`)
+lists the events of one orbit in time order: impacts (``kind ==
 "impact"``, with the velocity just before the impact) and, under the sticking policy, ``"stick"``
 and ``"release"`` events.  Impact 0 is the initial pre-impact state (or, for a start in free flight,
 the first impact reached); impacts 1..N follow.  Sticking rows carry the index of the impact after
@@ -10,11 +11,6 @@ analysis and the CLI run on any track.
 
 from __future__ import annotations
 
-import csv
-import io
-import json
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from . import _jax  # noqa: F401
@@ -23,74 +19,7 @@ import jax
 from .flight import TWO_PI
 from .impact_map import ACTIVE, ORBIT_STATUS_NAMES, MapState, free_flight_start, iterate, make_state
 from .params import Params
-
-KINDS = ("impact", "stick", "release")
-COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
-
-
-@dataclass
-class ImpactSequence:
-    """Events of one orbit (numpy arrays of equal length, time-ordered).
-
-    ``n``: impact index; ``tau``: elapsed time; ``theta``: tau mod 2 pi; ``wall``: 0 or -1;
-    ``sdot``: velocity just before the impact (NaN for stick/release rows); ``kind``: event kind.
-    ``status``: final orbit status (``"active"`` unless the orbit ended: ``"stuck_forever"``,
-    ``"no_impact"``, ``"step_cap"``); ``track``: which track produced it.
-    """
-
-    params: Params
-    n: np.ndarray
-    tau: np.ndarray
-    theta: np.ndarray
-    wall: np.ndarray
-    sdot: np.ndarray
-    kind: np.ndarray
-    status: str = "active"
-    track: str = "map"
-    meta: dict = field(default_factory=dict)
-
-    @property
-    def impacts(self) -> np.ndarray:
-        """Boolean mask of the impact rows."""
-        return self.kind == "impact"
-
-    @property
-    def n_sticking(self) -> int:
-        """Number of sticking episodes in the orbit."""
-        return int(np.sum(self.kind == "stick"))
-
-    def impact_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``(tau, theta, sdot, wall)`` of the impact rows only."""
-        m = self.impacts
-        return self.tau[m], self.theta[m], self.sdot[m], self.wall[m]
-
-    def rows(self) -> list[dict]:
-        """The events as a list of dicts with the :data:`COLUMNS` keys."""
-        return [
-            {"n": int(n), "tau": float(t), "tau_mod_2pi": float(th), "wall": int(w),
-             "sdot": (None if np.isnan(v) else float(v)), "kind": str(k)}
-            for n, t, th, w, v, k in zip(self.n, self.tau, self.theta, self.wall, self.sdot, self.kind)
-        ]
-
-    def to_csv(self) -> str:
-        """CSV text, one row per event, columns :data:`COLUMNS` (17 significant digits)."""
-        buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
-        w.writerow(COLUMNS)
-        for row in self.rows():
-            w.writerow([row["n"], repr(row["tau"]), repr(row["tau_mod_2pi"]), row["wall"],
-                        "" if row["sdot"] is None else repr(row["sdot"]), row["kind"]])
-        return buf.getvalue()
-
-    def to_json(self) -> str:
-        """JSON text with the parameters, status, track and the event rows."""
-        p = self.params
-        return json.dumps({
-            "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
-            "track": self.track, "status": self.status, "n_sticking": self.n_sticking,
-            "meta": self.meta, "events": self.rows(),
-        }, indent=1)
-
+from .results import ImpactSequence
 
 _iterate_jit = jax.jit(iterate, static_argnums=2, static_argnames=("stick_time", "t_max"))
 _free_start_jit = jax.jit(free_flight_start)

@@ -6,10 +6,13 @@ only, with the impact law Eqs. (9)-(11), as an independent check of the closed-f
 * :mod:`reference.diffrax_track` -- ``diffrax.diffeqsolve`` with ``diffrax.Event`` in a
   ``lax.while_loop`` restart loop (jit, vmap, ``jax.jacfwd`` through the event solve).
 
-Both return :class:`mapimpl.orbit.ImpactSequence` (tracks ``"scipy"`` / ``"diffrax"``) and apply the
-shared sticking policy of :mod:`mapimpl.sticking`.  The submodules are imported lazily (diffrax is heavy).
+Both define their events with one specification, :mod:`reference.events` (monotone segments, wall
+and reversal conditions, the missed-crossing guard, restarts, caps), apply the shared sticking policy
+of :mod:`mapimpl.sticking`, return :class:`mapimpl.results.ImpactSequence` (tracks ``"scipy"`` /
+``"diffrax"``) and are :class:`mapimpl.results.Track` objects (``scipy_track.TRACK``,
+``diffrax_track.TRACK``).  The track modules are imported lazily (diffrax is heavy).
 """
 
-from ._common import T_MAX
+from .events import T_MAX
 
-__all__ = ["T_MAX", "scipy_track", "diffrax_track"]
+__all__ = ["T_MAX", "events", "scipy_track", "diffrax_track"]

@@ -1,5 +1,7 @@
 """Pieces shared by the numerical tracks: the right-hand side of Eq. (3), input validation, phase
-bookkeeping and the event table (:class:`mapimpl.orbit.ImpactSequence`).
+bookkeeping, the sticking policy on host floats and the trajectory record from which the event
+table (:class:`mapimpl.results.ImpactSequence`) is built.  The hybrid-ODE events are in
+:mod:`reference.events`.
 
 Nothing here uses the closed-form flight of Eqs. (7)-(8): the tracks integrate Eq. (3) numerically,
 from its right-hand side only,
@@ -9,31 +11,25 @@ from its right-hand side only,
 so ``s'' = -alpha sin(tau) + alpha beta cos(tau) + gamma - beta s'``, and apply the impact law
 Eqs. (9)-(11) (``sdot -> -r sdot`` at ``s = 0`` reached upward and at ``s = -1`` reached downward).
 The only things taken from :mod:`mapimpl` are the validated :class:`~mapimpl.params.Params`, the
-result type, and the *shared* sticking policy :func:`mapimpl.sticking.decide_stick` (by design
-every track applies exactly the same policy).
+result types and the event-table builder, and the *shared* sticking policy
+:func:`mapimpl.sticking.decide_stick` (by design every track applies exactly the same policy).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import math
-from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from ..mapimpl import _jax  # noqa: F401  (float64)
 import jax
 
-from ..mapimpl.orbit import ImpactSequence
+from ..mapimpl.impact_map import MapState, Trajectory
+from ..mapimpl.orbit import sequence_from_states
 from ..mapimpl.params import Params
+from ..mapimpl.results import ImpactSequence
 from ..mapimpl.sticking import STICK_TIME, decide_stick
-
-#: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
-#: :data:`mapimpl.finder.T_MAX`, restated here so the reference does not import the finder).
-T_MAX = 2000.0
-#: Most monotone segments (velocity reversals + 1) integrated in one flight before ``"step_cap"``.
-MAX_SEGMENTS = 4000
 
 # Cody-Waite split of 2*pi (same constants as the map's phase reduction, so phases compare exactly).
 TWO_PI = 2.0 * math.pi
@@ -110,40 +106,45 @@ def release_start(theta: float, cycles: int, delay: float, phase: float) -> tupl
     return phase, cycles + int(round((theta + delay - phase) / TWO_PI))
 
 
-class StepJacobian(NamedTuple):
-    """One impact-to-impact step by integration, with its Jacobian (both reference tracks):
-    the next pre-impact state, ``jac = d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)`` (0 if the step
-    sticks), and the orbit status after the step."""
+class StepInfo(NamedTuple):
+    """Sticking bookkeeping of one integrated step (both tracks; the fields
+    :func:`mapimpl.orbit.sequence_from_states` reads): the step ``stuck`` to the wall, the elapsed
+    times of sticking and release (NaN if none), and the monotone ``segments`` of its flight."""
 
-    tau: float
-    sdot: float
-    wall: int
-    jac: np.ndarray
-    stuck: bool
-    status: str
+    stuck: np.ndarray
+    stick_tau: np.ndarray
+    release_tau: np.ndarray
+    segments: np.ndarray
 
 
-@dataclass
-class EventTable:
-    """Accumulates impact / stick / release rows exactly like :func:`mapimpl.orbit.sequence_from_states`."""
+class TrajectoryRecorder:
+    """Collects the pre-impact states and step infos of an orbit computed step by step on the host
+    (the scipy track) in the layout of :class:`mapimpl.impact_map.Trajectory`, so that every track
+    builds its :class:`~mapimpl.results.ImpactSequence` with the same
+    :func:`mapimpl.orbit.sequence_from_states`."""
 
-    params: Params
-    track: str
-    n: list = field(default_factory=list)
-    tau: list = field(default_factory=list)
-    wall: list = field(default_factory=list)
-    sdot: list = field(default_factory=list)
-    kind: list = field(default_factory=list)
+    def __init__(self, theta: float, cycles: int, sdot: float, wall: int, status: int) -> None:
+        self.first = self._state([theta], [cycles], [sdot], [wall], [status], scalar=True)
+        self._states: list[tuple] = []
+        self._infos: list[tuple] = []
 
-    def add(self, n: int, tau: float, wall: int, sdot: float, kind: str) -> None:
-        self.n.append(int(n)); self.tau.append(float(tau)); self.wall.append(int(wall))
-        self.sdot.append(float(sdot)); self.kind.append(kind)
+    @staticmethod
+    def _state(theta, cycles, sdot, wall, status, scalar=False) -> MapState:
+        st = MapState(np.asarray(theta, np.float64), np.asarray(cycles, np.int64), np.asarray(sdot, np.float64),
+                      np.asarray(wall, np.int32), np.asarray(status, np.int32))
+        return MapState(*(x[0] for x in st)) if scalar else st
 
-    def sequence(self, status: str, meta: dict) -> ImpactSequence:
-        t = np.asarray(self.tau, dtype=np.float64)
-        return ImpactSequence(
-            params=self.params, n=np.asarray(self.n, dtype=np.int64), tau=t, theta=np.mod(t, TWO_PI),
-            wall=np.asarray(self.wall, dtype=np.int64), sdot=np.asarray(self.sdot, dtype=np.float64),
-            kind=np.asarray(self.kind, dtype=str), status=status, track=self.track,
-            meta=meta,
-        )
+    def step(self, theta: float, cycles: int, sdot: float, wall: int, status: int, stuck: bool = False,
+             stick_tau: float = math.nan, release_tau: float = math.nan, segments: int = 0) -> None:
+        """Record the state after one step and what happened during it."""
+        self._states.append((theta, cycles, sdot, wall, status))
+        self._infos.append((stuck, stick_tau, release_tau, segments))
+
+    def sequence(self, params: Params, track: str, meta: dict) -> ImpactSequence:
+        """The event table of the recorded orbit."""
+        cols = list(zip(*self._states)) or [[]] * 5
+        info = list(zip(*self._infos)) or [[]] * 4
+        traj = Trajectory(self._state(*cols),
+                          StepInfo(np.asarray(info[0], bool), np.asarray(info[1], np.float64),
+                                   np.asarray(info[2], np.float64), np.asarray(info[3], np.int64)))
+        return sequence_from_states(params, self.first, traj, track=track, meta=meta)

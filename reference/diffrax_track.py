@@ -1,21 +1,21 @@
 """Reference track 2: Eq. (3) integrated with ``diffrax.diffeqsolve`` (Dopri8) and ``diffrax.Event``.
 
 Same hybrid-ODE formulation as :mod:`reference.scipy_track` (right-hand side of Eq. 3 only, impact
-law Eqs. 9-11, shared sticking policy :func:`mapimpl.sticking.decide_stick`), written in JAX:
+law Eqs. 9-11, shared sticking policy :func:`mapimpl.sticking.decide_stick`) and the same event
+specification, :mod:`reference.events`, evaluated on JAX arrays:
 
-* each flight is a chain of **monotone segments** (see :mod:`reference.scipy_track`): one
-  ``diffeqsolve`` per segment with a ``diffrax.Event`` of two real-valued, upcrossing-filtered
-  (``direction=True``) conditions, the wall ahead (``s`` or ``-1 - s``) and the velocity reversal
-  (``-sigma sdot``), located by an ``optimistix.Bisection`` root find on the step's dense interpolant
-  (then refined to node accuracy, see :func:`_segment`).
-  Diffrax gives priority to the *first* triggered condition of the pytree (not the earliest root);
-  the wall is listed first, which is right because inside a monotone segment the wall root precedes
-  the reversal root.  This is the guard for diffrax issue 507 (two crossings in one step are missed
-  by the sign check at step ends): beyond-and-back needs a velocity reversal, which ends the
-  segment; if the extremum lies *beyond* the wall, the segment is solved again on exactly
-  [start, extremum] with the wall condition only, where ``s`` is monotone and ends beyond the wall, so
-  the crossing is a sign change at a step end.  ``dtmax`` (default 0.25) bounds the steps so that two reversals in one step stay a
-  non-generic degeneracy;
+* each flight is a chain of **monotone segments** (:mod:`reference.events`): one ``diffeqsolve``
+  per segment with a ``diffrax.Event`` on the upcrossing (``direction=True``) of
+  ``max(wall ahead, velocity reversal)``, whose first upcrossing is the earlier of the two events
+  (diffrax would otherwise give priority to the first triggered leaf of a condition pytree, not to
+  the earliest root); the root is located by an ``optimistix.Bisection`` on the step's dense
+  interpolant, then refined to node accuracy (:func:`_segment`), and :func:`reference.events.segment_end`
+  says which event it was.  The guard for diffrax issue 507 (two crossings in one step are missed
+  by the sign check at step ends) is the spec's missed-crossing rule: beyond-and-back needs a
+  velocity reversal, which ends the segment; if the extremum lies *beyond* the wall, the segment is
+  solved again on exactly [start, extremum] with the wall condition only, where ``s`` is monotone and
+  ends beyond the wall, so the crossing is a sign change at a step end.  ``dtmax`` (default 0.25)
+  bounds the steps so that two reversals in one step stay a non-generic degeneracy;
 * the restart loop over segments is a ``jax.lax.while_loop`` (bounded by ``MAX_SEGMENTS`` and the
   longest flight ``T_MAX``), and the loop over impacts a ``jax.lax.scan``; everything is jit-compiled
   and vmappable over initial conditions (:func:`batch_orbit`);
@@ -29,6 +29,7 @@ Float64 throughout (importing :mod:`mapimpl` enables ``jax_enable_x64``).
 
 from __future__ import annotations
 
+import math
 from functools import partial
 from typing import NamedTuple
 
@@ -41,11 +42,17 @@ import jax.numpy as jnp
 import optimistix as optx
 
 from ..mapimpl.flight import reduce_phase
-from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER, MapState, make_state
-from ..mapimpl.orbit import ImpactSequence, sequence_from_states
+from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, ORBIT_STATUS_NAMES, STUCK_FOREVER, MapState, make_state
+from ..mapimpl.orbit import sequence_from_states
 from ..mapimpl.params import ParamArrays, Params
+from ..mapimpl.results import (
+    STATUS_ACTIVE, STATUS_NO_IMPACT, STATUS_STEP_CAP, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian,
+    TrackFunctions,
+)
 from ..mapimpl.sticking import decide_stick, released_turns
-from ._common import MAX_SEGMENTS, T_MAX, StepJacobian, check_option, forcing_rhs, validate_start
+from . import events as ev
+from ._common import StepInfo, check_option, forcing_rhs, validate_start
+from .events import MAX_SEGMENTS, T_MAX
 
 #: Default tolerances, step bound and per-segment step cap of this track.
 RTOL, ATOL, DTMAX = 1e-12, 1e-13, 0.25
@@ -54,8 +61,8 @@ MAX_STEPS = 16384
 #: is always available; Newton started at the step end fails when that end is an extremum of s).
 ROOT_RTOL, ROOT_ATOL = 1e-14, 1e-13
 
-#: Flight status codes.
-HIT, NO_IMPACT, STEP_CAP = 0, 2, 3
+#: Flight status codes (:mod:`reference.events`).
+HIT, NO_IMPACT, STEP_CAP = ev.FLIGHT_HIT, ev.FLIGHT_NO_IMPACT, ev.FLIGHT_STEP_CAP
 
 
 class Options(NamedTuple):
@@ -84,13 +91,13 @@ def _vector_field(t, y, args):
 
 
 def _wall_cond(t, y, args, **kwargs):
-    sigma = args[4]
-    return jnp.where(sigma > 0, y[0], -1.0 - y[0])
+    return ev.wall_condition(y[0], args[4])
 
 
 def _reversal_cond(t, y, args, **kwargs):
+    """The reversal condition, or -1 (never fires) while it is not watched (the missed-crossing re-solve)."""
     sigma, watch = args[4], args[5]
-    return jnp.where(watch, -sigma * y[1], -1.0)
+    return jnp.where(watch, ev.reversal_condition(y[1], sigma), -1.0)
 
 
 def _cond(t, y, args, **kwargs):
@@ -116,7 +123,7 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     t_end = opts.t_max if t_end is None else t_end
     controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol, dtmax=opts.dtmax)
     event = diffrax.Event(_cond, root_finder=optx.Bisection(rtol=ROOT_RTOL, atol=ROOT_ATOL, flip=False),
-                          direction=True)
+                          direction=ev.DIRECTION > 0)
     sol = diffrax.diffeqsolve(
         _TERM, _SOLVER, t0=t0, t1=t_end, dt0=None, y0=y0, args=args, stepsize_controller=controller,
         event=event, saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False,
@@ -144,8 +151,7 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     landed = evt & (t_e > t0) & (sol2.result == diffrax.RESULTS.successful)
     f = _vector_field(t_e, y_n, args)
     g = jnp.where(wall_hit, _wall_cond(t_e, y_n, args), _reversal_cond(t_e, y_n, args))
-    dg = jnp.where(wall_hit, jnp.where(sigma > 0, f[0], -f[0]), -sigma * f[1])
-    dt = jnp.where(landed & (dg != 0.0), -g / jnp.where(dg != 0.0, dg, 1.0), 0.0)
+    dt = jnp.where(landed, ev.newton_step(g, ev.condition_rate(f, sigma, wall_hit)), 0.0)
     y_p = y_n + f * dt
     t_out = jnp.where(landed, t_e + dt, t_e)
     y_out = jnp.where(landed, y_p, jnp.where(evt, y_i, y_n))
@@ -179,11 +185,12 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         sig, watch = c["sigma"], c["watch"]
         t1, y1, hit, rev, reached = _segment(c["t"], c["y"], theta0, sig, alpha, beta, gamma, opts,
                                              c["t_end"], watch)
-        beyond = jnp.where(sig > 0, y1[0] > 0.0, y1[0] < -1.0)
-        # the extremum lies beyond the wall ahead: the crossing happened inside one step (diffrax
-        # issue 507).  s is monotone on [t, t1]: solve again on exactly that interval, wall only.
-        retry = watch & rev & beyond & ~hit
-        turn = (watch & rev & ~beyond & ~hit) | (~watch & ~hit & reached)
+        end = ev.segment_end(hit, rev, y1[0], sig)
+        # MISSED_CROSSING: the extremum lies beyond the wall ahead, the crossing happened inside one
+        # step (diffrax issue 507).  s is monotone on [t, t1]: solve again on exactly that interval,
+        # wall only; if that finds no crossing (it reaches t1), the extremum is a reversal.
+        retry = watch & (end == ev.MISSED_CROSSING)
+        turn = (watch & (end == ev.REVERSAL)) | (~watch & ~hit & reached)
         done = hit | (~retry & ~turn)
         status = jnp.where(hit, HIT, jnp.where(watch & reached, NO_IMPACT, STEP_CAP)).astype(jnp.int32)
         advance = ~retry
@@ -198,24 +205,14 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
 
     c = jax.lax.while_loop(cond, body, init)
     hit = c["status"] == HIT
-    wall = jnp.where(c["sigma"] > 0, 0, -1).astype(jnp.int32)
+    wall = ev.wall_ahead(c["sigma"]).astype(jnp.int32)
     return FlightResult(c["status"], jnp.where(hit, c["t"], jnp.inf), wall, jnp.where(hit, c["y"][1], jnp.nan),
                         c["seg"])
 
 
-class StepInfo(NamedTuple):
-    """Sticking bookkeeping of one step (the fields :func:`mapimpl.orbit.sequence_from_states` reads)."""
-
-    stuck: jnp.ndarray
-    stick_tau: jnp.ndarray
-    release_tau: jnp.ndarray
-    segments: jnp.ndarray
-
-
 def _start(wall, stick, sd, r):
     v0 = jnp.where(stick, 0.0, -r * sd)
-    sigma = jnp.where(v0 > 0.0, 1.0, jnp.where(v0 < 0.0, -1.0, jnp.where(wall == 0, -1.0, 1.0)))
-    return v0, sigma
+    return v0, ev.restart_direction(wall, v0)
 
 
 def step(state: MapState, p: ParamArrays, opts: Options = Options()):
@@ -276,9 +273,7 @@ def batch_iterate(states: MapState, p: ParamArrays, n: int, opts: Options = Opti
 def _free_start(theta0, s0, v0, p: ParamArrays, opts: Options) -> MapState:
     alpha, beta, gamma, _ = p
     a0 = -alpha * jnp.sin(theta0) + alpha * beta * jnp.cos(theta0) + gamma
-    sigma = jnp.where(v0 > 0.0, 1.0, jnp.where(v0 < 0.0, -1.0, jnp.where(a0 >= 0.0, 1.0, -1.0)))
-    sigma = jnp.where((v0 == 0.0) & (s0 == 0.0), -1.0, jnp.where((v0 == 0.0) & (s0 == -1.0), 1.0, sigma))
-    fl = flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts)
+    fl = flight(theta0, s0, v0, ev.initial_direction(s0, v0, a0), alpha, beta, gamma, opts)
     hit = fl.status == HIT
     th1, cyc1 = reduce_phase(theta0 + jnp.where(hit, fl.t, 0.0), jnp.asarray(0, jnp.int64))
     status = jnp.where(hit, ACTIVE, jnp.where(fl.status == NO_IMPACT, ESCAPED, FAILED)).astype(jnp.int32)
@@ -289,11 +284,9 @@ def _initial(params: Params, tau0: float, sdot0: float, s0: float | None, opts: 
     if s0 is None:
         return make_state(tau0, sdot0)
     theta, cycles = reduce_phase(jnp.asarray(float(tau0)), jnp.asarray(0, jnp.int64))
-    a0 = forcing_rhs(float(theta), params.alpha, params.beta, params.gamma)
-    into_top = s0 == 0.0 and (sdot0 > 0.0 or (sdot0 == 0.0 and a0 > 0.0))
-    into_bot = s0 == -1.0 and (sdot0 < 0.0 or (sdot0 == 0.0 and a0 < 0.0))
-    if into_top or into_bot:  # already a pre-impact state
-        return make_state(tau0, sdot0, wall=0 if into_top else -1)
+    wall = ev.pre_impact_wall(s0, sdot0, forcing_rhs(float(theta), params.alpha, params.beta, params.gamma))
+    if wall is not None:  # already a pre-impact state
+        return make_state(tau0, sdot0, wall=wall)
     st = _free_start(theta, jnp.asarray(float(s0)), jnp.asarray(float(sdot0)), params.arrays(), opts)
     return st._replace(cycles=st.cycles + cycles)
 
@@ -328,40 +321,54 @@ def batch_orbit(params: Params, tau0, sdot0, n_impacts: int, **opt) -> Trajector
 
 
 def _one_step(x, wall, p: ParamArrays, opts: Options):
-    """``(theta_n, sdot_n) -> (theta_n + dt, sdot_{n+1})`` without sticking: reset (Eq. 11) + flight."""
+    """``(theta_n, sdot_n) -> (theta_n + dt, sdot_{n+1})`` without sticking: reset (Eq. 11) + flight.
+    Also returns the wall and the flight status code of the new impact."""
     theta, sd = x[0], x[1]
     alpha, beta, gamma, r = p
     v0 = -r * sd
-    sigma = jnp.where(wall == 0, -1.0, 1.0)
-    fl = flight(theta, wall.astype(jnp.float64), v0, sigma, alpha, beta, gamma, opts)
-    return jnp.stack([theta + fl.t, fl.v]), fl.wall
+    fl = flight(theta, wall.astype(jnp.float64), v0, ev.restart_direction(wall, v0), alpha, beta, gamma, opts)
+    return jnp.stack([theta + fl.t, fl.v]), (fl.wall, fl.status)
 
 
 @partial(jax.jit, static_argnums=(3,))
 def _step_and_jac(x, wall, p, opts: Options):
-    out, w = _one_step(x, wall, p, opts)
+    out, (w, status) = _one_step(x, wall, p, opts)
     jac = jax.jacfwd(lambda z: _one_step(z, wall, p, opts)[0])(x)
-    return out, w, jac
+    return out, w, status, jac
+
+
+_FLIGHT_FAILURE = {NO_IMPACT: STATUS_NO_IMPACT, STEP_CAP: STATUS_STEP_CAP}
 
 
 def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, **opt) -> StepJacobian:
     """``d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` by ``jax.jacfwd`` through the event solve and the
-    reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` and NaN state."""
+    reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` (the next state
+    is the impact after the release, NaN if stuck forever); a flight without impact gives NaN."""
     validate_start(params, tau_n, sdot_n, 1, None)
     opts = options(**opt)
-    if wall is None:
-        wall = 0 if sdot_n > 0 else -1
+    wall = ev.start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(jnp.asarray(float(tau_n)), jnp.asarray(0, jnp.int64))
     p = params.arrays()
     dec = decide_stick(theta, wall, float(sdot_n), *p)
     if bool(dec.stick):
-        status = "active" if np.isfinite(float(dec.delay)) else "stuck_forever"
-        return StepJacobian(float("nan"), float("nan"), wall, np.zeros((2, 2)), True, status)
-    out, w, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]), jnp.asarray(int(wall), jnp.int32), p,
-                                 opts)
+        if not np.isfinite(float(dec.delay)):
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, STATUS_STUCK_FOREVER)
+        new = jax.tree.map(lambda a: a[0], iterate(make_state(tau_n, sdot_n, wall), p, 1, opts).states)
+        status = int(new.status)
+        if status != ACTIVE:
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, ORBIT_STATUS_NAMES[status])
+        return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.zeros((2, 2)), True, STATUS_ACTIVE)
+    out, w, fstat, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]),
+                                       jnp.asarray(int(wall), jnp.int32), p, opts)
+    if int(fstat) != HIT:
+        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[int(fstat)])
     tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
-    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, "active")
+    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, STATUS_ACTIVE)
 
 
-__all__ = ["Options", "options", "flight", "FlightResult", "step", "iterate", "batch_iterate", "orbit",
-           "batch_orbit", "step_jacobian", "StepJacobian", "RTOL", "ATOL", "DTMAX", "HIT", "NO_IMPACT", "STEP_CAP"]
+#: This track as a :class:`mapimpl.results.Track` (``orbit`` and ``step_jacobian`` take the options
+#: ``rtol``, ``atol``, ``dtmax``, ``t_max``, ``max_steps``).
+TRACK = TrackFunctions("diffrax", orbit, step_jacobian)
+
+__all__ = ["Options", "options", "flight", "FlightResult", "StepInfo", "step", "iterate", "batch_iterate", "orbit",
+           "batch_orbit", "step_jacobian", "TRACK", "RTOL", "ATOL", "DTMAX", "HIT", "NO_IMPACT", "STEP_CAP"]

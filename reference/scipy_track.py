@@ -2,13 +2,15 @@
 
 Only the right-hand side of Eq. (3) is used (see :mod:`reference._common`); the impacts are the
 events ``s = 0`` (reached upward) and ``s = -1`` (reached downward) with the reset of Eqs. (9)-(11),
-``sdot -> -r sdot``, followed by a restart.  After every impact the shared chatter/sticking policy
+``sdot -> -r sdot``, followed by a restart.  The events are those of :mod:`reference.events`, the
+specification shared with the diffrax track.  After every impact the shared chatter/sticking policy
 (:func:`mapimpl.sticking.decide_stick`) is applied exactly as the map does: when it says *stick*,
 the orbit jumps to the release time and leaves the wall with ``sdot = 0``.
 
-**Monotone segments (the event traps).**  Every flight is integrated as a chain of *monotone
-segments*: each segment has a direction ``sigma = +-1`` (the sign of ``sdot``) and two terminal,
-direction-filtered events, both upcrossings of a function that is ``<= 0`` at the segment start:
+**Monotone segments (the event traps, :mod:`reference.events`).**  Every flight is integrated as a
+chain of *monotone segments*: each segment has a direction ``sigma = +-1`` (the sign of ``sdot``) and
+two terminal, direction-filtered events, both upcrossings of a function that is ``<= 0`` at the
+segment start:
 
 * the wall ahead: ``s`` (upper wall, ``sigma = +1``) or ``-1 - s`` (lower wall, ``sigma = -1``);
 * the velocity reversal ``-sigma sdot`` (a local extremum of ``s``): the segment ends there and the
@@ -25,9 +27,10 @@ Consequences:
    ``sdot`` at step ends) stops the segment first.  If both events fire in one step, scipy keeps the
    earlier root, which is the wall.  If only the reversal fires and the extremum lies *beyond* the
    wall, the crossing happened inside that step: ``s`` is monotone between the segment start and the
-   extremum, so a second solve on exactly that interval sees the sign change and locates it.  The residual case is *two* velocity reversals inside one step
-   (an extremum and an inflection coinciding near a wall); ``max_step`` (default 0.25, well below
-   the forcing period ``2 pi``) keeps it to a non-generic, measure-zero degeneracy.
+   extremum, so a second solve on exactly that interval sees the sign change and locates it
+   (:data:`reference.events.MISSED_CROSSING`).  The residual case is *two* velocity reversals inside
+   one step (an extremum and an inflection coinciding near a wall); ``max_step`` (default 0.25,
+   well below the forcing period ``2 pi``) keeps it to a non-generic, measure-zero degeneracy.
 3. *A flight that returns to the wall it left* is an ordinary reversal followed by a segment that
    watches the start wall.
 4. *Grazing*: an excursion beyond a wall, however shallow, is caught (item 2); a tangency that stays
@@ -54,13 +57,20 @@ from typing import Callable, NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..mapimpl.orbit import ImpactSequence
+from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER
 from ..mapimpl.params import Params
+from ..mapimpl.results import STATUS_ACTIVE, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian, TrackFunctions
+from . import events as ev
 from ._common import (
-    StepJacobian,
-    MAX_SEGMENTS, T_MAX, TWO_PI, EventTable, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
+    TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
     validate_start,
 )
+from .events import MAX_SEGMENTS, T_MAX
+
+# flight outcomes (:data:`reference.events.FLIGHT_STATUS_NAMES`) and the orbit status code after a miss
+_HIT, _NO_IMPACT, _STEP_CAP = (ev.FLIGHT_STATUS_NAMES[c]
+                                for c in (ev.FLIGHT_HIT, ev.FLIGHT_NO_IMPACT, ev.FLIGHT_STEP_CAP))
+_FLIGHT_FAILURE = {_NO_IMPACT: ESCAPED, _STEP_CAP: FAILED}
 
 #: Default integrator tolerances and step bound of this track.
 RTOL, ATOL, MAX_STEP = 1e-12, 1e-13, 0.25
@@ -118,20 +128,19 @@ def _make_rhs(theta0: float, p: Params, variational: bool) -> Callable:
     return rhs_var
 
 
-def _events(sigma: int):
-    if sigma > 0:
-        def wall_ev(t, y):
-            return y[0]
-    else:
-        def wall_ev(t, y):
-            return -1.0 - y[0]
+def _events(sigma: float):
+    """The two event functions of a segment of direction ``sigma`` (:mod:`reference.events`) as
+    scipy events: the wall ahead first, then the velocity reversal."""
+
+    def wall_ev(t, y):
+        return ev.wall_condition(y[0], sigma)
 
     def rev_ev(t, y):
-        return -sigma * y[1]
+        return ev.reversal_condition(y[1], sigma)
 
-    for ev in (wall_ev, rev_ev):
-        ev.terminal = True
-        ev.direction = 1.0
+    for f in (wall_ev, rev_ev):
+        f.terminal = ev.TERMINAL
+        f.direction = float(ev.DIRECTION)
     return [wall_ev, rev_ev]
 
 
@@ -145,14 +154,7 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
     dense samples of ``s`` and ``sdot`` (DOP853's 7th-order interpolant).
     """
     if sigma is None:
-        if v0 != 0.0:
-            sigma = 1 if v0 > 0.0 else -1
-        elif s0 == 0.0:
-            sigma = -1
-        elif s0 == -1.0:
-            sigma = 1
-        else:
-            sigma = 1 if forcing_rhs(theta0, p.alpha, p.beta, p.gamma) >= 0.0 else -1
+        sigma = ev.initial_direction(s0, v0, forcing_rhs(theta0, p.alpha, p.beta, p.gamma))
     rhs = _make_rhs(theta0, p, variational)
     y = np.array([s0, v0, 1.0, 0.0, 0.0, 1.0]) if variational else np.array([s0, v0])
     t = 0.0
@@ -161,20 +163,20 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
         sol = solve_ivp(rhs, (t, opts.t_max), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
                         max_step=opts.max_step, events=_events(sigma), dense_output=samples is not None)
         if sol.status < 0:
-            return Flight("step_cap", math.inf, 0, math.nan, None, seg, samples)
-        if sol.status == 0:  # reached t_max without an event
+            return Flight(_STEP_CAP, math.inf, 0, math.nan, None, seg, samples)
+        if sol.status == 0:  # reached t_max without an event (OPEN_END)
             if samples is not None:
                 _sample(sol, t, opts.t_max, points_per_unit, samples)
-            return Flight("no_impact", math.inf, 0, math.nan, None, seg, samples)
+            return Flight(_NO_IMPACT, math.inf, 0, math.nan, None, seg, samples)
         hit = len(sol.t_events[0]) > 0
         k = 0 if hit else 1
         t_e = float(sol.t_events[k][-1])
         y_e = np.array(sol.y_events[k][-1], dtype=np.float64)
         t_e, y_e = _land(rhs, sol, t_e, y_e, sigma, hit, opts)
-        if not hit and (y_e[0] > 0.0 if sigma > 0 else y_e[0] < -1.0):
+        if ev.segment_end(hit, not hit, y_e[0], sigma) == ev.MISSED_CROSSING:
             # the extremum lies beyond the wall ahead: s crossed it and came back inside one step
             # (scipy issue 9228).  s is monotone on [t, t_e], so a solve that ends at t_e sees the
-            # crossing as a sign change and locates it.
+            # crossing as a sign change and locates it; without one, the extremum is a reversal.
             sol2 = solve_ivp(rhs, (t, t_e), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
                              max_step=opts.max_step, events=_events(sigma)[:1])
             if sol2.status == 1 and len(sol2.t_events[0]):
@@ -184,12 +186,11 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
         if samples is not None:
             _sample(sol, t, t_e, points_per_unit, samples, y_e)
         if hit:
-            wall = 0 if sigma > 0 else -1
             phi = y_e[2:].reshape(2, 2) if variational else None
-            return Flight("hit", t_e, wall, float(y_e[1]), phi, seg, samples)
+            return Flight(_HIT, t_e, ev.wall_ahead(sigma), float(y_e[1]), phi, seg, samples)
         # velocity reversal: continue in the other direction from the extremum
         t, y, sigma = t_e, y_e, -sigma
-    return Flight("step_cap", math.inf, 0, math.nan, None, MAX_SEGMENTS, samples)
+    return Flight(_STEP_CAP, math.inf, 0, math.nan, None, MAX_SEGMENTS, samples)
 
 
 def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: Options):
@@ -205,11 +206,7 @@ def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: O
         return t_e, y_e
     y_n = land.y[:, -1]
     f = rhs(t_e, y_n)
-    if wall:
-        g, dg = (y_n[0], f[0]) if sigma > 0 else (-1.0 - y_n[0], -f[0])
-    else:
-        g, dg = -sigma * y_n[1], -sigma * f[1]
-    dt = -g / dg if dg != 0.0 else 0.0
+    dt = ev.newton_step(ev.condition(y_n, sigma, wall), ev.condition_rate(f, sigma, wall))
     return t_e + dt, y_n + f * dt
 
 
@@ -235,20 +232,14 @@ class DenseTrajectory(NamedTuple):
     segment: np.ndarray
 
 
-def _start_sigma(wall: int, v0: float) -> int:
-    if v0 != 0.0:
-        return 1 if v0 > 0.0 else -1
-    return -1 if wall == 0 else 1
-
-
 def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, opts: Options,
          points_per_unit: float | None):
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     p = params
-    table = EventTable(params, "scipy")
+    s0 = None if s0 is None else float(s0)
+    meta = _meta(tau0, sdot0, s0, n, opts)
     dense: list = []
     theta, cycles = reduce_phase(float(tau0), 0)
-    status = "active"
     flights = 0
 
     def record(fl: Flight, theta_start: float, cycles_start: int) -> None:
@@ -256,58 +247,58 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
             base = cycles_start * TWO_PI + theta_start
             for ts, ss, vs in fl.samples:
                 dense.append((base + ts, ss, vs, np.full(len(ts), flights)))
-            if fl.status == "hit":  # end exactly on the recorded impact time (same phase bookkeeping)
+            if fl.status == _HIT:  # end exactly on the recorded impact time (same phase bookkeeping)
                 th1, cyc1 = reduce_phase(theta_start + fl.t, cycles_start)
                 dense[-1][0][-1] = cyc1 * TWO_PI + th1
 
     if s0 is None:
-        sdot, wall = float(sdot0), (0 if sdot0 > 0 else -1)
+        sdot, wall = float(sdot0), (ev.UPPER_WALL if sdot0 > 0 else ev.LOWER_WALL)
     else:
-        s0 = float(s0)
-        a0 = forcing_rhs(theta, p.alpha, p.beta, p.gamma)
-        into_top = s0 == 0.0 and (sdot0 > 0.0 or (sdot0 == 0.0 and a0 > 0.0))
-        into_bot = s0 == -1.0 and (sdot0 < 0.0 or (sdot0 == 0.0 and a0 < 0.0))
-        if into_top or into_bot:  # already a pre-impact state
-            sdot, wall = float(sdot0), (0 if into_top else -1)
+        wall = ev.pre_impact_wall(s0, sdot0, forcing_rhs(theta, p.alpha, p.beta, p.gamma))
+        if wall is not None:  # already a pre-impact state
+            sdot = float(sdot0)
         else:
             fl = flight(theta, s0, float(sdot0), p, opts, points_per_unit=points_per_unit)
             record(fl, theta, cycles)
             flights += 1
-            if fl.status != "hit":
-                return table.sequence(fl.status, _meta(tau0, sdot0, s0, n, opts)), dense
+            if fl.status != _HIT:
+                rec = TrajectoryRecorder(theta, cycles, float(sdot0), 0, _FLIGHT_FAILURE[fl.status])
+                return rec.sequence(params, "scipy", meta), dense
             theta, cycles = reduce_phase(theta + fl.t, cycles)
             sdot, wall = fl.v, fl.wall
-    table.add(0, cycles * TWO_PI + theta, wall, sdot, "impact")
-    for k in range(1, n + 1):
+    rec = TrajectoryRecorder(theta, cycles, sdot, wall, ACTIVE)
+    for _ in range(n):
         tau_n = cycles * TWO_PI + theta
         stick, t_acc, delay, phase = stick_decision(theta, wall, sdot, p)
+        stick_tau = release_tau = math.nan
         if stick:
-            table.add(k - 1, tau_n + t_acc, wall, math.nan, "stick")
+            stick_tau = tau_n + t_acc
             if not math.isfinite(delay):
-                status = "stuck_forever"
+                rec.step(theta, cycles, sdot, wall, STUCK_FOREVER, True, stick_tau)
                 if points_per_unit:
-                    dense.append((np.array([tau_n + t_acc]), np.array([float(wall)]), np.zeros(1),
-                                  np.full(1, flights)))
+                    dense.append((np.array([stick_tau]), np.array([float(wall)]), np.zeros(1), np.full(1, flights)))
                 break
-            table.add(k - 1, tau_n + delay, wall, math.nan, "release")
+            release_tau = tau_n + delay
             if points_per_unit:
-                ts = np.linspace(tau_n + t_acc, tau_n + delay, max(2, int(delay * points_per_unit)))
+                ts = np.linspace(stick_tau, release_tau, max(2, int(delay * points_per_unit)))
                 dense.append((ts, np.full(len(ts), float(wall)), np.zeros(len(ts)), np.full(len(ts), -1)))
             th0, cyc0 = release_start(theta, cycles, delay, phase)
             v0 = 0.0
         else:
             th0, cyc0 = theta, cycles
             v0 = -p.r * sdot
-        fl = flight(th0, float(wall), v0, p, opts, sigma=_start_sigma(wall, v0), points_per_unit=points_per_unit)
+        fl = flight(th0, float(wall), v0, p, opts, sigma=ev.restart_direction(wall, v0),
+                    points_per_unit=points_per_unit)
         record(fl, th0, cyc0)
         flights += 1
-        if fl.status != "hit":
-            status = fl.status
+        if fl.status != _HIT:
+            rec.step(theta, cycles, sdot, wall, _FLIGHT_FAILURE[fl.status], stick, stick_tau, release_tau,
+                     fl.segments)
             break
         theta, cycles = reduce_phase(th0 + fl.t, cyc0)
         sdot, wall = fl.v, fl.wall
-        table.add(k, cycles * TWO_PI + theta, wall, sdot, "impact")
-    return table.sequence(status, _meta(tau0, sdot0, s0, n, opts)), dense
+        rec.step(theta, cycles, sdot, wall, ACTIVE, stick, stick_tau, release_tau, fl.segments)
+    return rec.sequence(params, "scipy", meta), dense
 
 
 def _meta(tau0, sdot0, s0, n, opts: Options) -> dict:
@@ -351,25 +342,25 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     opts = Options(rtol, atol, max_step, t_max)
     validate_start(params, tau_n, sdot_n, 1, None)
     p = params
-    if wall is None:
-        wall = 0 if sdot_n > 0 else -1
+    wall = ev.start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(float(tau_n), 0)
     sdot_n = float(sdot_n)
     stick, _, delay, phase = stick_decision(theta, wall, sdot_n, p)
     if stick:
         if not math.isfinite(delay):
-            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, "stuck_forever")
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, STATUS_STUCK_FOREVER)
         th0, cyc0 = release_start(theta, cycles, delay, phase)
         v0 = 0.0
     else:
         th0, cyc0, v0 = theta, cycles, -p.r * sdot_n
-    fl = flight(th0, float(wall), v0, p, opts, sigma=_start_sigma(wall, v0), variational=True)
-    if fl.status != "hit":
-        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), stick, fl.status)
+    fl = flight(th0, float(wall), v0, p, opts, sigma=ev.restart_direction(wall, v0), variational=True)
+    if fl.status != _HIT:
+        jac = np.zeros((2, 2)) if stick else np.full((2, 2), np.nan)
+        return StepJacobian(math.nan, math.nan, wall, jac, stick, fl.status)
     th1, cyc1 = reduce_phase(th0 + fl.t, cyc0)
-    tau1 = cyc1 * TWO_PI + th1
+    tau1 = float(cyc1 * TWO_PI + th1)
     if stick:
-        return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, "active")
+        return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, STATUS_ACTIVE)
     f_n = forcing_rhs(theta, p.alpha, p.beta, p.gamma)
     a_pre = f_n - p.beta * sdot_n          # acceleration just before impact n
     a_post = f_n - p.beta * v0             # ... just after it
@@ -385,8 +376,12 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     a1 = forcing_rhs(th1, p.alpha, p.beta, p.gamma) - p.beta * v1
     P = np.array([[-1.0 / v1, 0.0], [-a1 / v1, 1.0]])
     J = P @ fl.phi @ S @ E
-    return StepJacobian(tau1, v1, fl.wall, J, False, "active")
+    return StepJacobian(tau1, v1, fl.wall, J, False, STATUS_ACTIVE)
 
 
-__all__ = ["Options", "Flight", "flight", "orbit", "dense_orbit", "DenseTrajectory", "step_jacobian",
-           "StepJacobian", "RTOL", "ATOL", "MAX_STEP"]
+#: This track as a :class:`mapimpl.results.Track` (``orbit`` and ``step_jacobian`` take the options
+#: ``rtol``, ``atol``, ``max_step``, ``t_max``).
+TRACK = TrackFunctions("scipy", orbit, step_jacobian)
+
+__all__ = ["Options", "Flight", "flight", "orbit", "dense_orbit", "DenseTrajectory", "step_jacobian", "TRACK",
+           "RTOL", "ATOL", "MAX_STEP"]

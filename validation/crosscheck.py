@@ -3,9 +3,10 @@
 * :func:`one_step_agreement`: from the same random pre-impact states, the next impact (wall, tau,
   sdot) on each track; near-grazing impacts (within ``graze_depth`` of a tangency, where hit-or-miss
   itself is ill-conditioned) are counted and left out of the error statistics.
-* :func:`jacobian_agreement`: the one-step Jacobian by three routes -- analytic (implicit
-  differentiation, :mod:`mapimpl.impact_map`), variational flow x saltation matrix (scipy) and
-  ``jax.jacfwd`` through the diffrax event solve.
+* :func:`jacobian_agreement`: the one-step Jacobian by three routes, each track's
+  ``step_jacobian`` (:class:`mapimpl.results.Track`) -- analytic (implicit differentiation,
+  :mod:`mapimpl.impact_map`), variational flow x saltation matrix (scipy) and ``jax.jacfwd``
+  through the diffrax event solve.
 
 States are drawn from the declared domain with a seeded generator, so the numbers are reproducible.
 """
@@ -18,7 +19,7 @@ import numpy as np
 
 from ..mapimpl import Params
 from ..mapimpl.flight import forcing
-from ..mapimpl.impact_map import ACTIVE, make_state, step
+from ..mapimpl.results import STATUS_ACTIVE
 
 #: The declared cross-validation domain (issue 3).
 DOMAIN = {"alpha": (0.0, 5.0), "beta": (0.01, 1.0), "gamma": (-0.5, 0.5), "r": (0.3, 1.0), "sdot": (0.05, 3.0)}
@@ -66,8 +67,8 @@ def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
     res = {t: {"tau": [], "sdot": [], "mis": 0, "graze": 0} for t in tracks}
     for p, tau, sd in cases:
         m = orbit("map", p, tau, sd, 1)
-        graze = m.status == "active" and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]), p,
-                                                      graze_depth)
+        graze = m.status == STATUS_ACTIVE and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]),
+                                                          p, graze_depth)
         for t in tracks:
             if graze:
                 res[t]["graze"] += 1
@@ -100,23 +101,25 @@ class JacobianCheck:
 
 
 def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> JacobianCheck:
-    """The step Jacobian by three routes at ``n`` random states (sticking and near-grazing steps skipped)."""
-    import jax
+    """The step Jacobian by three routes at ``n`` random states (sticking and near-grazing steps
+    skipped): each track's :meth:`~mapimpl.results.Track.step_jacobian` -- the map's analytic one
+    (implicit differentiation of Eqs. 12-13), scipy's variational flow x saltation matrix and
+    ``jax.jacfwd`` through the diffrax event solve."""
+    from .tracks import get
 
-    from ..reference import diffrax_track as D
-    from ..reference import scipy_track as S
-
-    step_j = jax.jit(step)
-    cs, cd, skipped = [], [], 0
+    ref, routes = get("map"), {t: get(t) for t in ("scipy", "diffrax")}
+    err = {t: [] for t in routes}
+    skipped = 0
     for p, tau, sd in random_cases(n, seed):
-        s1, info = step_j(make_state(tau, sd), p.arrays())
-        if (bool(info.stuck) or int(s1.status) != ACTIVE
-                or _near_graze(float(s1.theta), float(s1.sdot), int(s1.wall), p, graze_depth)):
+        m = ref.step_jacobian(p, tau, sd)
+        if (m.stuck or m.status != STATUS_ACTIVE
+                or _near_graze(float(np.mod(m.tau, 2 * np.pi)), m.sdot, m.wall, p, graze_depth)):
             skipped += 1
             continue
-        J = np.asarray(info.jac)
+        J = np.asarray(m.jac)
         nJ = np.linalg.norm(J)
-        cs.append(np.linalg.norm(np.asarray(S.step_jacobian(p, tau, sd).jac) - J) / nJ)
-        cd.append(np.linalg.norm(np.asarray(D.step_jacobian(p, tau, sd).jac) - J) / nJ)
+        for t, track in routes.items():
+            err[t].append(np.linalg.norm(np.asarray(track.step_jacobian(p, tau, sd).jac) - J) / nJ)
+    cs, cd = err["scipy"], err["diffrax"]
     return JacobianCheck(len(cs), skipped, float(max(cs)) if cs else float("nan"),
                          float(max(cd)) if cd else float("nan"))

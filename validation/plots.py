@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..mapimpl.dense import dense
-from ..mapimpl.orbit import ImpactSequence
+from ..mapimpl.results import ImpactSequence
 from .figures import subplots
 
 

@@ -1,26 +1,93 @@
-"""One entry point for every track: ``orbit(track, params, tau0, sdot0, n_impacts, s0=None)``.
+"""The registry of tracks: every track is a :class:`mapimpl.results.Track` with a name, ``orbit`` and
+``step_jacobian``.
 
-``map`` is the closed form (:mod:`mapimpl`); ``scipy`` and ``diffrax`` integrate Eq. (3)
-numerically (:mod:`reference`).  All return :class:`mapimpl.orbit.ImpactSequence`.
+* ``map`` -- the closed form (:mod:`mapimpl`): :func:`mapimpl.orbit.map_orbit`, and the analytic
+  Jacobian of Eqs. (12)-(13) from :func:`mapimpl.impact_map.step`;
+* ``scipy`` and ``diffrax`` -- Eq. (3) integrated numerically (:mod:`reference`), imported on first
+  use (diffrax is heavy; a missing integrator shows up as ``ImportError`` from :func:`get`).
+
+All return :class:`mapimpl.results.ImpactSequence` and :class:`mapimpl.results.StepJacobian`.
 """
 
 from __future__ import annotations
 
 import importlib
+import math
 
-from ..mapimpl.orbit import ImpactSequence, map_orbit
+import numpy as np
+
+from ..mapimpl import _jax  # noqa: F401
+import jax
+
+from ..mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, make_state, step
+from ..mapimpl.orbit import initial_state, map_orbit
 from ..mapimpl.params import Params
+from ..mapimpl.results import ImpactSequence, StepJacobian, Track, TrackFunctions
+from ..reference.events import start_wall
 
+#: The track names, the closed form first.
 TRACKS = ("map", "scipy", "diffrax")
+#: Where the numerical tracks live (each module defines ``TRACK``).
 _MODULES = {"scipy": "gear_rattle.reference.scipy_track", "diffrax": "gear_rattle.reference.diffrax_track"}
 
+_step_jit = jax.jit(step)
 
-def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
-          **kwargs) -> ImpactSequence:
-    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track."""
+
+def _no_options(options: dict) -> None:
+    if options:
+        name = next(iter(options))
+        raise ValueError(f"option {name}={options[name]!r} is out of range: the map track takes no options")
+
+
+def _map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
+               **options) -> ImpactSequence:
+    _no_options(options)
+    return map_orbit(params, tau0, sdot0, n_impacts, s0=s0)
+
+
+def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None = None,
+                       **options) -> StepJacobian:
+    """One map step (Eqs. 11-13 with the sticking policy) from the pre-impact state ``(tau, sdot)``
+    with the analytic Jacobian of :func:`mapimpl.impact_map.step` (implicit differentiation of the
+    impact condition; 0 if the step sticks)."""
+    _no_options(options)
+    if not isinstance(params, Params):
+        raise ValueError(f"params={params!r} is out of range: allowed a mapimpl.params.Params")
+    initial_state(params, tau, sdot)  # validates tau and sdot
+    wall = start_wall(wall, sdot)
+    new, info = _step_jit(make_state(tau, sdot, wall), params.arrays())
+    stuck, status = bool(info.stuck), int(new.status)
+    if status != ACTIVE:
+        jac = np.zeros((2, 2)) if stuck else np.full((2, 2), np.nan)
+        return StepJacobian(math.nan, math.nan, wall, jac, stuck, ORBIT_STATUS_NAMES[status])
+    return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.asarray(info.jac), stuck,
+                        ORBIT_STATUS_NAMES[status])
+
+
+#: The closed-form track.
+MAP = TrackFunctions("map", _map_orbit, _map_step_jacobian)
+
+
+def get(track: str) -> Track:
+    """The :class:`~mapimpl.results.Track` named ``track`` (one of :data:`TRACKS`); ``ValueError``
+    for an unknown name, ``ImportError`` when its integrator is not installed."""
     if track not in TRACKS:
         raise ValueError(f"track={track!r} is out of range: allowed one of {', '.join(TRACKS)}")
     if track == "map":
-        return map_orbit(params, tau0, sdot0, n_impacts, s0=s0)
-    mod = importlib.import_module(_MODULES[track])
-    return mod.orbit(params, tau0, sdot0, n_impacts, s0=s0, **kwargs)
+        return MAP
+    return importlib.import_module(_MODULES[track]).TRACK
+
+
+def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
+          **options) -> ImpactSequence:
+    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`)."""
+    return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
+
+
+def step_jacobian(track: str, params: Params, tau: float, sdot: float, wall: int | None = None,
+                  **options) -> StepJacobian:
+    """One impact-to-impact step with its Jacobian on the chosen track (:meth:`Track.step_jacobian`)."""
+    return get(track).step_jacobian(params, tau, sdot, wall, **options)
+
+
+__all__ = ["TRACKS", "MAP", "get", "orbit", "step_jacobian"]

@@ -21,7 +21,8 @@ from ...mapimpl import _jax  # noqa: F401
 import jax.numpy as jnp
 
 from ...mapimpl.flight import TWO_PI, flight
-from ...mapimpl.orbit import ImpactSequence, map_orbit
+from ...mapimpl.orbit import map_orbit
+from ...mapimpl.results import ImpactSequence
 from ...mapimpl.params import Params
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).

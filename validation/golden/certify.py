@@ -440,7 +440,7 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
 def certify_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
                   prec: int = PREC, stick_time: float = STICK_TIME, radius_limit: float | None = None,
                   t_max: float = T_MAX) -> CertifiedOrbit:
-    """Certified impact sequence with the layout of :class:`mapimpl.orbit.ImpactSequence`.
+    """Certified impact sequence with the layout of :class:`mapimpl.results.ImpactSequence`.
 
     Impact 0 is the pre-impact initial state (``s0`` None; exact) or the first impact of the flight
     leaving the free state ``(tau0, s0, sdot0)``.  Stops early when the orbit sticks forever, or when

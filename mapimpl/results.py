@@ -1,0 +1,162 @@
+"""The result types every track returns, and the :class:`Track` protocol they come out of.
+
+Three tracks compute the same orbits of the paper's model: the closed-form impact map (Eqs. 7-8,
+12-13, :mod:`mapimpl`) and Eq. (3) integrated numerically with the impact law Eqs. (9)-(11) by scipy
+and by diffrax (:mod:`reference`).  They all speak the types defined here:
+
+* :class:`ImpactSequence` -- the events of one orbit (impacts, and the ``"stick"`` / ``"release"``
+  rows of the sticking policy) with its CSV and JSON writers (columns :data:`COLUMNS`, kinds
+  :data:`KINDS`, final status one of :data:`ORBIT_STATUSES`);
+* :class:`StepJacobian` -- one impact-to-impact step with ``d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)``;
+* :class:`Track` -- what a track offers: ``name``, ``orbit(...)`` and ``step_jacobian(...)``;
+  :class:`TrackFunctions` makes one from two functions.
+
+This module depends on nothing but numpy and :class:`mapimpl.params.Params`, so every track (and
+the golden suite's file format) can import it.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from dataclasses import dataclass, field
+from typing import Callable, NamedTuple, Protocol, runtime_checkable
+
+import numpy as np
+
+from .params import Params
+
+#: Event kinds of an :class:`ImpactSequence` row.
+KINDS = ("impact", "stick", "release")
+#: Columns of the CSV form of an :class:`ImpactSequence` (and of the golden suite's files).
+COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
+
+#: Orbit status names (an orbit is ``"active"`` unless it ended).  ``"stuck_forever"``: the tooth
+#: sticks to a wall and the forcing never releases it; ``"no_impact"``: no wall is reached within the
+#: longest flight ``T_MAX``; ``"step_cap"``: a flight needed more solver steps / monotone segments
+#: than allowed.  (The kernels carry integer codes; these are their names in every result.)
+STATUS_ACTIVE = "active"
+STATUS_STUCK_FOREVER = "stuck_forever"
+STATUS_NO_IMPACT = "no_impact"
+STATUS_STEP_CAP = "step_cap"
+ORBIT_STATUSES = (STATUS_ACTIVE, STATUS_STUCK_FOREVER, STATUS_NO_IMPACT, STATUS_STEP_CAP)
+
+
+@dataclass
+class ImpactSequence:
+    """Events of one orbit (numpy arrays of equal length, time-ordered).
+
+    Impact 0 is the initial pre-impact state (or, for a start in free flight, the first impact
+    reached); impacts 1..N follow.  Sticking rows carry the index of the impact after which the
+    tooth sticks.
+
+    ``n``: impact index; ``tau``: elapsed time; ``theta``: tau mod 2 pi; ``wall``: 0 or -1;
+    ``sdot``: velocity just before the impact (NaN for stick/release rows); ``kind``: event kind
+    (:data:`KINDS`).  ``status``: final orbit status (:data:`ORBIT_STATUSES`); ``track``: which
+    track produced it; ``meta``: the call's arguments and solver options.
+    """
+
+    params: Params
+    n: np.ndarray
+    tau: np.ndarray
+    theta: np.ndarray
+    wall: np.ndarray
+    sdot: np.ndarray
+    kind: np.ndarray
+    status: str = STATUS_ACTIVE
+    track: str = "map"
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def impacts(self) -> np.ndarray:
+        """Boolean mask of the impact rows."""
+        return self.kind == "impact"
+
+    @property
+    def n_sticking(self) -> int:
+        """Number of sticking episodes in the orbit."""
+        return int(np.sum(self.kind == "stick"))
+
+    def impact_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(tau, theta, sdot, wall)`` of the impact rows only."""
+        m = self.impacts
+        return self.tau[m], self.theta[m], self.sdot[m], self.wall[m]
+
+    def rows(self) -> list[dict]:
+        """The events as a list of dicts with the :data:`COLUMNS` keys."""
+        return [
+            {"n": int(n), "tau": float(t), "tau_mod_2pi": float(th), "wall": int(w),
+             "sdot": (None if np.isnan(v) else float(v)), "kind": str(k)}
+            for n, t, th, w, v, k in zip(self.n, self.tau, self.theta, self.wall, self.sdot, self.kind)
+        ]
+
+    def to_csv(self) -> str:
+        """CSV text, one row per event, columns :data:`COLUMNS` (17 significant digits)."""
+        buf = io.StringIO()
+        w = csv.writer(buf, lineterminator="\n")
+        w.writerow(COLUMNS)
+        for row in self.rows():
+            w.writerow([row["n"], repr(row["tau"]), repr(row["tau_mod_2pi"]), row["wall"],
+                        "" if row["sdot"] is None else repr(row["sdot"]), row["kind"]])
+        return buf.getvalue()
+
+    def to_json(self) -> str:
+        """JSON text with the parameters, status, track and the event rows."""
+        p = self.params
+        return json.dumps({
+            "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
+            "track": self.track, "status": self.status, "n_sticking": self.n_sticking,
+            "meta": self.meta, "events": self.rows(),
+        }, indent=1)
+
+
+class StepJacobian(NamedTuple):
+    """One impact-to-impact step with its Jacobian (every track's ``step_jacobian``).
+
+    ``tau``, ``sdot``, ``wall``: the next pre-impact state (NaN when the orbit ended in this step);
+    ``jac = d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` (2x2; 0 if the step sticks: a sticking step
+    forgets its input, NaN if the flight failed); ``stuck``: the step stuck to the wall; ``status``:
+    the orbit status after the step (:data:`ORBIT_STATUSES`).
+    """
+
+    tau: float
+    sdot: float
+    wall: int
+    jac: np.ndarray
+    stuck: bool
+    status: str
+
+
+@runtime_checkable
+class Track(Protocol):
+    """What every track offers (the map, ``reference.scipy_track.TRACK``, ``reference.diffrax_track.TRACK``).
+
+    ``orbit``: impact 0 plus ``n_impacts`` impacts from the pre-impact state ``(tau0, sdot0)`` (with
+    ``-1 <= s0 <= 0``: from the free-flight state ``(tau0, s0, sdot0)``); ``step_jacobian``: one step
+    from the pre-impact state ``(tau, sdot)`` on ``wall`` (default: the wall ``sdot`` points to) with
+    its Jacobian.  ``options`` are the track's solver options; a bad argument or option raises a
+    ``ValueError`` that names it.
+    """
+
+    name: str
+
+    def orbit(self, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
+              **options) -> ImpactSequence: ...
+
+    def step_jacobian(self, params: Params, tau: float, sdot: float, wall: int | None = None,
+                      **options) -> StepJacobian: ...
+
+
+@dataclass(frozen=True)
+class TrackFunctions:
+    """A :class:`Track` made of a name and two functions with the protocol's signatures."""
+
+    name: str
+    orbit: Callable[..., ImpactSequence]
+    step_jacobian: Callable[..., StepJacobian]
+
+
+__all__ = ["KINDS", "COLUMNS", "ORBIT_STATUSES", "STATUS_ACTIVE", "STATUS_STUCK_FOREVER",
+           "STATUS_NO_IMPACT", "STATUS_STEP_CAP",
+           "ImpactSequence", "StepJacobian", "Track", "TrackFunctions"]

@@ -1,0 +1,172 @@
+"""The event specification of the hybrid ODE, shared by both reference tracks.
+
+Eq. (3), ``s'' = -alpha sin(tau) + alpha beta cos(tau) + gamma - beta s'``, holds while the tooth is
+inside the backlash, ``-1 <= s <= 0``; the impact law Eqs. (9)-(11) resets ``sdot -> -r sdot`` at
+``s = 0`` reached upward and at ``s = -1`` reached downward.  Both tracks (:mod:`reference.scipy_track`
+with numpy floats, :mod:`reference.diffrax_track` with JAX arrays under jit, vmap and jacfwd)
+integrate every flight as a chain of **monotone segments** defined here:
+
+* a segment has a direction ``sigma = +-1`` (the sign of ``sdot`` on it) and watches two
+  **terminal** event functions, both ``<= 0`` at its start and both located as **upcrossings**
+  (:data:`DIRECTION`): the wall ahead, :func:`wall_condition` (``s`` for ``sigma = +1``,
+  ``-1 - s`` for ``sigma = -1``), and the velocity reversal, :func:`reversal_condition`
+  (``-sigma sdot``, an extremum of ``s``);
+* a segment ends (:func:`segment_end`) at the wall (:data:`WALL_REACHED`: an impact), at a reversal
+  inside the gap (:data:`REVERSAL`: the next segment starts there with ``-sigma``), at a reversal
+  *beyond* the wall ahead (:data:`MISSED_CROSSING`: ``s`` crossed the wall and came back inside one
+  solver step, scipy issue 9228 / diffrax issue 507; ``s`` is monotone from the segment start to
+  the extremum, so the tracks solve again on exactly that interval watching the wall only, where
+  the crossing is a sign change; if that solve finds no crossing the extremum is a reversal), or
+  without an event (:data:`OPEN_END`: the flight horizon :data:`T_MAX` or a solver failure);
+* a flight starts (:func:`initial_direction`) in the direction of ``sdot``; at rest on a wall,
+  away from it; at rest inside, in the direction of the acceleration.  After an impact or a release
+  the flight restarts on the wall (:func:`restart_direction`) moving away from it, so the wall it
+  starts on is watched again only after a reversal (a restart never re-fires the impact);
+* caps: at most :data:`MAX_SEGMENTS` segments per flight (else ``"step_cap"``) and a flight of at
+  most :data:`T_MAX` (else ``"no_impact"``, as in the map);
+* event accuracy: an event time found on the interpolant is refined by one Newton step
+  (:func:`newton_step`) on the event function, whose rate along the vector field ``f = (sdot,
+  sddot)`` is :func:`condition_rate`.
+
+Every function here serves both tracks: a branch is a :func:`select`, a Python conditional on a
+Python or numpy bool and ``jnp.where`` on a JAX array (so the diffrax track stays traceable and the
+two tracks evaluate exactly the same expressions).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mapimpl import _jax  # noqa: F401  (float64)
+import jax.numpy as jnp
+
+#: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
+#: :data:`mapimpl.finder.T_MAX`, restated here so the reference does not import the finder).
+T_MAX = 2000.0
+#: Most monotone segments (velocity reversals + 1) integrated in one flight before ``"step_cap"``.
+MAX_SEGMENTS = 4000
+
+#: The walls: ``s = 0`` (reached with ``sdot > 0``) and ``s = -1`` (reached with ``sdot < 0``).
+UPPER_WALL, LOWER_WALL = 0, -1
+#: Both event functions are located where they cross zero upward (scipy ``direction=+1``, diffrax
+#: ``direction=True``) and both end the segment (scipy ``terminal=True``).
+DIRECTION = 1
+TERMINAL = True
+
+#: How a monotone segment ends (:func:`segment_end`).
+WALL_REACHED, REVERSAL, MISSED_CROSSING, OPEN_END = 0, 1, 2, 3
+
+#: Outcome of one flight: codes (diffrax, in arrays) and their names (scipy's ``Flight.status``).
+#: ``"no_impact"`` and ``"step_cap"`` become the orbit statuses of the same names.
+FLIGHT_HIT, FLIGHT_NO_IMPACT, FLIGHT_STEP_CAP = 0, 2, 3
+FLIGHT_STATUS_NAMES = {FLIGHT_HIT: "hit", FLIGHT_NO_IMPACT: "no_impact", FLIGHT_STEP_CAP: "step_cap"}
+
+
+def select(cond, a, b):
+    """``a if cond else b``: a Python conditional for a Python/numpy bool, elementwise otherwise
+    (``np.where`` on a numpy array, ``jnp.where`` on a JAX array or tracer)."""
+    if isinstance(cond, (bool, np.bool_)):
+        return a if cond else b
+    if isinstance(cond, np.ndarray):
+        return np.where(cond, a, b)
+    return jnp.where(cond, a, b)
+
+
+def wall_ahead(sigma):
+    """The wall a segment of direction ``sigma`` moves toward: 0 for ``sigma > 0``, -1 otherwise."""
+    return select(sigma > 0, UPPER_WALL, LOWER_WALL)
+
+
+def wall_condition(s, sigma):
+    """Event function of the wall ahead: ``s`` (``sigma > 0``) or ``-1 - s``; ``<= 0`` inside the
+    gap, positive beyond the wall."""
+    return select(sigma > 0, s, -1.0 - s)
+
+
+def reversal_condition(sdot, sigma):
+    """Event function of the velocity reversal: ``-sigma sdot`` (``< 0`` while ``s`` moves in the
+    direction ``sigma``, zero at an extremum of ``s``)."""
+    return -sigma * sdot
+
+
+def wall_rate(f, sigma):
+    """Rate of :func:`wall_condition` along the vector field ``f = (sdot, sddot)``."""
+    return select(sigma > 0, f[0], -f[0])
+
+
+def reversal_rate(f, sigma):
+    """Rate of :func:`reversal_condition` along the vector field ``f = (sdot, sddot)``."""
+    return -sigma * f[1]
+
+
+def condition(y, sigma, wall):
+    """The event function of the wall ahead (``wall`` true) or of the reversal at ``y = (s, sdot)``."""
+    return select(wall, wall_condition(y[0], sigma), reversal_condition(y[1], sigma))
+
+
+def condition_rate(f, sigma, wall):
+    """The rate of :func:`condition` along the vector field ``f``."""
+    return select(wall, wall_rate(f, sigma), reversal_rate(f, sigma))
+
+
+def newton_step(g, dg):
+    """One Newton step ``-g / dg`` on an event function of value ``g`` and rate ``dg``; 0 if ``dg = 0``."""
+    nz = dg != 0.0
+    return select(nz, -g / select(nz, dg, 1.0), 0.0)
+
+
+def beyond_wall(s, sigma):
+    """``s`` lies beyond the wall ahead (``s > 0`` for ``sigma > 0``, ``s < -1`` otherwise).  At a
+    velocity reversal this is a missed crossing (see the module docstring)."""
+    return select(sigma > 0, s > 0.0, s < -1.0)
+
+
+def segment_end(hit, reversal, s_end, sigma):
+    """How a segment of direction ``sigma`` ended: :data:`WALL_REACHED` when the wall event fired,
+    :data:`MISSED_CROSSING` when the reversal fired at ``s_end`` beyond the wall, :data:`REVERSAL`
+    when it fired inside the gap, :data:`OPEN_END` when neither fired."""
+    return select(hit, WALL_REACHED,
+                  select(reversal, select(beyond_wall(s_end, sigma), MISSED_CROSSING, REVERSAL), OPEN_END))
+
+
+def initial_direction(s0, v0, a0):
+    """Direction ``sigma`` (+-1.0) of the first segment of a flight from ``(s0, v0)`` with acceleration
+    ``a0``: the sign of ``v0``; at rest on a wall, away from it; at rest inside, the sign of ``a0``
+    (``a0 = 0`` counts as upward)."""
+    inside = select(a0 >= 0.0, 1.0, -1.0)
+    at_rest = select(s0 == 0.0, -1.0, select(s0 == -1.0, 1.0, inside))
+    return select(v0 > 0.0, 1.0, select(v0 < 0.0, -1.0, at_rest))
+
+
+def restart_direction(wall, v0):
+    """Direction of the flight that leaves ``wall`` with velocity ``v0`` after an impact (``v0 = -r
+    sdot``, Eq. 11) or a release (``v0 = 0``): the sign of ``v0``, or away from the wall."""
+    return initial_direction(wall, v0, 0.0)
+
+
+def pre_impact_wall(s0: float, sdot0: float, a0: float) -> int | None:
+    """The wall of a start ``(s0, sdot0)`` that is already a pre-impact state (on a wall, moving into
+    it, or at rest there with the acceleration ``a0`` pointing into it); None for a free start."""
+    if s0 == 0.0 and (sdot0 > 0.0 or (sdot0 == 0.0 and a0 > 0.0)):
+        return UPPER_WALL
+    if s0 == -1.0 and (sdot0 < 0.0 or (sdot0 == 0.0 and a0 < 0.0)):
+        return LOWER_WALL
+    return None
+
+
+def start_wall(wall: int | None, sdot: float) -> int:
+    """The wall of the pre-impact state ``(tau, sdot)`` a step starts from (``step_jacobian`` of every
+    track): ``wall`` (0 or -1) or, if None, the one ``sdot`` points to (``sdot > 0``: 0, else -1).
+    ``ValueError`` for another value."""
+    if wall is None:
+        return UPPER_WALL if sdot > 0 else LOWER_WALL
+    if isinstance(wall, bool) or wall not in (UPPER_WALL, LOWER_WALL):
+        raise ValueError(f"wall={wall!r} is out of range: allowed 0 (s = 0) or -1 (s = -1)")
+    return int(wall)
+
+
+__all__ = ["T_MAX", "MAX_SEGMENTS", "UPPER_WALL", "LOWER_WALL", "DIRECTION", "TERMINAL", "WALL_REACHED",
+           "REVERSAL", "MISSED_CROSSING", "OPEN_END", "FLIGHT_HIT", "FLIGHT_NO_IMPACT", "FLIGHT_STEP_CAP",
+           "FLIGHT_STATUS_NAMES", "select", "wall_ahead", "wall_condition", "reversal_condition", "wall_rate",
+           "reversal_rate", "condition", "condition_rate", "newton_step", "beyond_wall", "segment_end",
+           "initial_direction", "restart_direction", "pre_impact_wall", "start_wall"]

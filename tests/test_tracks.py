@@ -1,0 +1,119 @@
+"""The Track protocol and the registry (validation/tracks.py), and the shared result types
+(mapimpl/results.py): every track -- the closed-form map (Eqs. 12-13) and Eq. (3) integrated by
+scipy and by diffrax -- offers ``orbit`` and ``step_jacobian`` with the same signatures, result
+types and conventions."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from gear_rattle.mapimpl import _jax  # noqa: F401
+import jax
+
+from gear_rattle.mapimpl.impact_map import ORBIT_STATUS_NAMES, make_state, step
+from gear_rattle.mapimpl.orbit import map_orbit
+from gear_rattle.mapimpl.params import Params
+from gear_rattle.mapimpl.results import COLUMNS, KINDS, ORBIT_STATUSES, ImpactSequence, StepJacobian, Track
+from gear_rattle.validation import tracks as T
+
+PAPER = Params(3.0, 0.1, 0.1, 0.9)          # Fig. 3's chaotic attractor
+CHATTER = Params(2.0, 0.1, 1.0, 0.5)        # golden case 0007: chatter, sticking, release
+STUCK = Params(0.5, 0.1, 0.9, 0.5)          # golden case 0008: stuck forever
+#: Jacobian agreement, max-norm relative to (1 + |J|), as in tests/test_crossval.py.
+JAC_TOL = 1e-9
+
+
+@pytest.mark.parametrize("name", T.TRACKS)
+def test_every_track_implements_the_protocol(name):
+    track = T.get(name)
+    assert isinstance(track, Track)
+    assert track.name == name
+
+
+def test_something_without_the_methods_is_not_a_track():
+    assert not isinstance(object(), Track)
+    assert not isinstance(map_orbit, Track)
+
+
+def test_registry_errors():
+    with pytest.raises(ValueError, match="track='euler' is out of range"):
+        T.get("euler")
+    with pytest.raises(ValueError, match="option rtol=1e-05 is out of range"):
+        T.orbit("map", PAPER, 0.0, 0.5, 3, rtol=1e-5)
+    for name in T.TRACKS:
+        with pytest.raises(ValueError, match="wall=2 is out of range"):
+            T.step_jacobian(name, PAPER, 0.0, 0.5, wall=2)
+
+
+def test_the_registry_imports_diffrax_lazily():
+    code = ("import sys, gear_rattle.validation.tracks as T; T.get('map'); T.get('scipy'); "
+            "print('diffrax' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("name", ["map", "scipy"])
+def test_orbit_through_the_registry_is_the_track_orbit(name):
+    seq = T.orbit(name, PAPER, 0.0, 0.5, 6)
+    assert isinstance(seq, ImpactSequence) and seq.track == name and seq.status in ORBIT_STATUSES
+    if name == "map":
+        assert seq.to_csv() == map_orbit(PAPER, 0.0, 0.5, 6).to_csv()
+    assert seq.to_csv().splitlines()[0] == ",".join(COLUMNS)
+    assert set(seq.kind) <= set(KINDS)
+
+
+def test_map_step_jacobian_is_the_analytic_jacobian_of_the_map_step():
+    new, info = jax.jit(step)(make_state(0.0, 0.5), PAPER.arrays())
+    sj = T.step_jacobian("map", PAPER, 0.0, 0.5)
+    assert isinstance(sj, StepJacobian)
+    assert np.array_equal(sj.jac, np.asarray(info.jac)) and sj.tau == float(new.tau) and sj.sdot == float(new.sdot)
+    assert (sj.wall, sj.stuck, sj.status) == (int(new.wall), False, "active")
+
+
+def test_step_jacobian_of_map_and_scipy_agree_through_the_protocol():
+    m, s = (T.get(t).step_jacobian(PAPER, 0.0, 0.5) for t in ("map", "scipy"))
+    assert m.wall == s.wall and m.status == s.status == "active"
+    assert abs(m.tau - s.tau) < 1e-9 and abs(m.sdot - s.sdot) < 1e-9
+    assert np.abs(m.jac - s.jac).max() <= JAC_TOL * (1.0 + np.abs(m.jac).max())
+
+
+def _before_first_stick(p: Params) -> tuple[float, float]:
+    seq = map_orbit(p, 0.0, 0.5, 40)
+    i = list(seq.kind).index("stick") - 1
+    assert seq.kind[i] == "impact"
+    return float(seq.tau[i]), float(seq.sdot[i])
+
+
+@pytest.mark.parametrize("name", T.TRACKS)
+def test_a_sticking_step_forgets_its_input_on_every_track(name):
+    # golden case 0007: the step sticks, is released and flies on to the next impact (J = 0)
+    tau, sd = _before_first_stick(CHATTER)
+    ref = map_orbit(CHATTER, tau, sd, 1)
+    sj = T.step_jacobian(name, CHATTER, tau, sd)
+    assert sj.stuck and sj.status == "active" and np.array_equal(sj.jac, np.zeros((2, 2)))
+    assert sj.wall == int(ref.wall[-1]) and abs(sj.tau - ref.tau[-1]) < 1e-9 and abs(sj.sdot - ref.sdot[-1]) < 1e-9
+    # golden case 0008: stuck forever, no next state
+    tau, sd = _before_first_stick(STUCK)
+    sj = T.step_jacobian(name, STUCK, tau, sd)
+    assert sj.stuck and sj.status == "stuck_forever" and np.isnan(sj.tau) and np.array_equal(sj.jac, np.zeros((2, 2)))
+
+
+@pytest.mark.parametrize("name", T.TRACKS)
+def test_a_flight_without_impact_ends_the_step_on_every_track(name):
+    # no forcing, a slow bounce off s = 0: the damped flight stops short of s = -1 (r sdot / beta < 1)
+    sj = T.step_jacobian(name, Params(0.0, 0.1, 0.0, 0.9), 0.0, 0.01)
+    assert sj.status == "no_impact" and not sj.stuck and np.isnan(sj.tau) and np.isnan(sj.jac).all()
+
+
+def test_status_names_come_from_one_place():
+    assert set(ORBIT_STATUS_NAMES.values()) == set(ORBIT_STATUSES)
+
+
+def test_the_golden_suite_file_format_is_the_result_type_layout():
+    from gear_rattle.validation.golden import suite
+
+    assert suite.COLUMNS == COLUMNS and suite.KINDS == KINDS
