@@ -42,7 +42,6 @@ from .sticking import STICK_TIME, decide_stick, released_turns
 #: terminal (the state is frozen).  A flight that ends NO_IMPACT / STEP_CAP ends its orbit with the
 #: orbit status of the same name and value.
 ACTIVE, STUCK_FOREVER = int(Orbit.ACTIVE), int(Orbit.STUCK_FOREVER)
-ESCAPED, FAILED = int(Orbit.NO_IMPACT), int(Orbit.STEP_CAP)  # old names of NO_IMPACT / STEP_CAP
 ORBIT_STATUS_NAMES = ORBIT_NAMES
 
 
@@ -181,6 +180,6 @@ def iterate(state: MapState, p: ParamArrays, n: int, stick_time=STICK_TIME, t_ma
 
 
 __all__ = [
-    "ACTIVE", "STUCK_FOREVER", "ESCAPED", "FAILED", "ORBIT_STATUS_NAMES", "MapState", "StepInfo", "Trajectory",
+    "ACTIVE", "STUCK_FOREVER", "ORBIT_STATUS_NAMES", "MapState", "StepInfo", "Trajectory",
     "make_state", "step", "iterate", "free_flight_start", "HIT", "GRAZE", "NO_IMPACT", "STEP_CAP",
 ]

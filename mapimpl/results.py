@@ -26,6 +26,7 @@ from typing import Callable, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from .params import Params
+from .status import Orbit, orbit_name
 
 #: Event kinds of an :class:`ImpactSequence` row.
 KINDS = ("impact", "stick", "release")
@@ -36,10 +37,9 @@ COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
 #: sticks to a wall and the forcing never releases it; ``"no_impact"``: no wall is reached within the
 #: longest flight ``T_MAX``; ``"step_cap"``: a flight needed more solver steps / monotone segments
 #: than allowed.  (The kernels carry integer codes; these are their names in every result.)
-STATUS_ACTIVE = "active"
-STATUS_STUCK_FOREVER = "stuck_forever"
-STATUS_NO_IMPACT = "no_impact"
-STATUS_STEP_CAP = "step_cap"
+#: These are the lower-case names of the :class:`gear_rattle.mapimpl.status.Orbit` codes.
+STATUS_ACTIVE, STATUS_STUCK_FOREVER, STATUS_NO_IMPACT, STATUS_STEP_CAP = (
+    orbit_name(c) for c in (Orbit.ACTIVE, Orbit.STUCK_FOREVER, Orbit.NO_IMPACT, Orbit.STEP_CAP))
 ORBIT_STATUSES = (STATUS_ACTIVE, STATUS_STUCK_FOREVER, STATUS_NO_IMPACT, STATUS_STEP_CAP)
 
 

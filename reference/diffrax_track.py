@@ -42,7 +42,7 @@ import jax.numpy as jnp
 import optimistix as optx
 
 from ..mapimpl.flight import reduce_phase
-from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, ORBIT_STATUS_NAMES, STUCK_FOREVER, MapState, make_state
+from ..mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, STUCK_FOREVER, MapState, make_state
 from ..mapimpl.orbit import sequence_from_states
 from ..mapimpl.params import ParamArrays, Params
 from ..mapimpl.results import (
@@ -233,7 +233,7 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     status = jnp.where(
         state.status != ACTIVE, state.status,
         jnp.where(never, STUCK_FOREVER,
-                  jnp.where(fl.status == HIT, ACTIVE, jnp.where(fl.status == NO_IMPACT, ESCAPED, FAILED))),
+                  jnp.where(fl.status == HIT, ACTIVE, fl.status)),
     ).astype(jnp.int32)
     advance = status == ACTIVE
     new = MapState(theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
@@ -276,7 +276,7 @@ def _free_start(theta0, s0, v0, p: ParamArrays, opts: Options) -> MapState:
     fl = flight(theta0, s0, v0, ev.initial_direction(s0, v0, a0), alpha, beta, gamma, opts)
     hit = fl.status == HIT
     th1, cyc1 = reduce_phase(theta0 + jnp.where(hit, fl.t, 0.0), jnp.asarray(0, jnp.int64))
-    status = jnp.where(hit, ACTIVE, jnp.where(fl.status == NO_IMPACT, ESCAPED, FAILED)).astype(jnp.int32)
+    status = jnp.where(hit, ACTIVE, fl.status).astype(jnp.int32)
     return MapState(th1, cyc1, jnp.where(hit, fl.v, v0), jnp.where(hit, fl.wall, 0).astype(jnp.int32), status)
 
 

@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..mapimpl import _jax  # noqa: F401  (float64)
+from ..mapimpl.status import Flight
 import jax.numpy as jnp
 
 #: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
@@ -58,8 +59,9 @@ WALL_REACHED, REVERSAL, MISSED_CROSSING, OPEN_END = 0, 1, 2, 3
 
 #: Outcome of one flight: codes (diffrax, in arrays) and their names (scipy's ``Flight.status``).
 #: ``"no_impact"`` and ``"step_cap"`` become the orbit statuses of the same names.
-FLIGHT_HIT, FLIGHT_NO_IMPACT, FLIGHT_STEP_CAP = 0, 2, 3
-FLIGHT_STATUS_NAMES = {FLIGHT_HIT: "hit", FLIGHT_NO_IMPACT: "no_impact", FLIGHT_STEP_CAP: "step_cap"}
+#: (The codes of :class:`gear_rattle.mapimpl.status.Flight`, one vocabulary for every track.)
+FLIGHT_HIT, FLIGHT_NO_IMPACT, FLIGHT_STEP_CAP = int(Flight.HIT), int(Flight.NO_IMPACT), int(Flight.STEP_CAP)
+FLIGHT_STATUS_NAMES = {c: Flight(c).name.lower() for c in (FLIGHT_HIT, FLIGHT_NO_IMPACT, FLIGHT_STEP_CAP)}
 
 
 def select(cond, a, b):

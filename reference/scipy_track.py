@@ -57,7 +57,8 @@ from typing import Callable, NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..mapimpl.impact_map import ACTIVE, ESCAPED, FAILED, STUCK_FOREVER
+from ..mapimpl.impact_map import ACTIVE, STUCK_FOREVER
+from ..mapimpl.status import Orbit
 from ..mapimpl.params import Params
 from ..mapimpl.results import STATUS_ACTIVE, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian, TrackFunctions
 from . import events as ev
@@ -70,7 +71,7 @@ from .events import MAX_SEGMENTS, T_MAX
 # flight outcomes (:data:`reference.events.FLIGHT_STATUS_NAMES`) and the orbit status code after a miss
 _HIT, _NO_IMPACT, _STEP_CAP = (ev.FLIGHT_STATUS_NAMES[c]
                                 for c in (ev.FLIGHT_HIT, ev.FLIGHT_NO_IMPACT, ev.FLIGHT_STEP_CAP))
-_FLIGHT_FAILURE = {_NO_IMPACT: ESCAPED, _STEP_CAP: FAILED}
+_FLIGHT_FAILURE = {_NO_IMPACT: int(Orbit.NO_IMPACT), _STEP_CAP: int(Orbit.STEP_CAP)}
 
 #: Default integrator tolerances and step bound of this track.
 RTOL, ATOL, MAX_STEP = 1e-12, 1e-13, 0.25

@@ -9,7 +9,7 @@ from hypothesis import given, strategies as st
 from gear_rattle.mapimpl import Params
 from gear_rattle.mapimpl.batch import batch_iterate, states
 from gear_rattle.mapimpl.flight import forcing, forcing_rate
-from gear_rattle.mapimpl.impact_map import ACTIVE, ESCAPED, STUCK_FOREVER, make_state, step
+from gear_rattle.mapimpl.impact_map import ACTIVE, NO_IMPACT, STUCK_FOREVER, make_state, step
 from gear_rattle.mapimpl.orbit import map_orbit
 from gear_rattle.mapimpl.sticking import STICK_TIME, release_delay
 from tests.mpref import first_root
@@ -123,8 +123,8 @@ def test_terminal_states_do_not_loop():
     assert o.status == "stuck_forever"
     # alpha = gamma = 0: coasts to rest inside the gap -> no further impact
     s, _ = step_jit(make_state(0.0, 0.01), Params(0.0, 0.1, 0.0, 0.9).arrays())
-    assert int(s.status) == ESCAPED
-    assert int(step_jit(s, Params(0.0, 0.1, 0.0, 0.9).arrays())[0].status) == ESCAPED
+    assert int(s.status) == NO_IMPACT
+    assert int(step_jit(s, Params(0.0, 0.1, 0.0, 0.9).arrays())[0].status) == NO_IMPACT
 
 
 def test_release_delay_closed_form():
