@@ -51,7 +51,7 @@ def plot_atlas(data: dict[str, np.ndarray], spec: AtlasSpec, path: str, title: s
     """Two panels over (alpha, r): lambda1 (diverging colours around 0; black: a sticking step, J = 0,
     lambda1 = -inf; grey: orbit ended or not computed) and the period class ``p in m`` (p impacts in m
     driving periods; white: no period found), with the paper's scans as lines.  Writes ``path``."""
-    from matplotlib import colormaps
+    from matplotlib import colormaps, patheffects
     from matplotlib.colors import ListedColormap, TwoSlopeNorm
     from matplotlib.patches import Patch
 
@@ -92,11 +92,16 @@ def plot_atlas(data: dict[str, np.ndarray], spec: AtlasSpec, path: str, title: s
     ax2.legend(handles=handles, fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)
     ax2.set_title(r"period: $p$ impacts in $m$ driving periods ($p \leq$ %d)" % spec.period_max)
 
+    outline = [patheffects.withStroke(linewidth=4.0, foreground="white")]
     for ax in (ax1, ax2):
         for k, (label, xs, ys) in enumerate(paper_lines(spec)):
-            ax.plot(xs, ys, "-", color=("#00a000", "#d000d0")[k % 2], lw=2.2, solid_capstyle="butt")
-            ax.annotate(label, (xs[1], ys[1]), xytext=(3, 3), textcoords="offset points", fontsize=8,
-                        color=("#006000", "#900090")[k % 2])
+            colour = ("#007000", "#b000b0")[k % 2]
+            ax.plot(xs, ys, "-", color=colour, lw=2.2, solid_capstyle="butt", path_effects=outline)
+            vertical = xs[0] == xs[1]
+            ax.annotate(label, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), xytext=(-6, 0) if vertical else (0, 5),
+                        textcoords="offset points", fontsize=8, color=colour, rotation=90 if vertical else 0,
+                        ha="right" if vertical else "center", va="center" if vertical else "bottom",
+                        path_effects=outline)
         ax.set_xlabel(r"$\alpha$ (driving amplitude)")
         ax.set_ylabel(r"$r$ (restitution)")
     fig.suptitle(title or (rf"Parameter-plane atlas, $\beta$ = {spec.beta:g}, $\gamma$ = {spec.gamma:g}: "

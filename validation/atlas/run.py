@@ -46,7 +46,12 @@ def import_distributed():
 
 
 def default_workers() -> int:
-    """One worker per available core."""
+    """One worker per available core on the CPU; one worker when JAX runs on an accelerator (every worker
+    process would otherwise claim the same device and its memory)."""
+    import jax
+
+    if jax.default_backend() != "cpu":
+        return 1
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except (AttributeError, OSError):  # pragma: no cover - non-Linux
@@ -55,7 +60,7 @@ def default_workers() -> int:
 
 def check_scheduler(scheduler: str, workers: int | None) -> None:
     """``ValueError`` for a bad scheduler string or worker count (before anything starts)."""
-    if not isinstance(scheduler, str) or not scheduler.strip():
+    if not isinstance(scheduler, str) or not (scheduler in ("local", "serial") or ":" in scheduler):
         raise ValueError(f"scheduler={scheduler!r} is out of range: allowed 'local', 'serial' or a scheduler "
                          "address such as tcp://host:8786")
     if workers is not None:
@@ -85,9 +90,10 @@ def crop(spec: AtlasSpec, tile: tuple[int, int], i: int, j: int, result: dict) -
 
 
 def _timed(compute: ComputeFn, alpha, r, spec):
-    t0 = time.perf_counter()
+    """``(result, wall seconds, CPU seconds of this process)`` of one tile."""
+    t0, c0 = time.perf_counter(), time.process_time()
     out = compute(alpha, r, spec)
-    return out, time.perf_counter() - t0
+    return out, time.perf_counter() - t0, time.process_time() - c0
 
 
 def _worker_task(compute: ComputeFn, alpha, r, spec):
@@ -146,8 +152,8 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
     run = AtlasRun(st, scheduler, 1, nt[0] * nt[1], nt[0] * nt[1] - len(todo), remaining=list(todo))
     t0 = time.perf_counter()
 
-    def store_one(ij, out, secs):
-        st.write_tile(*ij, crop(spec, tile, *ij, out), secs)
+    def store_one(ij, out, secs, cpu):
+        st.write_tile(*ij, crop(spec, tile, *ij, out), secs, cpu)
         run.computed.append(ij)
         run.remaining.remove(ij)
         run.seconds = time.perf_counter() - t0
@@ -177,7 +183,7 @@ def _run_dask(spec, tile, todo, scheduler, workers, compute, run: AtlasRun, stor
     else:
         try:
             client = distributed.Client(scheduler, timeout=CONNECT_TIMEOUT_S)
-        except (OSError, TimeoutError) as e:
+        except (OSError, TimeoutError, ValueError) as e:
             raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e})") from None
         run.workers = len(client.scheduler_info().get("workers", {}))
     futures = {}
@@ -190,11 +196,11 @@ def _run_dask(spec, tile, todo, scheduler, workers, compute, run: AtlasRun, stor
         for fut in distributed.as_completed(list(futures)):
             ij = futures[fut]
             try:
-                out, secs = fut.result()
+                out, secs, cpu = fut.result()
             except Exception as e:  # noqa: BLE001 - a tile that failed on every allowed try
                 raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} tiles "
                                    "finished are stored: rerun to resume") from e
-            store_one(ij, out, secs)
+            store_one(ij, out, secs, cpu)
     finally:
         for fut in futures:
             fut.cancel()

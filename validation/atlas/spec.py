@@ -53,16 +53,16 @@ class AtlasSpec:
 
     alpha_lo: float = 1.0
     alpha_hi: float = 3.2
-    n_alpha: int = 48
+    n_alpha: int = 67  # alpha step 1/30 and r step 0.005: alpha = 3 and r = 0.9 (Figs. 4, 8) are grid lines
     r_lo: float = 0.70
     r_hi: float = 0.95
-    n_r: int = 48
+    n_r: int = 51
     beta: float = 0.1
     gamma: float = 0.1
     tau0: float = 0.0
     sdot0: float = 0.5
-    transient: int = 500
-    impacts: int = 1000
+    transient: int = 1000
+    impacts: int = 2000
     period_max: int = 32
     period_tol: float = 1e-6
 

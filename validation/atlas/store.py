@@ -11,6 +11,8 @@ name               shape, chunks, dtype        content
                                                NaN / 0 / status -1 where not computed)
 ``done``           (tiles_r, tiles_alpha), 1   True once every field of that tile is written
 ``tile_seconds``   (tiles_r, tiles_alpha), 1   wall time of the tile's compute on its worker
+``tile_cpu_        (tiles_r, tiles_alpha), 1   CPU time of that worker process meanwhile (all
+seconds``                                      its threads; first tile of a worker: with compile)
 =================  ==========================  =================================================
 
 Group attributes: ``format`` (:data:`FORMAT`), ``spec`` (:meth:`AtlasSpec.to_dict`), ``tile``
@@ -29,6 +31,9 @@ import numpy as np
 
 from .compute import ENGINE, FIELDS
 from .spec import AtlasSpec
+
+#: Per-tile timing arrays (float64, NaN until the tile is done).
+TIMING = ("tile_seconds", "tile_cpu_seconds")
 
 #: Format tag of the store's attributes.
 FORMAT = "gear-rattle-atlas/1"
@@ -94,8 +99,9 @@ class AtlasStore:
         """Tiles not yet stored, in row-major order."""
         return [(int(i), int(j)) for i, j in zip(*np.nonzero(~self.done()))]
 
-    def write_tile(self, i: int, j: int, result: dict[str, np.ndarray], seconds: float = float("nan")) -> None:
-        """Store the fields of tile ``(i, j)`` (arrays of the tile's shape), then mark it done."""
+    def write_tile(self, i: int, j: int, result: dict[str, np.ndarray], seconds: float = float("nan"),
+                   cpu_seconds: float = float("nan")) -> None:
+        """Store the fields of tile ``(i, j)`` (arrays of the tile's shape) and its timing, then mark it done."""
         rows, cols = tile_slices(self.spec, self.tile, i, j)
         shape = (rows.stop - rows.start, cols.stop - cols.start)
         for k, (dt, _) in FIELDS.items():
@@ -106,11 +112,12 @@ class AtlasStore:
         for k in FIELDS:
             self.group[k][rows, cols] = np.asarray(result[k])
         self.group["tile_seconds"][i, j] = float(seconds)
+        self.group["tile_cpu_seconds"][i, j] = float(cpu_seconds)
         self.group["done"][i, j] = True
 
     def read(self) -> dict[str, np.ndarray]:
-        """Every array of the store (``alpha``, ``r``, the fields, ``done``, ``tile_seconds``)."""
-        return {k: np.asarray(self.group[k][...]) for k in ("alpha", "r", *FIELDS, "done", "tile_seconds")}
+        """Every array of the store (``alpha``, ``r``, the fields, ``done`` and the timings)."""
+        return {k: np.asarray(self.group[k][...]) for k in ("alpha", "r", *FIELDS, "done", *TIMING)}
 
 
 def _is_atlas(path: Path, zarr) -> dict | None:
@@ -125,7 +132,7 @@ def _is_atlas(path: Path, zarr) -> dict | None:
 def _half_made(path: Path, zarr) -> bool:
     try:
         g = zarr.open_group(str(path), mode="r")
-        return not dict(g.attrs) and set(g.keys()) <= {"alpha", "r", "tile_seconds", "done", *FIELDS}
+        return not dict(g.attrs) and set(g.keys()) <= {"alpha", "r", "done", *TIMING, *FIELDS}
     except Exception:  # noqa: BLE001
         return False
 
@@ -170,7 +177,8 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
     g.create_array("r", data=spec.rs, chunks=(spec.n_r,))
     for k, (dt, fill) in FIELDS.items():
         g.create_array(k, shape=shape, chunks=tile, dtype=dt, fill_value=fill)
-    g.create_array("tile_seconds", shape=nt, chunks=(1, 1), dtype=np.float64, fill_value=np.nan)
+    for k in TIMING:
+        g.create_array(k, shape=nt, chunks=(1, 1), dtype=np.float64, fill_value=np.nan)
     g.create_array("done", shape=nt, chunks=(1, 1), dtype=bool, fill_value=False)
     g.attrs.update(want)  # last: a store without its attributes is not an atlas (and is recreated)
     return AtlasStore(str(p), spec, tile, g)

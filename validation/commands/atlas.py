@@ -118,10 +118,12 @@ def run(args: argparse.Namespace) -> int:
     (out / "atlas_summary.json").write_text(json.dumps(summary, indent=1) + "\n")
     plot_atlas(data, spec, str(out / "atlas.png"))
     ru = summary["run"]
+    tile_rate = ru.get("median tile throughput per worker (points x impacts / s, wall)", float("nan"))
     print(f"atlas {spec.n_alpha} x {spec.n_r} (alpha {spec.alpha_lo:g}..{spec.alpha_hi:g}, r {spec.r_lo:g}.."
           f"{spec.r_hi:g}): {ru['tiles_computed']} tiles computed, {ru['tiles_resumed']} found in the store; "
           f"{ru['wall_seconds']:.1f} s on {ru['workers']} worker(s) ({args.scheduler}), "
-          f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} points x impacts/s")
+          f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} points x impacts/s "
+          f"(start-up and compile included; median tile: {tile_rate:.3g} per worker)")
     print(f"chaotic (lambda1 > 0): {summary['chaotic (lambda1 > 0)']}, periodic: "
           f"{summary['periodic (period found)']}, sticking: {summary['sticking (lambda1 = -inf)']}, ended: "
           f"{summary['ended (status != 0)']} of {summary['points_computed']} points")
