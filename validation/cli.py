@@ -24,6 +24,7 @@ COMMAND_MODULES = [
     "gear_rattle.validation.commands.basins",
     "gear_rattle.validation.commands.uncertainty",
     "gear_rattle.validation.commands.transients",
+    "gear_rattle.validation.commands.atlas",
     "gear_rattle.validation.commands.check",
 ]
 

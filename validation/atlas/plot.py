@@ -1,0 +1,111 @@
+"""The atlas figure: largest Lyapunov exponent and period over the (alpha, r) plane, with the paper's two
+scans drawn as lines (Fig. 4: r-scan at alpha = 3; Fig. 8: alpha-scan at r = 0.9)."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+
+from .spec import PAPER_LINES, AtlasSpec
+
+#: Most (p, m) classes coloured individually in the period panel; the rest are "other periodic".
+MAX_CLASSES = 12
+
+
+def _edges(v: np.ndarray) -> np.ndarray:
+    if v.size == 1:
+        h = 0.005 * max(1.0, abs(float(v[0])))
+        return np.array([v[0] - h, v[0] + h])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def period_classes(p: np.ndarray, m: np.ndarray, max_classes: int = MAX_CLASSES) -> list[tuple[int, int, int]]:
+    """``(p, m, count)`` of the periodic points, most frequent first (ties: smaller p, then m)."""
+    c = Counter(zip(p[p > 0].tolist(), m[p > 0].tolist()))
+    return [(pp, mm, n) for (pp, mm), n in sorted(c.items(), key=lambda t: (-t[1], t[0]))][:max_classes]
+
+
+def paper_lines(spec: AtlasSpec):
+    """The paper's scans clipped to the atlas: ``(label, (x0, x1), (y0, y1))`` in (alpha, r) coordinates,
+    only those that cross the atlas."""
+    out = []
+    for label, fixed, value, _varied, lo, hi in PAPER_LINES:
+        if fixed == "alpha":
+            if not spec.alpha_lo <= value <= spec.alpha_hi:
+                continue
+            y0, y1 = max(lo, spec.r_lo), min(hi, spec.r_hi)
+            if y0 <= y1:
+                out.append((label, (value, value), (y0, y1)))
+        else:
+            if not spec.r_lo <= value <= spec.r_hi:
+                continue
+            x0, x1 = max(lo, spec.alpha_lo), min(hi, spec.alpha_hi)
+            if x0 <= x1:
+                out.append((label, (x0, x1), (value, value)))
+    return out
+
+
+def plot_atlas(data: dict[str, np.ndarray], spec: AtlasSpec, path: str, title: str | None = None) -> None:
+    """Two panels over (alpha, r): lambda1 (diverging colours around 0; black: a sticking step, J = 0,
+    lambda1 = -inf; grey: orbit ended or not computed) and the period class ``p in m`` (p impacts in m
+    driving periods; white: no period found), with the paper's scans as lines.  Writes ``path``."""
+    from matplotlib import colormaps, patheffects
+    from matplotlib.colors import ListedColormap, TwoSlopeNorm
+    from matplotlib.patches import Patch
+
+    from ..figures import subplots
+
+    xa, yr = _edges(data["alpha"]), _edges(data["r"])
+    lam, p, m = data["lambda1"], data["period_p"], data["period_m"]
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(13, 5.2))
+
+    fin = lam[np.isfinite(lam)]
+    lo = min(float(fin.min()), -1e-3) if fin.size else -1.0
+    hi = max(float(fin.max()), 1e-3) if fin.size else 1.0
+    cmap = colormaps["RdBu_r"].with_extremes(under="black", bad="0.6")
+    shown = np.where(np.isneginf(lam), lo - 1.0, lam)
+    im = ax1.pcolormesh(xa, yr, np.ma.masked_invalid(shown), cmap=cmap, norm=TwoSlopeNorm(0.0, lo, hi))
+    fig.colorbar(im, ax=ax1, extend="min", label=r"$\lambda_1$ per impact (black: sticking, $-\infty$)")
+    ax1.set_title(r"largest Lyapunov exponent $\lambda_1$")
+
+    classes = period_classes(p, m)
+    codes = np.zeros(p.shape)  # 0: no period
+    for k, (pp, mm, _n) in enumerate(classes, start=1):
+        codes[(p == pp) & (m == mm)] = k
+    other = (p > 0) & (codes == 0)
+    codes[other] = len(classes) + 1
+    ended = np.isnan(lam) | (data["status"] != 0)
+    codes = np.ma.masked_where(ended, codes)
+    tab = colormaps["tab20"]
+    colours = ["white"] + [tab(k % 20) for k in range(len(classes))] + ["0.85"]
+    pcm = ListedColormap(colours).with_extremes(bad="0.45")
+    ax2.pcolormesh(xa, yr, codes, cmap=pcm, vmin=-0.5, vmax=len(colours) - 0.5)
+    handles = [Patch(facecolor="white", edgecolor="k", label="no period found")]
+    handles += [Patch(facecolor=colours[k], edgecolor="k", label=f"{pp} impacts in {mm} period{'s' * (mm != 1)}")
+                for k, (pp, mm, _n) in enumerate(classes, start=1)]
+    if other.any():
+        handles.append(Patch(facecolor="0.85", edgecolor="k", label="other periodic"))
+    if ended.any():
+        handles.append(Patch(facecolor="0.45", edgecolor="k", label="orbit ended / not computed"))
+    ax2.legend(handles=handles, fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)
+    ax2.set_title(r"period: $p$ impacts in $m$ driving periods ($p \leq$ %d)" % spec.period_max)
+
+    outline = [patheffects.withStroke(linewidth=4.0, foreground="white")]
+    for ax in (ax1, ax2):
+        for k, (label, xs, ys) in enumerate(paper_lines(spec)):
+            colour = ("#007000", "#b000b0")[k % 2]
+            ax.plot(xs, ys, "-", color=colour, lw=2.2, solid_capstyle="butt", path_effects=outline)
+            vertical = xs[0] == xs[1]
+            ax.annotate(label, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), xytext=(-6, 0) if vertical else (0, 5),
+                        textcoords="offset points", fontsize=8, color=colour, rotation=90 if vertical else 0,
+                        ha="right" if vertical else "center", va="center" if vertical else "bottom",
+                        path_effects=outline)
+        ax.set_xlabel(r"$\alpha$ (driving amplitude)")
+        ax.set_ylabel(r"$r$ (restitution)")
+    fig.suptitle(title or (rf"Parameter-plane atlas, $\beta$ = {spec.beta:g}, $\gamma$ = {spec.gamma:g}: "
+                           f"{spec.n_alpha} x {spec.n_r} points, {spec.transient} transient + {spec.impacts} "
+                           f"measured impacts from (tau0, sdot0) = ({spec.tau0:g}, {spec.sdot0:g})"), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)

@@ -1,0 +1,209 @@
+"""Running an atlas: tiles of the (alpha, r) grid computed by :func:`.compute.compute_tile` on Dask
+(or in-process) and written to the Zarr store as they finish (:mod:`.store`).
+
+Schedulers (``scheduler=``):
+
+* ``"local"`` (default): an embedded ``distributed.LocalCluster`` -- worker *processes*, one thread
+  each, ``workers`` of them (default: one per available core);
+* ``"tcp://HOST:PORT"`` (any other string): the scheduler of a running Dask cluster.  Workers need
+  ``gear-rattle`` installed; they never touch the store (results come back to this process, which
+  writes them), so the store only has to be reachable from here;
+* ``"serial"``: in this process, tile after tile (no Dask needed; what the tests compare against).
+
+Every tile is padded to the full tile shape (edge values repeated, then cropped), so that one compiled
+kernel serves all tiles.  A point's numbers depend on nothing but the point and the spec, so the atlas
+is the same for any tiling, worker count or scheduler (``tests/test_atlas.py``).  A worker process that
+dies (killed, out of memory) costs only its running tile: Dask reruns it on another worker.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .compute import compute_tile
+from .spec import AtlasSpec
+from .store import AtlasStore, open_store, tile_slices
+
+ComputeFn = Callable[[np.ndarray, np.ndarray, AtlasSpec], dict]
+
+#: How long to wait for a remote scheduler.
+CONNECT_TIMEOUT_S = 20
+
+
+def import_distributed():
+    """The ``distributed`` module, or ``ImportError`` telling how to install the ``atlas`` extra."""
+    try:
+        import distributed
+    except ImportError:
+        raise ImportError("the atlas on Dask needs the optional dependency dask[distributed]: "
+                          "pip install 'gear-rattle[atlas]'") from None
+    return distributed
+
+
+def default_workers() -> int:
+    """One worker per available core on the CPU; one worker when JAX runs on an accelerator (every worker
+    process would otherwise claim the same device and its memory)."""
+    import jax
+
+    if jax.default_backend() != "cpu":
+        return 1
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - non-Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def check_scheduler(scheduler: str, workers: int | None) -> None:
+    """``ValueError`` for a bad scheduler string or worker count (before anything starts)."""
+    if not isinstance(scheduler, str) or not (scheduler in ("local", "serial") or ":" in scheduler):
+        raise ValueError(f"scheduler={scheduler!r} is out of range: allowed 'local', 'serial' or a scheduler "
+                         "address such as tcp://host:8786")
+    if workers is not None:
+        if scheduler != "local":
+            raise ValueError(f"workers={workers!r} applies only to scheduler='local' (the embedded LocalCluster)")
+        if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not 1 <= workers <= 4096:
+            raise ValueError(f"workers={workers!r} is out of range: allowed an integer 1 <= workers <= 4096")
+
+
+def tile_points(spec: AtlasSpec, tile: tuple[int, int], i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(alpha, r)`` arrays of the full tile shape for tile ``(i, j)``: the tile's grid points, edge
+    tiles padded by repeating their last row / column (cropped again by :func:`crop`)."""
+    rows, cols = tile_slices(spec, tile, i, j)
+    a = spec.alphas[cols]
+    r = spec.rs[rows]
+    a = np.concatenate([a, np.full(tile[1] - a.size, a[-1])])
+    r = np.concatenate([r, np.full(tile[0] - r.size, r[-1])])
+    aa, rr = np.meshgrid(a, r)
+    return aa, rr
+
+
+def crop(spec: AtlasSpec, tile: tuple[int, int], i: int, j: int, result: dict) -> dict:
+    """The part of a padded tile's result that lies in the grid."""
+    rows, cols = tile_slices(spec, tile, i, j)
+    nr, na = rows.stop - rows.start, cols.stop - cols.start
+    return {k: np.asarray(v)[:nr, :na] for k, v in result.items()}
+
+
+def _timed(compute: ComputeFn, alpha, r, spec):
+    """``(result, wall seconds, CPU seconds of this process)`` of one tile."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    out = compute(alpha, r, spec)
+    return out, time.perf_counter() - t0, time.process_time() - c0
+
+
+def _worker_task(compute: ComputeFn, alpha, r, spec):
+    """Runs on a Dask worker: float64 JAX on one XLA CPU device per worker process, then the tile."""
+    from ...mapimpl._jax import use_cpu_devices  # importing gear_rattle enables float64
+
+    use_cpu_devices(1)  # a no-op once JAX has started in this worker
+    return _timed(compute, alpha, r, spec)
+
+
+@dataclass
+class AtlasRun:
+    """What one call of :func:`run_atlas` did."""
+
+    store: AtlasStore
+    scheduler: str
+    workers: int
+    tiles_total: int
+    skipped: int
+    computed: list[tuple[int, int]] = field(default_factory=list)
+    remaining: list[tuple[int, int]] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def points_computed(self) -> int:
+        sp, t = self.store.spec, self.store.tile
+        n = 0
+        for i, j in self.computed:
+            rows, cols = tile_slices(sp, t, i, j)
+            n += (rows.stop - rows.start) * (cols.stop - cols.start)
+        return n
+
+    @property
+    def throughput(self) -> float:
+        """Grid points x map steps per second of wall time, over this call (start-up and compile included)."""
+        return self.points_computed * self.store.spec.impacts_per_point / self.seconds if self.seconds > 0 else 0.0
+
+
+def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "local", workers: int | None = None,
+              overwrite: bool = False, compute: ComputeFn = compute_tile, progress=None) -> AtlasRun:
+    """Compute the tiles of ``spec`` missing from the Zarr ``store`` and write each as it finishes.
+
+    ``scheduler``: ``"local"`` (embedded LocalCluster, ``workers`` processes, default one per core),
+    ``"serial"`` (in this process) or a Dask scheduler address.  ``compute`` is the compute seam (default
+    :func:`.compute.compute_tile`).  ``progress(done, total)`` is called after every stored tile.  A store
+    made with another spec or tile size is refused unless ``overwrite``.  An interrupted call keeps every
+    stored tile; calling again resumes.
+    """
+    check_scheduler(scheduler, workers)
+    if scheduler != "serial":
+        import_distributed()
+    st = open_store(store, spec, tile, overwrite=overwrite)
+    tile = st.tile
+    todo = st.missing()
+    nt = st.n_tiles
+    run = AtlasRun(st, scheduler, 1, nt[0] * nt[1], nt[0] * nt[1] - len(todo), remaining=list(todo))
+    t0 = time.perf_counter()
+
+    def store_one(ij, out, secs, cpu):
+        st.write_tile(*ij, crop(spec, tile, *ij, out), secs, cpu)
+        run.computed.append(ij)
+        run.remaining.remove(ij)
+        run.seconds = time.perf_counter() - t0
+        if progress is not None:
+            progress(len(run.computed), len(todo))
+
+    if not todo:
+        return run
+    if scheduler == "serial":
+        for ij in todo:
+            store_one(ij, *_timed(compute, *tile_points(spec, tile, *ij), spec))
+        return run
+    _run_dask(spec, tile, todo, scheduler, workers, compute, run, store_one)
+    return run
+
+
+def _run_dask(spec, tile, todo, scheduler, workers, compute, run: AtlasRun, store_one) -> None:
+    distributed = import_distributed()
+    import logging
+
+    cluster = None
+    if scheduler == "local":
+        run.workers = workers or default_workers()
+        cluster = distributed.LocalCluster(n_workers=run.workers, threads_per_worker=1, processes=True,
+                                           dashboard_address=None, silence_logs=logging.ERROR)
+        client = distributed.Client(cluster)
+    else:
+        try:
+            client = distributed.Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+        except (OSError, TimeoutError, ValueError) as e:
+            raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e})") from None
+        run.workers = len(client.scheduler_info().get("workers", {}))
+    futures = {}
+    try:
+        for ij in todo:
+            a, r = tile_points(spec, tile, *ij)
+            fut = client.submit(_worker_task, compute, a, r, spec, pure=False, key=f"atlas-tile-{ij[0]}-{ij[1]}-"
+                                f"{os.getpid()}-{time.monotonic_ns()}")
+            futures[fut] = ij
+        for fut in distributed.as_completed(list(futures)):
+            ij = futures[fut]
+            try:
+                out, secs, cpu = fut.result()
+            except Exception as e:  # noqa: BLE001 - a tile that failed on every allowed try
+                raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} tiles "
+                                   "finished are stored: rerun to resume") from e
+            store_one(ij, out, secs, cpu)
+    finally:
+        for fut in futures:
+            fut.cancel()
+        client.close()
+        if cluster is not None:
+            cluster.close()

@@ -1,0 +1,132 @@
+"""What an atlas computes: :class:`AtlasSpec`, the validated grid and method of a parameter-plane atlas.
+
+The grid is ``alpha = linspace(alpha_lo, alpha_hi, n_alpha)`` by ``r = linspace(r_lo, r_hi, n_r)`` at fixed
+``beta`` and ``gamma`` (Eqs. 4-6, 11; the paper's plane is beta = gamma = 0.1).  Every point starts from the
+same pre-impact state ``(tau0, sdot0)``, discards ``transient`` impacts, averages the largest Lyapunov
+exponent over ``impacts`` impacts (QR method, per impact) and then looks for a period in the next
+``2 * period_max`` impacts (see :mod:`.compute`).  Arrays are indexed ``[i_r, i_alpha]`` (rows: r).
+
+The spec says everything that determines the numbers of an atlas; it is stored in the Zarr store's
+attributes (:meth:`AtlasSpec.to_dict`), and a store made with another spec is refused on resume.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+
+import numpy as np
+
+from ...mapimpl.params import check_value
+
+#: Bounds that keep an atlas finite.
+MAX_GRID = 100_000_000
+MAX_IMPACTS = 50_000_000
+MAX_PERIOD = 1024
+
+#: The paper's scans drawn on the atlas: (label, fixed parameter, value, varied parameter, lo, hi).
+PAPER_LINES = (
+    ("Fig. 4 (alpha = 3)", "alpha", 3.0, "r", 0.70, 0.95),
+    ("Fig. 8 (r = 0.9)", "r", 0.9, "alpha", 1.10, 1.40),
+)
+
+
+def _int(name: str, value, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
+        raise ValueError(f"{name}={value!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
+    return int(value)
+
+
+def _float(name: str, value, ok, allowed: str) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}") from None
+    if isinstance(value, bool) or not math.isfinite(x) or not ok(x):
+        raise ValueError(f"{name}={value!r} is out of range: allowed {allowed}")
+    return x
+
+
+@dataclass(frozen=True)
+class AtlasSpec:
+    """Grid, fixed parameters, initial condition and measurement lengths of an atlas (validated)."""
+
+    alpha_lo: float = 1.0
+    alpha_hi: float = 3.2
+    n_alpha: int = 67  # alpha step 1/30 and r step 0.005: alpha = 3 and r = 0.9 (Figs. 4, 8) are grid lines
+    r_lo: float = 0.70
+    r_hi: float = 0.95
+    n_r: int = 51
+    beta: float = 0.1
+    gamma: float = 0.1
+    tau0: float = 0.0
+    sdot0: float = 0.5
+    transient: int = 1000
+    impacts: int = 2000
+    period_max: int = 32
+    period_tol: float = 1e-6
+
+    def __post_init__(self) -> None:
+        s = object.__setattr__
+        for name in ("alpha_lo", "alpha_hi"):
+            s(self, name, _float(name, getattr(self, name), lambda x: x >= 0.0, f"a finite {name} >= 0"))
+        for name in ("r_lo", "r_hi"):
+            s(self, name, _float(name, getattr(self, name), lambda x: 0.0 < x <= 1.0, f"0 < {name} <= 1"))
+        s(self, "beta", check_value("beta", self.beta))
+        s(self, "gamma", check_value("gamma", self.gamma))
+        if self.alpha_lo > self.alpha_hi:
+            raise ValueError(f"alpha_lo={self.alpha_lo!r}, alpha_hi={self.alpha_hi!r} are out of range: "
+                             "allowed alpha_lo <= alpha_hi")
+        if self.r_lo > self.r_hi:
+            raise ValueError(f"r_lo={self.r_lo!r}, r_hi={self.r_hi!r} are out of range: allowed r_lo <= r_hi")
+        s(self, "n_alpha", _int("n_alpha", self.n_alpha, 1, MAX_GRID))
+        s(self, "n_r", _int("n_r", self.n_r, 1, MAX_GRID))
+        if self.n_alpha * self.n_r > MAX_GRID:
+            raise ValueError(f"n_alpha * n_r = {self.n_alpha * self.n_r} is out of range: allowed <= {MAX_GRID}")
+        s(self, "tau0", _float("tau0", self.tau0, lambda x: True, "a finite tau0"))
+        s(self, "sdot0", _float("sdot0", self.sdot0, lambda x: x != 0.0, "a finite sdot0 != 0"))
+        s(self, "transient", _int("transient", self.transient, 0, MAX_IMPACTS))
+        s(self, "impacts", _int("impacts", self.impacts, 1, MAX_IMPACTS))
+        s(self, "period_max", _int("period_max", self.period_max, 1, MAX_PERIOD))
+        s(self, "period_tol", _float("period_tol", self.period_tol, lambda x: 0.0 < x < 1.0,
+                                     "a period_tol with 0 < period_tol < 1"))
+
+    # grid -------------------------------------------------------------------------------------------
+    @property
+    def alphas(self) -> np.ndarray:
+        """The alpha values (columns), float64."""
+        return np.linspace(self.alpha_lo, self.alpha_hi, self.n_alpha)
+
+    @property
+    def rs(self) -> np.ndarray:
+        """The r values (rows), float64."""
+        return np.linspace(self.r_lo, self.r_hi, self.n_r)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(n_r, n_alpha)``: the shape of every atlas array."""
+        return (self.n_r, self.n_alpha)
+
+    @property
+    def window(self) -> int:
+        """Impacts recorded after the Lyapunov average to look for a period: ``2 * period_max``."""
+        return 2 * self.period_max
+
+    @property
+    def impacts_per_point(self) -> int:
+        """Map steps run per grid point: transient + Lyapunov average + period window."""
+        return self.transient + self.impacts + self.window
+
+    # storage ----------------------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """JSON-able dict (floats round-trip exactly through JSON)."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "AtlasSpec":
+        """The spec of :meth:`to_dict` (unknown or missing keys are a ValueError)."""
+        names = {f.name for f in fields(cls)}
+        extra = set(d) - names
+        if extra:
+            raise ValueError(f"atlas spec has unknown fields {sorted(extra)}: allowed {sorted(names)}")
+        return cls(**d)

@@ -1,0 +1,83 @@
+"""A JSON-able summary of an atlas: what was run, how fast, and what the plane holds (counts, period
+classes, and the atlas along the paper's scans)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .plot import paper_lines, period_classes
+from .run import AtlasRun
+from .spec import PAPER_LINES, AtlasSpec
+
+
+def _line_profile(data: dict, spec: AtlasSpec, fixed: str, value: float, lo: float, hi: float) -> dict:
+    """The atlas on the grid line nearest to the paper's scan (``fixed = value``, the other in [lo, hi])."""
+    if fixed == "alpha":
+        k = int(np.argmin(np.abs(data["alpha"] - value)))
+        at, var = float(data["alpha"][k]), data["r"]
+        sel = (var >= lo - 1e-12) & (var <= hi + 1e-12)
+        lam, p, m = data["lambda1"][sel, k], data["period_p"][sel, k], data["period_m"][sel, k]
+    else:
+        k = int(np.argmin(np.abs(data["r"] - value)))
+        at, var = float(data["r"][k]), data["alpha"]
+        sel = (var >= lo - 1e-12) & (var <= hi + 1e-12)
+        lam, p, m = data["lambda1"][k, sel], data["period_p"][k, sel], data["period_m"][k, sel]
+    return {
+        "grid_line": {fixed: at}, "points": int(sel.sum()),
+        "chaotic (lambda1 > 0)": int(np.sum(np.isfinite(lam) & (lam > 0))),
+        "periodic": int(np.sum(p > 0)),
+        "periods": [{"p": a, "m": b, "count": n} for a, b, n in period_classes(p, m)],
+        "values": [{"x": float(x), "lambda1": (None if np.isnan(l) else float(l)), "p": int(pp), "m": int(mm)}
+                   for x, l, pp, mm in zip(var[sel], lam, p, m)],
+    }
+
+
+def summarise(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun | None = None) -> dict:
+    """Counts over the computed points, the ten most frequent period classes, the profiles along the
+    paper's scans, and (given ``run``) timing and throughput (grid points x map steps per second)."""
+    done_pts = data["status"] >= 0
+    lam = data["lambda1"]
+    out: dict = {"spec": spec.to_dict(), "points": int(done_pts.size), "points_computed": int(done_pts.sum()),
+                 "tiles_done": int(data["done"].sum()), "tiles_total": int(data["done"].size)}
+    out["chaotic (lambda1 > 0)"] = int(np.sum(done_pts & np.isfinite(lam) & (lam > 0)))
+    out["periodic (period found)"] = int(np.sum(done_pts & (data["period_p"] > 0)))
+    out["sticking (lambda1 = -inf)"] = int(np.sum(done_pts & np.isneginf(lam)))
+    out["ended (status != 0)"] = int(np.sum(done_pts & (data["status"] > 0)))
+    # a chaotic transient that ended during the measurement: lambda1 from chaos, the period from the end
+    out["period found but lambda1 > 0 (transient ended during the measurement)"] = int(
+        np.sum(done_pts & (data["period_p"] > 0) & np.isfinite(lam) & (lam > 0)))
+    out["period classes"] = [{"p": a, "m": b, "count": n} for a, b, n in period_classes(data["period_p"],
+                                                                                          data["period_m"], 10)]
+    shown = {lab for lab, _, _ in paper_lines(spec)}
+    out["paper lines"] = {lab: _line_profile(data, spec, fixed, value, lo, hi)
+                          for lab, fixed, value, _v, lo, hi in PAPER_LINES if lab in shown}
+    if run is not None:
+        out["run"] = {
+            "scheduler": run.scheduler, "workers": run.workers, "tile": list(run.store.tile),
+            "tiles_computed": len(run.computed), "tiles_resumed": run.skipped,
+            "points_computed": run.points_computed, "impacts_per_point": spec.impacts_per_point,
+            "wall_seconds": run.seconds,
+            "throughput (points x impacts / s, wall, start-up and compile included)": run.throughput,
+        }
+        out["run"].update(tile_throughput(data, spec, run))
+    return out
+
+
+def tile_throughput(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun) -> dict:
+    """Median over the tiles computed by ``run`` of (tile points x impacts per point) / (tile wall time) and
+    / (tile CPU time): the steady rate of one worker (the median skips each worker's first tile, which
+    includes tracing and compiling the kernel, when there are enough tiles)."""
+    if not run.computed:
+        return {}
+    from .store import tile_slices
+
+    pts, wall, cpu = [], [], []
+    for i, j in run.computed:
+        rows, cols = tile_slices(spec, run.store.tile, i, j)
+        pts.append((rows.stop - rows.start) * (cols.stop - cols.start) * spec.impacts_per_point)
+        wall.append(data["tile_seconds"][i, j])
+        cpu.append(data["tile_cpu_seconds"][i, j])
+    pts, wall, cpu = (np.asarray(x, dtype=float) for x in (pts, wall, cpu))
+    return {"tile_seconds_sum": float(wall.sum()), "tile_cpu_seconds_sum": float(cpu.sum()),
+            "median tile throughput per worker (points x impacts / s, wall)": float(np.median(pts / wall)),
+            "median tile throughput per worker (points x impacts / CPU s)": float(np.median(pts / cpu))}

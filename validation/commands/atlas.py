@@ -1,0 +1,131 @@
+"""Parameter-plane atlas over (alpha, r) at fixed beta, gamma (default 0.1, 0.1, the paper's plane): the
+largest Lyapunov exponent (per impact, QR method) and the period (p impacts in m driving periods) of the
+attractor reached from one initial condition, computed in tiles on Dask (an embedded LocalCluster by
+default, --scheduler ADDRESS for a running cluster, --scheduler serial in this process) and written to a
+Zarr store tile by tile: rerunning the same command resumes an interrupted run.  Writes the figure
+(atlas.png: lambda1 and period maps with the paper's Fig. 4 and Fig. 8 scans as lines) and a summary
+(atlas_summary.json) to --out.  Needs the optional dependencies: pip install 'gear-rattle[atlas]'.
+See docs/atlas.md."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+from pathlib import Path
+
+from ..cliutil import CliError, nonneg_int, positive_int
+
+NAME = "atlas"
+HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
+
+_FIELD = re.compile(r"^(alpha_lo|alpha_hi|n_alpha|r_lo|r_hi|n_r|tau0|sdot0|transient|impacts|period_max|"
+                    r"period_tol|tile_r|tile_alpha|workers|scheduler)=")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..atlas.spec import AtlasSpec
+
+    d = AtlasSpec()
+    g = p.add_argument_group("grid (alpha = linspace(lo, hi, n) by r = linspace(lo, hi, n))")
+    g.add_argument("--alpha-lo", type=float, default=d.alpha_lo, help=f"lowest alpha, >= 0 (default {d.alpha_lo})")
+    g.add_argument("--alpha-hi", type=float, default=d.alpha_hi, help=f"highest alpha (default {d.alpha_hi})")
+    g.add_argument("--n-alpha", type=positive_int("--n-alpha"), default=d.n_alpha,
+                   help=f"alpha values (default {d.n_alpha})")
+    g.add_argument("--r-lo", type=float, default=d.r_lo, help=f"lowest r, 0 < r <= 1 (default {d.r_lo})")
+    g.add_argument("--r-hi", type=float, default=d.r_hi, help=f"highest r (default {d.r_hi})")
+    g.add_argument("--n-r", type=positive_int("--n-r"), default=d.n_r, help=f"r values (default {d.n_r})")
+    g.add_argument("--beta", type=float, default=d.beta, help=f"damping, > 0 (default {d.beta})")
+    g.add_argument("--gamma", type=float, default=d.gamma, help=f"constant torque term (default {d.gamma})")
+    m = p.add_argument_group("orbits")
+    m.add_argument("--tau0", type=float, default=d.tau0, help=f"initial time (default {d.tau0:g})")
+    m.add_argument("--sdot0", type=float, default=d.sdot0, help=f"initial pre-impact velocity, != 0 (default {d.sdot0})")
+    m.add_argument("--transient", type=nonneg_int("--transient"), default=d.transient,
+                   help=f"impacts discarded (default {d.transient})")
+    m.add_argument("--impacts", type=positive_int("--impacts"), default=d.impacts,
+                   help=f"impacts averaged for lambda1 (default {d.impacts})")
+    m.add_argument("--period-max", type=positive_int("--period-max"), default=d.period_max,
+                   help=f"longest period looked for, in impacts; 2x this many impacts are recorded (default "
+                        f"{d.period_max})")
+    m.add_argument("--period-tol", type=float, default=d.period_tol,
+                   help=f"state distance below which a period is recognised (default {d.period_tol:g})")
+    r = p.add_argument_group("run")
+    r.add_argument("--tile", type=positive_int("--tile"), default=16, help="tile side in grid points: one task "
+                   "and one Zarr chunk per tile (default 16)")
+    r.add_argument("--store", default=None, help="Zarr store (default: OUT/atlas.zarr); rerun to resume")
+    r.add_argument("--overwrite", action="store_true", help="replace a store made with other options")
+    r.add_argument("--scheduler", default="local", metavar="local|serial|ADDRESS",
+                   help="local: embedded LocalCluster (default); serial: in this process; ADDRESS: a Dask "
+                        "scheduler such as tcp://host:8786")
+    r.add_argument("--workers", type=positive_int("--workers"), default=None,
+                   help="worker processes of the local cluster (default: one per core)")
+    r.add_argument("--out", default="atlas", help="directory for atlas.png and atlas_summary.json (default atlas)")
+    r.add_argument("--quiet", action="store_true", help="no progress indicator")
+
+
+def _option_names(e: ValueError) -> ValueError:
+    """Name the command-line option (``--alpha-lo``) rather than the spec field (``alpha_lo``)."""
+    msg = str(e)
+    return ValueError(_FIELD.sub(lambda mt: "--" + mt.group(1).replace("_", "-") + "=", msg))
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..atlas.spec import AtlasSpec
+
+    try:
+        spec = AtlasSpec(args.alpha_lo, args.alpha_hi, args.n_alpha, args.r_lo, args.r_hi, args.n_r, args.beta,
+                         args.gamma, args.tau0, args.sdot0, args.transient, args.impacts, args.period_max,
+                         args.period_tol)
+    except ValueError as e:
+        raise _option_names(e) from None
+    try:
+        from ..atlas.plot import plot_atlas
+        from ..atlas.run import check_scheduler, run_atlas
+        from ..atlas.store import import_zarr, load_store
+        from ..atlas.summary import summarise
+
+        import_zarr()
+        if args.scheduler != "serial":
+            from ..atlas.run import import_distributed
+
+            import_distributed()
+    except ImportError as e:
+        raise CliError(str(e)) from None
+    try:
+        check_scheduler(args.scheduler, args.workers)
+    except ValueError as e:
+        raise _option_names(e) from None
+    out = Path(args.out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise CliError(f"--out: cannot create directory {str(out)!r}: {e.strerror}") from None
+    store = args.store or str(out / "atlas.zarr")
+    from ...mapimpl.progress import Progress
+
+    bar = Progress("atlas tiles", not args.quiet)
+    try:
+        res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
+                        progress=bar)
+    except ValueError as e:
+        raise _option_names(e) from None
+    except RuntimeError as e:
+        raise CliError(str(e)) from None
+    st = load_store(store)
+    data = st.read()
+    summary = summarise(data, spec, res)
+    summary["store"] = store
+    (out / "atlas_summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    plot_atlas(data, spec, str(out / "atlas.png"))
+    ru = summary["run"]
+    tile_rate = ru.get("median tile throughput per worker (points x impacts / s, wall)", float("nan"))
+    print(f"atlas {spec.n_alpha} x {spec.n_r} (alpha {spec.alpha_lo:g}..{spec.alpha_hi:g}, r {spec.r_lo:g}.."
+          f"{spec.r_hi:g}): {ru['tiles_computed']} tiles computed, {ru['tiles_resumed']} found in the store; "
+          f"{ru['wall_seconds']:.1f} s on {ru['workers']} worker(s) ({args.scheduler}), "
+          f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} points x impacts/s "
+          f"(start-up and compile included; median tile: {tile_rate:.3g} per worker)")
+    print(f"chaotic (lambda1 > 0): {summary['chaotic (lambda1 > 0)']}, periodic: "
+          f"{summary['periodic (period found)']}, sticking: {summary['sticking (lambda1 = -inf)']}, ended: "
+          f"{summary['ended (status != 0)']} of {summary['points_computed']} points")
+    print(f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}")
+    return 0
