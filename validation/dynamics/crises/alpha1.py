@@ -1,0 +1,228 @@
+"""alpha1: the boundary crisis of Fig. 8 (r = 0.9, beta = gamma = 0.1), from escape times of the
+pre-crisis chaotic set.
+
+**Mechanism.**  The stable 4-impact period-1 orbit (the node) is born with a saddle 4-impact orbit in
+a fold at alpha_sn ~ 1.2046, well below alpha1, and coexists with the chaotic attractor.  At alpha1
+the attractor touches the basin boundary of the node (the stable manifold of the saddle, assumed to
+mediate the crisis) and becomes a chaotic saddle: above alpha1 orbits on it escape to the node after
+exponentially distributed times of mean ``T(alpha) ~ C (alpha - alpha1)^-g``.
+
+**Initial conditions on the chaotic set.**  Random points of the paper's box are iterated for
+``settle`` impacts at ``alpha_ref`` (below alpha1, where the attractor and the node coexist); those
+not captured by the node (:class:`~gear_rattle.mapimpl.engine.observers.Capture`) are on the chaotic
+attractor and their end states are the initial conditions of every later run (:func:`attractor_ics`).
+Box points mixed with points that stick or lie in the node's basin would bias the lifetimes.
+
+**Escape.**  The first impact within ``DELTA`` (sup norm) of the node (:func:`lifetimes`; one engine run
+over all alpha values, per-orbit parameters; the target is the union of the nodes of all alpha values
+of the run, which is safe because the chaotic set keeps more than ``APPROACH`` away from every node:
+the run records the first impact within ``APPROACH`` too, and every capture passes from ``APPROACH``
+to ``DELTA`` within a few tens of impacts, reported as ``approach_lag_max``).  Counting starts at
+impact ``N0`` (left truncation: the first impacts relax the states from ``alpha_ref`` onto the set at
+alpha); the mean lifetime is the censored maximum-likelihood estimate
+(:func:`~.stats.censored_lifetimes`: total exposure / escapes, exact Poisson interval).
+
+**Location** (:func:`locate_alpha1`): a coarse scan, a fit, a fine scan at offsets above the first
+estimate, then the fits of the crisis law (exponent free, and fixed to the GOY exponent of the saddle
+4-impact orbit) with the fit-range systematic, and a bracket by direct observation: escapes seen at
+``a`` (so alpha1 < a), none in ``N x L`` impacts at ``b`` (so ``T(b) > N L / 3`` at 95 %: alpha1 > b
+up to the distance at which the law gives that lifetime).  Finally the mean lifetime at the paper's
+alpha = 1.24370 and the alpha at which it equals the length of a finite bifurcation diagram.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ....mapimpl import _jax  # noqa: F401
+from ....mapimpl.engine.observers import Capture
+from ....mapimpl.params import Params
+from ....mapimpl.status import Orbit
+from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
+                     orbit_points, per_orbit)
+from .profiles import get_profile
+from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, next_probes, range_systematic
+
+#: The paper's value (Section 4): "alpha1 ~ 1.24370".
+PAPER_ALPHA1 = 1.24370
+#: Capture distance (sup norm, as in Figs. 9-11) and the wider approach distance recorded beside it.
+DELTA, APPROACH = 1e-3, 2e-2
+#: Counting starts at this impact (left truncation).
+N0 = 100
+#: Length (transient + recorded impacts) of a bifurcation diagram like Fig. 8's in this project's
+#: paper report (validation/report/sec_dynamics.py: 5000 discarded, 400 recorded).
+DIAGRAM_IMPACTS = 5400
+
+
+def nodes(branch, alphas) -> list:
+    """The stable 4-impact orbit (node branch) at each alpha."""
+    return [orbit_on_branch(branch, float(a), "node") for a in np.atleast_1d(alphas)]
+
+
+def attractor_ics(branch, alpha_ref: float, n: int, settle: int, seed: int = 0, cost: Cost | None = None,
+                  base: Params = ALPHA1_START) -> dict:
+    """``n`` states on the chaotic attractor at ``alpha_ref`` (< alpha1): end states of box orbits that
+    the node did not capture in ``settle`` impacts.  Returns ``theta, sdot, wall`` and ``drawn``,
+    ``captured`` (box orbits captured by the node: its basin)."""
+    th, sd, w = orbit_points(nodes(branch, [alpha_ref]))
+    obs = Capture(th, sd, w, [DELTA])
+    out_th, out_sd, out_w = [], [], []
+    drawn = captured = 0
+    for attempt in range(6):
+        m = int(math.ceil(1.3 * (n - len(out_th)))) + 8
+        t0, s0, w0 = box_ics(m, seed + 1000 * attempt)
+        r = engine_run(cost, "alpha1: settle on the attractor", t0, s0, w0, base.replace(alpha=alpha_ref), obs,
+                       cap=settle)
+        ok = r.status == Orbit.CAPPED
+        drawn += m
+        captured += int(np.sum(r.status == Orbit.STOPPED))
+        out_th += list(r.theta[ok]); out_sd += list(r.sdot[ok]); out_w += list(r.wall[ok])
+        if len(out_th) >= n:
+            break
+    else:
+        raise RuntimeError(f"only {len(out_th)} of {drawn} box orbits stayed off the node at alpha_ref={alpha_ref} "
+                           f"(is alpha_ref below alpha1?)")
+    return {"theta": np.array(out_th[:n]), "sdot": np.array(out_sd[:n]), "wall": np.array(out_w[:n], np.int32),
+            "drawn": drawn, "captured": captured, "alpha_ref": float(alpha_ref), "settle": int(settle)}
+
+
+def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | None = None,
+              label: str = "alpha1: lifetimes", base: Params = ALPHA1_START, level: float = LEVEL) -> list[dict]:
+    """Mean escape time from the chaotic set at each alpha: every initial condition of ``ics`` at every
+    alpha, one engine run, capped at ``cap`` impacts.  Per alpha: ``alpha``, ``rate``
+    (:class:`~.stats.MeanTime`), ``dropped`` (escaped before ``n0``), ``approach_lag_max`` (largest
+    number of impacts from the first approach within ``APPROACH`` of a node to the capture)."""
+    alphas = np.atleast_1d(np.asarray(alphas, float))
+    m = ics["theta"].size
+    th, sd, w = orbit_points(nodes(branch, alphas))
+    A = np.repeat(alphas, m)
+    r = engine_run(cost, label, np.tile(ics["theta"], alphas.size), np.tile(ics["sdot"], alphas.size),
+                   np.tile(ics["wall"], alphas.size), per_orbit(base, "alpha", A),
+                   Capture(th, sd, w, [APPROACH, DELTA]), cap=cap)
+    hit = r.obs[0]["hit"]
+    out = []
+    for i, a in enumerate(alphas):
+        sl = slice(i * m, (i + 1) * m)
+        h = hit[sl]
+        captured = h[:, 1] >= 0
+        ended = (r.status[sl] != Orbit.CAPPED) & ~captured  # stuck forever / no impact: censored where they ended
+        rate, dropped = censored_lifetimes(h[:, 1], r.n[sl], n0, level)
+        lag = int(np.max(h[captured, 1] - h[captured, 0])) if captured.any() else 0
+        out.append({"alpha": float(a), "rate": rate, "dropped": dropped, "approach_lag_max": lag,
+                    "other_end": int(ended.sum())})
+    return out
+
+
+def _arrays(rows):
+    a = np.array([x["alpha"] for x in rows])
+    k = np.array([x["rate"].events for x in rows], float)
+    E = np.array([x["rate"].exposure for x in rows], float)
+    return a, k, E
+
+
+def _fits(rows, g):
+    a, k, E = _arrays(rows)
+    goy = fit_crisis(a, k, E, "above", g=g)
+    free = fit_crisis(a, k, E, "above")
+    syst_goy, sub_goy = range_systematic(a, k, E, "above", g=g)
+    syst_free, sub_free = range_systematic(a, k, E, "above")
+    return goy, free, syst_goy, sub_goy, syst_free, sub_free
+
+
+def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int = 0) -> dict:
+    """Locate the boundary crisis alpha1 (Fig. 8, r = 0.9) from escape times of the pre-crisis chaotic
+    set (module docstring).  Run sizes: :data:`.profiles.PROFILES` ``[profile]["alpha1"]``.
+
+    Returns a dict:
+
+    * ``alpha1``, ``alpha1_err``: the GOY fit (exponent fixed to that of the saddle 4-impact orbit at
+      alpha1) and its total error ``sqrt(stat^2 + syst^2)``; ``alpha1_stat`` (68 % profile-likelihood
+      half-width, the larger side), ``alpha1_syst`` (fit-range systematic);
+    * ``alpha1_free``, ``alpha1_free_err``, ``g_free``, ``g_free_err``: the fit with the exponent free
+      (error: statistical and fit-range systematic combined);
+    * ``fit_goy``, ``fit_free``: the fits (:meth:`~.stats.CrisisFit.as_dict`); ``subranges_goy``,
+      ``subranges_free``: ``[(points used, alpha1), ...]`` behind the systematic;
+    * ``goy_exponent``: ``1/2 + ln|m_u|/|ln|m_s||`` of ``saddle`` (the saddle 4-impact orbit at alpha1,
+      a :class:`~gear_rattle.mapimpl.periodic.PeriodicOrbit`); ``alpha_sn``: the fold of the 4-impact
+      orbit; ``node``: the stable 4-impact orbit at alpha = 1.245 (Fig. 9); ``branch``;
+    * ``bracket``: :meth:`~.stats.Bracket.as_dict` (escapes ``seen`` at the smallest alpha with escapes,
+      none at ``clear`` in ``clear_exposure`` impacts, which excludes mean lifetimes below
+      ``clear_bound``); ``bracket_margin``: the distance below ``clear`` at which the GOY law gives
+      ``clear_bound`` (alpha1 > clear - margin, given the law); ``consistent``: the GOY fit lies
+      inside ``[clear - margin, seen]``;
+    * ``lifetimes``: per alpha ``{alpha, T, lo, hi (95 %), events, exposure, orbits, dropped,
+      approach_lag_max}``; ``T_max_measured``: the largest finite mean lifetime measured;
+    * ``paper``: the paper's alpha1 = 1.24370 with the measured mean lifetime there (``T``, ``lo``,
+      ``hi``) and ``diagram_impacts_equal``: the diagram length (transient + recorded impacts) at which
+      a bifurcation diagram started on the chaotic set would put the crisis there; ``diagram``:
+      ``{impacts, alpha_apparent}`` for this project's Fig. 8 setting (DIAGRAM_IMPACTS);
+    * ``ics``: how the initial conditions were made (``alpha_ref``, ``settle``, ``drawn``, ``captured``,
+      ``n``); ``cost``: impacts, wall and CPU seconds (:class:`.orbits.Cost`); ``profile``.
+    """
+    pr = get_profile(profile, "alpha1")
+    cost = Cost()
+    with Timer(cost, "alpha1: 4-impact branch"):
+        br = branch or four_impact_branch()
+    if not br.folds:
+        raise RuntimeError("the 4-impact branch has no fold in its range")
+    ics = attractor_ics(br, pr["alpha_ref"], pr["ics"], pr["settle"], seed=seed, cost=cost)
+    rows = lifetimes(pr["coarse"], ics, br, pr["cap"], cost=cost, label="alpha1: coarse scan")
+    sad0 = orbit_on_branch(br, float(np.min(pr["coarse"])), "saddle")
+    g0 = goy_exponent(sad0.multipliers)
+    first = fit_crisis(*_arrays(rows), "above", g=g0)
+    fine = np.round(first.mu_c + np.asarray(pr["fine"]), 9)
+    rows += lifetimes(fine, ics, br, pr["cap"], cost=cost, label="alpha1: fine scan")
+    # GOY exponent of the saddle at the (refitted) crisis
+    a1 = fit_crisis(*_arrays(rows), "above", g=g0).mu_c
+    sad = orbit_on_branch(br, a1, "saddle")
+    g = goy_exponent(sad.multipliers)
+    goy = fit_crisis(*_arrays(rows), "above", g=g)
+    # bracket runs (N x probe_cap impacts each): a bisection started from the fit, and a run where the
+    # law predicts the mean lifetime T_deep unless one that long was measured
+    strong = ics["theta"].size * (pr["probe_cap"] - N0)
+    for _ in range(int(pr["max_probes"])):
+        a, k, E = _arrays(rows)
+        err = math.hypot(goy.err, range_systematic(a, k, E, "above", g=g)[0])
+        deep = None
+        if not np.any((k > 0) & (E >= pr["T_deep"] * np.maximum(k, 1))):
+            deep = goy.mu_at(pr["T_deep"])
+        probes = next_probes(a, k, E, "above", goy.mu_c, max(2 * err, pr["target"] / 2), pr["target"], strong, deep)
+        if not probes:
+            break
+        rows += lifetimes(np.round(probes, 9), ics, br, pr["probe_cap"], cost=cost, label="alpha1: bracket runs")
+        goy = fit_crisis(*_arrays(rows), "above", g=g)
+    with Timer(cost, "alpha1: fits"):
+        goy, free, syst_goy, sub_goy, syst_free, sub_free = _fits(rows, g)
+        a, k, E = _arrays(rows)
+        brk = bracket(a, k, E, "above", min_exposure=strong)
+        margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
+        node = orbit_on_branch(br, 1.245, "node")
+    stat = goy.err
+    total = math.hypot(stat, syst_goy)
+    table = []
+    for x in sorted(rows, key=lambda x: x["alpha"]):
+        rt = x["rate"]
+        table.append({"alpha": x["alpha"], "T": rt.T, "lo": rt.lo, "hi": rt.hi, "events": rt.events,
+                      "exposure": rt.exposure, "orbits": rt.orbits, "dropped": x["dropped"],
+                      "approach_lag_max": x["approach_lag_max"], "other_end": x["other_end"]})
+    paper_row = min(table, key=lambda x: abs(x["alpha"] - PAPER_ALPHA1))
+    paper = {"alpha": PAPER_ALPHA1, "measured_at": paper_row["alpha"], "T": paper_row["T"], "lo": paper_row["lo"],
+             "hi": paper_row["hi"], "diagram_impacts_equal": paper_row["T"],
+             "T_law": float(goy.T(PAPER_ALPHA1))}
+    finite_T = [x["T"] for x in table if x["events"] > 0]
+    return {
+        "alpha1": goy.mu_c, "alpha1_err": total, "alpha1_stat": stat, "alpha1_syst": syst_goy,
+        "alpha1_free": free.mu_c, "alpha1_free_err": math.hypot(free.err, syst_free), "g_free": free.g,
+        "g_free_err": free.g_err, "fit_goy": goy.as_dict(), "fit_free": free.as_dict(),
+        "subranges_goy": sub_goy, "subranges_free": sub_free,
+        "goy_exponent": g, "saddle": sad, "alpha_sn": br.folds[0].mu, "node": node, "branch": br,
+        "bracket": brk.as_dict(), "bracket_margin": margin,
+        "consistent": bool(np.isfinite(brk.clear) and brk.clear - margin - total <= goy.mu_c <= brk.seen + total),
+        "lifetimes": table, "T_max_measured": float(max(finite_T)) if finite_T else math.nan,
+        "paper": paper,
+        "diagram": {"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},
+        "ics": {k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {"n": int(ics["theta"].size)},
+        "cost": cost.as_dict(), "profile": profile,
+    }

@@ -1,0 +1,54 @@
+"""Run sizes of the crisis analyses: ``"quick"`` (about 2 minutes for the three on 2 idle cores; coarse)
+and ``"paper"`` (the numbers of docs/dynamics.md; about 10 minutes together on 2 idle cores).
+
+Why these sizes (docs/dynamics.md, "Run sizes"): the engine does ~1.4e6 impacts/s per idle core;
+the paper profile spends ~1e8-3e8 impacts on each of r1 and alpha1 and ~2e7 on r2.
+
+* ``r2``: ``dr`` -- offsets r - r2 of the laminar-phase runs; ``orbits`` per offset; ``cap`` impacts per
+  orbit; ``n_start`` discarded.
+* ``r1``: ``r_ref`` (above r1: the 6-band attractor on which the orbits start), ``ics``, ``settle``;
+  ``coarse`` -- r values of the first scan; ``fine`` -- offsets below the first estimate of r1;
+  ``orbits``/``cap`` of the scans; ``probe_orbits``/``probe_cap`` of each bracket run (their product
+  is the exposure of a run that sees no hop); ``max_probes`` -- bracket runs at most; ``target`` --
+  the bracket half-width aimed at.
+* ``alpha1``: ``alpha_ref`` (below alpha1: the chaotic attractor on which the orbits start), ``ics``,
+  ``settle``; ``coarse`` -- alpha values of the first scan (the paper's 1.2437 among them); ``fine`` --
+  offsets above the first estimate; ``cap`` of the scans; ``probe_cap``; ``max_probes``; ``target``;
+  ``T_deep`` -- a mean lifetime the scans must reach (a probe is placed where the law predicts it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+PROFILES = {
+    "quick": {
+        "r2": {"dr": np.logspace(-5, -3, 4), "orbits": 8, "cap": 40_000, "n_start": 1000},
+        "r1": {"r_ref": 0.7416, "ics": 64, "settle": 3000,
+               "coarse": np.array([0.74100, 0.74120, 0.74130, 0.74136]), "fine": np.array([2e-5, 8e-6]),
+               "orbits": 32, "cap": 20_000, "probe_orbits": 64, "probe_cap": 40_000, "max_probes": 1,
+               "target": 2e-6},
+        "alpha1": {"alpha_ref": 1.2425, "ics": 64, "settle": 2000,
+                   "coarse": np.array([1.2437, 1.2442, 1.2450, 1.2465]), "fine": np.array([4e-5, 1.5e-5]),
+                   "cap": 20_000, "probe_cap": 40_000, "max_probes": 1, "target": 1e-5, "T_deep": 1e5},
+    },
+    "paper": {
+        "r2": {"dr": np.logspace(-5.5, -2.5, 7), "orbits": 16, "cap": 100_000, "n_start": 2000},
+        "r1": {"r_ref": 0.7416, "ics": 256, "settle": 5000,
+               "coarse": np.array([0.74100, 0.74120, 0.74130, 0.74136, 0.74140]),
+               "fine": np.array([3.2e-5, 1.6e-5, 8e-6, 4e-6, 2e-6]),
+               "orbits": 64, "cap": 100_000, "probe_orbits": 256, "probe_cap": 200_000, "max_probes": 4,
+               "target": 2e-6},
+        "alpha1": {"alpha_ref": 1.2425, "ics": 256, "settle": 5000,
+                   "coarse": np.array([1.2437, 1.2440, 1.2446, 1.2455, 1.2470]),
+                   "fine": np.array([8e-5, 4e-5, 2e-5, 1e-5]),
+                   "cap": 100_000, "probe_cap": 200_000, "max_probes": 3, "target": 1e-5, "T_deep": 1e6},
+    },
+}
+
+
+def get_profile(name: str, part: str) -> dict:
+    """The run sizes of ``part`` (``"r2"``, ``"r1"``, ``"alpha1"``) in profile ``name``."""
+    if name not in PROFILES:
+        raise ValueError(f"profile={name!r} is out of range: allowed one of {tuple(PROFILES)}")
+    return dict(PROFILES[name][part])

@@ -1,0 +1,117 @@
+"""r2: the fold of the 6-impact period-1 orbit (alpha = 3) and the type-I intermittency above it
+(Section 3, Figs. 4-6).
+
+**The fold.**  r2 is the saddle-node of the 6-impact period-1 orbit, located to ~12 digits by Newton
+on the extended system ``(G, det(M - I)) = 0`` (:mod:`..continuation`), no time series involved.
+
+**Laminar phases.**  Above r2 the orbit pair is gone and its ghost gives type-I intermittency: long
+laminar phases near the fold orbit interrupted by chaotic bursts, of mean length
+``<l> ~ (r - r2)^(-1/2)`` (theory, Pomeau-Manneville).  The
+:class:`~gear_rattle.mapimpl.engine.observers.Laminar` observer counts maximal runs of at least
+``MIN_LENGTH`` impacts within Euclidean distance ``EPS`` of the fold orbit's 6 points (both ends seen)
+from impact ``n_start``, on several orbits per r value (per-orbit parameters, one engine run).  The
+mean length and its standard error come from the sums of lengths and squared lengths; the slope of
+``ln <l>`` against ``ln (r - r2)`` is a weighted fit (:func:`~.stats.fit_power_law`), with a fit-range
+systematic (the fit without the 1 or 2 largest offsets, which lie furthest from the asymptotic regime).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ....mapimpl import _jax  # noqa: F401
+from ....mapimpl.engine.observers import Laminar
+from ....mapimpl.params import Params
+from ..continuation import orbit_states
+from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
+from .profiles import get_profile
+from .stats import fit_power_law
+
+#: The paper's Fig. 5: r = 0.82144 ">~ r2".
+PAPER_R2_FIG5 = 0.82144
+#: Laminar criterion: distance to the fold orbit and the shortest run counted.
+EPS, MIN_LENGTH = 0.05, 12
+
+
+@dataclass
+class LaminarStats:
+    """Laminar phases near the ghost of the fold orbit, per ``r``: ``mean`` length (impacts), its
+    standard error ``sem``, the number of complete phases ``count`` and the impacts observed
+    ``exposure``; ``eps``, ``min_length``: the criterion; ``orbits``, ``cap``: orbits per r, impacts each."""
+
+    r: np.ndarray
+    mean: np.ndarray
+    sem: np.ndarray
+    count: np.ndarray
+    exposure: np.ndarray
+    eps: float
+    min_length: int
+    orbits: int
+    cap: int
+
+
+def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 2000, eps: float = EPS,
+                       min_length: int = MIN_LENGTH, base: Params = R2_START, seed: int = 2,
+                       cost: Cost | None = None) -> LaminarStats:
+    """Laminar phases at each r of ``r_values`` near the fold orbit ``fold`` (a
+    :class:`~..continuation.BifurcationPoint`): ``orbits`` box orbits per value, ``cap`` impacts each,
+    counted from ``n_start`` (one engine run)."""
+    r_values = np.atleast_1d(np.asarray(r_values, float))
+    oth, osd = orbit_states(base.replace(r=fold.mu), fold.tau, fold.sdot, 6)
+    th, sd, w = box_ics(orbits * r_values.size, seed)
+    obs = Laminar(oth, osd, eps=eps, min_length=min_length, n_start=n_start)
+    res = engine_run(cost, "r2: laminar phases", th, sd, w, per_orbit(base, "r", np.repeat(r_values, orbits)), obs,
+                     cap=cap)
+    o = res.obs[0]
+    shape = (r_values.size, orbits)
+    n = o["count"].reshape(shape).sum(axis=1).astype(float)
+    s1 = o["total"].reshape(shape).sum(axis=1)
+    s2 = o["total_sq"].reshape(shape).sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(n > 0, s1 / n, np.nan)
+        var = np.where(n > 1, (s2 - n * mean ** 2) / (n - 1), np.nan)
+        sem = np.sqrt(var / n)
+    return LaminarStats(r_values, mean, sem, n.astype(int), o["exposure"].reshape(shape).sum(axis=1).astype(float),
+                        float(eps), int(min_length), int(orbits), int(cap))
+
+
+def locate_r2(profile: str = "quick", branch=None, progress=None) -> dict:
+    """r2 (fold of the 6-impact orbit, alpha = 3) and the type-I intermittency exponent of the mean
+    laminar length.  Run sizes: :data:`.profiles.PROFILES` ``[profile]["r2"]``.
+
+    Returns a dict:
+
+    * ``r2``: the fold (Newton on the extended system); ``fold``: the
+      :class:`~..continuation.BifurcationPoint` (orbit, multipliers, residual); ``branch``: the 6-impact
+      branch (:func:`.orbits.six_impact_branch`, shared with r1);
+    * ``dr``: the offsets r - r2; ``laminar``: :class:`LaminarStats` at r2 + dr;
+    * ``slope``, ``slope_err``: fitted exponent of ``<l> ~ (r - r2)^slope`` (theory -1/2) and its total
+      error ``sqrt(stat^2 + syst^2)``; ``slope_stat`` (weighted fit, scaled by sqrt(chi^2_red) when > 1),
+      ``slope_syst`` (fit-range systematic), ``chi2_red``; ``subranges``: ``[(points used, slope)]``;
+    * ``paper_fig5``: the paper's r = 0.82144 and its distance to r2;
+    * ``cost`` (:class:`.orbits.Cost`), ``profile``.
+    """
+    pr = get_profile(profile, "r2")
+    cost = Cost()
+    with Timer(cost, "r2: 6-impact branch and fold"):
+        br = branch or six_impact_branch()
+    if not br.folds:
+        raise RuntimeError("the 6-impact branch has no fold in its range")
+    f = br.folds[0]
+    dr = np.asarray(pr["dr"], float)
+    ls = laminar_statistics(f.mu + dr, f, pr["orbits"], pr["cap"], pr["n_start"], cost=cost)
+    slope, stat, _, chi2 = fit_power_law(dr, ls.mean, ls.sem)
+    order = np.argsort(dr)
+    subs = []
+    for j in (1, 2):
+        keep = order[:-j]
+        if keep.size >= 3:
+            subs.append((f"without the {j} largest r - r2", fit_power_law(dr[keep], ls.mean[keep], ls.sem[keep])[0]))
+    syst = max((abs(s - slope) for _, s in subs), default=0.0)
+    return {"r2": f.mu, "fold": f, "branch": br, "laminar": ls, "dr": dr, "slope": slope,
+            "slope_err": math.hypot(stat, syst), "slope_stat": stat, "slope_syst": syst, "chi2_red": chi2,
+            "subranges": subs, "paper_fig5": {"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu},
+            "cost": cost.as_dict(), "profile": profile}
