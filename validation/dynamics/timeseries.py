@@ -86,7 +86,7 @@ def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, ta
                          seq.sdot[keep], seq.kind[keep], seq.status)
     k, v = stroboscopic(sub)
     m = sub.kind == "impact"
-    return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0], v)
+    return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0] if k.size else k, v)  # no sample: span < 2 pi
 
 
 def plot_time_series(ts: TimeSeries, path: str, title: str | None = None) -> None:
