@@ -38,7 +38,7 @@ from ..finder import MAX_STEPS, T_MAX
 from ..orbit import TAU0_MAX, TAU0_RANGE
 from ..params import Params, validate_arrays
 from ..progress import Progress
-from ..status import ORBIT_NAMES, Orbit
+from ..status import ORBIT_NAMES
 from ..sticking import STICK_TIME
 from . import kernel as K
 from .observers import Observer
