@@ -94,6 +94,8 @@ class PaperValue:
         """Short rendering, e.g. ``0.893 +- 0.001`` or ``<= 0.82144``."""
         if self.kind == "qualitative":
             return self.printed
+        if self.kind == "derived":
+            return f"{float(self.printed):.1f} +- {self.error:.1f} ({self.note.split(' from ')[0]})"
         rel = _REL[self.kind]
         err = f" +- {self.error:.3g}" if self.error is not None else ""
         return (f"{rel} {self.printed}" if rel != "=" else self.printed) + err
@@ -111,7 +113,7 @@ def _decay_time() -> PaperValue:
     tau = n.value / k.value
     err = tau * math.hypot(n.sigma / n.value, k.sigma / k.value)
     return PaperValue("decay_time", f"{tau:.10g}", err, "derived", "Section 4, Eq. (14)", n.quote,
-                      note="<n>/kappa from the paper's <n> (rounding of its last digit) and kappa (stated error)")
+                      note=f"{n.printed}/{k.printed} from the paper's <n> (rounding of its last digit) and kappa (stated error)")
 
 
 _VALUES: dict[str, PaperValue] = {v.key: v for v in (
@@ -128,7 +130,7 @@ _VALUES: dict[str, PaperValue] = {v.key: v for v in (
     PaperValue("r2_impacts_per_period", "6", None, "count", "Section 3",
                "suddenly jumps into a stable period-1 orbit with six impacts during a cycle corresponding to an "
                "entire driving period"),
-    PaperValue("intermittency_slope", "-0.5", None, "theory", "Section 3 (type-I intermittency, ref. [19])",
+    PaperValue("intermittency_slope", "-0.5", None, "theory", "Section 3, ref. [19]",
                "This is the typical scenario of type-I intermittency",
                note="type-I intermittency: mean laminar length ~ (r - r2)^(-1/2)"),
     PaperValue("r1", "0.74001", None, "lower_bound", "Fig. 7 caption",

@@ -117,8 +117,9 @@ class Settling:
         if k:
             c = self.capture[self.settled]
             ph = self.phases[self.settled]
-            txt += (f", after their last burst at impact {int(np.median(c))} (median; range {int(c.min())}-"
-                    f"{int(c.max())}), having shown {int(ph.min())}-{int(ph.max())} complete laminar phases before")
+            txt += (f"; their final stay within {self.eps:g} of it began at impact {int(np.median(c))} (median; range "
+                    f"{int(c.min())}-{int(c.max())}), after {int(ph.min())}-{int(ph.max())} earlier stays of >= "
+                    f"{MIN_LAMINAR} impacts that ended in a burst")
         if self.multipliers is not None:
             txt += "; its Floquet multipliers have moduli " + ", ".join(f"{abs(m):.6f}" for m in self.multipliers)
         return txt + " (each capture time is one float64 sample)"
@@ -233,7 +234,7 @@ def build(ctx) -> Section:
 
     # what happens at the paper's r of Fig. 5 (or, if that is above our r2, just below our r2)
     p_r2 = PAPER["r2"]
-    r_settle = min(float(p_r2.value), r2v - 1e-6)
+    r_settle = float(p_r2.value) if float(p_r2.value) < r2v else r2v - 1e-6
     ctx.say(f"r = {r_settle:.8g}: settling on the 6-impact orbit ({st['settle_ics']} orbits)")
     settle6 = _settle(A3, "r", r_settle, fold_th, fold_sd, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed)
     # laminar phases at the paper's r of Fig. 6
@@ -256,7 +257,7 @@ def build(ctx) -> Section:
             frac, n_ph, tail = _laminar_in_series(np.asarray(ts.sdot_n), ls.eps)
             what = (f"r - r2 = {P.r - r2v:+.3g} (our r2); of the {ts.n.size} impacts shown, {100 * frac:.1f}% "
                     f"repeat after 6 impacts to {ls.eps:g} (laminar), in {n_ph} laminar phase(s) of >= {MIN_LAMINAR} "
-                    "impacts; " + (f"from impact {tail} on the series stays laminar to its end"
+                    "impacts; " + (f"the series ends inside a laminar stretch that began at impact {tail}"
                                    if tail is not None else "the series ends in a burst"))
         else:
             what = (f"r - r1 = {P.r - r1['r1']:+.3g} (our r1 = {r1['r1']:.6f} +- {r1['r1_err']:.6f}); the largest r "

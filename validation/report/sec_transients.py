@@ -81,8 +81,8 @@ def build(ctx) -> Section:
         raise RuntimeError("the Eq. (14) fit failed at the main delta")
     sec.p("Eq. (14) written with the decay time T of N(n): N(n) = N0 exp(-n/T), so kappa = <n>/T; for a pure "
           "exponential whose mean is <n>, kappa = 1.")
-    # how the chattering initial conditions are counted moves <n> and kappa, not the decay time:
-    # refit this run's durations with the two other natural conventions
+    # how the chattering initial conditions are counted: refit this run's durations with the two other
+    # natural conventions (the spans below are computed, whatever they show)
     import numpy as np
 
     from ..transient import analysis as A
@@ -136,7 +136,8 @@ def build(ctx) -> Section:
               f"{alt_main['mean_n'] - main['mean_n']:+.0f}: in this run the "
               + ("pre-impact" if closer else "free-flight") + " reading gives the <n> closer to the paper's.")
     conv = (f"<n> over the three conventions for orbits that stick: {spans['<n>'][0]:.0f}-{spans['<n>'][1]:.0f}; "
-            f"the paper's value {'lies' if between else 'does not lie'} between the first two (with kappa)")
+            f"the paper's <n> and kappa {'both lie' if between else 'do not both lie'} between the values of the "
+            f"first two (followed / counted as decayed at once)")
     sec.numbers.append(row(
         "mean_n", "mean transient duration <n>", float(main["mean_n"]), float(main["mean_n_se"]), paper="mean_n",
         computed_text=f"{main['mean_n']:.0f}", error_text=f"+- {main['mean_n_se']:.0f}", explanation=conv,
