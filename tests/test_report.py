@@ -72,6 +72,19 @@ def test_paper_bounds_and_values_as_the_paper_states_them():
     assert PAPER["r2"].sigma == 0.0 and PAPER["alpha1"].sigma == pytest.approx(1e-5 / math.sqrt(12))
 
 
+def test_sections_take_the_paper_numbers_from_paper_py():
+    """No section types a number the paper states (they read validation/report/paper.py)."""
+    import gear_rattle.validation.report as rep
+
+    folder = Path(rep.__file__).parent
+    printed = {pv.printed for pv in PAPER.values() if pv.kind in ("value", "approx", "upper_bound", "lower_bound")}
+    printed |= {"2272", "0.893", "1.2437", "0.82144"}
+    for src in sorted(folder.glob("sec_*.py")):
+        code = "\n".join(line for line in src.read_text().splitlines() if not line.startswith("TITLE"))
+        for p in printed:
+            assert not re.search(rf"(?<![\d.]){re.escape(p)}(?!\d)", code), f"{src.name} types the paper's {p}"
+
+
 def test_decay_time_error_propagates_the_rounding_of_mean_n_and_the_error_of_kappa():
     """Eq. (14): the paper's decay time <n>/kappa = 2272/0.893, error from the rounding of 2272
     (1/sqrt(12)) and kappa's +-0.001, about 0.1 %; no 2 % floor."""
@@ -260,3 +273,33 @@ def test_duplicate_summary_keys_are_refused():
     b.numbers.append(row("kappa", "k again", 0.9, 0.01, paper="kappa"))
     with pytest.raises(ValueError, match="kappa"):
         check_keys([a, b])
+
+
+# ---------------------------------------------------------------------------------------- section helpers
+
+def test_local_slopes_of_an_exact_power_law():
+    """The local slopes the report lists for the laminar-length curve (Figs. 5-6, type-I intermittency)."""
+    import numpy as np
+
+    from gear_rattle.validation.report.sec_dynamics import _local_slopes
+
+    dr = np.logspace(-5, -3, 4)
+    out = _local_slopes(dr, 3.0 * dr ** -0.5, 0.03 * dr ** -0.5)
+    assert [s for *_, s, _ in out] == pytest.approx([-0.5] * 3, abs=1e-12)
+    assert all(e == pytest.approx(math.hypot(0.01, 0.01) / math.log(10 ** (2 / 3))) for *_, e in out)
+
+
+def test_period_and_laminar_detection_on_synthetic_series():
+    import numpy as np
+
+    from gear_rattle.validation.report.sec_dynamics import _laminar_in_series, _period
+
+    th = np.tile([0.1, 1.2, 2.3, 6.2], 60)
+    sd = np.tile([0.5, -0.4, 0.3, -0.2], 60)
+    assert _period(th, sd) == 4
+    assert _period(th + np.linspace(0, 1e-3, th.size), sd) is None
+    six = np.tile([1.0, -1.0, 0.5, -0.5, 0.2, -0.2], 40)
+    burst = np.random.default_rng(0).uniform(-2, 2, 30)
+    frac, n_ph, tail = _laminar_in_series(np.concatenate([six, burst, six]), 0.05)
+    assert n_ph == 2 and tail is not None and 0.8 < frac < 1.0
+    assert _laminar_in_series(np.concatenate([six, burst]), 0.05)[2] is None

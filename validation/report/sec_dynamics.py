@@ -25,9 +25,9 @@ TITLE = "Figs. 4-8: bifurcations, Lyapunov exponents, intermittency (r2) and cri
 
 SETTINGS = {
     "quick": {"fig4_values": 120, "fig8_values": 120, "transient": 1000, "keep": 150, "lyap_n": 4000,
-              "ts_n": 1500, "settle_ics": 8, "settle_n": 20000, "fig6_laminar_n": 60000},
+              "ts_n": 1500, "settle_ics": 8, "settle_n": 20000},
     "paper": {"fig4_values": 600, "fig8_values": 600, "transient": 5000, "keep": 400, "lyap_n": 50000,
-              "ts_n": 4000, "settle_ics": 32, "settle_n": 100000, "fig6_laminar_n": 200000},
+              "ts_n": 4000, "settle_ics": 32, "settle_n": 100000},
 }
 
 #: Stated tolerance of the Lyapunov sum rule lambda1 + lambda2 = mean ln|det J| (tests/test_dynamics_lyapunov.py).
@@ -95,7 +95,8 @@ class Settling:
     ``settled`` (ends periodic and inside the ``eps``-neighbourhood of the reference orbit), ``capture``
     (impact at which its final stay there began; -1 if not settled), ``phases`` (complete laminar
     phases of >= MIN_LAMINAR impacts before that), ``period`` (impacts, driving periods) of the final
-    orbit, and the Floquet multipliers of the orbit it settled on (the first settled one)."""
+    orbit, the Floquet multipliers of the orbit it settled on (the first settled one), and ``laminar``:
+    the lengths of all complete stays (>= MIN_LAMINAR impacts, ended by a burst) of all orbits."""
 
     value: float
     n_ics: int
@@ -106,6 +107,7 @@ class Settling:
     phases: np.ndarray
     period: list
     multipliers: np.ndarray | None
+    laminar: np.ndarray
 
     def common_period(self) -> tuple[int, int] | None:
         ps = [p for p, s in zip(self.period, self.settled) if s and p is not None]
@@ -145,7 +147,7 @@ def _settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, 
     _stream(param, base, [value], n, min(n, 20000), consume, transient=0, n_per_value=n_ics, ics=(t0, s0))
     near = np.concatenate(near, axis=1)
     P = base.replace(**{param: value})
-    settled, capture, phases, period, mult = [], [], [], [], None
+    settled, capture, phases, period, mult, laminar = [], [], [], [], None, []
     for j in range(n_ics):
         starts, lens = _runs(near[j])
         th, sd = last["th"][j, -SETTLE_TAIL:], last["sd"][j, -SETTLE_TAIL:]
@@ -156,6 +158,7 @@ def _settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, 
         settled.append(ok)
         capture.append(int(starts[-1]) if ok else -1)
         phases.append(int(done.sum()))
+        laminar.extend(int(x) for x in lens[done])
         if p is None:
             period.append(None)
             continue
@@ -166,19 +169,20 @@ def _settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, 
             po = find_periodic(P, float(th[-1]), float(sd[-1]), p, turns)
             mult = po.multipliers if po.converged else None
     return Settling(float(value), n_ics, n, float(eps), np.array(settled), np.array(capture), np.array(phases),
-                    period, mult)
+                    period, mult, np.array(laminar, dtype=float))
 
 
 def _laminar_in_series(sd: np.ndarray, eps: float) -> tuple[float, int, int | None]:
     """In a displayed series sdot_n near a 6-impact orbit: the fraction of impacts with
     |sdot_{n+6} - sdot_n| < eps, the number of laminar phases (>= MIN_LAMINAR such impacts in a row)
-    and the index after which the series stays laminar to its end (None if it ends in a burst)."""
+    and the index at which the final laminar phase began (None if the series ends in a burst)."""
     from ..dynamics.crises import _runs
 
     lam = np.abs(sd[6:] - sd[:-6]) < eps
     starts, lens = _runs(lam)
     n_ph = int((lens >= MIN_LAMINAR).sum())
-    tail = int(starts[-1]) if starts.size and starts[-1] + lens[-1] == lam.size else None
+    ends_laminar = starts.size and starts[-1] + lens[-1] == lam.size and lens[-1] >= MIN_LAMINAR
+    tail = int(starts[-1]) if ends_laminar else None
     return float(lam.mean()), n_ph, tail
 
 
@@ -196,7 +200,7 @@ def _local_slopes(dr, mean, sem) -> list[tuple[float, float, float, float]]:
 
 def build(ctx) -> Section:
     from ..dynamics.continuation import orbit_states
-    from ..dynamics.crises import laminar_statistics, locate_alpha1, locate_r1, locate_r2, six_impact_branch
+    from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
     from ..dynamics.timeseries import FIGURE_R, plot_time_series, time_series
 
     sec = Section(KEY, TITLE)
@@ -229,6 +233,7 @@ def build(ctx) -> Section:
 
     f = r2["fold"]
     r2v = float(r2["r2"])
+    theory = float(PAPER["intermittency_slope"].value)
     ls = r2["laminar"]
     fold_th, fold_sd = orbit_states(A3.replace(r=f.mu), f.tau, f.sdot, 6)
 
@@ -237,10 +242,10 @@ def build(ctx) -> Section:
     r_settle = float(p_r2.value) if float(p_r2.value) < r2v else r2v - 1e-6
     ctx.say(f"r = {r_settle:.8g}: settling on the 6-impact orbit ({st['settle_ics']} orbits)")
     settle6 = _settle(A3, "r", r_settle, fold_th, fold_sd, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed)
-    # laminar phases at the paper's r of Fig. 6
+    # laminar phases at the paper's r of Fig. 6 (same run shape as above: no new compilation)
     r_f6 = float(PAPER["r2_fig6"].value)
-    ctx.say(f"r = {r_f6:g}: laminar phases")
-    lam6 = laminar_statistics([r_f6], f, n_impacts=st["fig6_laminar_n"]) if r_f6 > r2v else None
+    ctx.say(f"r = {r_f6:g}: laminar phases ({st['settle_ics']} orbits)")
+    lam6 = _settle(A3, "r", r_f6, fold_th, fold_sd, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed + 1)
     # the orbit after the crisis alpha1, at the alpha of Fig. 9
     a_f9 = float(PAPER["alpha1_fig9"].value)
     ctx.say(f"alpha = {a_f9:g}: settling on the 4-impact orbit ({st['settle_ics']} orbits)")
@@ -267,17 +272,17 @@ def build(ctx) -> Section:
                       f"({pv.where}), from (tau0, sdot0) = (0, 0.5), {trans} impacts discarded; {what}.")
 
     sec.table(["quantity", "value"], [
-        ["r2: fold (multiplier +1) of the 6-impact period-1 orbit", f"{r2v:.12f}"],
+        [f"r2: fold (multiplier +1) of the {branch.impacts}-impact period-1 orbit", f"{r2v:.12f}"],
         ["fold: Newton residual on the extended system", f"{f.residual:.1e}"],
         ["fold orbit (tau, sdot)", f"({f.tau:.10f}, {f.sdot:.10f})"],
-        ["type-I intermittency: slope of mean laminar length vs r - r2 (theory -1/2)",
+        [f"type-I intermittency: slope of mean laminar length vs r - r2 (theory {theory:g})",
          f"{r2['slope']:.3f} +- {r2['slope_err']:.3f}"],
         ["r1: interior crisis (GOY fit of the mean time between bursts)", f"{r1['r1']:.6f} +- {r1['r1_err']:.6f}"],
         ["r1: GOY exponent of the mediating saddle 6-impact orbit", f"{r1['goy_exponent']:.4f}"],
         ["r1: largest r with bursts observed (lower bound)", f"{r1['lower_bound']:.5f}"],
         ["alpha1: crisis (GOY fit of the mean transient lifetime)", f"{a1['alpha1']:.5f} +- {a1['alpha1_err']:.5f}"],
         ["alpha1: GOY exponent of the saddle 4-impact orbit", f"{a1['goy_exponent']:.4f}"],
-        [f"stable 4-impact orbit at alpha = {a_f9:g}: Floquet multipliers",
+        [f"stable {node.impacts}-impact orbit at alpha = {a_f9:g}: Floquet multipliers",
          ", ".join(f"{complex(m):.5f}" for m in node.multipliers)],
     ])
 
@@ -290,14 +295,14 @@ def build(ctx) -> Section:
     xx = np.array([dr.min(), dr.max()])
     k = np.exp(np.mean(np.log(ls.mean) - r2["slope"] * np.log(dr)))
     ax.plot(xx, k * xx ** r2["slope"], "-", label=f"fit: slope {r2['slope']:.3f} +- {r2['slope_err']:.3f}")
-    ax.plot(xx, ls.mean[0] * (xx / dr[0]) ** -0.5, ":", label="slope -1/2 through the first point")
+    ax.plot(xx, ls.mean[0] * (xx / dr[0]) ** theory, ":", label=f"slope {theory:g} (theory) through the first point")
     ax.set_xscale("log"); ax.set_yscale("log")
     ax.set_xlabel("r - r2"); ax.set_ylabel("mean laminar length (impacts)")
     ax.legend(fontsize=8); fg.tight_layout(); fg.savefig(path, dpi=110)
     sec.fig(path, f"Type-I intermittency above r2: mean laminar length (runs of >= {MIN_LAMINAR} impacts within "
                   f"{ls.eps:g} of the fold orbit, {ls.n_impacts} impacts per r) against r - r2 (computed).")
-    sec.table(["r - r2 from", "to", "local slope", "+-", "z against -1/2"],
-              [[a, b, s, e, (s + 0.5) / e if e > 0 else float("nan")] for a, b, s, e in local])
+    sec.table(["r - r2 from", "to", "local slope", "+-", f"z against {theory:g}"],
+              [[a, b, s, e, (s - theory) / e if e > 0 else float("nan")] for a, b, s, e in local])
 
     # ---- summary rows
     sec.numbers.append(row(
@@ -308,12 +313,12 @@ def build(ctx) -> Section:
                     + (f"; that orbit has {settle6.common_period()[0]} impacts per {settle6.common_period()[1]} "
                        "driving period(s)" if settle6.common_period() else ""),
         where=p_r2.where))
-    if lam6 is not None and lam6.count[0] > 0:
-        ex6 = (f"at r = {r_f6:g} (r - r2 = {r_f6 - r2v:+.3g}) a run of {lam6.n_impacts} impacts shows "
-               f"{int(lam6.count[0])} laminar phases of >= {MIN_LAMINAR} impacts, mean length "
-               f"{lam6.mean[0]:.0f} +- {lam6.sem[0]:.0f} impacts")
-    else:
-        ex6 = f"r = {r_f6:g} is not above our r2" if lam6 is None else f"no complete laminar phase at r = {r_f6:g}"
+    L6 = lam6.laminar
+    ex6 = (f"at r = {r_f6:g} (r - r2 = {r_f6 - r2v:+.3g}), {lam6.n_ics} orbits of {lam6.n} impacts from random initial "
+           f"conditions: {int(lam6.settled.sum())} settled on a periodic orbit; {L6.size} complete laminar phases "
+           f"(>= {MIN_LAMINAR} impacts within {lam6.eps:g} of the fold orbit, ended by a burst)")
+    if L6.size > 1:
+        ex6 += f" of mean length {L6.mean():.0f} +- {L6.std(ddof=1) / np.sqrt(L6.size):.0f} impacts"
     sec.numbers.append(row("r2_fig6", "r2 against the r of Fig. 6", r2v, paper="r2_fig6",
                            computed_text=f"{r2v:.10f}", error_text=f"Newton residual {f.residual:.0e}",
                            explanation=ex6, where=PAPER["r2_fig6"].where))
@@ -334,8 +339,8 @@ def build(ctx) -> Section:
         explanation=(f"weighted fit over r - r2 in [{dr.min():.2g}, {dr.max():.2g}] ({dr.size} values); local slopes "
                      "between successive r - r2: " + "; ".join(f"{s:.3f} +- {e:.3f} ({a:.2g}-{b:.2g})"
                                                              for a, b, s, e in local)
-                     + (f"; the local slope at the smallest r - r2 is {(small[2] + 0.5) / small[3]:+.1f} sigma "
-                        "from -1/2" if small and small[3] > 0 else "")),
+                     + (f"; the local slope at the smallest r - r2 is {(small[2] - theory) / small[3]:+.1f} sigma "
+                        f"from {theory:g}" if small and small[3] > 0 else "")),
         where="Figs. 5-6"))
 
     bursts = r1["bursts"]

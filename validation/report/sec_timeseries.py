@@ -40,7 +40,7 @@ def build(ctx) -> Section:
         tau, theta, sd, wall = seq.impact_arrays()
         path = ctx.fig_dir / f"fig{fig[-1]}_timeseries.png"
         plot_time_series(seq, str(path), span=50.0,
-                         title=f"{fig}: alpha={alpha:g}, beta=0.1, gamma=0.1, r=0.9 (computed)")
+                         title=f"{fig}: alpha={P.alpha:g}, beta={P.beta:g}, gamma={P.gamma:g}, r={P.r:g} (computed)")
         sec.fig(path, f"{fig} reproduced: (a) driven gear between the driving gear's flanks, (b) relative "
                       f"coordinate s with impacts, alpha = {alpha:g}, from (tau0, sdot0) = (0, 0.5).")
         tail = sd[-TAIL:]
