@@ -160,6 +160,7 @@ def test_internal_checks_are_not_compared_but_pass_or_fail():
     assert internal_check(float("nan"), 1e-10).check == "fail"
     assert internal_check(1e-13, 1e-10, ok=False).check == "fail"
     assert compare(1.0, None, None).verdict == NOT_COMPARED and compare(1.0, None, None).check is None
+    assert compare(None, None, None, tolerance=1e-10).check == "fail"
     # a paper value that was not computed is a disagreement, never a silent agreement
     assert compare(None, None, PAPER["alpha1"]).verdict == DISAGREES
 

@@ -136,7 +136,7 @@ _VALUES: dict[str, PaperValue] = {v.key: v for v in (
     PaperValue("r1", "0.74001", None, "lower_bound", "Fig. 7 caption",
                r"for $\alpha = 3.0$ and $r = 0.74001 \leq r_1$",
                note="the r the paper ran for Fig. 7, stated to be at or below r1"),
-    PaperValue("alpha1", "1.24370", None, "approx", "Section 4 (Fig. 8)",
+    PaperValue("alpha1", "1.24370", None, "approx", "Section 4, Fig. 8",
                r"At the critical value $\alpha_1 \approx 1.24370$ there occurs a crisis"),
     PaperValue("alpha1_fig9", "1.24500", None, "upper_bound", "Fig. 9 caption",
                r"Fig. 9. Basins of transient motion for $\alpha = 1.24500 \ge \alpha_1$",

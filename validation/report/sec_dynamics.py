@@ -77,6 +77,12 @@ def _diagram_with_lyapunov(ctx, sec, fig, param, lo, hi, base, settings, marks):
     return d, lam, float(err)
 
 
+def _span(x: np.ndarray) -> str:
+    """``"3"`` or ``"0-3"``: the range of integer counts."""
+    lo, hi = int(np.min(x)), int(np.max(x))
+    return f"{lo}" if lo == hi else f"{lo}-{hi}"
+
+
 def _period(theta: np.ndarray, sdot: np.ndarray, max_p: int = SETTLE_MAX_P, tol: float = SETTLE_TOL) -> int | None:
     """Smallest p <= max_p with (theta, sdot) repeating after p impacts to ``tol`` (theta circular)."""
     for p in range(1, max_p + 1):
@@ -120,7 +126,7 @@ class Settling:
             c = self.capture[self.settled]
             ph = self.phases[self.settled]
             txt += (f"; their final stay within {self.eps:g} of it began at impact {int(np.median(c))} (median; range "
-                    f"{int(c.min())}-{int(c.max())}), after {int(ph.min())}-{int(ph.max())} earlier stays of >= "
+                    f"{int(c.min())}-{int(c.max())}), after {_span(ph)} earlier stays of >= "
                     f"{MIN_LAMINAR} impacts that ended in a burst")
         if self.multipliers is not None:
             txt += "; its Floquet multipliers have moduli " + ", ".join(f"{abs(m):.6f}" for m in self.multipliers)

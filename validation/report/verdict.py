@@ -133,8 +133,9 @@ def compare(computed, error, paper: PaperValue | None, category: str | None = No
     if paper is not None and computed is None and category is None:
         return Verdict(DISAGREES, text="no value computed in this run")
     if paper is None:
-        if computed is None:
-            return Verdict(NOT_COMPARED, text="no value computed in this run")
+        if computed is None:  # an internal check that was not computed fails
+            return Verdict(NOT_COMPARED, text="no value computed in this run",
+                           check=FAIL if tolerance is not None else None, tolerance=tolerance)
         if tolerance is not None:
             return internal_check(computed, tolerance, check_ok)
         return Verdict(NOT_COMPARED)
