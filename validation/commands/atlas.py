@@ -14,7 +14,7 @@ import json
 import re
 from pathlib import Path
 
-from ..cliutil import CliError, nonneg_int, positive_int
+from ..cliutil import CliError, nonneg_int, positive_int, tau0_type
 
 NAME = "atlas"
 HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
@@ -38,7 +38,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument("--beta", type=float, default=d.beta, help=f"damping, > 0 (default {d.beta})")
     g.add_argument("--gamma", type=float, default=d.gamma, help=f"constant torque term (default {d.gamma})")
     m = p.add_argument_group("orbits")
-    m.add_argument("--tau0", type=float, default=d.tau0, help=f"initial time (default {d.tau0:g})")
+    m.add_argument("--tau0", type=tau0_type(), default=d.tau0, help=f"initial time, |tau0| <= 1e6 (default {d.tau0})")
     m.add_argument("--sdot0", type=float, default=d.sdot0, help=f"initial pre-impact velocity, != 0 (default {d.sdot0})")
     m.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=d.transient,
                    help=f"impacts discarded (default {d.transient})")
@@ -55,8 +55,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     r.add_argument("--store", default=None, help="Zarr store (default: OUT/atlas.zarr); rerun to resume")
     r.add_argument("--overwrite", action="store_true", help="replace a store made with other options")
     r.add_argument("--scheduler", default="local", metavar="local|serial|ADDRESS",
-                   help="local: embedded LocalCluster (default); serial: in this process; ADDRESS: a Dask "
-                        "scheduler such as tcp://host:8786")
+                   help="local: embedded LocalCluster; serial: in this process; ADDRESS: a Dask "
+                        "scheduler such as tcp://host:8786 (default local)")
     r.add_argument("--workers", type=positive_int("--workers", 1024), default=None,
                    help="worker processes of the local cluster (default: one per core)")
     r.add_argument("--out", default="atlas", help="directory for atlas.png and atlas_summary.json (default atlas)")
