@@ -31,6 +31,11 @@ DS_TOL = 1e-12
 #: wall (apex depth v^2 / (2 |a|) with the acceleration pointing away from the wall): hit-or-miss there
 #: is ill-conditioned for every track, so comparisons stop at such impacts (tested separately).
 GRAZE_DEPTH = 1e-6
+#: Jacobian of one step by the three routes (analytic, flow x saltation, jacfwd through diffrax),
+#: max-norm relative to (1 + |J|): documented <= 3.1e-13 over 25 random states
+#: (docs/reference_track.md); measured on test_crossval's default examples 4.6e-14 (scipy), 1.6e-13
+#: (diffrax) and 4.0e-15 (1 + |J|)^2 for the determinant; bound 2e-12.
+JAC_TOL = 2e-12
 #: Displacement error of a grazing event on the reference tracks: the impact time of a graze with speed
 #: v moves by ds / v and its velocity by |a| ds / v.  Measured ds = dt v <= 5e-16 (scipy) and 8.6e-17
 #: (diffrax) on the double-crossing traps: the event landing and Newton step put s on the wall to

@@ -30,7 +30,7 @@ from gear_rattle.mapimpl.orbit import sequence_from_states
 from gear_rattle.mapimpl.params import Params
 from gear_rattle.reference import diffrax_track as D
 from gear_rattle.reference import scipy_track as S
-from refhelpers import TAU_TOL, map_one, map_step, near_graze, params_st, sdot_tol, state_st, tau_tol
+from refhelpers import JAC_TOL, TAU_TOL, map_one, map_step, near_graze, params_st, sdot_tol, state_st, tau_tol
 from tally import Tally
 
 CI = settings(deadline=None, max_examples=15, derandomize=True)
@@ -43,10 +43,7 @@ LONG = settings(deadline=None, max_examples=3000)
 #: the one-step error grow like 1/|v|).
 ONE_STEP, TOL_MANY = 0.25, 1e-7
 N_MANY = 30
-#: Jacobian agreement, max-norm relative to (1 + |J|): documented <= 3.1e-13 over 25 random states
-#: (docs/reference_track.md); measured on the default examples 4.6e-14 (scipy), 1.6e-13 (diffrax) and
-#: 4.0e-15 (1 + |J|)^2 for the determinant; bound 2e-12.
-JAC_TOL = 2e-12
+
 
 
 def _diffrax_stepwise(p: Params, tau: float, sd: float, n: int):

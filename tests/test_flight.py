@@ -28,16 +28,25 @@ def test_matches_eq7_eq8_as_printed(t, tau0, v0, alpha, beta, gamma):
     assert abs(float(fp.v) - float(v_ref)) <= 2e-15 * (1 + abs(v0) + alpha + abs(gamma) * (1 + t))
 
 
+def _ds(t, tau0, v0, alpha, beta, gamma):
+    return flight(t, tau0, v0, alpha, beta, gamma).ds
+
+
+# compiled once (an eager jax.grad of a closure re-traced the flight for every example)
+_ds_dt = jax.jit(jax.grad(_ds))
+_d2s_dt2 = jax.jit(jax.grad(jax.grad(_ds)))
+_flight_jit = jax.jit(flight)
+
+
 @given(t=st.floats(0, 20, **finite), tau0=st.floats(0, 6.28, **finite), v0=st.floats(-3, 3, **finite),
        alpha=st.floats(0, 5, **finite), beta=st.floats(1e-8, 1, **finite), gamma=st.floats(-0.5, 0.5, **finite))
 def test_eq3_residual(t, tau0, v0, alpha, beta, gamma):
     """Eq. (3): s'' + beta s' = f(tau) along the closed form (derivatives by autodiff); a = s'' too.
     Tolerance 1e-14 (1 + alpha + |gamma| + |v0|): rounding of the autodiff derivatives; measured
     max 2.1e-15 of that scale over 3000 random examples."""
-    ds = lambda x: flight(x, tau0, v0, alpha, beta, gamma).ds  # noqa: E731
-    d1 = jax.grad(ds)(t)
-    d2 = jax.grad(jax.grad(ds))(t)
-    fp = flight(t, tau0, v0, alpha, beta, gamma)
+    d1 = _ds_dt(t, tau0, v0, alpha, beta, gamma)
+    d2 = _d2s_dt2(t, tau0, v0, alpha, beta, gamma)
+    fp = _flight_jit(t, tau0, v0, alpha, beta, gamma)
     f = forcing(tau0 + t, alpha, beta, gamma)
     tol = 1e-14 * (1 + alpha + abs(gamma) + abs(v0))
     assert abs(float(d2 + beta * d1 - f)) <= tol
@@ -90,10 +99,10 @@ def test_phi_functions_series_and_direct_agree():
 
 
 def test_reduce_phase_keeps_turns_and_phase():
-    """tau mod 2 pi (the map variable of Eqs. 12-13) split into turns and phase.  The flights of the map
-    add at most T_MAX = 2000 to a phase < 2 pi; the phase of 1e6 + 0.25 (exact in float64) is kept to
-    1.2e-10 = ulp(1e6): TWO_PI_HI is float64(2 pi) with a full 53-bit mantissa, so m * TWO_PI_HI
-    rounds to half an ulp of m 2 pi (measured error 3.3e-11; see the xfail test below)."""
+    """tau mod 2 pi (the map variable of Eqs. 12-13) split into turns and phase.  The phase of 1e6 + 0.25
+    (exact in float64) is kept to 1.2e-10 = ulp(1e6): TWO_PI_HI is float64(2 pi) with a full 53-bit
+    mantissa, so m * TWO_PI_HI rounds to half an ulp of m 2 pi (measured error 3.3e-11; see the xfail
+    test below; mapimpl.orbit limits |tau0| to TAU0_MAX = 1e6)."""
     theta, cycles = reduce_phase(jnp.asarray(1e6 + 0.25), jnp.asarray(0, jnp.int64))
     k = int(np.floor(1e6 / (2 * np.pi)))
     assert int(cycles) == k
@@ -104,12 +113,13 @@ def test_reduce_phase_keeps_turns_and_phase():
 
 
 @pytest.mark.xfail(strict=True, reason="reduce_phase: TWO_PI_HI has a full 53-bit mantissa, so m * TWO_PI_HI is "
-                   "not exact (flight.py says 'exact for small m'); the phase of a large exactly representable "
-                   "argument is off by ~ulp(m 2 pi)/2 instead of ~ulp(2 pi)")
+                   "not exact (flight.py says 'exact for small m'); the phase of an exactly representable "
+                   "argument near TAU0_MAX = 1e6 is off by ~ulp(m 2 pi)/2 = 3e-11 instead of ~ulp(2 pi)")
 def test_reduce_phase_is_exact_to_rounding_of_the_result():
-    """A two-term (Cody-Waite) reduction with a short TWO_PI_HI gives theta to ~1 ulp of the result for
-    any exactly representable argument up to ~1e9; measured 3.3e-11 at 1e6 + 0.25 (ulp(2 pi) = 8.9e-16)."""
-    x = 1e6 + 0.25
+    """A two-term (Cody-Waite) reduction whose TWO_PI_HI has trailing zero bits gives theta to ~1 ulp of
+    the result for any exactly representable argument up to TAU0_MAX = 1e6 (the range of tau0 that
+    mapimpl.orbit accepts); measured error 3.3e-11 at 999999.25 (ulp(2 pi) = 8.9e-16)."""
+    x = 999999.25
     theta, cycles = reduce_phase(jnp.asarray(x), jnp.asarray(0, jnp.int64))
     exact = mp.mpf(x) - int(cycles) * 2 * mp.pi
     assert abs(float(theta) - float(exact)) <= 2 * np.spacing(2 * np.pi)

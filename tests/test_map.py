@@ -118,7 +118,7 @@ def test_fig2_is_periodic_fig3_is_not():
     periods = [p for p in range(1, 13) if np.max(np.abs(sd[tail][p:] - sd[tail][:-p])) <= 4e-15]
     assert periods and periods[0] == 3
     assert np.all(np.abs(np.diff(tau[-61::3]) - 2 * np.pi) <= 4 * np.spacing(tau[-1]))
-    o3 = map_orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 600)  # one compiled length (600) for both
+    o3 = map_orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 600)
     sd3 = o3.impact_arrays()[2][-500:]
     for p in range(1, 13):
         assert np.max(np.abs(sd3[p:] - sd3[:-p])) > 1.0
@@ -160,7 +160,7 @@ def test_sticking_policy_threshold():
 
 def test_terminal_states_do_not_loop():
     # |gamma| > alpha sqrt(1+beta^2): the force never changes sign -> chatter, stick, stuck forever
-    o = map_orbit(Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 150)
+    o = map_orbit(Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 200)
     assert o.status == "stuck_forever"
     # alpha = gamma = 0: coasts to rest inside the gap -> no further impact
     s, _ = step_jit(make_state(0.0, 0.01), Params(0.0, 0.1, 0.0, 0.9).arrays())
@@ -211,7 +211,7 @@ def test_free_flight_start():
     """First impact from a free-flight state (Eqs. 7-8) against the 50-digit root: measured 2.2e-16,
     bound 4e-15 (a few ulp of tau < 4)."""
     P = Params(3.0, 0.1, 0.1, 0.9)
-    o = map_orbit(P, 0.3, -0.2, 40, s0=-0.4)  # 40: a length compiled for other tests too
+    o = map_orbit(P, 0.3, -0.2, 5, s0=-0.4)
     ref = first_root(0.3, -0.4, -0.2, P.alpha, P.beta, P.gamma, t_hi=20, n=4000)
     assert abs(o.tau[0] - (0.3 + float(ref[0]))) < 4e-15
     assert o.wall[0] == ref[1]
@@ -253,7 +253,7 @@ def test_periodic_orbit_walls_align_with_states():
     from gear_rattle.mapimpl.periodic import find_periodic
 
     P = Params(0.5, 0.1, 0.1, 0.9)
-    o = map_orbit(P, 0.0, 0.5, 600)  # the length of the Fig. 2 test (compiled once)
+    o = map_orbit(P, 0.0, 0.5, 300)
     _, th, sd, _ = o.impact_arrays()
     po = find_periodic(P, th[-3], sd[-3], 3)
     assert po.converged
