@@ -196,7 +196,8 @@ def test_bad_arguments_raise_value_errors(target):
         R.float64_horizon(-0.1)
 
 
-def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys):
+def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys, monkeypatch, target):
+    monkeypatch.setattr(R, "float64_target", lambda params: target)  # skip the 4-cycle search
     out = tmp_path / "r.json"
     assert R.main(["--max-impacts", "5", "--precisions", "128,256", "--rounding", "float64", "--quiet",
                    "--json", str(out)]) == 0
@@ -277,3 +278,14 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
     assert res.value == notes["T_post"] and res.precision == notes["precision_bits"]
     # the recorded target is the engine's float64 4-impact orbit
     assert res.target == {k: all_notes["capture_target"][k] for k in ("theta", "sdot", "wall")}
+
+
+def test_sticking_walls_books_episodes_per_wall():
+    """The per-wall diagnostic (the engine's micro-step, episodes booked to their wall): states that
+    stick at once to the upper and to the lower wall, and one that never sticks within the cap."""
+    ics = [R.stick_at_once_state(FIG11, 0, tau0=3.25), R.stick_at_once_state(FIG11, -1), (3.25, 0.4)]
+    w = R.sticking_walls([t for t, _ in ics], [s for _, s in ics], FIG11, cap=60, lanes=4)
+    assert w["first_wall"].tolist()[:2] == [0, -1]
+    assert w["upper"].tolist()[:2] == [1, 0] and w["lower"].tolist()[:2] == [0, 1]
+    assert w["n"].tolist()[:2] == [60, 60]  # the post-release orbits are not captured within 60 impacts
+    assert (w["first_wall"][2] == 1) == (w["upper"][2] + w["lower"][2] == 0)

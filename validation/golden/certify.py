@@ -10,7 +10,9 @@ The model is Eq. (3), ``s'' + beta s' = f(tau)``, ``f = -alpha sin tau + alpha b
     s''''(t) = alpha sin(tau0 + t) - beta^2 B E.
 
 Every quantity is an ``arb`` ball (python-flint) at ``prec`` bits; ``tau0`` and ``v0`` are the
-enclosures of the previous impact, so the error bounds propagate from impact to impact.
+enclosures of the previous impact, so the error bounds propagate from impact to impact.  The
+parameters are exact float64 numbers (a :class:`Params`) or exact decimals (``{"alpha": "1.245",
+...}``, balls of radius ~2^-prec; :class:`Model`).
 
 **One flight** (:func:`certified_flight`) proves, for *every* initial state in the input balls:
 
@@ -32,10 +34,12 @@ The velocity before the impact is ``s'`` evaluated on the root's ball.
 
 **Sticking** follows the policy of :mod:`mapimpl.sticking` exactly (pressing forcing, accumulation
 time ``t_acc = 2 u / ((1 - r) f_in) <= STICK_TIME``, release at the first zero of the contact force,
-in closed form ``f = gamma - R sin(tau - phi)``).  Each decision is evaluated in balls and must be
-*definite* (else :class:`CertificationError`).  The release time is certified as a zero of ``f``
-(sign change, ``f'`` excludes 0) with ``f`` pressing on the whole stuck interval before it.  The
-stick row itself (``tau_n + t_acc``) is a *policy value*, not a solution of the ODE.
+in closed form ``f = gamma - R sin(tau - phi)``: the canonical release phase of the wall, a
+function of the parameters alone, plus whole periods, :func:`release_time`).  Each decision is
+evaluated in balls and must be *definite* (else :class:`CertificationError`).  The release time is
+certified as a zero of ``f`` (sign change, ``f'`` excludes 0) with ``f`` pressing on the whole stuck
+interval before it.  The stick row itself (``tau_n + t_acc``) is a *policy value*, not a solution
+of the ODE.  :func:`certified_step` is one map step (reset or sticking, then the certified flight).
 
 All loops are bounded; failure to certify raises :class:`CertificationError`, never loops.
 """

@@ -44,14 +44,15 @@ from dataclasses import asdict, dataclass, field
 
 from flint import arb
 
+from ...mapimpl.engine.transients import DELTA as ENGINE_DELTA
 from ...mapimpl.params import Params
 from ...mapimpl.sticking import STICK_TIME
 from . import certify as cert
 
 #: The printed parameters of the paper's Figs. 9-11 (exact decimals).
 PAPER_DECIMAL = {"alpha": "1.245", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
-#: Capture distance of the engine (``mapimpl.engine.transients.DELTA``).
-DELTA = 1e-3
+#: Capture distance: the engine's default.
+DELTA = ENGINE_DELTA
 #: Precision schedule (bits) of :func:`certified_release_duration`.
 PRECISIONS = (256, 512, 1024, 2048, 4096, 8192)
 #: Most post-release impacts certified per attempt.
@@ -525,9 +526,9 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
             "orbits_reaching_target": int((~live).sum())}
 
 
-#: Sticking episodes at the lower wall are counted in units of this in the engine's ``nstick``
-#: field by :func:`sticking_walls` (upper-wall episodes in units of 1).
-_LOWER_UNIT = 1 << 16
+#: :func:`sticking_walls` books episodes in the engine's ``nstick`` field: upper-wall ones in units
+#: of 1, lower-wall ones in units of ``_LOWER_UNIT``, plus ``_FIRST_LOWER`` when the first was lower.
+_LOWER_UNIT, _FIRST_LOWER = 1 << 12, 1 << 24
 
 
 def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: int = 512, block: int = 32,
@@ -537,7 +538,8 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
     same capture rule) with each episode booked to the wall it sticks to.
 
     Returns numpy arrays ``{"upper", "lower", "first_wall" (0, -1, or 1 = never stuck),
-    "status", "n"}``.  One device; a diagnostic (the transient engine itself does not separate walls).
+    "status", "n", "hit"}`` (``hit``: the capture iteration, -1 if none).  At most 4095 episodes
+    per wall are booked (a cap of 20000 iterations allows far fewer at the paper's setting).  One device; a diagnostic (the transient engine itself does not separate walls).
     """
     import numpy as np
 
@@ -556,12 +558,11 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
                       np.asarray([delta]), int(cap), t_max=T_MAX, max_steps=MAX_STEPS)
 
     def micro(s, kk):
-        ns = K.micro_step(s, kk)
+        ns = K.micro_step(s, kk)  # the engine's arithmetic, untouched; only the booking of nst differs
         new_stick = (ns["mode"] == K.MODE_S) & (s["mode"] != K.MODE_S)
-        first = new_stick & (s["nst"] == 0)
-        ns["nst"] = ns["nst"] + jnp.where(new_stick & (ns["wall"] == -1), _LOWER_UNIT - 1, 0)
-        # the wall of the first episode: remembered in ``k`` (an otherwise unused lane field here)
-        ns["k"] = jnp.where(first, ns["wall"], jnp.where(s["nst"] == 0, 1, s["k"]))
+        lower = new_stick & (ns["wall"] == -1)
+        first_lower = lower & (s["nst"] == 0)
+        ns["nst"] = ns["nst"] + jnp.where(lower, _LOWER_UNIT - 1, 0) + jnp.where(first_lower, _FIRST_LOWER, 0)
         return ns
 
     @jax.jit
@@ -576,11 +577,7 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
             lanes_, res, nxt, nb = c
             lanes_, nxt = K._load(lanes_, qth, qsd, qw, nxt, n_ic, 1)
             lanes_ = jax.lax.fori_loop(0, block, lambda _, L: step_v(L, k), lanes_)
-            done = (lanes_["mode"] == K.MODE_IDLE) & (lanes_["ic"] >= 0)
-            j = jnp.where(done, lanes_["ic"], n_ic)
-            res = dict(res, first=res["first"].at[j].set(lanes_["k"], mode="drop"))
-            res_s, lanes_ = K._store({kk: v for kk, v in res.items() if kk != "first"}, lanes_)
-            res = dict(res_s, first=res["first"])
+            res, lanes_ = K._store(res, lanes_)
             return lanes_, res, nxt, nb + 1
 
         lanes_, res, nxt = carry
@@ -589,8 +586,7 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
 
     lanes = int(min(lanes, n_ic))
     res = dict(n=jnp.zeros(n_ic, jnp.int32), status=jnp.full(n_ic, K.NOT_RUN, jnp.int32),
-               nstick=jnp.zeros(n_ic, jnp.int32), hitn=jnp.full((n_ic, 1), -1, jnp.int32),
-               first=jnp.ones(n_ic, jnp.int32))
+               nstick=jnp.zeros(n_ic, jnp.int32), hitn=jnp.full((n_ic, 1), -1, jnp.int32))
     carry = (K.idle_lanes(lanes, 1), res, jnp.asarray(0, jnp.int32))
     q = (jnp.asarray(th), jnp.asarray(sd), jnp.asarray(wl))
     max_calls = 1 + (int(cap) + 1) * 200 * (n_ic // lanes + 2) // (block * 64)
@@ -613,8 +609,10 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
     else:  # pragma: no cover - the engine bounds every orbit
         raise RuntimeError("sticking_walls: queue not drained (bug)")
     nst = np.asarray(res["nstick"])
-    return {"upper": nst % _LOWER_UNIT, "lower": nst // _LOWER_UNIT, "first_wall": np.asarray(res["first"]),
-            "status": np.asarray(res["status"]), "n": np.asarray(res["n"]), "hit": np.asarray(res["hitn"][:, 0])}
+    upper, lower = nst % _LOWER_UNIT, (nst % _FIRST_LOWER) // _LOWER_UNIT
+    first = np.where(nst >= _FIRST_LOWER, -1, np.where(upper > 0, 0, 1))
+    return {"upper": upper, "lower": lower, "first_wall": first, "status": np.asarray(res["status"]),
+            "n": np.asarray(res["n"]), "hit": np.asarray(res["hitn"][:, 0])}
 
 
 # ---------------------------------------------------------------------------------------------
