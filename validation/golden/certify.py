@@ -150,8 +150,6 @@ class Model:
         balls = {k: parameter_ball(k, values[k]) for k in PARAM_NAMES}
         self.params = params if isinstance(params, Params) else Params(**{k: float(values[k]) for k in PARAM_NAMES})
         self.alpha, self.beta, self.gamma, self.r = (balls[k] for k in PARAM_NAMES)
-        self.decimal = {k: (values[k].strip() if isinstance(values[k], str) else repr(float(values[k])))
-                        for k in PARAM_NAMES}
 
     def forcing(self, tau: arb) -> arb:
         """f(tau) = -alpha sin tau + alpha beta cos tau + gamma."""
@@ -313,7 +311,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
                                      "(tangential contact?)")
 
 
-#: Working precision of the first Newton iterations of :func:`_refine` (doubled every iteration).
+#: Working precision of the first Newton iterations of :func:`_refine` (doubled as they converge).
 NEWTON_START_PREC = 64
 
 
