@@ -15,9 +15,10 @@ import numpy as np
 
 from . import _jax  # noqa: F401
 import jax
+import jax.numpy as jnp
 
 from .flight import TWO_PI
-from .impact_map import ACTIVE, ORBIT_STATUS_NAMES, MapState, free_flight_start, iterate, make_state
+from .impact_map import ACTIVE, ORBIT_STATUS_NAMES, MapState, Trajectory, free_flight_start, iterate, make_state
 from .params import Params
 from .results import ImpactSequence
 
@@ -55,32 +56,106 @@ def sequence_from_states(params: Params, first: MapState, traj, track: str = "ma
     )
 
 
+#: Largest |tau0| accepted for an initial state (the transient engine's range too).  The phase
+#: reduction (:func:`mapimpl.flight.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
+#: moderate arguments: at |tau0| = 1e6 its error is below an ulp of tau0 (~1e-10); at 1e19 the
+#: phase is garbage and at ~6e19 the whole-turn counter overflows.
+TAU0_MAX = 1e6
+
+#: Impacts per XLA call of :func:`map_orbit` (about 0.1 s on a CPU core): Ctrl-C acts between
+#: chunks, and one compilation serves every orbit length.
+CHUNK = 1024
+
+
+#: The allowed range of tau0 in words (for messages).
+TAU0_RANGE = "|tau0| <= " + f"{TAU0_MAX:.0e}".replace("e+0", "e")
+
+
+def check_tau0(tau0: float) -> float:
+    """``tau0`` as a float, or ValueError naming tau0 and the range ``|tau0| <= TAU0_MAX``."""
+    try:
+        t = float(tau0)
+    except (TypeError, ValueError):
+        t = float("nan")
+    if not (np.isfinite(t) and abs(t) <= TAU0_MAX):
+        raise ValueError(f"initial tau0={tau0!r} is out of range: allowed a finite real with {TAU0_RANGE}")
+    return t
+
+
 def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = None) -> MapState:
     """Initial pre-impact map state.
 
     With ``s0`` None, ``(tau0, sdot0)`` is the state just before an impact (the paper's convention;
     ``sdot0 > 0`` hits ``s = 0``, ``sdot0 < 0`` hits ``s = -1``; ``sdot0 = 0`` is rejected as
     ambiguous).  With ``-1 <= s0 <= 0`` it is a free-flight state and the first impact is searched.
+    ``|tau0| <= TAU0_MAX`` (1e6) in both cases: beyond it the phase reduction loses the phase.
     """
+    tau0 = check_tau0(tau0)
     if s0 is None:
         if not np.isfinite(sdot0) or sdot0 == 0.0:
             raise ValueError(f"initial sdot0={sdot0!r} is out of range: a pre-impact state needs sdot0 != 0 "
                              "(> 0 hits s = 0, < 0 hits s = -1)")
-        if not np.isfinite(tau0):
-            raise ValueError(f"initial tau0={tau0!r} is out of range: allowed any finite real")
         return make_state(tau0, sdot0)
     if not (np.isfinite(s0) and -1.0 <= s0 <= 0.0):
         raise ValueError(f"initial s0={s0!r} is out of range: allowed -1 <= s0 <= 0")
-    if not (np.isfinite(tau0) and np.isfinite(sdot0)):
-        raise ValueError("initial tau0 and sdot0 must be finite")
+    if not np.isfinite(sdot0):
+        raise ValueError(f"initial sdot0={sdot0!r} is out of range: allowed a finite real")
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
 
-def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None) -> ImpactSequence:
-    """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13)."""
-    if int(n_impacts) < 0:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed n_impacts >= 0")
+#: Scan length of runs of at most this many impacts (a short run does not pay for a long scan).
+SHORT = 32
+
+
+def _chunk_length(n: int, chunk: int) -> int:
+    """Scan length of every chunk of an ``n``-impact run: ``SHORT`` for short runs, else ``chunk``.
+
+    Two lengths only, so two compilations serve every orbit length (a compilation costs seconds,
+    a wasted step ~0.1 ms)."""
+    return min(int(chunk), SHORT) if int(n) <= SHORT else int(chunk)
+
+
+def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK) -> Trajectory:
+    """:func:`mapimpl.impact_map.iterate` for ``n`` steps, run as a sequence of fixed-length scans.
+
+    Every chunk is one XLA call of a fixed length (the last one truncated), synchronised before the
+    next starts, so a KeyboardInterrupt (Ctrl-C) acts between chunks, within a fraction of a second.
+    The steps are the same as in one long scan (the carry is the state), so the result is bitwise the
+    same.  The run stops early once the orbit has ended (terminal states are frozen by the map, and
+    :func:`sequence_from_states` stops at the first one).
+    """
+    n = int(n)
+    if int(chunk) < 1:
+        raise ValueError(f"chunk={chunk!r} is out of range: allowed chunk >= 1")
+    pa = params.arrays()
+    length = _chunk_length(n, chunk)
+    parts = []
+    state, done = first, 0
+    while done < n:
+        traj = _iterate_jit(state, pa, length)
+        take = min(length, n - done)
+        part = jax.tree_util.tree_map(lambda x: np.asarray(x)[:take], traj)  # blocks: Ctrl-C acts here
+        parts.append(part)
+        done += take
+        state = MapState(*(jnp.asarray(x[-1]) for x in part.states))  # host copies: bitwise the carry
+        if int(state.status) != ACTIVE:
+            break
+    if not parts:  # n = 0: empty arrays of the right shapes and types (traced, not compiled)
+        shapes = jax.eval_shape(lambda s: iterate(s, pa, 0), first)
+        return jax.tree_util.tree_map(lambda a: np.zeros(a.shape, a.dtype), shapes)
+    return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs), *parts)
+
+
+def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+              chunk: int = CHUNK) -> ImpactSequence:
+    """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13).
+
+    Runs in chunks of ``chunk`` impacts (:func:`iterate_chunked`): interruptible with Ctrl-C, and the
+    same result as one scan.  An orbit that ends (stuck forever, no impact) stops early.
+    """
+    if int(n_impacts) != n_impacts or int(n_impacts) < 0:
+        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer n_impacts >= 0")
     first = initial_state(params, tau0, sdot0, s0)
-    traj = _iterate_jit(first, params.arrays(), int(n_impacts))
+    traj = iterate_chunked(first, params, int(n_impacts), chunk)
     return sequence_from_states(params, first, traj, track="map",
                                 meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)})

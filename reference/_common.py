@@ -27,6 +27,7 @@ import jax
 
 from ..mapimpl.impact_map import MapState, Trajectory
 from ..mapimpl.orbit import sequence_from_states
+from ..mapimpl.orbit import check_tau0
 from ..mapimpl.params import Params
 from ..mapimpl.results import ImpactSequence
 from ..mapimpl.sticking import STICK_TIME, decide_stick
@@ -73,8 +74,7 @@ def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0
         raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer >= 0") from None
     if n < 0 or n != n_impacts:
         raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed n_impacts >= 0")
-    if not np.isfinite(tau0):
-        raise ValueError(f"initial tau0={tau0!r} is out of range: allowed any finite real")
+    check_tau0(tau0)  # the map's range (the phase reduction is exact only for moderate tau)
     if not np.isfinite(sdot0):
         raise ValueError(f"initial sdot0={sdot0!r} is out of range: allowed any finite real")
     if s0 is None:

@@ -177,7 +177,9 @@ def test_bad_ic_inputs(target):
 def test_cli_bad_input_exit_2(capsys):
     from gear_rattle.validation.cli import main
 
-    assert main(["transients", "--delta", "-1", "--no-progress"]) == 2
+    with pytest.raises(SystemExit) as e:  # refused while parsing (SystemExit) or when run (returned)
+        raise SystemExit(main(["transients", "--delta", "-1", "--quiet"]))
+    assert e.value.code == 2
     assert "delta" in capsys.readouterr().err
 
 

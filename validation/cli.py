@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import re
 import sys
 
 from ..mapimpl._jax import use_cpu_devices
@@ -29,7 +31,18 @@ COMMAND_MODULES = [
 ]
 
 
+#: A negative number in any float notation (``-1``, ``-1.5``, ``-.5``, ``-1e-2``, ``-3E+1``, ``-inf``):
+#: argparse's own pattern knows only ``-1`` and ``-1.5`` and takes ``-1e-2`` for an option.
+NEGATIVE_NUMBER = re.compile(r"^-(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf|infinity|nan)$", re.IGNORECASE)
+
+
 class _Parser(argparse.ArgumentParser):
+    """One-line errors with exit status 2; negative numbers in any float notation are values."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
     def error(self, message: str):  # one line, exit 2
         self.exit(2, f"{self.prog}: error: {message}\n")
 
@@ -49,19 +62,34 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the console script; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Entry point of the console script; returns the exit status (a usage error found while parsing
+    raises SystemExit(2) after its one-line message, as argparse does)."""
+    command = None
     try:
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        command = args.command
         # the command line (not the library) spreads the engine over one XLA CPU device per core
         use_cpu_devices()
         return int(args._run(args) or 0)
     except (ValueError, CliError) as e:
-        print(f"gear-rattle {args.command}: error: {e}", file=sys.stderr)
+        print(f"gear-rattle {command}: error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"gear-rattle {args.command}: interrupted", file=sys.stderr)
+    except KeyboardInterrupt:  # Ctrl-C: one line, the shell's status for SIGINT
+        print(f"gear-rattle{' ' + command if command else ''}: interrupted", file=sys.stderr)
+        if argv is None:
+            # the console script: end the process now.  A Ctrl-C that lands while XLA starts its
+            # CPU client or compiles can leave native work behind that crashes the interpreter's
+            # teardown (a segfault after the message); outputs are written only after the
+            # computation, so there is nothing to finish.
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(130)
         return 130
+    except BrokenPipeError:  # e.g. `gear-rattle simulate | head`: stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141
 
 
 if __name__ == "__main__":

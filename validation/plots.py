@@ -9,11 +9,11 @@ from ..mapimpl.results import ImpactSequence
 from .figures import subplots
 
 
-def plot_time_series(seq: ImpactSequence, path: str, span: float = 50.0, title: str | None = None) -> None:
+def time_series_figure(seq: ImpactSequence, span: float = 50.0, title: str | None = None):
     """Figs. 2 and 3 of the paper: (a) the driven gear in absolute coordinates between the two tooth
     flanks of the driving gear; (b) the relative coordinate s(tau) with the impacts marked.
 
-    The normalised absolute angle is ``(R/v) phi = alpha sin(tau) - s`` (Eq. 2); the driving gear's
+    Returns the :class:`matplotlib.figure.Figure`.  The normalised absolute angle is ``(R/v) phi = alpha sin(tau) - s`` (Eq. 2); the driving gear's
     flanks are at ``alpha sin(tau)`` (``s = 0``) and ``alpha sin(tau) + 1`` (``s = -1``).
     """
     p = seq.params
@@ -40,4 +40,9 @@ def plot_time_series(seq: ImpactSequence, path: str, span: float = 50.0, title: 
     ax[1].set_xlabel(r"$\tau$")
     ax[1].legend(loc="upper right", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    return fig
+
+
+def plot_time_series(seq: ImpactSequence, path: str, span: float = 50.0, title: str | None = None) -> None:
+    """:func:`time_series_figure` written to ``path`` (format from the extension)."""
+    time_series_figure(seq, span, title).savefig(path, dpi=110)

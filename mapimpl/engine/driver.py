@@ -35,9 +35,10 @@ import jax
 import jax.numpy as jnp
 
 from ..finder import MAX_STEPS, T_MAX
+from ..orbit import TAU0_MAX, TAU0_RANGE
 from ..params import Params, validate_arrays
 from ..progress import Progress
-from ..status import ORBIT_NAMES, Orbit
+from ..status import ORBIT_NAMES
 from ..sticking import STICK_TIME
 from . import kernel as K
 from .observers import Observer
@@ -196,8 +197,8 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
         raise ValueError(f"theta, sdot and wall must have the same length (got {th.size}, {sd.size}, {w.size})")
     if th.size == 0:
         raise ValueError("theta is empty: allowed at least one initial condition")
-    if not np.all(np.isfinite(th)) or np.any(np.abs(th) > 1e6):
-        raise ValueError("theta is out of range: allowed finite values with |theta| <= 1e6")
+    if not np.all(np.isfinite(th)) or np.any(np.abs(th) > TAU0_MAX):
+        raise ValueError(f"theta is out of range: allowed finite values with {TAU0_RANGE.replace('tau0', 'theta')}")
     if not np.all(np.isfinite(sd)) or np.any(sd == 0.0):
         raise ValueError("sdot is out of range: a pre-impact state needs a finite sdot != 0")
     if not np.all(np.isin(w, (0, -1))):

@@ -334,15 +334,19 @@ class Tangent(Observer):
     """Lyapunov exponents (Figs. 4b, 8b) by QR re-orthonormalisation of the step Jacobians from impact
     ``n_start``: ``J_n Q_{n-1} = Q_n R_n``, ``log_r = sum ln |R_n[i, i]|`` over the free steps (a
     sticking step forgets its input, ``J = 0``: it is counted in ``n_stuck`` and Q restarts at the
-    identity).  Outputs ``log_r`` (2,), ``n_free``, ``n_stuck`` and the state at ``n_start``
+    identity).  Steps ending at impacts ``n_start < n <= n_end`` are used (``n_end`` -1: no end).
+    Outputs ``log_r`` (2,), ``n_free``, ``n_stuck`` and the state at ``n_start``
     (``sdot0``, ``theta0``, ``cycles0``) for the closed-form check ``lambda1 + lambda2 = mean ln|det J|``."""
 
     n_start: int = 0
+    n_end: int = -1
     needs_jacobian = True
 
     def __post_init__(self):
         if int(self.n_start) < 0:
             raise ValueError(f"n_start={self.n_start!r} is out of range: allowed >= 0")
+        if int(self.n_end) != -1 and int(self.n_end) <= int(self.n_start):
+            raise ValueError(f"n_end={self.n_end!r} is out of range: allowed -1 (no end) or n_end > n_start")
 
     def __hash__(self):
         return hash("Tangent")
@@ -359,11 +363,12 @@ class Tangent(Observer):
         return ("log_r", "n_free", "n_stuck", "sdot0", "theta0", "cycles0")
 
     def consts(self):
-        return {"n0": jnp.asarray(self.n_start, _I32)}
+        end = np.iinfo(np.int32).max if int(self.n_end) < 0 else int(self.n_end)
+        return {"n0": jnp.asarray(self.n_start, _I32), "n1": jnp.asarray(end, _I32)}
 
     def update(self, o, ev, k):
         at0 = ev.n == k["n0"]
-        step = ev.jac_ok & (ev.n > k["n0"])
+        step = ev.jac_ok & (ev.n > k["n0"]) & (ev.n <= k["n1"])
         J = ev.jac
         stuck = step & jnp.all(J == 0.0)
         free = step & ~stuck

@@ -45,6 +45,7 @@ import jax
 import jax.numpy as jnp
 
 from ..impact_map import ACTIVE, free_flight_start
+from ..orbit import TAU0_MAX, TAU0_RANGE
 from ..params import Params
 from ..status import ORBIT_NAMES, Orbit
 from ..sticking import STICK_TIME
@@ -200,8 +201,8 @@ def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
         raise ValueError(f"tau0 and sdot0 must have the same length (got {tau0.size} and {sdot0.size})")
     if tau0.size == 0:
         raise ValueError("tau0 is empty: allowed at least one initial condition")
-    if not np.all(np.isfinite(tau0)) or np.any(np.abs(tau0) > 1e6):
-        raise ValueError("tau0 is out of range: allowed finite values with |tau0| <= 1e6")
+    if not np.all(np.isfinite(tau0)) or np.any(np.abs(tau0) > TAU0_MAX):
+        raise ValueError(f"tau0 is out of range: allowed finite values with {TAU0_RANGE}")
     if not np.all(np.isfinite(sdot0)):
         raise ValueError("sdot0 is out of range: allowed finite values")
     if ic_mode not in IC_MODES:

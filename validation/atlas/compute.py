@@ -26,40 +26,39 @@ and its period is still looked for.  The result of a point depends only on that 
 on the other points of the batch, their number or order (this is what makes the atlas independent of
 tiling and worker count).
 
-Method (pure JAX, one jitted kernel, vmapped over points: nothing runs on the host but reshaping)
+Method (the many-orbit engine, :mod:`gear_rattle.mapimpl.engine`: every point is one orbit with its
+own parameters, lanes are refilled as orbits end, nothing runs on the host but the period search)
 ------------------------------------------------------------------------------------------------
-1. ``transient`` map steps (Eqs. 12-13 with the sticking policy, :func:`mapimpl.impact_map.step`);
-2. ``impacts`` steps carrying the tangent map as ``J Q = Q R`` (:func:`validation.dynamics.lyapunov._qr_run`,
-   the same code as ``gear-rattle lyapunov``, here with per-point ``alpha`` and ``r``);
-3. ``W = 2 * period_max`` more steps recorded (:func:`mapimpl.impact_map.iterate`); the period is the
-   smallest ``p`` in ``1 .. period_max`` with ``|theta_n - theta_{n-p}|`` (on the circle) and
-   ``|sdot_n - sdot_{n-p}|`` both below ``period_tol`` and the same wall, for every ``n`` of the window
-   with ``n - p`` in it; ``m = round((tau_W - tau_{W-p}) / 2 pi)``.  A chaotic orbit, a quasi-periodic
-   one, a period above ``period_max`` and a periodic orbit not yet converged to ``period_tol`` after the
-   transient all give 0.
+1. ``transient`` map steps (Eqs. 12-13 with the sticking policy);
+2. ``impacts`` steps carrying the tangent map as ``J Q = Q R`` (the engine's
+   :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer; the same exponents as
+   ``gear-rattle lyapunov``);
+3. ``W = 2 * period_max`` more states recorded (:class:`~gear_rattle.mapimpl.engine.observers.Sample`);
+   the period is the smallest ``p`` in ``1 .. period_max`` with ``|theta_n - theta_{n-p}|`` (on the
+   circle) and ``|sdot_n - sdot_{n-p}|`` both below ``period_tol`` and the same wall, for every ``n`` of
+   the window with ``n - p`` in it; ``m = round((tau_W - tau_{W-p}) / 2 pi)``.  A chaotic orbit, a
+   quasi-periodic one, a period above ``period_max`` and a periodic orbit not yet converged to
+   ``period_tol`` after the transient all give 0.
 
-The lead's engine path (tangent accumulation in the lane-refilling engine) is meant to replace this
-function behind the same contract; it must change :data:`ENGINE` (stored with every atlas, so that a
-store is never resumed with another engine).
+:data:`ENGINE` names this compute path; it is stored with every atlas, so that a store is never
+resumed with another one.
 """
 
 from __future__ import annotations
 
-from functools import partial
-
 import numpy as np
 
 from ...mapimpl import _jax  # noqa: F401  (float64)
-import jax
-import jax.numpy as jnp
 
+from ...mapimpl.engine.driver import run
+from ...mapimpl.engine.observers import Sample, Tangent
 from ...mapimpl.flight import TWO_PI
-from ...mapimpl.impact_map import ACTIVE, MapState, make_state, step
-from ...mapimpl.params import ParamArrays, validate_arrays
+from ...mapimpl.params import validate_arrays
+from ...mapimpl.status import Orbit
 from .spec import AtlasSpec
 
 #: Name and version of the compute path; stored in the atlas and compared on resume.
-ENGINE = "jax-qr/1"
+ENGINE = "engine-tangent/1"
 
 #: The keys, dtypes and fill values (for points not yet computed) of :func:`compute_tile`'s result.
 FIELDS: dict[str, tuple[np.dtype, object]] = {
@@ -71,84 +70,28 @@ FIELDS: dict[str, tuple[np.dtype, object]] = {
 }
 
 
-def _period(states: MapState, period_max: int, tol):
-    """``(p, m)`` of the recorded window of one orbit (see module docstring); ``(0, 0)`` if none."""
-    th, cyc, sd, wall = states.theta, states.cycles, states.sdot, states.wall
-    w = th.shape[0]
-    k = jnp.arange(w)
-
-    def mismatch(p):
-        j = jnp.maximum(k - p, 0)
-        dth = jnp.abs(jnp.remainder(th - th[j] + jnp.pi, TWO_PI) - jnp.pi)
-        d = jnp.maximum(dth, jnp.abs(sd - sd[j]))
-        d = jnp.where(wall == wall[j], d, jnp.inf)
-        return jnp.max(jnp.where(k >= p, d, 0.0))
-
-    ps = jnp.arange(1, period_max + 1)
-    ok = jax.vmap(mismatch)(ps) < tol
-    found = jnp.any(ok) & (states.status[-1] == ACTIVE)
-    p = jnp.where(found, ps[jnp.argmax(ok)], 0)
-    j = w - 1 - p
-    turns = (cyc[-1] - cyc[j]).astype(jnp.float64) + (th[-1] - th[j]) / TWO_PI
-    m = jnp.where(found, jnp.round(turns), 0)
-    return p.astype(jnp.int32), m.astype(jnp.int32)
-
-
-def _qr_givens(z):
-    """``z = Q R`` for a 2x2 ``z`` by one Givens rotation, ``R`` with a positive diagonal: returns ``(Q,
-    ln R11, ln R22)``.  Closed form, element-wise (no LAPACK call: cheap in a vmapped loop on any device)."""
-    a, b, c, d = z[0, 0], z[0, 1], z[1, 0], z[1, 1]
-    rho = jnp.hypot(a, c)
-    safe = rho > 0.0
-    ca = jnp.where(safe, a / jnp.where(safe, rho, 1.0), 1.0)
-    sa = jnp.where(safe, c / jnp.where(safe, rho, 1.0), 0.0)
-    r22 = -sa * b + ca * d  # = det(z) / rho
-    sg = jnp.where(r22 < 0.0, -1.0, 1.0)
-    q = jnp.array([[ca, -sa * sg], [sa, ca * sg]])
-    return q, jnp.log(rho), jnp.log(jnp.abs(r22))
-
-
-def _point(st: MapState, p: ParamArrays, tol, transient: int, impacts: int, period_max: int):
-    """One orbit: transient, Lyapunov average, period window, in one loop (the map step is traced once)."""
-    w = 2 * period_max
-    eye = jnp.eye(2)
-    rec0 = MapState(jnp.zeros(w), jnp.zeros(w, st.cycles.dtype), jnp.zeros(w), jnp.zeros(w, st.wall.dtype),
-                    jnp.full(w, ACTIVE, st.status.dtype))
-
-    def body(i, c):
-        s, q, acc, n_stuck, n_ok, rec = c
-        s1, info = step(s, p)
-        # Lyapunov window (validation/dynamics/lyapunov.py semantics): Q restarts at I after a sticking
-        # (J = 0) or terminal step and outside the window; sticking steps are counted
-        in_lyap = (i >= transient) & (i < transient + impacts)
-        alive = s1.status == ACTIVE
-        qn, l1, l2 = _qr_givens(jnp.where(info.stuck, eye, info.jac) @ q)
-        use = in_lyap & alive & ~info.stuck
-        acc = acc + jnp.where(use, jnp.stack([l1, l2]), 0.0)
-        q = jnp.where(use, qn, eye)
-        n_stuck = n_stuck + (in_lyap & alive & info.stuck)
-        n_ok = n_ok + use
-        # period window: the last 2 * period_max states
-        k = i - transient - impacts
-        put = k >= 0
-        kk = jnp.maximum(k, 0)
-        rec = MapState(*(jnp.where(put, r.at[kk].set(x), r) for r, x in zip(rec, s1)))
-        return s1, q, acc, n_stuck, n_ok, rec
-
-    c0 = (st, eye, jnp.zeros(2), jnp.asarray(0), jnp.asarray(0), rec0)
-    _, _, acc, n_stuck, n_ok, rec = jax.lax.fori_loop(0, transient + impacts + w, body, c0)
-    alive = rec.status[-1] == ACTIVE
-    lam = acc / jnp.maximum(n_ok, 1)
-    lam = jnp.where(n_stuck > 0, -jnp.inf, lam)
-    lam = jnp.where(alive, lam, jnp.nan)
-    per, m = _period(rec, period_max, tol)
-    return lam[0], lam[1], per, m, rec.status[-1].astype(jnp.int8)
-
-
-@partial(jax.jit, static_argnums=(3, 4, 5))
-def _kernel(st: MapState, p: ParamArrays, tol, transient: int, impacts: int, period_max: int):
-    axes = ParamArrays(*(0 if jnp.ndim(x) else None for x in p))
-    return jax.vmap(_point, in_axes=(0, axes, None, None, None, None))(st, p, tol, transient, impacts, period_max)
+def period(theta: np.ndarray, sdot: np.ndarray, wall: np.ndarray, cycles: np.ndarray, period_max: int,
+           tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(p, m)`` of recorded windows (arrays ``(n_orbits, W)``, see the module docstring); 0 if none."""
+    th, sd, w, cyc = (np.asarray(x) for x in (theta, sdot, wall, cycles))
+    n, W = th.shape
+    p_out = np.zeros(n, np.int32)
+    m_out = np.zeros(n, np.int32)
+    todo = np.isfinite(th).all(axis=1)
+    for p in range(1, int(period_max) + 1):
+        if not todo.any():
+            break
+        dth = np.abs(np.remainder(th[:, p:] - th[:, :-p] + np.pi, TWO_PI) - np.pi)
+        d = np.maximum(dth, np.abs(sd[:, p:] - sd[:, :-p]))
+        d = np.where(w[:, p:] == w[:, :-p], d, np.inf)
+        ok = todo & (d.max(axis=1) < tol) if W > p else np.zeros(n, bool)
+        if ok.any():
+            j = W - 1 - p
+            turns = (cyc[ok, -1] - cyc[ok, j]).astype(np.float64) + (th[ok, -1] - th[ok, j]) / TWO_PI
+            p_out[ok] = p
+            m_out[ok] = np.round(turns).astype(np.int32)
+            todo &= ~ok
+    return p_out, m_out
 
 
 def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str, np.ndarray]:
@@ -162,8 +105,22 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
     if a.size == 0:
         return {k: np.full(shape, fill, dt) for k, (dt, fill) in FIELDS.items()}
     a, rr = a.ravel(), rr.ravel()
-    p = validate_arrays(a, spec.beta, spec.gamma, rr)
+    validate_arrays(a, spec.beta, spec.gamma, rr)
     n = a.size
-    st = make_state(np.full(n, spec.tau0), np.full(n, spec.sdot0))
-    out = _kernel(st, p, spec.period_tol, spec.transient, spec.impacts, spec.period_max)
-    return {k: np.asarray(v).astype(FIELDS[k][0]).reshape(shape) for k, v in zip(FIELDS, out)}
+    W = spec.window
+    lyap_end = spec.transient + spec.impacts
+    obs = (Tangent(n_start=spec.transient, n_end=lyap_end), Sample(keep=W, n_start=lyap_end + 1))
+    res = run(np.full(n, spec.tau0), np.full(n, spec.sdot0), np.full(n, 0 if spec.sdot0 > 0 else -1, np.int32),
+              {"alpha": a, "beta": spec.beta, "gamma": spec.gamma, "r": rr}, obs, cap=lyap_end + W,
+              progress=False, label="atlas")
+    tg, sm = res.obs
+    ended = ~np.isin(res.status, (int(Orbit.STOPPED), int(Orbit.CAPPED)))
+    lam = tg["log_r"] / np.maximum(tg["n_free"], 1)[:, None]
+    lam = np.where((tg["n_stuck"] > 0)[:, None], -np.inf, lam)
+    lam = np.where(ended[:, None], np.nan, lam)
+    p, m = period(sm["theta"], sm["sdot"], sm["wall"], sm["cycles"], spec.period_max, spec.period_tol)
+    p = np.where(ended, 0, p)
+    m = np.where(ended, 0, m)
+    status = np.where(ended, res.status, int(Orbit.ACTIVE)).astype(np.int8)
+    out = {"lambda1": lam[:, 0], "lambda2": lam[:, 1], "period_p": p, "period_m": m, "status": status}
+    return {k: np.asarray(v).astype(FIELDS[k][0]).reshape(shape) for k, v in out.items()}

@@ -5,19 +5,35 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..cliutil import add_param_args, positive_int
+from ..cliutil import add_param_args, check_output_dir, positive_int, real
+
+#: Most orbits advanced together per device.
+MAX_LANES = 65536
 
 
 def add_common(p: argparse.ArgumentParser) -> None:
     add_param_args(p, alpha=1.245, beta=0.1, gamma=0.1, r=0.9)
     p.add_argument("--profile", choices=("quick", "paper"), default="quick",
-                   help="quick: small default (< 1 min); paper: the paper's scale")
-    p.add_argument("--delta", type=float, default=1e-3,
-                   help="capture distance to the periodic orbit (sup norm of (tau mod 2pi, sdot); default 1e-3)")
-    p.add_argument("--outdir", default="out/transients", help="output directory (default out/transients)")
-    p.add_argument("--lanes", type=positive_int("--lanes"), default=None,
-                   help="orbits advanced together per device (default: ~N/16, at most 512 on CPU)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+                   help="quick: small (< 1 min); paper: the paper's scale (default quick)")
+    p.add_argument("--delta", type=real("--delta", lo=0.0, lo_open=True, hi=1.0), default=1e-3,
+                   help="capture distance to the periodic orbit, sup norm of (tau mod 2pi, sdot), 0 < delta <= 1 "
+                        "(default 0.001)")
+    p.add_argument("--out", default="out/transients", metavar="DIR",
+                   help="output directory (default out/transients)")
+    p.add_argument("--lanes", type=positive_int("--lanes", MAX_LANES), default=None,
+                   help=f"orbits advanced together per device, at most {MAX_LANES} "
+                        "(default: ~N/16, at most 512 on CPU)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def check_common(args: argparse.Namespace) -> None:
+    """Validate the shared options that need more than their own value, before computing."""
+    check_output_dir(args.out, "--out")
+
+
+def progress_arg(args: argparse.Namespace):
+    """The engine's ``progress=``: off with --quiet, else a bar when stderr is a terminal."""
+    return False if args.quiet else None
 
 
 def print_summary(summary: dict) -> None:

@@ -14,7 +14,7 @@ import json
 import re
 from pathlib import Path
 
-from ..cliutil import CliError, nonneg_int, positive_int
+from ..cliutil import CliError, nonneg_int, positive_int, tau0_type
 
 NAME = "atlas"
 HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
@@ -24,40 +24,40 @@ _FIELD = re.compile(r"^(alpha_lo|alpha_hi|n_alpha|r_lo|r_hi|n_r|tau0|sdot0|trans
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..atlas.spec import AtlasSpec
+    from ..atlas.spec import MAX_GRID, MAX_IMPACTS, MAX_PERIOD, AtlasSpec
 
     d = AtlasSpec()
     g = p.add_argument_group("grid (alpha = linspace(lo, hi, n) by r = linspace(lo, hi, n))")
     g.add_argument("--alpha-lo", type=float, default=d.alpha_lo, help=f"lowest alpha, >= 0 (default {d.alpha_lo})")
     g.add_argument("--alpha-hi", type=float, default=d.alpha_hi, help=f"highest alpha (default {d.alpha_hi})")
-    g.add_argument("--n-alpha", type=positive_int("--n-alpha"), default=d.n_alpha,
+    g.add_argument("--n-alpha", type=positive_int("--n-alpha", MAX_GRID), default=d.n_alpha,
                    help=f"alpha values (default {d.n_alpha})")
     g.add_argument("--r-lo", type=float, default=d.r_lo, help=f"lowest r, 0 < r <= 1 (default {d.r_lo})")
     g.add_argument("--r-hi", type=float, default=d.r_hi, help=f"highest r (default {d.r_hi})")
-    g.add_argument("--n-r", type=positive_int("--n-r"), default=d.n_r, help=f"r values (default {d.n_r})")
+    g.add_argument("--n-r", type=positive_int("--n-r", MAX_GRID), default=d.n_r, help=f"r values (default {d.n_r})")
     g.add_argument("--beta", type=float, default=d.beta, help=f"damping, > 0 (default {d.beta})")
     g.add_argument("--gamma", type=float, default=d.gamma, help=f"constant torque term (default {d.gamma})")
     m = p.add_argument_group("orbits")
-    m.add_argument("--tau0", type=float, default=d.tau0, help=f"initial time (default {d.tau0:g})")
+    m.add_argument("--tau0", type=tau0_type(), default=d.tau0, help=f"initial time, |tau0| <= 1e6 (default {d.tau0})")
     m.add_argument("--sdot0", type=float, default=d.sdot0, help=f"initial pre-impact velocity, != 0 (default {d.sdot0})")
-    m.add_argument("--transient", type=nonneg_int("--transient"), default=d.transient,
+    m.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=d.transient,
                    help=f"impacts discarded (default {d.transient})")
-    m.add_argument("--impacts", type=positive_int("--impacts"), default=d.impacts,
+    m.add_argument("--impacts", type=positive_int("--impacts", MAX_IMPACTS), default=d.impacts,
                    help=f"impacts averaged for lambda1 (default {d.impacts})")
-    m.add_argument("--period-max", type=positive_int("--period-max"), default=d.period_max,
+    m.add_argument("--period-max", type=positive_int("--period-max", MAX_PERIOD), default=d.period_max,
                    help=f"longest period looked for, in impacts; 2x this many impacts are recorded (default "
                         f"{d.period_max})")
     m.add_argument("--period-tol", type=float, default=d.period_tol,
                    help=f"state distance below which a period is recognised (default {d.period_tol:g})")
     r = p.add_argument_group("run")
-    r.add_argument("--tile", type=positive_int("--tile"), default=16, help="tile side in grid points: one task "
+    r.add_argument("--tile", type=positive_int("--tile", 100_000), default=16, help="tile side in grid points: one task "
                    "and one Zarr chunk per tile (default 16)")
     r.add_argument("--store", default=None, help="Zarr store (default: OUT/atlas.zarr); rerun to resume")
     r.add_argument("--overwrite", action="store_true", help="replace a store made with other options")
     r.add_argument("--scheduler", default="local", metavar="local|serial|ADDRESS",
-                   help="local: embedded LocalCluster (default); serial: in this process; ADDRESS: a Dask "
-                        "scheduler such as tcp://host:8786")
-    r.add_argument("--workers", type=positive_int("--workers"), default=None,
+                   help="local: embedded LocalCluster; serial: in this process; ADDRESS: a Dask "
+                        "scheduler such as tcp://host:8786 (default local)")
+    r.add_argument("--workers", type=positive_int("--workers", 1024), default=None,
                    help="worker processes of the local cluster (default: one per core)")
     r.add_argument("--out", default="atlas", help="directory for atlas.png and atlas_summary.json (default atlas)")
     r.add_argument("--quiet", action="store_true", help="no progress indicator")

@@ -10,8 +10,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..cliutil import positive_int
-from ._transient_common import add_common, print_summary
+from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, real
+from ._transient_common import add_common, check_common, print_summary, progress_arg
 
 NAME = "basins"
 HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
@@ -19,19 +19,29 @@ HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common(p)
-    p.add_argument("--nx", type=positive_int("--nx"), default=None, help="mesh points in tau0 (quick 120, paper 400)")
-    p.add_argument("--ny", type=positive_int("--ny"), default=None, help="mesh points in sdot0 (quick 60, paper 400)")
-    p.add_argument("--window", type=float, nargs=4, default=[0.0, 2 * math.pi, 0.0, 0.5],
-                   metavar=("TAU_LO", "TAU_HI", "SDOT_LO", "SDOT_HI"), help="mesh window (default 0 2pi 0 0.5)")
-    p.add_argument("--ns", type=int, nargs="+", default=[90, 500, 1000, 2000], help="thresholds n (default 90 500 1000 2000)")
+    p.add_argument("--nx", type=positive_int("--nx", MAX_MESH), default=None,
+                   help=f"mesh points in tau0, at most {MAX_MESH} (default: quick 120, paper 400)")
+    p.add_argument("--ny", type=positive_int("--ny", MAX_MESH), default=None,
+                   help=f"mesh points in sdot0, at most {MAX_MESH} (default: quick 60, paper 400; --nx if given)")
+    p.add_argument("--window", type=real("--window"), nargs=4, default=[0.0, 2 * math.pi, 0.0, 0.5],
+                   metavar=("TAU_LO", "TAU_HI", "SDOT_LO", "SDOT_HI"),
+                   help="mesh window (default 0 2pi 0 0.5)")
+    p.add_argument("--ns", type=positive_int("--ns", MAX_IMPACTS), nargs="+", default=[90, 500, 1000, 2000],
+                   help=f"thresholds n, each 1 to {MAX_IMPACTS} (default 90 500 1000 2000)")
 
 
 def run(args: argparse.Namespace) -> int:
+    from ...mapimpl.orbit import TAU0_MAX, TAU0_RANGE
     from ..cliutil import params_from
     from ..transient.experiments import basins
 
-    s = basins(outdir=args.outdir, profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
-               ns=tuple(args.ns), delta=args.delta, params=params_from(args),
-               progress=False if args.no_progress else None, lanes=args.lanes)
+    params = params_from(args)
+    t_lo, t_hi, s_lo, s_hi = args.window
+    if not (t_lo < t_hi and s_lo < s_hi and max(abs(t_lo), abs(t_hi)) <= TAU0_MAX):
+        raise CliError(f"--window={' '.join(map(repr, args.window))} is out of range: allowed TAU_LO < TAU_HI "
+                       f"({TAU0_RANGE.replace('tau0', 'tau')}) and SDOT_LO < SDOT_HI")
+    check_common(args)
+    s = basins(outdir=args.out, profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
+               ns=tuple(args.ns), delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
     print_summary(s)
     return 0

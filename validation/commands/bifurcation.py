@@ -7,29 +7,37 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
+from ..cliutil import (MAX_AVERAGED, MAX_IMPACTS, MAX_VALUES, CliError, add_param_args, check_distinct,
+                       check_output_file, nonneg_int, params_from, positive_int, real, tau0_type, write_file,
+                       write_text)
 
 NAME = "bifurcation"
 HELP = "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure"
+#: Most recorded points of a diagram (values x keep), ~1.6 GB of float64 with the phases.
+MAX_RECORDED = 100_000_000
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
     p.add_argument("--param", choices=("r", "alpha"), default="r", help="parameter varied (default r)")
-    p.add_argument("--lo", type=float, default=None, help="lowest value (default 0.7 for r, 1.1 for alpha)")
-    p.add_argument("--hi", type=float, default=None, help="highest value (default 0.95 for r, 1.4 for alpha)")
-    p.add_argument("--values", type=positive_int("--values"), default=200, help="number of parameter values")
-    p.add_argument("--transient", type=nonneg_int("--transient"), default=1000, help="impacts discarded")
-    p.add_argument("--keep", type=positive_int("--keep"), default=200, help="impacts recorded per value")
-    p.add_argument("--mode", choices=("fixed", "sweep"), default="fixed", help="fixed initial condition or sweep")
+    p.add_argument("--lo", type=real("--lo"), default=None, help="lowest value (default 0.7 for r, 1.1 for alpha)")
+    p.add_argument("--hi", type=real("--hi"), default=None, help="highest value (default 0.95 for r, 1.4 for alpha)")
+    p.add_argument("--values", type=positive_int("--values", MAX_VALUES), default=200,
+                   help=f"number of parameter values, at most {MAX_VALUES} (default 200)")
+    p.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=1000,
+                   help="impacts discarded (default 1000)")
+    p.add_argument("--keep", type=positive_int("--keep", 100_000), default=200,
+                   help="impacts recorded per value, at most 100000 (default 200)")
+    p.add_argument("--mode", choices=("fixed", "sweep"), default="fixed",
+                   help="fixed initial condition or sweep (default fixed)")
     p.add_argument("--reverse", action="store_true", help="sweep from hi down to lo")
-    p.add_argument("--tau0", type=float, default=0.0)
-    p.add_argument("--sdot0", type=float, default=0.5)
-    p.add_argument("--lyapunov", type=nonneg_int("--lyapunov"), default=0, metavar="N",
-                   help="also compute Lyapunov exponents over N impacts (figure panel b)")
+    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
+    p.add_argument("--lyapunov", type=nonneg_int("--lyapunov", MAX_AVERAGED), default=0, metavar="N",
+                   help="also compute Lyapunov exponents over N impacts, figure panel b (default 0: not computed)")
     p.add_argument("--output", default=None, help="data file: .npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure")
-    p.add_argument("--quiet", action="store_true", help="no progress indicator")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure (default: no figure)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -37,16 +45,19 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.progress import Progress
 
     base = params_from(args)
-    check_writable(args.output, "--output")
-    check_writable(args.plot, "--plot")
+    check_output_file(args.output, "--output")
+    check_output_file(args.plot, "--plot", plot=True)
+    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    if args.values * args.keep > MAX_RECORDED:
+        raise CliError(f"--values x --keep = {args.values * args.keep} is out of range: allowed <= {MAX_RECORDED}")
+    if args.sdot0 == 0:
+        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
     lo = args.lo if args.lo is not None else (0.7 if args.param == "r" else 1.1)
     hi = args.hi if args.hi is not None else (0.95 if args.param == "r" else 1.4)
+    if not lo <= hi:
+        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo <= hi")
     d = bifurcation_diagram(base, args.param, lo, hi, args.values, args.transient, args.keep, args.mode,
                             args.tau0, args.sdot0, args.reverse, progress=Progress("bifurcation", not args.quiet))
-    if args.output and args.output.endswith(".npz"):
-        d.save_npz(args.output)
-    else:
-        write_text(d.to_csv(), args.output)
     lyap = None
     if args.lyapunov:
         from ..dynamics.lyapunov import lyapunov
@@ -54,6 +65,10 @@ def run(args: argparse.Namespace) -> int:
         res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))
         lyap = (res.values, res.lam_free)
+    if args.output and args.output.endswith(".npz"):
+        write_file("--output", args.output, d.save_npz)
+    else:
+        write_text(d.to_csv(), args.output)
     if args.plot:
-        plot_diagram(d, args.plot, lyap)
+        write_file("--plot", args.plot, lambda path: plot_diagram(d, path, lyap))
     return 0

@@ -14,7 +14,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..cliutil import CliError
+from ..cliutil import CliError, check_output_dir
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -22,15 +22,15 @@ HELP = "score another implementation's output against the golden conformance sui
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", nargs="?", default=None,
-                   help="directory with one <case-id>.csv per case (omit with --self)")
+                   help="directory with one <case-id>.csv per case (default: none; omit with --self)")
     p.add_argument("--suite", default=None, help="suite directory (default: validation/golden/cases)")
-    p.add_argument("--cases", nargs="+", default=None, metavar="ID", help="only these case ids")
+    p.add_argument("--cases", nargs="+", default=None, metavar="ID", help="only these case ids (default: all)")
     p.add_argument("--self", dest="self_check", action="store_true",
                    help="run our own track on every case and score it")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
                    help="track used by --self (default map)")
     p.add_argument("--write", default=None, metavar="DIR",
-                   help="with --self: also write the track's <case-id>.csv files to DIR")
+                   help="with --self: also write the track's <case-id>.csv files to DIR (default: none written)")
     p.add_argument("--quiet", action="store_true", help="print only the summary line")
 
 
@@ -72,6 +72,8 @@ def run(args: argparse.Namespace) -> int:
         raise CliError("missing PATH (a directory with one <case-id>.csv per case), or use --self")
     if args.write and not args.self_check:
         raise CliError("--write needs --self")
+    if args.write:
+        check_output_dir(args.write, "--write")
     suite = Path(args.suite) if args.suite else DEFAULT_SUITE
     try:
         cases = load_suite(suite, args.cases)

@@ -9,7 +9,8 @@ import argparse
 
 import numpy as np
 
-from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
+from ..cliutil import (MAX_AVERAGED, MAX_VALUES, CliError, add_param_args, check_distinct, check_output_file,
+                       nonneg_int, params_from, positive_int, real, save_figure, tau0_type, write_file, write_text)
 
 NAME = "lyapunov"
 HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
@@ -17,17 +18,20 @@ HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
-    p.add_argument("--param", choices=("r", "alpha"), default="r")
-    p.add_argument("--lo", type=float, default=None, help="lowest value (default: the --r or --alpha value)")
-    p.add_argument("--hi", type=float, default=None, help="highest value (default: --lo)")
-    p.add_argument("--values", type=positive_int("--values"), default=1)
-    p.add_argument("--impacts", type=positive_int("--impacts"), default=20000, help="impacts averaged")
-    p.add_argument("--transient", type=nonneg_int("--transient"), default=1000)
-    p.add_argument("--tau0", type=float, default=0.0)
-    p.add_argument("--sdot0", type=float, default=0.5)
+    p.add_argument("--param", choices=("r", "alpha"), default="r", help="parameter varied (default r)")
+    p.add_argument("--lo", type=real("--lo"), default=None, help="lowest value (default: the --r or --alpha value)")
+    p.add_argument("--hi", type=real("--hi"), default=None, help="highest value (default: --lo)")
+    p.add_argument("--values", type=positive_int("--values", MAX_VALUES), default=1,
+                   help=f"number of parameter values, at most {MAX_VALUES} (default 1)")
+    p.add_argument("--impacts", type=positive_int("--impacts", MAX_AVERAGED), default=20000,
+                   help=f"impacts averaged, at most {MAX_AVERAGED} (default 20000)")
+    p.add_argument("--transient", type=nonneg_int("--transient", MAX_AVERAGED), default=1000,
+                   help="impacts discarded first (default 1000)")
+    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
     p.add_argument("--output", default=None, help=".npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure (default: no figure)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -35,19 +39,19 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.progress import Progress
 
     base = params_from(args)
-    check_writable(args.output, "--output")
-    check_writable(args.plot, "--plot")
+    check_output_file(args.output, "--output")
+    check_output_file(args.plot, "--plot", plot=True)
+    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    if args.sdot0 == 0:
+        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
     lo = args.lo if args.lo is not None else getattr(base, args.param)
     hi = args.hi if args.hi is not None else lo
-    if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
-        raise ValueError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed finite lo <= hi")
+    if not lo <= hi:
+        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo <= hi")
     values = np.linspace(lo, hi, args.values)
     res = lyapunov(base, args.param, values, n=args.impacts, transient=args.transient, tau0=args.tau0,
                    sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))
-    if args.output and args.output.endswith(".npz"):
-        res.save_npz(args.output)
-    else:
-        write_text(res.to_csv(), args.output)
+    fig = None
     if args.plot:
         from ..figures import subplots
 
@@ -56,4 +60,11 @@ def run(args: argparse.Namespace) -> int:
         ax.plot(values, res.lam_free[:, 1], "-", label=r"$\lambda_2$")
         ax.axhline(0, color="gray", lw=0.5)
         ax.set_xlabel(args.param); ax.set_ylabel("per impact"); ax.legend()
-        fig.tight_layout(); fig.savefig(args.plot, dpi=150);    return 0
+        fig.tight_layout()
+    if args.output and args.output.endswith(".npz"):
+        write_file("--output", args.output, res.save_npz)
+    else:
+        write_text(res.to_csv(), args.output)
+    if fig is not None:
+        save_figure(fig, args.plot, "--plot", dpi=150)
+    return 0

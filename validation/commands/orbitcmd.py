@@ -10,29 +10,42 @@ import argparse
 
 import numpy as np
 
-from ..cliutil import add_param_args, check_writable, params_from, positive_int, write_text
+from ..cliutil import (MAX_IMPACTS, MAX_VALUES, CliError, add_param_args, check_distinct, check_output_file,
+                       int_range, params_from, positive_int, real, save_figure, tau0_type, write_file, write_text)
 
 NAME = "orbit"
+#: Most impacts (and turns) per periodic orbit.
+MAX_PERIOD = 1000
 HELP = "periodic orbits: find, continue in r or alpha, fold and flip points"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
     p.add_argument("action", choices=("find", "continue"), help="find one orbit, or continue it")
-    p.add_argument("--impacts", type=positive_int("--impacts"), default=6, help="impacts per orbit (default 6)")
-    p.add_argument("--turns", type=positive_int("--turns"), default=1, help="driving periods per orbit")
-    p.add_argument("--tau0", type=float, default=None)
-    p.add_argument("--sdot0", type=float, default=None)
-    p.add_argument("--settle", type=positive_int("--settle"), default=5000, help="impacts of the guess run")
-    p.add_argument("--param", choices=("r", "alpha"), default="r", help="continuation parameter")
-    p.add_argument("--lo", type=float, default=None, help="lower bound of the continuation parameter")
-    p.add_argument("--hi", type=float, default=None, help="upper bound of the continuation parameter")
-    p.add_argument("--direction", type=int, choices=(1, -1), default=1, help="initial sense (+1/-1)")
-    p.add_argument("--ds", type=float, default=2e-3, help="initial arclength step")
-    p.add_argument("--max-points", type=positive_int("--max-points"), default=200)
-    p.add_argument("--output", default=None, help="branch data: .npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="branch figure (sdot and |multipliers|)")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--impacts", type=positive_int("--impacts", MAX_PERIOD), default=6,
+                   help=f"impacts per orbit, at most {MAX_PERIOD} (default 6)")
+    p.add_argument("--turns", type=positive_int("--turns", MAX_PERIOD), default=1,
+                   help=f"driving periods per orbit, at most {MAX_PERIOD} (default 1)")
+    p.add_argument("--tau0", type=tau0_type(), default=None,
+                   help="guess: time of a point of the orbit, |tau0| <= 1e6 (default: from a --settle run)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=None,
+                   help="guess: its pre-impact velocity, nonzero (default: from a --settle run)")
+    p.add_argument("--settle", type=positive_int("--settle", MAX_IMPACTS), default=5000,
+                   help="impacts of the guess run from (0, 0.5) (default 5000)")
+    p.add_argument("--param", choices=("r", "alpha"), default="r", help="continuation parameter (default r)")
+    p.add_argument("--lo", type=real("--lo"), default=None,
+                   help="lower bound of the continuation parameter (default: its value - 0.1)")
+    p.add_argument("--hi", type=real("--hi"), default=None,
+                   help="upper bound of the continuation parameter (default: its value + 0.1, at most 1 for r)")
+    p.add_argument("--direction", type=int, choices=(1, -1), default=1, help="initial sense, +1 or -1 (default 1)")
+    p.add_argument("--ds", type=real("--ds", lo=0.0, lo_open=True, hi=1.0), default=2e-3,
+                   help="initial arclength step, 0 < ds <= 1 (default 0.002)")
+    p.add_argument("--max-points", type=int_range("--max-points", 2, MAX_VALUES), default=200,
+                   help=f"most points of the branch, 2 to {MAX_VALUES} (default 200)")
+    p.add_argument("--output", default=None, help="orbit or branch data: .npz or .csv (default: CSV on stdout)")
+    p.add_argument("--plot", default=None, metavar="FILE.png",
+                   help="branch figure, sdot and |multipliers| (default: no figure)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,16 +57,21 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.progress import Progress
 
     base = params_from(args)
-    check_writable(args.output, "--output")
-    check_writable(args.plot, "--plot")
+    check_output_file(args.output, "--output")
+    check_output_file(args.plot, "--plot", plot=True)
+    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    if args.plot and args.action == "find":
+        raise CliError("--plot draws a continued branch: allowed with 'continue' only")
     if (args.tau0 is None) != (args.sdot0 is None):
-        raise ValueError("--tau0 and --sdot0 must be given together")
+        raise CliError("--tau0 and --sdot0 must be given together")
+    if args.sdot0 == 0:
+        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
+    if args.lo is not None and args.hi is not None and not args.lo < args.hi:
+        raise CliError(f"--lo={args.lo!r}, --hi={args.hi!r} are out of range: allowed lo < hi")
     if args.tau0 is None:
         tau0, sdot0 = attractor_point(base, args.settle)
     else:
         tau0, sdot0 = args.tau0, args.sdot0
-        if not (np.isfinite(tau0) and np.isfinite(sdot0) and sdot0 != 0):
-            raise ValueError(f"--sdot0={sdot0!r} is out of range: allowed finite, nonzero")
     if args.action == "find":
         o = find_periodic(base, tau0, sdot0, args.impacts, args.turns)
         lines = [f"converged: {o.converged} (residual {o.residual:.2e}, {o.iterations} iterations)",
@@ -72,8 +90,9 @@ def run(args: argparse.Namespace) -> int:
                         progress=prog)
     a = br.arrays()
     if args.output and args.output.endswith(".npz"):
-        np.savez_compressed(args.output, **a, param=args.param,
-                            folds=np.array([f.mu for f in br.folds]), flips=np.array([f.mu for f in br.flips]))
+        write_file("--output", args.output, lambda path: np.savez_compressed(
+            path, **a, param=args.param, folds=np.array([f.mu for f in br.folds]),
+            flips=np.array([f.mu for f in br.flips])))
     else:
         rows = [f"{args.param},tau,sdot,mult1_re,mult1_im,mult2_re,mult2_im,stable"]
         for i in range(a["mu"].size):
@@ -99,4 +118,6 @@ def run(args: argparse.Namespace) -> int:
             for x in ax:
                 x.axvline(f.mu, color="g" if f.kind == "fold" else "m", lw=0.6)
         ax[1].set_ylabel("|Floquet multipliers|"); ax[1].set_xlabel(args.param)
-        fig.tight_layout(); fig.savefig(args.plot, dpi=150);    return 0
+        fig.tight_layout()
+        save_figure(fig, args.plot, "--plot", dpi=150)
+    return 0

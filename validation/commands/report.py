@@ -6,16 +6,30 @@ from __future__ import annotations
 
 import argparse
 
+from ..cliutil import CliError, check_output_dir, seed_int
+
 NAME = "report"
 HELP = "generate the validation report (HTML + Markdown)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--profile", choices=("quick", "paper"), default="quick", help="quick (default) or paper scale")
-    p.add_argument("--out", default="report", help="output directory (default: report)")
-    p.add_argument("--seed", type=int, default=20040101, help="random seed of every sampled quantity")
-    p.add_argument("--sections", nargs="*", default=None, help="run only these section keys")
+    p.add_argument("--profile", choices=("quick", "paper"), default="quick",
+                   help="quick or paper scale (default quick)")
+    p.add_argument("--out", default="report", metavar="DIR", help="output directory (default report)")
+    p.add_argument("--seed", type=seed_int(), default=20040101,
+                   help="random seed of every sampled quantity, 0 to 2**32-1 (default 20040101)")
+    p.add_argument("--sections", nargs="*", default=None, metavar="KEY",
+                   help="run only these section keys (default: all sections)")
     p.add_argument("--quiet", action="store_true", help="no progress output")
+
+
+def section_keys() -> list[str]:
+    """The report's section keys, in order."""
+    import importlib
+
+    from ..report.builder import SECTIONS
+
+    return [importlib.import_module(m).KEY for m in SECTIONS]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -23,6 +37,12 @@ def run(args: argparse.Namespace) -> int:
 
     from ..report.builder import build_report
 
+    if args.sections:
+        keys = section_keys()
+        unknown = [s for s in args.sections if s not in keys]
+        if unknown:
+            raise CliError(f"--sections: unknown key(s) {', '.join(unknown)}: allowed {', '.join(keys)}")
+    check_output_dir(args.out, "--out")
     path, ok = build_report(args.profile, args.out, args.sections, seed=args.seed, progress=not args.quiet,
                             argv=["gear-rattle", *sys.argv[1:]])
     print(f"report written: {path}")

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, write_text
+from ..cliutil import (MAX_IMPACTS, add_param_args, check_distinct, check_output_file, nonneg_int, params_from,
+                       real, tau0_type, write_text)
 
 NAME = "simulate"
 HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
@@ -17,26 +18,35 @@ HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
-    p.add_argument("--tau0", type=float, default=0.0, help="initial time tau0 (default 0)")
-    p.add_argument("--sdot0", type=float, default=0.5, help="initial velocity (default 0.5)")
-    p.add_argument("--s0", type=float, default=None, help="start in free flight at -1 <= s0 <= 0 instead of at an impact")
-    p.add_argument("--impacts", type=nonneg_int("--impacts"), default=1000, help="impacts after impact 0 (default 1000)")
-    p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map", help="which track computes the orbit")
+    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time tau0, |tau0| <= 1e6 (default 0.0)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity (default 0.5)")
+    p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
+                   help="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
+    p.add_argument("--impacts", type=nonneg_int("--impacts", MAX_IMPACTS), default=1000,
+                   help=f"impacts after impact 0, at most {MAX_IMPACTS} (default 1000)")
+    p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
+                   help="which track computes the orbit (default map)")
     p.add_argument("--format", choices=("csv", "json"), default="csv", help="output format (default csv)")
     p.add_argument("--output", default=None, help="output file (default: stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="draw the paper's Figs. 2-3 for this orbit")
-    p.add_argument("--plot-span", type=float, default=50.0, help="time span of the plot in tau units (default 50)")
+    p.add_argument("--plot", default=None, metavar="FILE.png",
+                   help="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
+    p.add_argument("--plot-span", type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4), default=50.0,
+                   help="time span of the plot in tau units, at most 1e4 (default 50.0)")
 
 
 def run(args: argparse.Namespace) -> int:
     from ..tracks import orbit
 
     params = params_from(args)
-    check_writable(args.output, "--output")
-    check_writable(args.plot, "--plot")
-    if not args.plot_span > 0:
-        raise ValueError(f"--plot-span={args.plot_span!r} is out of range: allowed > 0")
+    check_output_file(args.output, "--output")
+    check_output_file(args.plot, "--plot", plot=True)
+    check_distinct(**{"--output": args.output, "--plot": args.plot})
     seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0)
+    fig = None
+    if args.plot:  # drawn before anything is written
+        from ..plots import time_series_figure
+
+        fig = time_series_figure(seq, span=args.plot_span)
     write_text(seq.to_csv() if args.format == "csv" else seq.to_json() + "\n", args.output)
     if seq.status != "active":
         import sys
@@ -46,8 +56,8 @@ def run(args: argparse.Namespace) -> int:
                "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
         print(f"gear-rattle simulate: note: the orbit ended after {int(seq.impacts.sum())} impacts "
               f"(status {seq.status}: {why})", file=sys.stderr)
-    if args.plot:
-        from ..plots import plot_time_series
+    if fig is not None:
+        from ..cliutil import save_figure
 
-        plot_time_series(seq, args.plot, span=args.plot_span)
+        save_figure(fig, args.plot, "--plot", dpi=110)
     return 0

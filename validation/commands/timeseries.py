@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import add_param_args, check_writable, nonneg_int, params_from, positive_int, write_text
+from ..cliutil import (MAX_IMPACTS, CliError, add_param_args, check_distinct, check_output_file, int_range,
+                       nonneg_int, params_from, real, tau0_type, write_file, write_text)
 
 NAME = "timeseries"
 HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
@@ -14,13 +15,16 @@ HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
-    p.add_argument("--figure", choices=("fig5", "fig6", "fig7"), default=None, help="use the paper's r of this figure")
-    p.add_argument("--impacts", type=positive_int("--impacts"), default=3000)
-    p.add_argument("--transient", type=nonneg_int("--transient"), default=2000)
-    p.add_argument("--tau0", type=float, default=0.0)
-    p.add_argument("--sdot0", type=float, default=0.5)
+    p.add_argument("--figure", choices=("fig5", "fig6", "fig7"), default=None,
+                   help="use the paper's parameters of this figure (default: none, use --alpha ... --r)")
+    p.add_argument("--impacts", type=int_range("--impacts", 2, MAX_IMPACTS), default=3000,
+                   help=f"impacts recorded, 2 to {MAX_IMPACTS} (default 3000)")
+    p.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=2000,
+                   help="impacts discarded first (default 2000)")
+    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
     p.add_argument("--output", default=None, help=".npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure (default: no figure)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,15 +33,21 @@ def run(args: argparse.Namespace) -> int:
     base = params_from(args)
     if args.figure:
         base = base.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[args.figure])
-    check_writable(args.output, "--output")
-    check_writable(args.plot, "--plot")
-    if args.impacts < 2:
-        raise ValueError("--impacts is out of range: allowed >= 2")
+    check_output_file(args.output, "--output")
+    check_output_file(args.plot, "--plot", plot=True)
+    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    if args.sdot0 == 0:
+        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
     ts = time_series(base, args.impacts, args.transient, args.tau0, args.sdot0)
+    if ts.k.size == 0:
+        raise CliError(f"--impacts={args.impacts} is too small: the impacts kept after --transient={args.transient} "
+                       "span less than one forcing period (2 pi), so there is no stroboscopic sample; "
+                       "allowed: enough impacts to span a period (the orbit may chatter or stick)")
     if args.output and args.output.endswith(".npz"):
-        ts.save_npz(args.output)
+        write_file("--output", args.output, ts.save_npz)
     else:
         write_text(ts.to_csv(), args.output)
     if args.plot:
-        plot_time_series(ts, args.plot, title=f"{args.figure or ''} alpha={base.alpha}, r={base.r}")
+        title = f"{args.figure or ''} alpha={base.alpha}, r={base.r}"
+        write_file("--plot", args.plot, lambda path: plot_time_series(ts, path, title=title))
     return 0

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import positive_int
-from ._transient_common import add_common, print_summary
+from ..cliutil import MAX_IMPACTS, MAX_MESH, nonneg_int, positive_int, real, seed_int
+from ._transient_common import add_common, check_common, print_summary, progress_arg
 
 NAME = "transients"
 HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
@@ -19,12 +19,16 @@ HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common(p)
-    p.add_argument("--n", type=positive_int("--n"), default=None, help="mesh size n x n (quick 60, paper 400)")
-    p.add_argument("--cap", type=positive_int("--cap"), default=None, help="most iterations per orbit (default 20000)")
-    p.add_argument("--s0", type=float, default=None,
-                   help="read (tau0, sdot0) as a free-flight state at s = s0 (-1 <= s0 <= 0) instead of pre-impact")
-    p.add_argument("--n-lo", type=int, default=None, help="start of the fit range (default: median duration)")
-    p.add_argument("--seed", type=int, default=0, help="bootstrap seed (default 0)")
+    p.add_argument("--n", type=positive_int("--n", MAX_MESH), default=None,
+                   help=f"mesh size n x n, at most {MAX_MESH} (default: quick 60, paper 400)")
+    p.add_argument("--cap", type=positive_int("--cap", MAX_IMPACTS), default=None,
+                   help=f"most iterations per orbit, at most {MAX_IMPACTS} (default 20000)")
+    p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
+                   help="read (tau0, sdot0) as a free-flight state at s = s0, -1 <= s0 <= 0 "
+                        "(default: none, pre-impact states)")
+    p.add_argument("--n-lo", type=nonneg_int("--n-lo", MAX_IMPACTS), default=None,
+                   help="start of the fit range (default: the median duration)")
+    p.add_argument("--seed", type=seed_int(), default=0, help="bootstrap seed, 0 to 2**32-1 (default 0)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,9 +36,10 @@ def run(args: argparse.Namespace) -> int:
     from ..transient.experiments import transients
 
     params = params_from(args)
-    s = transients(outdir=args.outdir, profile=args.profile, nx=args.n, cap=args.cap, delta=args.delta,
+    check_common(args)
+    s = transients(outdir=args.out, profile=args.profile, nx=args.n, cap=args.cap, delta=args.delta,
                    deltas=(1e-2, args.delta, 1e-4, 1e-6), params=params,
                    ic_mode="pre-impact" if args.s0 is None else "free", s0=args.s0, n_lo=args.n_lo, seed=args.seed,
-                   progress=False if args.no_progress else None, lanes=args.lanes)
+                   progress=progress_arg(args), lanes=args.lanes)
     print_summary(s)
     return 0

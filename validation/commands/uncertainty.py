@@ -13,36 +13,44 @@ import argparse
 
 import numpy as np
 
-from ..cliutil import positive_int
-from ._transient_common import add_common, print_summary
+from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, real, seed_int
+from ._transient_common import add_common, check_common, print_summary, progress_arg
 
 NAME = "uncertainty"
 HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
+#: Most random points (each costs 1 + 2 x n-eps orbits).
+MAX_POINTS = 1_000_000
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common(p)
-    p.add_argument("--points", type=positive_int("--points"), default=None, help="random points (quick 300, paper 3000)")
-    p.add_argument("--eps-min", type=float, default=1e-9, help="smallest eps (default 1e-9)")
-    p.add_argument("--eps-max", type=float, default=1e-3, help="largest eps (default 1e-3)")
-    p.add_argument("--n-eps", type=positive_int("--n-eps"), default=None, help="eps values, log-spaced (quick 7, paper 13)")
-    p.add_argument("--ns", type=int, nargs="+", default=[500, 1000], help="durations n (default 500 1000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed of the points (default 0)")
+    p.add_argument("--points", type=int_range("--points", 10, MAX_POINTS), default=None,
+                   help=f"random points, 10 to {MAX_POINTS} (default: quick 300, paper 3000)")
+    p.add_argument("--eps-min", type=real("--eps-min", lo=0.0, lo_open=True, hi=0.1), default=1e-9,
+                   help="smallest eps (default 1e-09)")
+    p.add_argument("--eps-max", type=real("--eps-max", lo=0.0, lo_open=True, hi=0.1), default=1e-3,
+                   help="largest eps, at most 0.1 (default 0.001)")
+    p.add_argument("--n-eps", type=int_range("--n-eps", 3, 100), default=None,
+                   help="eps values, log-spaced, 3 to 100 (default: quick 7, paper 13)")
+    p.add_argument("--ns", type=positive_int("--ns", MAX_IMPACTS), nargs="+", default=[500, 1000],
+                   help=f"durations n, each 1 to {MAX_IMPACTS} (default 500 1000)")
+    p.add_argument("--seed", type=seed_int(), default=0, help="random seed of the points, 0 to 2**32-1 (default 0)")
 
 
 def run(args: argparse.Namespace) -> int:
     from ..cliutil import params_from
     from ..transient.experiments import uncertainty
 
-    if not (0 < args.eps_min < args.eps_max <= 0.1):
-        raise ValueError(f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "
-                         "allowed 0 < eps-min < eps-max <= 0.1")
+    params = params_from(args)
+    if not args.eps_min < args.eps_max:
+        raise CliError(f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "
+                       "allowed 0 < eps-min < eps-max <= 0.1")
+    check_common(args)
     eps = None
     if args.n_eps is not None or args.eps_min != 1e-9 or args.eps_max != 1e-3:
         n_eps = args.n_eps or (7 if args.profile == "quick" else 13)
         eps = np.logspace(np.log10(args.eps_min), np.log10(args.eps_max), n_eps)
-    s = uncertainty(outdir=args.outdir, profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
-                    seed=args.seed, delta=args.delta, params=params_from(args),
-                    progress=False if args.no_progress else None, lanes=args.lanes)
+    s = uncertainty(outdir=args.out, profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
+                    seed=args.seed, delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
     print_summary(s)
     return 0

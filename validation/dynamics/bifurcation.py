@@ -1,17 +1,16 @@
-"""Bifurcation diagrams of the impact map (Figs. 4a and 8a) and the long-orbit recording kernel shared
-by the Lyapunov, intermittency and crisis analyses.
-
-Everything is vectorised with JAX: :func:`record` runs a batch of orbits (one per parameter value or
-initial condition) in chunks of ``lax.scan`` steps, keeping only ``(theta, sdot, wall)`` of each
-pre-impact state (plus the number of sticking steps), so that orbits of millions of impacts fit in
-memory and a progress callback can report between chunks.
+"""Bifurcation diagrams of the impact map (Figs. 4a and 8a).
 
 Two kinds of diagram (:func:`bifurcation_diagram`):
 
-* ``mode="fixed"``: every parameter value starts from the same initial condition (vmapped);
+* ``mode="fixed"``: every parameter value starts from the same initial condition; one orbit per value
+  on the many-orbit engine (:mod:`gear_rattle.mapimpl.engine`, the
+  :class:`~gear_rattle.mapimpl.engine.observers.Sample` observer);
 * ``mode="sweep"``: a continuation sweep -- the final state at one parameter value is the initial
   state at the next (a ``lax.scan`` over the parameter values), which follows one attractor through
   hysteresis and shows the other side of a crisis.
+
+(:func:`advance` and :func:`record`, a vmapped batch of ``lax.scan`` runs, remain for the callers that
+have not moved to the engine yet.)
 
 Transients (``transient`` impacts) are discarded, then ``keep`` impacts are recorded.
 """
@@ -27,7 +26,10 @@ from ...mapimpl import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
+from ...mapimpl.engine.driver import run
+from ...mapimpl.engine.observers import Sample
 from ...mapimpl.impact_map import ACTIVE, MapState, make_state, step
+from ...mapimpl.orbit import check_tau0
 from ...mapimpl.params import ParamArrays, Params, validate_arrays
 
 #: Parameters a diagram can vary.
@@ -187,8 +189,9 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
     """sdot_n against ``param`` in ``[lo, hi]`` (Fig. 4a: ``param="r"``, alpha = 3; Fig. 8a:
     ``param="alpha"``, r = 0.9), ``transient`` impacts discarded, ``keep`` recorded.
 
-    ``mode="fixed"``: every value starts from ``(tau0, sdot0)``; ``mode="sweep"``: the state is carried
-    from value to value (from ``hi`` down to ``lo`` when ``reverse``).
+    ``mode="fixed"``: every value starts from ``(tau0, sdot0)`` (one orbit per value on the many-orbit
+    engine, :mod:`gear_rattle.mapimpl.engine`); ``mode="sweep"``: the state is carried from value to value
+    (from ``hi`` down to ``lo`` when ``reverse``; one orbit, a ``lax.scan`` of the map step).
     """
     if mode not in ("fixed", "sweep"):
         raise ValueError(f"mode={mode!r} is out of range: allowed 'fixed' or 'sweep'")
@@ -197,17 +200,21 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
     keep = check_int("keep", keep, 1, 100000)
     if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
         raise ValueError(f"range lo={lo!r}, hi={hi!r} is out of range: allowed finite lo <= hi")
-    if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):
-        raise ValueError(f"sdot0={sdot0!r} is out of range: allowed finite sdot0 != 0 (and finite tau0)")
+    check_tau0(tau0)
+    if not (np.isfinite(sdot0) and sdot0 != 0.0):
+        raise ValueError(f"sdot0={sdot0!r} is out of range: allowed a finite sdot0 != 0")
     values = np.linspace(lo, hi, n_values)
     if reverse:
         values = values[::-1]
     p = param_arrays(base, param, values)
     if mode == "fixed":
-        st = make_state(np.full(n_values, tau0), np.full(n_values, sdot0))
-        st = advance(st, p, transient, progress=progress)
-        rec = record(st, p, keep)
-        sd, th, act = rec.sdot, rec.theta, rec.active
+        # one orbit per value on the many-orbit engine: impacts transient+1 .. transient+keep recorded
+        res = run(np.full(n_values, float(tau0)), np.full(n_values, float(sdot0)),
+                  np.full(n_values, 0 if sdot0 > 0 else -1, np.int32), tuple(p),
+                  Sample(keep=keep, n_start=transient + 1), cap=transient + keep, progress=progress,
+                  label="bifurcation")
+        sd, th = res.obs[0]["sdot"], res.obs[0]["theta"]
+        act = np.isfinite(th)
     else:
         st = make_state(jnp.asarray(tau0), jnp.asarray(sdot0))
         sd, th, act = (np.asarray(a) for a in _sweep(st, p, transient, keep))

@@ -5,7 +5,8 @@ product ``A = J_1 J_2 ... J_n`` of step Jacobians.  In float64 that product over
 ``lambda_1 ~ 0.3`` per impact its largest entry passes 1e308 after ~2400 impacts, and its smallest
 singular value underflows even sooner (``lambda_2 ~ -1``), so the eigenvalues of the raw product are
 useless for the long runs a converged exponent needs.  Here the product is carried as ``Q R``:
-at each step ``J_n Q_{n-1} = Q_n R_n`` (Householder QR of a 2x2), and
+at each step ``J_n Q_{n-1} = Q_n R_n`` (a Givens rotation of the 2x2, on the many-orbit engine:
+:class:`gear_rattle.mapimpl.engine.observers.Tangent`), and
 
     lambda_i = (1/N) sum_n ln |R_n[i, i]|        (per impact, natural log).
 
@@ -25,7 +26,6 @@ exponents are ``-inf``.  Such steps are counted (``n_stuck``); the reported expo
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import partial
 
 import numpy as np
 
@@ -33,35 +33,13 @@ from ...mapimpl import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ...mapimpl.impact_map import ACTIVE, MapState, make_state, step
-from ...mapimpl.params import ParamArrays, Params
-from .bifurcation import _adv_batch, _axes, check_int, param_arrays
-
-
-def _qr_run(st: MapState, p: ParamArrays, n: int):
-    _, _, _, r = p
-
-    def body(c, _):
-        s, Q, acc, n_st, n_ok = c
-        s1, info = step(s, p)
-        J = jnp.where(info.stuck, jnp.eye(2), info.jac)
-        Z = J @ Q
-        Qn, R = jnp.linalg.qr(Z)
-        d = jnp.abs(jnp.diagonal(R))
-        alive = s1.status == ACTIVE
-        use = alive & ~info.stuck
-        acc = acc + jnp.where(use, jnp.log(d), 0.0)
-        Qn = jnp.where(use, Qn * jnp.sign(jnp.diagonal(R))[None, :], jnp.eye(2))
-        return (s1, Qn, acc, n_st + (info.stuck & alive), n_ok + use), None
-
-    c0 = (st, jnp.eye(2), jnp.zeros(2), jnp.asarray(0), jnp.asarray(0))
-    (s1, _Q, acc, n_st, n_ok), _ = jax.lax.scan(body, c0, None, length=n)
-    return s1, acc, n_st, n_ok
-
-
-@partial(jax.jit, static_argnums=(2,))
-def _qr_batch(st: MapState, p: ParamArrays, n: int):
-    return jax.vmap(_qr_run, in_axes=(0, _axes(p), None))(st, p, n)
+from ...mapimpl.engine.driver import run
+from ...mapimpl.engine.observers import Tangent
+from ...mapimpl.impact_map import make_state, step
+from ...mapimpl.orbit import check_tau0
+from ...mapimpl.status import Orbit
+from ...mapimpl.params import Params
+from .bifurcation import check_int, param_arrays
 
 
 @dataclass
@@ -101,37 +79,30 @@ class LyapunovResult:
 
 
 def lyapunov(base: Params, param: str, values, n: int = 20000, transient: int = 1000, tau0: float = 0.0,
-             sdot0: float = 0.5, chunk: int = 20000, progress=None) -> LyapunovResult:
+             sdot0: float = 0.5, progress=None) -> LyapunovResult:
     """Lyapunov exponents (QR method) of the orbit from ``(tau0, sdot0)`` at each value of ``param``
-    (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts, vectorised over values."""
+    (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts: one orbit per value on the
+    many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer)."""
     n = check_int("n", n, 1, 50_000_000)
     transient = check_int("transient", transient, 0, 50_000_000)
     if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):
         raise ValueError(f"sdot0={sdot0!r} is out of range: allowed finite sdot0 != 0 (and finite tau0)")
+    check_tau0(tau0)
     values = np.atleast_1d(np.asarray(values, dtype=np.float64))
     p = param_arrays(base, param, values)
     m = values.size
-    st = make_state(np.full(m, tau0), np.full(m, sdot0))
-    if transient:
-        st = _adv_batch(st, p, transient)
-    st = make_state(np.asarray(st.theta), np.asarray(st.sdot), np.asarray(st.wall), np.asarray(st.status))
-    sd_first, th_first = np.asarray(st.sdot), np.asarray(st.theta)
-    acc = np.zeros((m, 2)); n_st = np.zeros(m, int); n_ok = np.zeros(m, int)
-    done = 0
-    while done < n:
-        k = min(chunk, n - done)
-        st, a, s_, o_ = _qr_batch(st, p, k)
-        acc += np.asarray(a); n_st += np.asarray(s_); n_ok += np.asarray(o_)
-        done += k
-        if progress is not None:
-            progress(done, n)
-    active = np.asarray(st.status) == ACTIVE
-    lam_free = acc / np.maximum(n_ok, 1)[:, None]
+    res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
+              tuple(p), Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
+    t = res.obs[0]
+    active = np.isin(res.status, (int(Orbit.STOPPED), int(Orbit.CAPPED)))
+    n_st, n_ok = t["n_stuck"].astype(int), t["n_free"].astype(int)
+    lam_free = t["log_r"] / np.maximum(n_ok, 1)[:, None]
     lam = np.where(n_st[:, None] > 0, -np.inf, lam_free)
     rr = np.asarray(p.r) * np.ones(m)
     beta = np.asarray(p.beta) * np.ones(m)
-    elapsed = np.asarray(st.tau) - th_first  # cycles were reset to 0 at the start of the measured run
-    det_mean = 2 * np.log(rr) - beta * elapsed / n + np.log(np.abs(sd_first / np.asarray(st.sdot))) / n
+    steps = np.maximum(res.n - transient, 1)
+    elapsed = 2.0 * np.pi * (res.cycles - t["cycles0"]) + (res.theta - t["theta0"])
+    det_mean = 2 * np.log(rr) - beta * elapsed / steps + np.log(np.abs(t["sdot0"] / res.sdot)) / steps
     return LyapunovResult(param, values, lam, lam_free, det_mean, n_st, n, active)
 
 

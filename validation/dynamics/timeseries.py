@@ -6,9 +6,8 @@ The stroboscopic value needs the flight state at ``tau = 2 pi k``: it is the clo
 ``(tau_n, -r sdot_n)`` of the last impact, or the release ``(tau_rel, 0)`` after a sticking episode
 (and ``0`` while the tooth sticks).
 
-Figure parameters (alpha = 3, beta = gamma = 0.1): Fig. 5 ``r = 0.82144`` (just above r2, long
-laminar phases), Fig. 6 (further above r2; the paper does not print the value, ``r = 0.83`` here),
-Fig. 7 ``r = 0.74001`` (just below r1, band hopping).
+Figure parameters (alpha = 3, beta = gamma = 0.1), as the paper's captions give them: Fig. 5
+``r = 0.82144`` ("≳ r2"), Fig. 6 ``r = 0.82145`` ("≳ r2"), Fig. 7 ``r = 0.74001`` ("≲ r1").
 """
 
 from __future__ import annotations
@@ -26,7 +25,7 @@ from ...mapimpl.results import ImpactSequence
 from ...mapimpl.params import Params
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
-FIGURE_R = {"fig5": 0.82144, "fig6": 0.83, "fig7": 0.74001}
+FIGURE_R = {"fig5": 0.82144, "fig6": 0.82145, "fig7": 0.74001}
 _TP = float(TWO_PI)
 
 
@@ -86,7 +85,7 @@ def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, ta
                          seq.sdot[keep], seq.kind[keep], seq.status)
     k, v = stroboscopic(sub)
     m = sub.kind == "impact"
-    return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0], v)
+    return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0] if k.size else k, v)  # no sample: span < 2 pi
 
 
 def plot_time_series(ts: TimeSeries, path: str, title: str | None = None) -> None:

@@ -10,7 +10,9 @@ The model is Eq. (3), ``s'' + beta s' = f(tau)``, ``f = -alpha sin tau + alpha b
     s''''(t) = alpha sin(tau0 + t) - beta^2 B E.
 
 Every quantity is an ``arb`` ball (python-flint) at ``prec`` bits; ``tau0`` and ``v0`` are the
-enclosures of the previous impact, so the error bounds propagate from impact to impact.
+enclosures of the previous impact, so the error bounds propagate from impact to impact.  The
+parameters are exact float64 numbers (a :class:`Params`) or exact decimals (``{"alpha": "1.245",
+...}``, balls of radius ~2^-prec; :class:`Model`).
 
 **One flight** (:func:`certified_flight`) proves, for *every* initial state in the input balls:
 
@@ -32,10 +34,12 @@ The velocity before the impact is ``s'`` evaluated on the root's ball.
 
 **Sticking** follows the policy of :mod:`mapimpl.sticking` exactly (pressing forcing, accumulation
 time ``t_acc = 2 u / ((1 - r) f_in) <= STICK_TIME``, release at the first zero of the contact force,
-in closed form ``f = gamma - R sin(tau - phi)``).  Each decision is evaluated in balls and must be
-*definite* (else :class:`CertificationError`).  The release time is certified as a zero of ``f``
-(sign change, ``f'`` excludes 0) with ``f`` pressing on the whole stuck interval before it.  The
-stick row itself (``tau_n + t_acc``) is a *policy value*, not a solution of the ODE.
+in closed form ``f = gamma - R sin(tau - phi)``: the canonical release phase of the wall, a
+function of the parameters alone, plus whole periods, :func:`release_time`).  Each decision is
+evaluated in balls and must be *definite* (else :class:`CertificationError`).  The release time is
+certified as a zero of ``f`` (sign change, ``f'`` excludes 0) with ``f`` pressing on the whole stuck
+interval before it.  The stick row itself (``tau_n + t_acc``) is a *policy value*, not a solution
+of the ODE.  :func:`certified_step` is one map step (reset or sticking, then the certified flight).
 
 All loops are bounded; failure to certify raises :class:`CertificationError`, never loops.
 """
@@ -57,6 +61,8 @@ PREC = 320
 T_MAX = 400.0
 #: Most interval evaluations per flight.
 MAX_EVALS = 200_000
+#: Highest working precision accepted (bits).
+MAX_PREC = 1 << 16
 
 
 class CertificationError(RuntimeError):
@@ -66,8 +72,8 @@ class CertificationError(RuntimeError):
 @contextmanager
 def precision(bits: int):
     """Temporarily set python-flint's working precision."""
-    if not (isinstance(bits, int) and 64 <= bits <= 10_000):
-        raise ValueError(f"prec={bits!r} is out of range: allowed integer 64 <= prec <= 10000")
+    if not (isinstance(bits, int) and not isinstance(bits, bool) and 64 <= bits <= MAX_PREC):
+        raise ValueError(f"prec={bits!r} is out of range: allowed integer 64 <= prec <= {MAX_PREC}")
     old = ctx.prec
     ctx.prec = bits
     try:
@@ -97,15 +103,53 @@ def nearest_float(x: arb) -> float:
     return float(x.mid().str(45, radius=False))
 
 
-class Model:
-    """Parameters as exact balls, with the forcing and its rate."""
+#: Parameter names of the model, in the order of :class:`mapimpl.params.Params`.
+PARAM_NAMES = ("alpha", "beta", "gamma", "r")
 
-    def __init__(self, params: Params):
-        self.params = params
-        self.alpha = exact(params.alpha)
-        self.beta = exact(params.beta)
-        self.gamma = exact(params.gamma)
-        self.r = exact(params.r)
+
+def parameter_ball(name: str, value) -> arb:
+    """A parameter as a ball at the current precision: a float is the exact binary number it holds,
+    a string is the exact *decimal* it spells (``"1.245"``: a ball of radius ~2^-prec around
+    1.245, which no float holds).  Validated with the ranges of :mod:`mapimpl.params`."""
+    from ...mapimpl.params import check_value
+
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            x = float(text)
+        except ValueError:
+            raise ValueError(f"parameter {name}={value!r} is not a decimal number") from None
+        check_value(name, x)
+        ball = arb(text)
+        if not ball.is_finite():
+            raise ValueError(f"parameter {name}={value!r} is not a finite decimal number")
+        return ball
+    return exact(check_value(name, value))
+
+
+class Model:
+    """Parameters as balls, with the forcing and its rate.
+
+    ``params``: a :class:`Params` (float64 values, taken as exact binary numbers) or a mapping
+    ``{"alpha": ..., "beta": ..., "gamma": ..., "r": ...}`` whose values are floats (exact) or
+    decimal strings (exact decimals, e.g. ``{"alpha": "1.245", ...}``: the paper's printed values
+    rather than their float64 roundings).  Build it inside :func:`precision`: string parameters
+    are enclosed at the precision current at construction.  ``self.params`` holds the float64
+    values (nearest) for messages and float64 code.
+    """
+
+    def __init__(self, params):
+        if isinstance(params, Params):
+            values = {k: getattr(params, k) for k in PARAM_NAMES}
+        else:
+            values = dict(params)
+            missing = [k for k in PARAM_NAMES if k not in values]
+            extra = [k for k in values if k not in PARAM_NAMES]
+            if missing or extra:
+                raise ValueError(f"params={params!r}: allowed exactly the keys {', '.join(PARAM_NAMES)}")
+        balls = {k: parameter_ball(k, values[k]) for k in PARAM_NAMES}
+        self.params = params if isinstance(params, Params) else Params(**{k: float(values[k]) for k in PARAM_NAMES})
+        self.alpha, self.beta, self.gamma, self.r = (balls[k] for k in PARAM_NAMES)
 
     def forcing(self, tau: arb) -> arb:
         """f(tau) = -alpha sin tau + alpha beta cos tau + gamma."""
@@ -135,11 +179,12 @@ class Flight:
     def s(self, t: arb) -> arb:
         """Position (for a point ``t``: no cancellation trouble at high precision)."""
         m = self.m
-        _, e1 = self._e(t)
+        bt = m.beta * t
+        em1 = (-bt).expm1()
+        e1 = -em1 / m.beta
         half = t / 2
         trig = 2 * m.alpha * (self.tau0 + half).cos() * half.sin()
-        bt = m.beta * t
-        t_minus_e1 = (bt + (-bt).expm1()) / m.beta
+        t_minus_e1 = (bt + em1) / m.beta
         return self.s0 + trig + self.w0 * e1 + m.gamma * t_minus_e1 / m.beta
 
     def v(self, t: arb) -> arb:
@@ -189,6 +234,7 @@ class FlightCertificate:
     pieces: int            # subintervals covering [0, t_lo] with both gaps > 0
     evals: int             # interval evaluations used
     departure: float       # length of the departure certificate on the start wall (0 if none)
+    root_bracket: tuple = field(default=(), repr=False)  # (t_lo, t_hi) as balls
 
 
 def _departure(fl: Flight, start_wall: int, release: bool, prec: int) -> arb:
@@ -258,38 +304,68 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
                 v = fl.v(troot)
                 if not ((w == 0 and v > 0) or (w == -1 and v < 0)):
                     raise CertificationError("impact velocity sign not certified")
-                return FlightCertificate(w, troot, v, (float(t), float(tb)), pieces, evals, departure)
+                return FlightCertificate(w, troot, v, (float(t), float(tb)), pieces, evals, departure, (t, tb))
         h = h / 2
         if h < arb(2) ** (-(prec - 40)) * (t + 1):
             raise CertificationError(f"cannot separate the flight from the walls near t={float(t):.17g} "
                                      "(tangential contact?)")
 
 
+#: Working precision of the first Newton iterations of :func:`_refine` (doubled as they converge).
+NEWTON_START_PREC = 64
+
+
 def _refine(fl: Flight, w: int, lo: arb, hi: arb, prec: int) -> arb:
-    """Narrow the unique root of ``gap_w`` in ``[lo, hi]`` (gap(lo) > 0 > gap(hi), monotone)."""
+    """Narrow the unique root of ``gap_w`` in ``[lo, hi]`` (gap(lo) > 0 > gap(hi), monotone).
+
+    Newton on exact midpoints, at a working precision that starts at :data:`NEWTON_START_PREC` and
+    doubles, up to ``prec``, whenever the step falls below the square root of its resolution (Newton
+    squares the error, so the search costs about two iterations at ``prec``); the bracket only guards
+    the iteration and the search stops when the gap ball at ``prec`` contains 0.  The
+    enclosure is then certified at ``prec``: the gap is proven positive at ``x - e`` and negative at
+    ``x + e`` (``e`` widened until it is), inside the certified bracket.
+    """
     x = ((lo + hi) / 2).mid()
     tiny = arb(2) ** (-(prec - 12))
     lo0, hi0 = lo, hi  # the certified bracket (Newton narrows lo, hi)
+    work = min(NEWTON_START_PREC, prec)
     for _ in range(400):
-        g = fl.gap(w, x).mid()
-        if g > 0:
-            lo = x
-        elif g < 0:
-            hi = x
-        else:
+        full, resolved = work >= prec, False
+        old_prec = ctx.prec
+        ctx.prec = work
+        try:
+            gb = fl.gap(w, x)
+            d = fl.gap_rate(w, x).mid()
+            g = gb.mid()
+            # narrow the guard bracket on certain signs only; at full precision a gap ball that
+            # contains 0 means x is the root to within the enclosure's width: done
+            if gb > 0:
+                lo = x
+            elif gb < 0:
+                hi = x
+            elif full:
+                break
+            else:
+                resolved = True
+            xn = (x - g / d).mid() if not d.is_zero() else x
+        finally:
+            ctx.prec = old_prec
+        if full and abs(xn - x) < tiny * (abs(x) + 1):  # converged (the step is below resolution)
+            if xn > lo0 and xn < hi0:
+                x = xn
             break
-        d = fl.gap_rate(w, x).mid()
-        xn = (x - g / d).mid() if not d.is_zero() else x
+        # more digits once this precision is used up: the step is below the square root of its
+        # resolution (Newton squares the error), or the gap is below the resolution
+        if not full and (resolved or abs(xn - x) < arb(2) ** (-(work // 2)) * (abs(x) + 1)):
+            work = min(2 * work, prec)
         if not (xn > lo and xn < hi):
             xn = ((lo + hi) / 2).mid()
-        done = abs(xn - x) < tiny * (abs(x) + 1)
         x = xn
-        if done:
-            break
     gball = fl.gap(w, x)
     dball = fl.gap_rate(w, x).mid()
     eps = (gball.rad() / abs(dball) * 2).mid() + tiny * (abs(x) + 1)
-    eps = arb(upper_float(eps)) if float(eps) > 0 else tiny
+    # a short float64 bound when eps is in float64's range, else the ball's exact upper end
+    eps = arb(upper_float(eps)) if float(eps) > 1e-300 else arb(eps.upper())
     for _ in range(400):
         a = x - eps
         b = x + eps
@@ -341,7 +417,6 @@ def _stick_decision(model: Model, tau: arb, wall: int, sdot: arb, stick_time: fl
 
     Returns ``None`` (bounce) or ``(t_acc, delay or None)`` (``None`` delay: stuck forever).
     """
-    p = model.params
     d = 1 if wall == 0 else -1
     f_in = d * model.forcing(tau)
     if f_in > 0:
@@ -350,7 +425,7 @@ def _stick_decision(model: Model, tau: arb, wall: int, sdot: arb, stick_time: fl
         pressing = False
     else:
         raise CertificationError(f"contact force sign at tau={float(tau.mid()):.17g} not definite")
-    if not pressing or p.r == 1.0:
+    if not pressing or model.r == 1:
         return None
     u = model.r * abs(sdot)
     t_acc = 2 * u / ((1 - model.r) * f_in)
@@ -369,13 +444,18 @@ def _stick_decision(model: Model, tau: arb, wall: int, sdot: arb, stick_time: fl
     return t_acc, delay
 
 
-def release_delay(model: Model, tau: arb, wall: int):
-    """Closed-form time from ``tau`` to the first zero of the contact force (``None``: never).
+def release_phase(model: Model, wall: int) -> arb | None:
+    """The canonical release phase at ``wall``, in ``[0, 2 pi)``, as a ball (``None``: never released).
 
-    ``f = gamma - R sin(tau - phi)``, ``R = alpha sqrt(1 + beta^2)``, ``phi = atan beta``.
+    The contact force ``f = gamma - R sin(tau - phi)``, ``R = alpha sqrt(1 + beta^2)``,
+    ``phi = atan beta``, stops pressing into the upper wall where it falls through zero,
+    ``phi + asin(gamma/R)``, and into the lower wall where it rises through zero,
+    ``phi + pi - asin(gamma/R)`` (mod ``2 pi``): a function of the parameters alone, the ball
+    counterpart of :func:`mapimpl.sticking.release_phase`.  ``None`` when ``|gamma| >= R`` on the
+    pressing side (or ``alpha = 0``): the force never changes sign.  ``ValueError`` when the force
+    never presses into ``wall`` (``|gamma| >= R`` on the other side): nothing sticks there.
     """
-    p = model.params
-    if p.alpha == 0.0:
+    if model.alpha.is_zero():
         return None
     R = model.alpha * (1 + model.beta ** 2).sqrt()
     phi = model.beta.atan()
@@ -385,8 +465,12 @@ def release_delay(model: Model, tau: arb, wall: int):
         return None
     if not cd < 1:
         raise CertificationError("never-release decision |gamma| >= R not definite")
-    psi = c.asin() if wall == 0 else arb.pi() - c.asin()
-    x = phi + psi - tau
+    if cd <= -1:
+        raise ValueError(f"wall={wall}: the contact force never presses into this wall (|gamma| >= R on the "
+                         "other side): nothing sticks there, there is no release phase")
+    if not cd > -1:
+        raise CertificationError("never-pressing decision |gamma| >= R not definite")
+    x = phi + (c.asin() if wall == 0 else arb.pi() - c.asin())
     two_pi = 2 * arb.pi()
     k = (x / two_pi).floor()
     if not k.is_exact():
@@ -394,14 +478,39 @@ def release_delay(model: Model, tau: arb, wall: int):
     return x - k * two_pi
 
 
-def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec: int, max_evals: int = 100_000):
-    """Prove that ``tau_rel`` encloses the first zero of the contact force after ``tau_impact``.
+def release_delay(model: Model, tau: arb, wall: int):
+    """Time from ``tau`` to the first zero of the contact force (``None``: never), i.e. to the next
+    canonical release phase (:func:`release_phase`)."""
+    phase = release_phase(model, wall)
+    if phase is None:
+        return None
+    x = phase - tau
+    two_pi = 2 * arb.pi()
+    k = (x / two_pi).floor()
+    if not k.is_exact():
+        raise CertificationError("release phase straddles a multiple of 2 pi")
+    return x - k * two_pi
 
-    (i) ``d f`` changes sign across the ball and ``f'`` excludes 0 on it; (ii) ``d f > 0`` on
-    ``[tau_impact, tau_rel.lower]`` (Taylor form ``f(m) + f'(T)[-h, h]``, adaptive subdivision).
-    Returns ``(ball, pieces)``: the certified enclosure (the closed-form ball, widened until the
-    signs are definite) and the number of pieces of (ii).
-    """
+
+def release_time(model: Model, tau: arb, wall: int) -> arb:
+    """The release after sticking at ``tau``: the canonical phase plus a whole number of periods,
+    ``release_phase + 2 pi m`` with ``m`` the certified integer that makes it the first one after
+    ``tau``.  Its ball is that of the phase (it does not inherit the radius of ``tau``): every orbit
+    that sticks to ``wall`` leaves it from the same state, as in :mod:`mapimpl.sticking`."""
+    phase = release_phase(model, wall)
+    if phase is None:
+        raise CertificationError("release_time: the force never changes sign at this wall")
+    two_pi = 2 * arb.pi()
+    k = ((phase - tau) / two_pi).floor()
+    if not k.is_exact():
+        raise CertificationError("release phase straddles a multiple of 2 pi")
+    return phase - k * two_pi
+
+
+def certify_zero(model: Model, tau_rel: arb, wall: int, prec: int) -> tuple[arb, arb]:
+    """``(lo, hi)`` around the ball ``tau_rel`` with ``d f(lo) > 0 > d f(hi)`` and ``d f' < 0`` on
+    ``[lo, hi]`` (``d = +1`` upper wall, ``-1`` lower): a certified simple zero of the contact force
+    where it stops pressing, unique in ``[lo, hi]``."""
     d = 1 if wall == 0 else -1
     lo0, hi0 = arb(tau_rel.lower()), arb(tau_rel.upper())
     delta = arb(2) ** (-(prec - 8)) * (abs(tau_rel).upper() + 1)
@@ -414,6 +523,21 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
         raise CertificationError("release time: no certified sign change of the contact force")
     if not d * model.forcing_rate(span(lo, hi)) < 0:
         raise CertificationError("release time is not a certified simple zero of the contact force")
+    return lo, hi
+
+
+def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec: int, max_evals: int = 100_000):
+    """Prove that ``tau_rel`` encloses the first zero of the contact force after ``tau_impact``.
+
+    (i) ``d f`` changes sign across the ball and ``f'`` excludes 0 on it (:func:`certify_zero`);
+    (ii) ``d f > 0`` on ``[tau_impact, tau_rel.lower]``: pieces with the Taylor form
+    ``f(m) + f'(T)[-h, h]`` (adaptive subdivision) until a rest ``[t, lo]`` on which ``d f'`` is
+    certified negative (``d f`` falls monotonically to ``d f(lo) > 0``).
+    Returns ``(ball, pieces)``: the certified enclosure (the closed-form ball, widened until the
+    signs are definite) and the number of pieces of (ii), the monotone rest included.
+    """
+    d = 1 if wall == 0 else -1
+    lo, hi = certify_zero(model, tau_rel, wall, prec)
     t = arb(tau_impact.upper())
     if not d * model.forcing(span(tau_impact, t)) > 0:
         raise CertificationError("not pressing at the impact")
@@ -423,6 +547,9 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
         evals += 1
         if evals > max_evals:
             raise CertificationError("release certification budget exhausted")
+        if d * model.forcing_rate(span(t, lo)) < 0:  # d f > d f(lo) > 0 on the whole rest
+            pieces += 1
+            break
         tb = t + h if t + h < lo else lo
         m = (t + tb) / 2
         hw = (tb - t) / 2
@@ -437,14 +564,58 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
     return span(lo, hi), pieces
 
 
-def certify_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+@dataclass
+class CertifiedStep:
+    """One certified map step from a pre-impact state (Eqs. 11-13 with the sticking policy).
+
+    ``tau, sdot, wall``: the next pre-impact state (``None`` when stuck forever); ``flight``: its
+    certificate; ``stick``: the policy stick time ``tau_n + t_acc`` (``None``: the impact bounced);
+    ``release``: the certified release time (``None``: bounced, or stuck forever) and
+    ``release_pieces`` the pieces that proved the force pressing before it.
+    """
+
+    tau: arb | None
+    sdot: arb | None
+    wall: int | None
+    flight: FlightCertificate | None
+    stick: arb | None = None
+    release: arb | None = None
+    release_pieces: int = 0
+
+
+def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, stick_time: float = STICK_TIME,
+                   t_max: float = T_MAX) -> CertifiedStep:
+    """Apply the impact map to the pre-impact state ``(tau, sdot)`` on ``wall`` (balls): the reset
+    ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy, the jump to the accumulation point
+    and the release at the canonical phase (:func:`release_time`, certified by
+    :func:`certify_release`) with ``sdot = 0``; then the certified first impact (Eqs. 7-8) with the
+    mean-value enclosure (:func:`mean_value_impact`)."""
+    dec = _stick_decision(model, tau, wall, sdot, stick_time)
+    stick = rel = None
+    pieces = 0
+    if dec is None:
+        start, v0, release = tau, -model.r * sdot, False
+    else:
+        t_acc, delay = dec
+        stick = tau + t_acc
+        if delay is None:
+            return CertifiedStep(None, None, None, None, stick)
+        start, pieces = certify_release(model, tau, release_time(model, tau, wall), wall, prec)
+        rel, v0, release = start, arb(0), True
+    c = certified_flight(model, start, float(wall), v0, release=release, prec=prec, t_max=t_max)
+    new_tau, c.v = mean_value_impact(model, c, start, float(wall), v0, release, prec, t_max)
+    return CertifiedStep(new_tau, c.v, c.wall, c, stick, rel, pieces)
+
+
+def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
                   prec: int = PREC, stick_time: float = STICK_TIME, radius_limit: float | None = None,
                   t_max: float = T_MAX) -> CertifiedOrbit:
     """Certified impact sequence with the layout of :class:`mapimpl.results.ImpactSequence`.
 
-    Impact 0 is the pre-impact initial state (``s0`` None; exact) or the first impact of the flight
-    leaving the free state ``(tau0, s0, sdot0)``.  Stops early when the orbit sticks forever, or when
-    a radius exceeds ``radius_limit`` (the last certified event within the limit is kept).
+    ``params``: a :class:`Params` or a mapping of decimal strings (see :class:`Model`).  Impact 0
+    is the pre-impact initial state (``s0`` None; exact) or the first impact of the flight leaving
+    the free state ``(tau0, s0, sdot0)``.  Stops early when the orbit sticks forever, or when a
+    radius exceeds ``radius_limit`` (the last certified event within the limit is kept).
     """
     if int(n_impacts) < 0:
         raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed n_impacts >= 0")
@@ -475,29 +646,19 @@ def certify_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0:
             add(0, tau, wall, sdot, "impact", {"source": "certified flight"})
         status, reason = "active", "n_impacts reached"
         for n in range(1, int(n_impacts) + 1):
-            dec = _stick_decision(model, tau, wall, sdot, stick_time)
-            release = False
-            if dec is None:
-                start, v0 = tau, -model.r * sdot
-            else:
-                t_acc, delay = dec
-                add(n - 1, tau + t_acc, wall, None, "stick", {"source": "policy: tau_n + t_acc"})
-                if delay is None:
+            st = certified_step(model, tau, sdot, wall, prec=prec, stick_time=stick_time, t_max=t_max)
+            if st.stick is not None:
+                add(n - 1, st.stick, wall, None, "stick", {"source": "policy: tau_n + t_acc"})
+                if st.tau is None:
                     status, reason = "stuck_forever", "stuck forever (|gamma| >= R)"
                     break
-                start = tau + delay
-                start, pieces = certify_release(model, tau, start, wall, prec)
-                add(n - 1, start, wall, None, "release",
-                    {"source": "closed form zero of f, certified", "pieces": pieces})
-                v0, release = arb(0), True
-            c = certified_flight(model, start, float(wall), v0, release=release, prec=prec, t_max=t_max)
-            new_tau, new_v = mean_value_impact(model, c, start, float(wall), v0, release, prec, t_max)
-            c.v = new_v
-            if radius_limit is not None and max(float(new_tau.rad()), float(c.v.rad())) > radius_limit:
+                add(n - 1, st.release, wall, None, "release",
+                    {"source": "closed form zero of f, certified", "pieces": st.release_pieces})
+            if radius_limit is not None and max(float(st.tau.rad()), float(st.sdot.rad())) > radius_limit:
                 reason = f"radius limit {radius_limit:g} exceeded at impact {n}"
                 break
-            tau, sdot, wall = new_tau, c.v, c.wall
-            flights.append(_flight_record(n, c))
+            tau, sdot, wall = st.tau, st.sdot, st.wall
+            flights.append(_flight_record(n, st.flight))
             add(n, tau, wall, sdot, "impact", {"source": "certified flight"})
         return CertifiedOrbit(events, status, reason, prec, flights)
 
@@ -508,8 +669,8 @@ def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: flo
 
     ``c_box`` certified the flight for *every* state in the box (same wall, no earlier contact,
     transversal impact), so the impact map is differentiable on the box and, componentwise,
-    ``G(x) in G(m) + J(X) (x - m)`` with ``m`` the box's midpoint (its flight certified separately,
-    exactly) and ``J(X)`` the interval enclosure of the analytic Jacobian (``docs/model.md``)
+    ``G(x) in G(m) + J(X) (x - m)`` with ``m`` the box's midpoint (its root narrowed in the box's
+    certified root bracket, which holds for every state of the box) and ``J(X)`` the interval enclosure of the analytic Jacobian (``docs/model.md``)
 
         d tau1/d tau0 = (v0 + E1 a0)/v1,   d tau1/d v0 = -E1/v1,
         d v1/d tau0   = a1 d tau1/d tau0 - E a0,   d v1/d v0 = a1 d tau1/d v0 + E,
@@ -524,9 +685,12 @@ def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: flo
         # its ball is not a physical state, so the direct (tiny) enclosure is used as it is
         return crude_tau, crude_v
     m_tau, m_v = arb(tau0.mid()), arb(v0.mid())
-    c_pt = certified_flight(model, m_tau, s0, m_v, release=release, prec=prec, t_max=t_max)
-    if c_pt.wall != c_box.wall:
-        raise CertificationError("midpoint flight hits another wall than the box")
+    # the midpoint lies in the box: the box certificate (no earlier contact, a unique crossing of
+    # the gap in the root bracket) holds for it, so only its root needs narrowing
+    fl_pt = Flight(model, m_tau, exact(s0), m_v)
+    lo, hi = c_box.root_bracket
+    t_pt = _refine(fl_pt, c_box.wall, lo, hi, prec)
+    v_pt = fl_pt.v(t_pt)
     b = model.beta
     t, v1 = c_box.t, c_box.v
     em1 = (-b * t).expm1()
@@ -539,8 +703,8 @@ def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: flo
     dv_v = a1 * dt_v + e
     rt, rv = tau0.rad(), v0.rad()
     d_tau, d_v = span(-rt, rt), span(-rv, rv)
-    mv_tau = m_tau + c_pt.t + dt_tau * d_tau + dt_v * d_v
-    mv_v = c_pt.v + dv_tau * d_tau + dv_v * d_v
+    mv_tau = m_tau + t_pt + dt_tau * d_tau + dt_v * d_v
+    mv_v = v_pt + dv_tau * d_tau + dv_v * d_v
     if not (mv_tau.overlaps(crude_tau) and mv_v.overlaps(crude_v)):  # pragma: no cover - would be a bug
         raise CertificationError("mean-value and direct enclosures are disjoint")
     return mv_tau.intersection(crude_tau), mv_v.intersection(crude_v)

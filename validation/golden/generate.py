@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import argparse
 import json
+from decimal import Decimal
 import math
 import platform
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Callable
 
 from flint import arb
 
@@ -31,6 +33,10 @@ from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, 
 
 FIG2 = Params(0.5, 0.1, 0.1, 0.9)
 FIG3 = Params(3.0, 0.1, 0.1, 0.9)
+#: The transient setting of Figs. 9-11 (float64 values of the printed decimals).
+FIG11 = Params(1.245, 0.1, 0.1, 0.9)
+#: Phase of the release case's initial state: the centre of the Fig. 11 box in tau (3.0 < tau0 < 3.5).
+RELEASE_TAU0 = 3.25
 
 
 def tol(tau: float, sdot: float | None = None) -> dict:
@@ -63,6 +69,8 @@ class Spec:
     tags: tuple = ()
     notes: dict = field(default_factory=dict)
     prec: int = cert.PREC
+    #: computes the settings that are expensive to find (run only when the case is built)
+    finish: Callable | None = field(default=None, repr=False, compare=False)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -115,7 +123,70 @@ def chaos_horizon(params: Params) -> tuple[int, float]:
     lam = round(lam, 3)
     if not lam > 0:
         raise RuntimeError(f"lambda1={lam} is not positive: not a chaotic case")
-    return int(math.floor(math.log(CHAOS_TOL / (CHAOS_ERR0 * CHAOS_SAFETY)) / lam)), lam
+    return horizon(lam), lam
+
+
+def horizon(lam: float) -> int:
+    """The float64 horizon rule of the chaotic cases: ``n = floor(ln(tol / (err0 * safety)) / lambda1)``."""
+    return int(math.floor(math.log(CHAOS_TOL / (CHAOS_ERR0 * CHAOS_SAFETY)) / lam))
+
+
+def _horizon_rule_text() -> str:
+    return (f"n = floor(ln(tol / (err0 * safety)) / lambda1) with tol={CHAOS_TOL:g}, err0={CHAOS_ERR0:g} (per-impact "
+            f"error of a good float64 solver), safety={CHAOS_SAFETY:g}; errors grow like exp(lambda1 n)")
+
+
+def finish_release_case(spec: Spec) -> Spec:
+    """The found settings of the release case: its horizon from the Lyapunov exponent of the
+    *transient* at alpha = 1.245 (:func:`release.transient_lyapunov`), and, as oracle notes, the
+    certified post-release duration ``T_post`` for the decimal parameters and for their float64
+    roundings (:func:`release.certified_release_duration`, several minutes), the float64 engine's
+    own ``T_post``, ``delta`` and the capture target."""
+    from . import release as rel
+
+    ly = rel.transient_lyapunov(spec.params, n_side=RELEASE_LYAP_SIDE, impacts=RELEASE_LYAP_IMPACTS)
+    lam = round(ly["lambda1"], 3)
+    if not lam > 0:
+        raise RuntimeError(f"transient lambda1={lam} is not positive")
+    n = horizon(lam)
+    cert_notes = {}
+    for rounding in rel.ROUNDINGS:
+        d = rel.certified_release_duration(rel.PAPER_DECIMAL, 0, rounding=rounding)
+        if d.status != "captured" or not d.confirmed:
+            raise cert.CertificationError(f"release case: T_post ({rounding}) not certified: {d.summary()}")
+        cert_notes[rounding] = {
+            "params": d.params if rounding == "decimal" else
+            {k: str(Decimal(getattr(spec.params, k))) for k in cert.PARAM_NAMES},
+            "T_post": d.value, "precision_bits": d.precision,
+            "confirmed_at_bits": d.attempts[-1].prec, "capture_distance": d.attempts[-1].distance,
+            "release_phase": d.release_phase}
+    f64 = rel.float64_release_duration(spec.params, 0)
+    target = rel.float64_target(spec.params)
+    notes = dict(spec.notes)
+    notes.update({
+        "lyapunov_lambda1_per_impact": lam,
+        "lyapunov_method": (f"QR exponent of the transient: {ly['orbits']} orbits from a {RELEASE_LYAP_SIDE}x"
+                            f"{RELEASE_LYAP_SIDE} grid of the Fig. 11 box, {ly['impacts_used']} impacts before each "
+                            "comes within 1e-2 of the 4-impact orbit (validation/golden/release.py)"),
+        "horizon_rule": _horizon_rule_text(),
+        "T_post_definition": ("the release flight's first impact is post-release impact 1 (here: impact 1); T_post is "
+                              "the index of the first post-release impact whose pre-impact state lies within delta "
+                              "of the target (sup norm of the wrapped phase difference and the sdot difference, "
+                              "same wall); an initial condition that first sticks at its impact n_s has transient "
+                              "duration n_s + T_post"),
+        "T_post_certified": cert_notes,
+        "T_post_float64_engine": {"value": f64["value"], "meaning": "the float64 engine's own T_post: a sample of "
+                                  "a chaotic orbit, not a value (the float64 orbit leaves the true one after "
+                                  f"~{rel.float64_horizon(lam, rel.DELTA):.0f} impacts at this lambda1)"},
+        "capture_delta": rel.DELTA,
+        "capture_target": target.as_dict() | {"source": "float64 4-impact period-1 orbit of "
+                                               "mapimpl.engine.transients.periodic_target, taken as exact numbers"},
+    })
+    return replace(spec, n_impacts=n, notes=notes, finish=None)
+
+
+#: Grid side and impacts of the transient Lyapunov exponent of the release case.
+RELEASE_LYAP_SIDE, RELEASE_LYAP_IMPACTS = 8, 1500
 
 
 def specs() -> list[Spec]:
@@ -123,6 +194,9 @@ def specs() -> list[Spec]:
     graze_v = grazing_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
     miss_v = near_miss_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
     n_chaos, lam = chaos_horizon(FIG3)
+    from .release import stick_at_once_state
+
+    rel_tau0, rel_sdot0 = stick_at_once_state(FIG11, 0, tau0=RELEASE_TAU0)
     return [
         Spec("0001-regular-fig2", "Paper Fig. 2 parameters (alpha=0.5): regular rattling, transient into the "
              "periodic motion; pre-impact start (tau0, sdot0) = (0, 0.5) on the upper wall.",
@@ -130,10 +204,7 @@ def specs() -> list[Spec]:
         Spec("0002-chaotic-fig3", "Paper Fig. 3 parameters (alpha=3): chaotic rattling, short horizon set by the "
              "largest Lyapunov exponent so that a float64 implementation's error stays below the tolerance.",
              FIG3, 0.0, 0.5, n_chaos, tolerances=tol(CHAOS_TOL), tags=("chaotic", "paper"),
-             notes={"lyapunov_lambda1_per_impact": lam,
-                    "horizon_rule": f"n = floor(ln(tol / (err0 * safety)) / lambda1) with tol={CHAOS_TOL:g}, "
-                                    f"err0={CHAOS_ERR0:g} (per-impact error of a good float64 solver), "
-                                    f"safety={CHAOS_SAFETY:g}; errors grow like exp(lambda1 n)"}),
+             notes={"lyapunov_lambda1_per_impact": lam, "horizon_rule": _horizon_rule_text()}),
         Spec("0003-free-flight-start", "Start in free flight (tau0, s0, sdot0) = (1, -0.3, 0.2), Fig. 2 parameters: "
              "impact 0 is the first wall reached.", FIG2, 1.0, 0.2, 20, s0=-0.3, tags=("regular", "free-flight")),
         Spec("0004-grazing-impact", f"Near-tangential impact: from the upper wall at tau0=2 the flight reaches the "
@@ -167,6 +238,17 @@ def specs() -> list[Spec]:
              "at rest in the middle of the backlash. The orbit is irregular (errors grow ~10x per 3 impacts), hence "
              "the short horizon.", Params(0.8, 1e-6, -0.05, 0.95), 0.5, 0.0, 10, s0=-0.5,
              tags=("small-beta", "negative-gamma", "free-flight")),
+        Spec("0012-release-orbit-fig11", "Paper Figs. 9-11 setting (alpha=1.245, beta=gamma=0.1, r=0.9): a pre-impact "
+             "state in the Fig. 11 box that sticks at once to the upper wall; the tooth is released at the exact zero "
+             "of the contact force (the canonical release phase, a function of the parameters alone) and flies on the "
+             "post-release orbit that every sticking initial condition of the mesh shares. Short horizon set by the "
+             "Lyapunov exponent of the transient; the notes carry its certified post-release duration T_post.",
+             FIG11, rel_tau0, rel_sdot0, 0, tolerances=tol(CHAOS_TOL),
+             tags=("chaotic", "paper", "sticking", "release"),
+             notes={"sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
+                                  "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
+                                  "to 3 significant digits (release.stick_at_once_state)"},
+             finish=finish_release_case),
     ]
 
 
@@ -379,9 +461,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default=str(DEFAULT_SUITE), help="suite directory (default: the committed one)")
     ap.add_argument("--cases", nargs="*", default=None, help="only these case ids")
     ap.add_argument("--no-tracks", action="store_true", help="skip the map/scipy agreement in the provenance")
+    ap.add_argument("--recertify", action="store_true",
+                    help="re-certify the committed cases with their committed settings (no searches)")
     args = ap.parse_args(argv)
     t0 = time.time()
-    all_specs = specs()
+    if args.recertify:
+        from .suite import case_ids
+
+        all_specs = [spec_from_settings(json.loads((DEFAULT_SUITE / c / "settings.json").read_text()))
+                     for c in case_ids()]
+    else:
+        all_specs = specs()
     known = [s.id for s in all_specs]
     if args.cases:
         bad = [c for c in args.cases if c not in known]
@@ -392,6 +482,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.cases and spec.id not in args.cases:
             continue
         t = time.time()
+        if spec.finish is not None:
+            spec = spec.finish(spec)
         settings, text, prov = build_case(spec, tracks=not args.no_tracks)
         write_case(Path(args.out) / spec.id, settings, text, prov)
         agree = prov["tracks_agreement"] or {}

@@ -192,7 +192,7 @@ def load_suite(suite: str | Path = DEFAULT_SUITE, cases: list[str] | None = None
 class ColumnScore:
     column: str
     passed: bool
-    max_error: float          # largest |x - e| (circular for tau_mod_2pi; 0/1 mismatch count for exact columns)
+    max_error: float          # largest |x - e| (circular_distance for tau_mod_2pi; mismatch count for exact columns)
     worst_row: int            # 0-based data row of the largest violation ratio (or first mismatch), -1 if none
     digits: float             # min over rows of -log10(relative error), capped at DIGITS_CAP
 
@@ -219,6 +219,18 @@ def _digits(err: np.ndarray, scale: np.ndarray) -> float:
     if worst <= 0.0:
         return DIGITS_CAP
     return float(min(DIGITS_CAP, -math.log10(worst)))
+
+
+def circular_distance(a, b) -> np.ndarray:
+    """Distance between phases on the circle of length 2 pi, in [0, pi], for any real inputs.
+
+    Values outside [0, 2 pi) are reduced first (a phase printed as 2 pi, -0.0 or unreduced denotes
+    the phase it is congruent to), so a wrong value can never come out closer than it is: the naive
+    ``min(|a - b|, 2 pi - |a - b|)`` goes negative, and passes, once ``|a - b| > 2 pi``.  Exact for
+    ``|a - b| < pi``; NaN stays NaN.
+    """
+    raw = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
+    return np.abs(raw - TWO_PI * np.round(raw / TWO_PI))
 
 
 def score_sequence(case: Case, got: Sequence) -> CaseScore:
@@ -250,9 +262,7 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
         else:
             mask = np.ones(e.shape, dtype=bool)
             missing = np.empty(0, dtype=np.int64)
-        diff = np.abs(a - e)
-        if c == "tau_mod_2pi":
-            diff = np.minimum(diff, TWO_PI - diff)  # circular distance
+        diff = circular_distance(a, e) if c == "tau_mod_2pi" else np.abs(a - e)
         diff = np.where(mask, diff, 0.0)
         diff = np.where(np.isnan(diff), np.inf, diff)
         allowed = tol["abs"] + tol["rel"] * np.abs(np.where(mask, e, 0.0))

@@ -17,7 +17,8 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .document import Section, render_html, render_markdown, summary_rows
+from .verdict import Z_AGREE
+from .document import Section, check_keys, render_html, render_markdown, verdict_counts
 
 #: Section modules, in report order.
 SECTIONS = [
@@ -83,6 +84,16 @@ def environment() -> dict:
     return env
 
 
+def summary_json(sections: list[Section], **header) -> dict:
+    """summary.json: the run's header, the sections' status, the verdict counts and one entry per summary
+    row (stable ``key``, numeric ``value``/``error``, the paper's value/error/kind; see docs/report.md)."""
+    return {**header,
+            "sections": [{"key": s.key, "title": s.title, "ok": s.ok, "seconds": s.seconds, "error": s.error}
+                         for s in sections],
+            "counts": verdict_counts(sections),
+            "numbers": [n.as_json(s.title) for s in sections for n in s.numbers]}
+
+
 def build_report(profile: str = "quick", out_dir: str | Path = "report", sections: list[str] | None = None,
                  seed: int = 20040101, progress: bool = True, argv: list[str] | None = None) -> tuple[Path, bool]:
     """Run the sections and write the report; return ``(path of report.html, all sections ok)``."""
@@ -110,6 +121,7 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
         ctx.say(f"{m.TITLE}: {'ok' if sec.ok else 'FAILED'} in {sec.seconds:.1f} s")
         done.append(sec)
     total = time.perf_counter() - t_all
+    check_keys(done)
     env = environment()
     cmd = " ".join(argv) if argv is not None else " ".join(sys.argv)
     preamble = [
@@ -119,16 +131,17 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
         f"Profile: {profile}. Seed: {seed}. Total run time: {total:.1f} s. Command: {cmd}",
         "Environment: " + "; ".join(f"{k} {v}" for k, v in env.items()),
         "Run times per section: " + "; ".join(f"{s.title} {s.seconds:.1f} s" for s in done),
+        f"How the verdicts are reached (validation/report/verdict.py, docs/report.md): a value is compared by "
+        f"z = (ours - paper) / sqrt(our error^2 + paper error^2), the paper error being the one it states or else "
+        f"the rounding of its last printed digit; it agrees when |z| <= {Z_AGREE:g}. A bound the paper states "
+        f"(the r or alpha it ran, '>~' or '<~' a critical value) is checked strictly in its direction against the "
+        f"printed value. Checks of this implementation that the paper does not state are 'not compared' and carry "
+        f"a separate pass/fail against their stated tolerance.",
     ]
     title = f"gear-rattle validation report ({profile} profile)"
     (out / "report.md").write_text(render_markdown(title, preamble, done, out))
     html_path = out / "report.html"
     html_path.write_text(render_html(title, preamble, done))
-    (out / "summary.json").write_text(json.dumps({
-        "profile": profile, "seed": seed, "seconds": total, "environment": env, "command": cmd,
-        "sections": [{"key": s.key, "title": s.title, "ok": s.ok, "seconds": s.seconds, "error": s.error}
-                     for s in done],
-        "numbers": [dict(zip(["quantity", "paper", "computed", "error_bar", "deviation", "verdict", "explanation",
-                              "section"], r)) for r in summary_rows(done)],
-    }, indent=1))
+    (out / "summary.json").write_text(json.dumps(summary_json(done, profile=profile, seed=seed, seconds=total,
+                                                              environment=env, command=cmd), indent=1))
     return html_path, all(s.ok for s in done)

@@ -132,10 +132,15 @@ def uncertainty(outdir="out/transients", profile="quick", n_points=None, eps=Non
     fig, ax = subplots(figsize=(6, 4.5))
     for n, mk in zip(ns, ("s", "o", "^", "v")):
         f = A._uncertain(dA, dB, dC, n).mean(axis=0)
-        ax.loglog(eps, np.where(f > 0, f, np.nan), mk, mfc="none" if mk == "s" else None, label=f"n = {n}")
+        se = np.sqrt(f * (1.0 - f) / n_points)  # binomial standard error of each f(eps)
+        pos = f > 0
+        lo = np.minimum(se, 0.999 * f)  # keep the lower bar on the log axis
+        eb = ax.errorbar(eps[pos], f[pos], yerr=[lo[pos], se[pos]], fmt=mk, mfc="none" if mk == "s" else None,
+                         capsize=2, label=f"n = {n} (bars: sqrt(f(1-f)/{n_points}))")
+        ax.set_xscale("log"); ax.set_yscale("log")
         ft = fits[n]
         if ft is not None:
-            ax.loglog(eps, 10 ** ft.log10_C * eps ** ft.phi, "-", lw=0.8,
+            ax.loglog(eps, 10 ** ft.log10_C * eps ** ft.phi, "-", lw=0.8, color=eb[0].get_color(),
                       label=f"fit: phi = {ft.phi:.4f} +- {ft.phi_se_ls:.4f} (boot {ft.phi_se_boot:.4f})")
     ax.set_xlabel(r"$\epsilon$")
     ax.set_ylabel(r"$f(\epsilon)$")

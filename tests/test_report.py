@@ -1,0 +1,306 @@
+"""The validation report's verdicts, paper values, summary.json and page layout (validation/report/).
+
+The real sections take minutes; these tests build a report from a fake section instead.  The paper
+values are checked against the paper's text (/work/shared/paper.txt) where it is present.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import sys
+import types
+from pathlib import Path
+
+import pytest
+
+from gear_rattle.validation.report import builder
+from gear_rattle.validation.report.document import Section, check_keys, md_slug, render_html, render_markdown
+from gear_rattle.validation.report.paper import KINDS, PAPER, PaperValue
+from gear_rattle.validation.report.verdict import (AGREES, DISAGREES, NOT_COMPARED, Z_AGREE, compare, compare_bound,
+                                                   compare_value, internal_check, row)
+
+PAPER_TXT = Path("/work/shared/paper.txt")
+REQUIRED_KEYS = ("r2", "r1", "alpha1", "mean_n", "kappa", "decay_time", "phi_500", "phi_1000")
+
+
+def _norm(s: str) -> str:
+    return re.sub(r"\s+", " ", s).strip()
+
+
+# ---------------------------------------------------------------------------------------- paper.py
+
+@pytest.mark.skipif(not PAPER_TXT.exists(), reason="the paper's text is not on this machine")
+@pytest.mark.parametrize("key", sorted(PAPER))
+def test_every_quote_is_verbatim_in_the_paper(key):
+    """Each paper value quotes the paper's own words (whitespace normalised), and its printed number
+    stands in the quote (the decay time is derived: it quotes the numbers it comes from)."""
+    text = _norm(PAPER_TXT.read_text(encoding="utf-8"))
+    pv = PAPER[key]
+    assert _norm(pv.quote) in text, f"{key}: quote not found in the paper: {pv.quote!r}"
+    if pv.kind not in ("derived", "qualitative", "theory", "count"):
+        assert pv.printed in pv.quote
+
+
+def test_paper_values_are_well_formed():
+    assert set(REQUIRED_KEYS) <= set(PAPER)
+    for key, pv in PAPER.items():
+        assert pv.key == key and pv.kind in KINDS and pv.where and pv.quote
+        assert "page" not in pv.where.lower()  # the text has no page numbers: cite section/figure/equation
+        if pv.numeric:
+            assert math.isfinite(float(pv.value))
+    with pytest.raises(ValueError, match="kind"):
+        PaperValue("x", "1", None, "roughly", "Fig. 1", "q")
+
+
+def test_paper_bounds_and_values_as_the_paper_states_them():
+    """Fig. 5/6 captions: r = 0.82144 / 0.82145 >~ r2 (r2 is at most these); Fig. 7: r = 0.74001 <~ r1;
+    Section 4: alpha1 ~ 1.24370; Fig. 9: alpha = 1.24500 >= alpha1; Eq. (14): <n> = 2272, kappa = 0.893 +- 0.001;
+    Fig. 10: 0.010 +- 0.001 (n = 500), 0.003 +- 0.002 (n = 1000)."""
+    assert (PAPER["r2"].kind, PAPER["r2"].value) == ("upper_bound", 0.82144)
+    assert (PAPER["r2_fig6"].kind, PAPER["r2_fig6"].value) == ("upper_bound", 0.82145)
+    assert (PAPER["r1"].kind, PAPER["r1"].value) == ("lower_bound", 0.74001)
+    assert (PAPER["alpha1"].kind, PAPER["alpha1"].value) == ("approx", 1.2437)
+    assert (PAPER["alpha1_fig9"].kind, PAPER["alpha1_fig9"].value) == ("upper_bound", 1.245)
+    assert (PAPER["mean_n"].value, PAPER["mean_n"].error) == (2272.0, None)
+    assert (PAPER["kappa"].value, PAPER["kappa"].error) == (0.893, 0.001)
+    assert (PAPER["phi_500"].value, PAPER["phi_500"].error) == (0.010, 0.001)
+    assert (PAPER["phi_1000"].value, PAPER["phi_1000"].error) == (0.003, 0.002)
+    assert (PAPER["r2_impacts_per_period"].value, PAPER["alpha1_impacts_per_period"].value) == (6.0, 4.0)
+    # a printed parameter is exact; a printed result is known to half a unit of its last digit
+    assert PAPER["r2"].sigma == 0.0 and PAPER["alpha1"].sigma == pytest.approx(1e-5 / math.sqrt(12))
+
+
+def test_sections_take_the_paper_numbers_from_paper_py():
+    """No section types a number the paper states (they read validation/report/paper.py)."""
+    import gear_rattle.validation.report as rep
+
+    folder = Path(rep.__file__).parent
+    printed = {pv.printed for pv in PAPER.values() if pv.kind in ("value", "approx", "upper_bound", "lower_bound")}
+    printed |= {"2272", "0.893", "1.2437", "0.82144"}
+    for src in sorted(folder.glob("sec_*.py")):
+        code = "\n".join(line for line in src.read_text().splitlines() if not line.startswith("TITLE"))
+        for p in printed:
+            assert not re.search(rf"(?<![\d.]){re.escape(p)}(?!\d)", code), f"{src.name} types the paper's {p}"
+
+
+def test_decay_time_error_propagates_the_rounding_of_mean_n_and_the_error_of_kappa():
+    """Eq. (14): the paper's decay time <n>/kappa = 2272/0.893, error from the rounding of 2272
+    (1/sqrt(12)) and kappa's +-0.001, about 0.1 %; no 2 % floor."""
+    pt = PAPER["decay_time"]
+    assert pt.value == pytest.approx(2272 / 0.893, rel=1e-9)
+    expected = 2272 / 0.893 * math.hypot((1 / math.sqrt(12)) / 2272, 0.001 / 0.893)
+    assert pt.error == pytest.approx(expected, rel=1e-9)
+    assert 0.0009 < pt.error / pt.value < 0.0013
+    # 2 % above the paper's value: would have agreed with a 2 % floor, disagrees now
+    v = compare(pt.value * 1.02, 5.0, pt)
+    assert v.verdict == DISAGREES and v.z > Z_AGREE
+
+
+# ---------------------------------------------------------------------------------------- verdicts
+
+def test_value_verdict_by_z_score_in_quadrature():
+    pk = PAPER["kappa"]  # 0.893 +- 0.001
+    v = compare_value(0.896, 0.001, pk)
+    assert v.z == pytest.approx(0.003 / math.hypot(0.001, 0.001))
+    assert v.verdict == DISAGREES and "z = +2.12" in v.text
+    assert compare_value(0.8958, 0.001, pk).verdict == AGREES  # z = 1.98
+    w = compare_value(0.8961, 0.001, pk)  # z = 2.19
+    assert w.verdict == DISAGREES and f"z = {w.z:+.2f}" in w.text and w.deviation == pytest.approx(0.0031)
+    # without our error bar the paper's error alone sets the scale
+    assert compare_value(0.8935, None, pk).verdict == AGREES
+    assert compare_value(0.8951, None, pk).verdict == DISAGREES
+
+
+def test_intermittency_slope_six_sigma_from_minus_half_disagrees():
+    """Type-I intermittency (Section 3): -0.552 +- 0.008 is 6.5 sigma from -1/2 and must not agree."""
+    v = compare(-0.552, 0.008, PAPER["intermittency_slope"])
+    assert v.verdict == DISAGREES and v.z == pytest.approx(-6.5)
+    assert compare(-0.51, 0.008, PAPER["intermittency_slope"]).verdict == AGREES
+
+
+def test_upper_bound_checked_strictly_against_the_printed_parameter():
+    """Fig. 5: r = 0.82144 >~ r2.  An r2 4.5e-7 above 0.82144 disagrees; Fig. 6's 0.82145 agrees."""
+    r2 = 0.8214404475801397
+    v = compare(r2, None, PAPER["r2"])
+    assert v.verdict == DISAGREES and v.deviation == pytest.approx(4.475801397e-7, rel=1e-6)
+    assert "above 0.82144" in v.text and "<=" in v.text
+    assert compare(r2, None, PAPER["r2_fig6"]).verdict == AGREES
+    assert compare(0.82144, None, PAPER["r2"]).verdict == AGREES  # equality is allowed by ">~"
+    # our error bar does not soften the direction, but its size is printed
+    w = compare_bound(1.24501, 1e-4, PAPER["alpha1_fig9"])
+    assert w.verdict == DISAGREES and "0.1 sigma" in w.text
+    assert compare_bound(1.2436, 5e-4, PAPER["alpha1_fig9"]).verdict == AGREES
+
+
+def test_lower_bound_checked_in_its_direction():
+    """Fig. 7: r = 0.74001 <~ r1, so r1 must be above 0.74001."""
+    assert compare(0.7414, 1e-5, PAPER["r1"]).verdict == AGREES
+    v = compare(0.7399, 1e-5, PAPER["r1"])
+    assert v.verdict == DISAGREES and "below 0.74001" in v.text and v.z == pytest.approx(-11.0)
+    with pytest.raises(ValueError, match="kind"):
+        compare_bound(1.0, None, PAPER["kappa"])
+
+
+def test_counts_and_categories_must_be_equal():
+    assert compare(6, None, PAPER["r2_impacts_per_period"]).verdict == AGREES
+    assert compare(3, None, PAPER["r2_impacts_per_period"]).verdict == DISAGREES
+    assert compare(4.5, None, PAPER["alpha1_impacts_per_period"]).verdict == DISAGREES
+    assert compare(-0.1, None, PAPER["fig2_motion"], category="regular").verdict == AGREES
+    assert compare(0.3, None, PAPER["fig3_motion"], category="undetermined").verdict == DISAGREES
+    with pytest.raises(ValueError, match="category"):
+        compare(0.3, None, PAPER["fig3_motion"])
+
+
+def test_internal_checks_are_not_compared_but_pass_or_fail():
+    v = internal_check(3e-13, 1e-10)
+    assert (v.verdict, v.check) == (NOT_COMPARED, "pass")
+    assert internal_check(2e-10, 1e-10).check == "fail"
+    assert internal_check(float("nan"), 1e-10).check == "fail"
+    assert internal_check(1e-13, 1e-10, ok=False).check == "fail"
+    assert compare(1.0, None, None).verdict == NOT_COMPARED and compare(1.0, None, None).check is None
+    assert compare(None, None, None, tolerance=1e-10).check == "fail"
+    # a paper value that was not computed is a disagreement, never a silent agreement
+    assert compare(None, None, PAPER["alpha1"]).verdict == DISAGREES
+
+
+def test_row_builds_a_judged_number():
+    n = row("alpha1", "alpha1", 1.24363, 0.00053, paper="alpha1", explanation="e")
+    assert n.verdict == AGREES and n.value == 1.24363 and n.error == 0.00053 and n.paper_value is PAPER["alpha1"]
+    assert "z = " in n.deviation and "Section 4" in n.paper
+    m = row("track_agreement", "tracks", 4e-13, paper=None, tolerance=1e-10)
+    assert (m.verdict, m.check, m.paper) == (NOT_COMPARED, "pass", "(not in the paper)")
+    with pytest.raises(ValueError, match="key"):
+        row("bad key", "q", 1.0)
+
+
+# ---------------------------------------------------------------------------------------- the report
+
+def _fake_section(ctx) -> Section:
+    sec = Section("fake", "Fake section (test)")
+    sec.p("a paragraph")
+    sec.table(["a", "b"], [[1, 2.5]])
+    png = ctx.fig_dir / "fake.png"
+    png.write_bytes(b"\x89PNG\r\n\x1a\nnot really")
+    sec.fig(png, "a figure")
+    sec.numbers += [
+        row("r2", "r2", 0.8214404475801397, paper="r2"),
+        row("r1", "r1", 0.74139, 2e-5, paper="r1"),
+        row("alpha1", "alpha1", 1.24363, 0.00053, paper="alpha1"),
+        row("mean_n", "<n>", 2461.0, 30.0, paper="mean_n"),
+        row("kappa", "kappa", 0.95, 0.01, paper="kappa"),
+        row("decay_time", "decay time", 2590.0, 40.0, paper="decay_time"),
+        row("phi_500", "phi", 0.011, 0.002, paper="phi_500"),
+        row("phi_1000", "phi", None, paper="phi_1000", computed_text="fit failed"),
+        row("fig2_motion", "motion", -0.2, paper="fig2_motion", category="regular"),
+        row("track_agreement", "tracks", 4e-13, paper=None, tolerance=1e-10),
+        row("release_T_post", "a row added later", 1234, 0, paper=None),
+    ]
+    return sec
+
+
+@pytest.fixture
+def fake_report(tmp_path, monkeypatch):
+    mod = types.ModuleType("gear_rattle_test_fake_section")
+    mod.KEY, mod.TITLE, mod.build = "fake", "Fake section (test)", _fake_section
+    monkeypatch.setitem(sys.modules, mod.__name__, mod)
+    monkeypatch.setattr(builder, "SECTIONS", [mod.__name__])
+    monkeypatch.setattr(builder, "environment", lambda: {"python": "test"})
+    html_path, ok = builder.build_report("quick", tmp_path / "rep", progress=False, argv=["gear-rattle", "report"])
+    assert ok
+    return tmp_path / "rep"
+
+
+def test_summary_json_has_stable_keys_with_numeric_value_and_error(fake_report):
+    data = json.loads((fake_report / "summary.json").read_text())
+    nums = {n["key"]: n for n in data["numbers"]}
+    assert set(REQUIRED_KEYS) <= set(nums)
+    for n in data["numbers"]:
+        for f in ("key", "value", "error", "paper_value", "paper_error", "paper_kind", "verdict", "check", "z",
+                  "quantity", "paper", "computed", "error_bar", "deviation", "explanation", "section"):
+            assert f in n, (n["key"], f)
+        for f in ("value", "error", "paper_error", "z", "deviation_value"):
+            assert n[f] is None or (isinstance(n[f], (int, float)) and math.isfinite(n[f])), (n["key"], f)
+    assert nums["r1"]["value"] == 0.74139 and nums["r1"]["error"] == 2e-5
+    assert nums["r2"]["error"] is None and nums["r2"]["verdict"] == DISAGREES
+    assert nums["r2"]["paper_kind"] == "upper_bound" and nums["r2"]["paper_value"] == 0.82144
+    assert nums["kappa"]["paper_error"] == 0.001 and nums["kappa"]["verdict"] == DISAGREES
+    assert nums["phi_1000"]["value"] is None and nums["phi_1000"]["verdict"] == DISAGREES
+    assert nums["fig2_motion"]["paper_value"] == "regular"
+    assert nums["track_agreement"]["verdict"] == NOT_COMPARED and nums["track_agreement"]["check"] == "pass"
+    assert nums["release_T_post"]["value"] == 1234 and nums["release_T_post"]["verdict"] == NOT_COMPARED
+    assert data["counts"]["agrees"] + data["counts"]["disagrees"] + data["counts"]["not compared"] == len(nums)
+    assert data["profile"] == "quick" and "environment" in data and data["sections"][0]["ok"]
+
+
+def test_page_starts_with_counts_and_a_linked_table_of_contents(fake_report):
+    data = json.loads((fake_report / "summary.json").read_text())
+    c = data["counts"]
+    line = f"Verdicts: {c['agrees']} agree, {c['disagrees']} disagree, {c['not compared']} not compared"
+    html = (fake_report / "report.html").read_text()
+    md = (fake_report / "report.md").read_text()
+    assert c["agrees"] == 5 and c["disagrees"] == 4 and c["not compared"] == 2 and c["check pass"] == 1
+    # the counts come before the summary table, and every contents link has its target
+    assert line in html and html.index(line) < html.index("<table")
+    for href in re.findall(r"href='#([^']+)'", html):
+        assert f"id='{href}'" in html
+    assert html.count("href='#") == 2
+    assert line in md and md.index(line) < md.index("| key |")
+    headings = {md_slug(h) for h in re.findall(r"^## (.+)$", md, flags=re.M)}
+    links = re.findall(r"^\* \[[^\]]+\]\(#([^)]+)\)$", md, flags=re.M)
+    assert len(links) == 2 and set(links) <= headings
+    assert "![a figure](figures/fake.png)" in md
+
+
+def test_failed_section_is_counted_and_linked(tmp_path):
+    ok = Section("a", "A: fine")
+    bad = Section("b", "B: broken", ok=False, error="RuntimeError: x")
+    html = render_html("t", [], [ok, bad])
+    md = render_markdown("t", [], [ok, bad], tmp_path)
+    assert "1 section(s) FAILED" in html and "href='#sec-b'" in html and "id='sec-b'" in html
+    assert f"(#{md_slug('B: broken — FAILED')})" in md and "## B: broken — FAILED" in md
+
+
+def test_md_slug_follows_github():
+    assert md_slug("Figs. 2-3: regular and chaotic rattling (time series)") == \
+        "figs-2-3-regular-and-chaotic-rattling-time-series"
+    assert md_slug("Summary: the paper's numbers beside ours") == "summary-the-papers-numbers-beside-ours"
+
+
+def test_duplicate_summary_keys_are_refused():
+    a, b = Section("a", "A"), Section("b", "B")
+    a.numbers.append(row("kappa", "k", 0.9, 0.01, paper="kappa"))
+    b.numbers.append(row("kappa", "k again", 0.9, 0.01, paper="kappa"))
+    with pytest.raises(ValueError, match="kappa"):
+        check_keys([a, b])
+
+
+# ---------------------------------------------------------------------------------------- section helpers
+
+def test_local_slopes_of_an_exact_power_law():
+    """The local slopes the report lists for the laminar-length curve (Figs. 5-6, type-I intermittency)."""
+    import numpy as np
+
+    from gear_rattle.validation.report.sec_dynamics import _local_slopes
+
+    dr = np.logspace(-5, -3, 4)
+    out = _local_slopes(dr, 3.0 * dr ** -0.5, 0.03 * dr ** -0.5)
+    assert [s for *_, s, _ in out] == pytest.approx([-0.5] * 3, abs=1e-12)
+    assert all(e == pytest.approx(math.hypot(0.01, 0.01) / math.log(10 ** (2 / 3))) for *_, e in out)
+
+
+def test_period_and_laminar_detection_on_synthetic_series():
+    import numpy as np
+
+    from gear_rattle.validation.report.sec_dynamics import _laminar_in_series, _period
+
+    th = np.tile([0.1, 1.2, 2.3, 6.2], 60)
+    sd = np.tile([0.5, -0.4, 0.3, -0.2], 60)
+    assert _period(th, sd) == 4
+    assert _period(th + np.linspace(0, 1e-3, th.size), sd) is None
+    six = np.tile([1.0, -1.0, 0.5, -0.5, 0.2, -0.2], 40)
+    burst = np.random.default_rng(0).uniform(-2, 2, 30)
+    frac, n_ph, tail = _laminar_in_series(np.concatenate([six, burst, six]), 0.05)
+    assert n_ph == 2 and tail is not None and 0.8 < frac < 1.0
+    assert _laminar_in_series(np.concatenate([six, burst]), 0.05)[2] is None
