@@ -133,31 +133,39 @@ class Settling:
         return txt + " (each capture time is one float64 sample)"
 
 
+def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start indices and lengths of the runs of True in a 1-D boolean array."""
+    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    dm = np.diff(m)
+    starts = np.nonzero(dm == 1)[0]
+    return starts, np.nonzero(dm == -1)[0] - starts
+
+
 def _settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, n: int, eps: float,
             seed: int) -> Settling:
     """Run ``n_ics`` orbits (random pre-impact states at s = 0, 0 <= tau0 < 2 pi, 0.05 <= sdot0 <= 0.5) at
-    ``param = value`` and see whether and when each settles near the reference orbit (``ref_th, ref_sd``)."""
+    ``param = value`` for ``n`` impacts on the engine (every state recorded by a ``Sample`` observer)
+    and see whether and when each settles near the reference orbit (``ref_th, ref_sd``)."""
+    from ...mapimpl.engine.driver import run
+    from ...mapimpl.engine.observers import Sample
     from ...mapimpl.orbit import map_orbit
     from ...mapimpl.periodic import find_periodic
-    from ..dynamics.crises import _runs, _stream, distance_to_orbit
+    from ..dynamics.crises import distance_to_orbit
 
     rng = np.random.default_rng(seed)
     t0, s0 = rng.uniform(0.0, 2 * np.pi, n_ics), rng.uniform(0.05, 0.5, n_ics)
-    near, last = [], {}
-
-    def consume(i, th, sd, act):
-        near.append(distance_to_orbit(th, sd, ref_th, ref_sd) < eps)
-        last.update(th=th, sd=sd, act=act)
-        return False
-
-    _stream(param, base, [value], n, min(n, 20000), consume, transient=0, n_per_value=n_ics, ics=(t0, s0))
-    near = np.concatenate(near, axis=1)
     P = base.replace(**{param: value})
+    res = run(t0, s0, np.zeros(n_ics, np.int32), P, (Sample(keep=n, n_start=1),), cap=n, lanes=8, progress=False)
+    th_all, sd_all = res.obs[0]["theta"], res.obs[0]["sdot"]
+    act = np.isfinite(th_all)
+    with np.errstate(invalid="ignore"):
+        near = np.where(act, distance_to_orbit(np.nan_to_num(th_all), np.nan_to_num(sd_all), ref_th, ref_sd) < eps,
+                        False)
     settled, capture, phases, period, mult, laminar = [], [], [], [], None, []
     for j in range(n_ics):
         starts, lens = _runs(near[j])
-        th, sd = last["th"][j, -SETTLE_TAIL:], last["sd"][j, -SETTLE_TAIL:]
-        p = _period(th, sd) if bool(last["act"][j, -1]) else None
+        th, sd = th_all[j, -SETTLE_TAIL:], sd_all[j, -SETTLE_TAIL:]
+        p = _period(th, sd) if bool(act[j, -1]) else None
         inside = bool(starts.size) and starts[-1] + lens[-1] == near.shape[1]
         ok = inside and p is not None
         done = (starts > 0) & (starts + lens < near.shape[1]) & (lens >= MIN_LAMINAR)
@@ -182,8 +190,6 @@ def _laminar_in_series(sd: np.ndarray, eps: float) -> tuple[float, int, int | No
     """In a displayed series sdot_n near a 6-impact orbit: the fraction of impacts with
     |sdot_{n+6} - sdot_n| < eps, the number of laminar phases (>= MIN_LAMINAR such impacts in a row)
     and the index at which the final laminar phase began (None if the series ends in a burst)."""
-    from ..dynamics.crises import _runs
-
     lam = np.abs(sd[6:] - sd[:-6]) < eps
     starts, lens = _runs(lam)
     n_ph = int((lens >= MIN_LAMINAR).sum())
@@ -204,6 +210,49 @@ def _local_slopes(dr, mean, sem) -> list[tuple[float, float, float, float]]:
     return out
 
 
+def _bracket_text(b: dict, digits: int) -> str:
+    """``seen / clear`` of a crisis bracket (:meth:`~..dynamics.crises.stats.Bracket.as_dict`)."""
+    clear = b["clear"]
+    tail = (f"none at {clear:.{digits}f} in {b['clear_exposure']:.3g} impacts (mean time > {b['clear_bound']:.3g} "
+            f"at {100 * b['level']:.0f}%)" if np.isfinite(clear) else "no value without events observed long enough")
+    return f"events at {b['seen']:.{digits}f}; {tail}"
+
+
+def _crisis_figures(ctx, sec, r1: dict, a1: dict) -> None:
+    """Mean time between band hops (r1) and mean escape time (alpha1) with their 95% intervals and the GOY
+    fits, against the distance to the fitted crisis."""
+    f, ax = subplots(1, 2, figsize=(10, 4))
+    for axis, res, key, rows, name in ((ax[0], r1, "r1", r1["hops"], "r"), (ax[1], a1, "alpha1", a1["lifetimes"], "alpha")):
+        mu_c = res[key]
+        side = -1.0 if key == "r1" else 1.0
+        x = np.array([side * (row_[name] - mu_c) for row_ in rows])
+        T = np.array([row_["T"] for row_ in rows], float)
+        lo = np.array([row_["lo"] for row_ in rows], float)
+        hi = np.array([row_["hi"] for row_ in rows], float)
+        ok = (x > 0) & np.isfinite(T)
+        axis.errorbar(x[ok], T[ok], yerr=[T[ok] - lo[ok], np.where(np.isfinite(hi[ok]), hi[ok] - T[ok], 0)], fmt="o",
+                      label="measured (95%)")
+        cens = (x > 0) & ~np.isfinite(T)
+        if cens.any():
+            axis.plot(x[cens], lo[cens], "^", label="no event: lower bound (95%)")
+        if ok.any():
+            xx = np.geomspace(x[ok].min(), x[ok].max(), 50)
+            fit = res["fit_goy"]
+            axis.plot(xx, np.exp(fit["log_C"]) * xx ** (-fit["g"]), "-", label=f"GOY fit, g = {fit['g']:.3f}")
+        axis.set_xscale("log"); axis.set_yscale("log")
+        lab = "r1 - r" if key == "r1" else "alpha - alpha1"
+        axis.set_xlabel(lab); axis.set_ylabel("mean time (impacts)")
+        axis.set_title(f"{key} = {mu_c:.7g} +- {res[key + '_err']:.1g}", fontsize=9)
+        axis.legend(fontsize=7)
+    f.tight_layout()
+    path = ctx.fig_dir / "crises_mean_times.png"
+    f.savefig(path, dpi=110)
+    sec.fig(path, "Crisis laws (computed): left, mean time between band hops below the interior crisis r1 (alpha = 3); "
+                  "right, mean escape time from the chaotic set above the boundary crisis alpha1 (r = 0.9, Fig. 8); "
+                  "95% intervals, GOY fits with the exponent of the mediating saddle orbit. Points at or beyond the "
+                  "fitted crisis are not drawn on these axes.")
+
+
 def build(ctx) -> Section:
     from ..dynamics.continuation import orbit_states
     from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
@@ -218,9 +267,9 @@ def build(ctx) -> Section:
     branch = six_impact_branch()
     ctx.say("r2: laminar phases")
     r2 = locate_r2(ctx.profile, branch=branch)
-    ctx.say("r1: bursts below the interior crisis")
+    ctx.say("r1: band hops below the interior crisis (engine)")
     r1 = locate_r1(ctx.profile, branch=branch)
-    ctx.say("alpha1: transient lifetimes")
+    ctx.say("alpha1: escape times from the pre-crisis chaotic set (engine)")
     a1 = locate_alpha1(ctx.profile)
 
     ctx.say("Fig. 4 bifurcation diagram and Lyapunov exponents")
@@ -271,8 +320,8 @@ def build(ctx) -> Section:
                     "impacts; " + (f"the series ends inside a laminar stretch that began at impact {tail}"
                                    if tail is not None else "the series ends in a burst"))
         else:
-            what = (f"r - r1 = {P.r - r1['r1']:+.3g} (our r1 = {r1['r1']:.6f} +- {r1['r1_err']:.6f}); the largest r "
-                    f"with bursts observed in the r1 analysis is {r1['lower_bound']:.5f}")
+            what = (f"r - r1 = {P.r - r1['r1']:+.3g} (our r1 = {r1['r1']:.7f} +- {r1['r1_err']:.7f}); the largest r "
+                    f"with band hops observed in the r1 analysis is {r1['lower_bound']:.7f}")
         pv = PAPER["r2" if fig == "fig5" else "r2_fig6" if fig == "fig6" else "r1"]
         sec.fig(path, f"Fig. {fig[-1]}: discrete sdot_n and stroboscopic sdot(2 pi k) at the paper's r = {P.r:g} "
                       f"({pv.where}), from (tau0, sdot0) = (0, 0.5), {trans} impacts discarded; {what}.")
@@ -283,11 +332,17 @@ def build(ctx) -> Section:
         ["fold orbit (tau, sdot)", f"({f.tau:.10f}, {f.sdot:.10f})"],
         [f"type-I intermittency: slope of mean laminar length vs r - r2 (theory {theory:g})",
          f"{r2['slope']:.3f} +- {r2['slope_err']:.3f}"],
-        ["r1: interior crisis (GOY fit of the mean time between bursts)", f"{r1['r1']:.6f} +- {r1['r1_err']:.6f}"],
+        ["r1: interior crisis (GOY fit of the mean time between band hops)", f"{r1['r1']:.7f} +- {r1['r1_err']:.7f}"],
+        ["r1: fit with the exponent free (exponent)", f"{r1['r1_free']:.7f} +- {r1['r1_free_err']:.7f} "
+                                                       f"(g = {r1['g_free']:.2f} +- {r1['g_free_err']:.2f})"],
         ["r1: GOY exponent of the mediating saddle 6-impact orbit", f"{r1['goy_exponent']:.4f}"],
-        ["r1: largest r with bursts observed (lower bound)", f"{r1['lower_bound']:.5f}"],
-        ["alpha1: crisis (GOY fit of the mean transient lifetime)", f"{a1['alpha1']:.5f} +- {a1['alpha1_err']:.5f}"],
+        ["r1: bracket by direct observation (hops seen at / none at)", _bracket_text(r1["bracket"], 7)],
+        ["alpha1: crisis (GOY fit of the mean escape time from the chaotic set)",
+         f"{a1['alpha1']:.6f} +- {a1['alpha1_err']:.6f}"],
+        ["alpha1: fit with the exponent free (exponent)", f"{a1['alpha1_free']:.6f} +- {a1['alpha1_free_err']:.6f} "
+                                                           f"(g = {a1['g_free']:.2f} +- {a1['g_free_err']:.2f})"],
         ["alpha1: GOY exponent of the saddle 4-impact orbit", f"{a1['goy_exponent']:.4f}"],
+        ["alpha1: bracket by direct observation (escapes seen at / none at)", _bracket_text(a1["bracket"], 6)],
         [f"stable {node.impacts}-impact orbit at alpha = {a_f9:g}: Floquet multipliers",
          ", ".join(f"{complex(m):.5f}" for m in node.multipliers)],
     ])
@@ -306,7 +361,7 @@ def build(ctx) -> Section:
     ax.set_xlabel("r - r2"); ax.set_ylabel("mean laminar length (impacts)")
     ax.legend(fontsize=8); fg.tight_layout(); fg.savefig(path, dpi=110)
     sec.fig(path, f"Type-I intermittency above r2: mean laminar length (runs of >= {MIN_LAMINAR} impacts within "
-                  f"{ls.eps:g} of the fold orbit, {ls.n_impacts} impacts per r) against r - r2 (computed).")
+                  f"{ls.eps:g} of the fold orbit, {ls.orbits} orbits of {ls.cap} impacts per r) against r - r2 (computed).")
     sec.table(["r - r2 from", "to", "local slope", "+-", f"z against {theory:g}"],
               [[a, b, s, e, (s - theory) / e if e > 0 else float("nan")] for a, b, s, e in local])
 
@@ -349,26 +404,34 @@ def build(ctx) -> Section:
                         f"from {theory:g}" if small and small[3] > 0 else "")),
         where="Figs. 5-6"))
 
-    bursts = r1["bursts"]
+    _crisis_figures(ctx, sec, r1, a1)
+    hop_rs = ", ".join(f"{x['r']:.7g}" for x in r1["hops"])
     sec.numbers.append(row(
         "r1", "r1 (interior crisis, six bands merge, alpha = 3)", float(r1["r1"]), float(r1["r1_err"]), paper="r1",
-        computed_text=f"{r1['r1']:.6f}",
-        explanation=f"GOY law T ~ (r1 - r)^(-g) of the mean time between bursts at r = "
-                    + ", ".join(f"{v:g}" for v in bursts.values)
-                    + f" (g = {r1['goy_exponent']:.4f} of the saddle 6-impact orbit, reduced chi^2 {r1['chi2']:.2f}); "
-                      f"bursts observed up to r = {r1['lower_bound']:.5f}",
+        computed_text=f"{r1['r1']:.7f}",
+        explanation=f"GOY law T ~ (r1 - r)^(-g) fitted by maximum likelihood to the band-hop counts at r = {hop_rs} "
+                    f"(g = {r1['goy_exponent']:.4f} of the saddle 6-impact orbit); error: statistical "
+                    f"{r1['r1_stat']:.1e} and fit-range systematic {r1['r1_syst']:.1e}; exponent free: "
+                    f"{r1['r1_free']:.7f} +- {r1['r1_free_err']:.1e}; bracket by direct observation "
+                    f"{_bracket_text(r1['bracket'], 7)}; the paper's r = {r1['paper_fig7']['r']:g} of Fig. 7 lies "
+                    f"{r1['paper_fig7']['below_r1_by']:.2e} below our r1",
         where=PAPER["r1"].where))
-
-    life = a1["lifetimes"]
-    ex_a1 = (f"GOY law T ~ (alpha - alpha1)^(-g) of the mean transient lifetime at alpha = "
-             + ", ".join(f"{v:g}" for v in life.values)
-             + f" ({int(life.events.sum())} captures), g = {a1['goy_exponent']:.4f} of the saddle 4-impact orbit, "
-               f"reduced chi^2 {a1['chi2']:.2f}; statistical error only")
+    ex_a1 = (f"GOY law T ~ (alpha - alpha1)^(-g) fitted by maximum likelihood to the escape times from the chaotic set "
+             f"({a1['ics']['n']} orbits settled on the attractor at alpha = {a1['ics']['alpha_ref']:g}) at "
+             f"{len(a1['lifetimes'])} values of alpha, mean lifetimes up to {a1['T_max_measured']:.3g} impacts "
+             f"(g = {a1['goy_exponent']:.4f} of the saddle 4-impact orbit); error: statistical "
+             f"{a1['alpha1_stat']:.1e} and fit-range systematic {a1['alpha1_syst']:.1e}; exponent free: "
+             f"{a1['alpha1_free']:.6f} +- {a1['alpha1_free_err']:.1e}; bracket by direct observation "
+             f"{_bracket_text(a1['bracket'], 6)}. At the paper's alpha1 = {a1['paper']['alpha']:g} the measured mean "
+             f"lifetime is {a1['paper']['T']:.3g} impacts (95%: {a1['paper']['lo']:.3g}-{a1['paper']['hi']:.3g}): a "
+             f"diagram of fewer impacts per parameter value than that sees no escape there. A diagram of "
+             f"{a1['diagram']['impacts']} impacts (this report's Fig. 8) would show the crisis at alpha = "
+             f"{a1['diagram']['alpha_apparent']:.5f} (GOY law)")
     sec.numbers.append(row("alpha1", "alpha1 (crisis of Fig. 8, r = 0.9)", float(a1["alpha1"]),
-                           float(a1["alpha1_err"]), paper="alpha1", computed_text=f"{a1['alpha1']:.5f}",
+                           float(a1["alpha1_err"]), paper="alpha1", computed_text=f"{a1['alpha1']:.6f}",
                            explanation=ex_a1, where=PAPER["alpha1"].where))
     sec.numbers.append(row("alpha1_fig9", "alpha1 against the alpha of Figs. 9-11", float(a1["alpha1"]),
-                           float(a1["alpha1_err"]), paper="alpha1_fig9", computed_text=f"{a1['alpha1']:.5f}",
+                           float(a1["alpha1_err"]), paper="alpha1_fig9", computed_text=f"{a1['alpha1']:.6f}",
                            explanation=ex_a1, where=PAPER["alpha1_fig9"].where))
     cp4 = settle4.common_period()
     sec.numbers.append(row(

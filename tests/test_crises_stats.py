@@ -1,0 +1,97 @@
+"""Statistics of the crisis analyses (validation/dynamics/crises/stats.py) on synthetic data with known
+answers: censored exponential lifetimes, exact Poisson intervals, the crisis-law fit T = C |mu - mu_c|^-g
+(the law behind r1 of Figs. 4/7 and alpha1 of Fig. 8), and brackets by direct observation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from gear_rattle.validation.dynamics.crises.stats import (bracket, censored_lifetimes, fit_crisis, lifetime_lower_bound,
+                                                          mean_time, next_probes, range_systematic)
+
+
+def test_censored_lifetimes_recover_the_mean_with_heavy_censoring_and_left_truncation():
+    rng = np.random.default_rng(7)
+    T_true, cap, n0 = 1000.0, 1500, 200
+    life = rng.exponential(T_true, 4000)
+    esc = np.where(life < cap, np.floor(life).astype(int), -1)  # escaped within the run, else censored
+    n_run = np.full(life.size, cap)
+    rate, dropped = censored_lifetimes(esc, n_run, n0=n0)
+    assert dropped == int(np.sum((esc >= 0) & (esc <= n0)))
+    # the naive mean of the escaped orbits is biased low by the censoring; the MLE is not
+    assert np.mean(life[life < cap]) < 0.75 * T_true
+    assert abs(rate.T - T_true) < 4 * rate.rel_err * T_true
+    assert rate.lo < T_true < rate.hi
+
+
+def test_exact_interval_covers_at_its_level():
+    rng = np.random.default_rng(11)
+    T_true, E = 500.0, 5000.0  # ten events expected
+    hits = 0
+    trials = 400
+    for _ in range(trials):
+        k = rng.poisson(E / T_true)
+        m = mean_time(np.array([k]), np.array([E]))
+        hits += m.lo <= T_true <= m.hi
+    # exact (Garwood) intervals are conservative: coverage >= 95 % up to the binomial noise of 400 trials
+    assert hits / trials >= 0.95 - 3 * math.sqrt(0.95 * 0.05 / trials)
+
+
+def test_no_event_gives_the_one_sided_bound():
+    m = mean_time(np.zeros(4, int), np.full(4, 1e5))
+    assert math.isinf(m.T) and math.isinf(m.hi)
+    assert m.bound == pytest.approx(4e5 / -math.log(0.05))
+    assert lifetime_lower_bound(4e5) == pytest.approx(4e5 / -math.log(0.05))
+
+
+def _synthetic(mu_c, g, C, x, side, rng, exposure_factor=2000.0):
+    mu = mu_c + x if side == "above" else mu_c - x
+    T = C * x ** (-g)
+    E = exposure_factor * T
+    k = rng.poisson(E / T)
+    return mu, k, E
+
+
+@pytest.mark.parametrize("side", ["above", "below"])
+def test_fit_crisis_recovers_the_crisis_point(side):
+    rng = np.random.default_rng(3 if side == "above" else 4)
+    mu_c, g, C = 1.2437, 1.0, 0.5
+    x = np.geomspace(2e-5, 2e-3, 7)
+    mu, k, E = _synthetic(mu_c, g, C, x, side, rng)
+    fixed = fit_crisis(mu, k, E, side, g=g)
+    assert abs(fixed.mu_c - mu_c) < 4 * fixed.err
+    assert fixed.err < 2e-6  # 2000 events per point pin mu_c well below the nearest offset
+    free = fit_crisis(mu, k, E, side)
+    assert abs(free.g - g) < 4 * free.g_err
+    assert abs(free.mu_c - mu_c) < 4 * max(free.err_lo, free.err_hi)
+    syst, subs = range_systematic(mu, k, E, side, g=g)
+    assert len(subs) == 3 and syst >= 0
+
+
+def test_fit_crisis_with_the_wrong_side_cannot_fit_the_data():
+    rng = np.random.default_rng(5)
+    mu, k, E = _synthetic(0.74144, 0.87, 1e-3, np.geomspace(1e-6, 1e-4, 6), "below", rng)
+    right = fit_crisis(mu, k, E, "below", g=0.87)
+    wrong = fit_crisis(mu, k, E, "above", g=0.87)
+    assert wrong.deviance > 100 * max(right.deviance, 1.0)
+
+
+def test_bracket_and_probes():
+    mu = np.array([1.2430, 1.2433, 1.2436, 1.2440])
+    k = np.array([0, 0, 3, 40])
+    E = np.array([2e6, 5e5, 1e6, 1e6])
+    b = bracket(mu, k, E, "above", min_exposure=1e6)
+    assert b.seen == 1.2436
+    assert b.clear == 1.2430  # 1.2433 has no event but was not observed long enough
+    assert b.clear_bound == pytest.approx(2e6 / -math.log(0.05))
+    # bracket wider than 2 x target: bisect it
+    assert next_probes(mu, k, E, "above", 1.2434, 1e-4, 1e-5, 1e6) == [pytest.approx(1.2433)]
+    # no clear value yet: probe beyond the fit
+    b2 = bracket(mu[2:], k[2:], E[2:], "above", min_exposure=1e6)
+    assert math.isnan(b2.clear)
+    assert next_probes(mu[2:], k[2:], E[2:], "above", 1.2435, 1e-4, 1e-5, 1e6) == [pytest.approx(1.2434)]
+    with pytest.raises(ValueError, match="side"):
+        bracket(mu, k, E, "left")
