@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from gear_rattle.validation.dynamics.crises.stats import (bracket, censored_lifetimes, fit_crisis, lifetime_lower_bound,
+from gear_rattle.validation.dynamics.crises.stats import (Bracket, bracket, locate, censored_lifetimes, fit_crisis, lifetime_lower_bound,
                                                           mean_time, next_probes, range_systematic)
 
 
@@ -95,3 +95,20 @@ def test_bracket_and_probes():
     assert next_probes(mu[2:], k[2:], E[2:], "above", 1.2435, 1e-4, 1e-5, 1e6) == [pytest.approx(1.2434)]
     with pytest.raises(ValueError, match="side"):
         bracket(mu, k, E, "left")
+
+
+def test_locate_reports_the_fit_inside_the_bracket_and_the_bracket_when_the_fit_contradicts_it():
+    """r1 at paper scale: the GOY fit (from the far points) lay above the r at which no hop was seen in
+    5e7 impacts; then the direct observations decide."""
+    b = Bracket("below", seen=0.7414329, clear=0.7414365, clear_exposure=5.1e7, clear_bound=1.7e7, level=0.95)
+    inside = locate(0.7414340, 2e-6, b)
+    assert inside.method == "fit" and inside.value == 0.7414340 and inside.outside == 0.0
+    out = locate(0.7414435, 2.4e-6, b, margin=1.7e-9)
+    assert out.method == "bracket"
+    assert out.value == pytest.approx(0.5 * (0.7414329 + 0.7414365 + 1.7e-9))
+    assert out.err == pytest.approx(0.5 * (0.7414365 + 1.7e-9 - 0.7414329))
+    assert out.outside == pytest.approx((0.7414435 - 0.7414365 - 1.7e-9) / 2.4e-6)
+    above = Bracket("above", seen=1.2433, clear=1.2431, clear_exposure=5e7, clear_bound=1.7e7, level=0.95)
+    assert locate(1.2436, 1e-5, above).method == "bracket"
+    assert locate(1.24325, 1e-5, above).method == "fit"
+    assert locate(1.0, 1.0, Bracket("above", 1.2, math.nan, 0.0, 0.0, 0.95)).method == "fit"

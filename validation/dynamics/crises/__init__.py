@@ -20,7 +20,7 @@ from .orbits import (ALPHA1_START, R2_START, attractor_point, distance_to_orbit,
 from .profiles import PROFILES
 from .r1 import PAPER_R1_FIG7, locate_r1
 from .r2 import PAPER_R2_FIG5, LaminarStats, laminar_statistics, locate_r2
-from .stats import (Bracket, CrisisFit, MeanTime, bracket, censored_lifetimes, fit_crisis, fit_crisis_fixed,
+from .stats import (Bracket, CrisisFit, Located, MeanTime, bracket, locate, censored_lifetimes, fit_crisis, fit_crisis_fixed,
                     fit_power_law, goy_exponent, lifetime_lower_bound, mean_time, range_systematic)
 
 __all__ = [
@@ -28,5 +28,5 @@ __all__ = [
     "attractor_point", "distance_to_orbit", "six_impact_branch", "four_impact_branch", "orbit_on_branch", "R2_START", "ALPHA1_START",
     "LaminarStats", "laminar_statistics", "MeanTime", "CrisisFit", "Bracket", "mean_time", "censored_lifetimes",
     "lifetime_lower_bound", "fit_crisis", "fit_crisis_fixed", "range_systematic", "fit_power_law", "goy_exponent",
-    "bracket",
+    "bracket", "Located", "locate",
 ]

@@ -43,7 +43,7 @@ from ....mapimpl.status import Orbit
 from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
                      orbit_points, per_orbit)
 from .profiles import get_profile
-from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, next_probes, range_systematic
+from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
 
 #: The paper's value (Section 4): "alpha1 ~ 1.24370".
 PAPER_ALPHA1 = 1.24370
@@ -137,9 +137,12 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
 
     Returns a dict:
 
-    * ``alpha1``, ``alpha1_err``: the GOY fit (exponent fixed to that of the saddle 4-impact orbit at
-      alpha1) and its total error ``sqrt(stat^2 + syst^2)``; ``alpha1_stat`` (68 % profile-likelihood
-      half-width, the larger side), ``alpha1_syst`` (fit-range systematic);
+    * ``alpha1``, ``alpha1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies
+      in the bracket by direct observation, else the bracket's midpoint and half-width; ``method``,
+      ``located``;
+    * ``alpha1_goy``, ``alpha1_goy_err``: the GOY fit (exponent fixed to that of the saddle 4-impact
+      orbit at alpha1) and its total error ``sqrt(stat^2 + syst^2)``; ``alpha1_stat`` (68 %
+      profile-likelihood half-width, the larger side), ``alpha1_syst`` (fit-range systematic);
     * ``alpha1_free``, ``alpha1_free_err``, ``g_free``, ``g_free_err``: the fit with the exponent free
       (error: statistical and fit-range systematic combined);
     * ``fit_goy``, ``fit_free``: the fits (:meth:`~.stats.CrisisFit.as_dict`); ``subranges_goy``,
@@ -201,6 +204,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         node = orbit_on_branch(br, 1.245, "node")
     stat = goy.err
     total = math.hypot(stat, syst_goy)
+    where = locate(goy.mu_c, total, brk, margin if np.isfinite(margin) else 0.0)
     table = []
     for x in sorted(rows, key=lambda x: x["alpha"]):
         rt = x["rate"]
@@ -213,13 +217,14 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
              "T_law": float(goy.T(PAPER_ALPHA1))}
     finite_T = [x["T"] for x in table if x["events"] > 0]
     return {
-        "alpha1": goy.mu_c, "alpha1_err": total, "alpha1_stat": stat, "alpha1_syst": syst_goy,
+        "alpha1": where.value, "alpha1_err": where.err, "method": where.method, "located": where.as_dict(),
+        "alpha1_goy": goy.mu_c, "alpha1_goy_err": total, "alpha1_stat": stat, "alpha1_syst": syst_goy,
         "alpha1_free": free.mu_c, "alpha1_free_err": math.hypot(free.err, syst_free), "g_free": free.g,
         "g_free_err": free.g_err, "fit_goy": goy.as_dict(), "fit_free": free.as_dict(),
         "subranges_goy": sub_goy, "subranges_free": sub_free,
         "goy_exponent": g, "saddle": sad, "alpha_sn": br.folds[0].mu, "node": node, "branch": br,
         "bracket": brk.as_dict(), "bracket_margin": margin,
-        "consistent": bool(np.isfinite(brk.clear) and brk.clear - margin - total <= goy.mu_c <= brk.seen + total),
+        "consistent": where.method == "fit" and np.isfinite(brk.clear),
         "lifetimes": table, "T_max_measured": float(max(finite_T)) if finite_T else math.nan,
         "paper": paper,
         "diagram": {"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},

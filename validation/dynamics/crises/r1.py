@@ -33,7 +33,7 @@ from ....mapimpl.engine.observers import BandEscape, Sample
 from ....mapimpl.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
 from .profiles import get_profile
-from .stats import LEVEL, bracket, fit_crisis, goy_exponent, mean_time, next_probes, range_systematic
+from .stats import LEVEL, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes, range_systematic
 
 #: The paper's Fig. 7: r = 0.74001 "<~ r1".
 PAPER_R1_FIG7 = 0.74001
@@ -108,8 +108,11 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
 
     Returns a dict:
 
-    * ``r1``, ``r1_err``: the GOY fit of the mean time between hops (exponent fixed to that of the
-      saddle 6-impact orbit at r1) and its total error ``sqrt(stat^2 + syst^2)``; ``r1_stat`` (68 %
+    * ``r1``, ``r1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies in the
+      bracket by direct observation, else the bracket's midpoint and half-width; ``method``
+      (``"fit"``/``"bracket"``), ``located`` (:meth:`~.stats.Located.as_dict`);
+    * ``r1_goy``, ``r1_goy_err``: the GOY fit of the mean time between hops (exponent fixed to that of
+      the saddle 6-impact orbit at r1) and its total error ``sqrt(stat^2 + syst^2)``; ``r1_stat`` (68 %
       profile-likelihood half-width, larger side, quasi-Poisson), ``r1_syst`` (fit-range systematic);
     * ``r1_free``, ``r1_free_err``, ``g_free``, ``g_free_err``: the fit with the exponent free;
     * ``fit_goy``, ``fit_free`` (:meth:`~.stats.CrisisFit.as_dict`), ``subranges_goy``, ``subranges_free``;
@@ -166,20 +169,22 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
         brk = bracket(r, k, E, "below", min_exposure=strong)
         margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
     total = math.hypot(goy.err, syst_goy)
+    where = locate(goy.mu_c, total, brk, margin if np.isfinite(margin) else 0.0)
     table = [{"r": x["r"], **{kk: v for kk, v in x["rate"].as_dict().items() if kk != "level"}}
              for x in sorted(rows, key=lambda x: x["r"])]
     seen = [x for x in rows if x["r"] == brk.seen]
     near_rate = mean_time(np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]),
                           overdispersed=True)
     return {
-        "r1": goy.mu_c, "r1_err": total, "r1_stat": goy.err, "r1_syst": syst_goy,
+        "r1": where.value, "r1_err": where.err, "method": where.method, "located": where.as_dict(),
+        "r1_goy": goy.mu_c, "r1_goy_err": total, "r1_stat": goy.err, "r1_syst": syst_goy,
         "r1_free": free.mu_c, "r1_free_err": math.hypot(free.err, syst_free), "g_free": free.g,
         "g_free_err": free.g_err, "fit_goy": goy.as_dict(), "fit_free": free.as_dict(),
         "subranges_goy": sub_goy, "subranges_free": sub_free, "goy_exponent": g, "saddle": sad,
         "bracket": brk.as_dict(), "bracket_margin": margin, "lower_bound": brk.seen, "upper_bound": brk.clear,
-        "consistent": bool(np.isfinite(brk.clear) and brk.seen - total <= goy.mu_c <= brk.clear + total),
+        "consistent": where.method == "fit" and np.isfinite(brk.clear),
         "near": {"r": brk.seen, **near_rate.as_dict()}, "hops": table,
-        "paper_fig7": {"r": PAPER_R1_FIG7, "below_r1_by": goy.mu_c - PAPER_R1_FIG7},
+        "paper_fig7": {"r": PAPER_R1_FIG7, "below_r1_by": where.value - PAPER_R1_FIG7},
         "ics": {k_: ics[k_] for k_ in ("r_ref", "settle", "drawn", "rejected")} | {"n": int(ics["theta"].size)},
         "cost": cost.as_dict(), "profile": profile,
     }

@@ -524,3 +524,41 @@ def next_probes(mu, events, exposure, side: str, mu_fit: float, step: float, tar
         if not np.any(near & (E >= strong)):
             out.append(float(event_probe))
     return sorted(set(float(v) for v in out))
+
+
+# ------------------------------------------------------------------------------ the reported value
+
+@dataclass(frozen=True)
+class Located:
+    """The crisis point a report states: ``value`` +- ``err`` and how it was decided (``method``:
+    ``"fit"`` or ``"bracket"``).  The GOY fit is reported when it lies inside the bracket by direct
+    observation (widened by the fit's own error); otherwise the fit's law is contradicted by the direct
+    observations near the crisis, and the bracket -- midpoint, half-width -- is what the data show.
+    ``outside``: how far the fit lies outside the bracket, in units of its error (0 inside)."""
+
+    value: float
+    err: float
+    method: str
+    outside: float
+    interval: tuple[float, float]
+
+    def as_dict(self) -> dict:
+        return {"value": self.value, "err": self.err, "method": self.method, "outside": self.outside,
+                "interval": self.interval}
+
+
+def locate(fit_mu: float, fit_err: float, brk: Bracket, margin: float = 0.0) -> Located:
+    """Decide the reported crisis point from a fit (``fit_mu`` +- ``fit_err``, statistical and fit-range
+    systematic combined) and a :class:`Bracket` (``margin``: the distance beyond ``clear`` that the
+    fitted law still allows, :meth:`CrisisFit.distance_at` of ``clear_bound``)."""
+    if not np.isfinite(brk.clear):
+        return Located(float(fit_mu), float(fit_err), "fit", 0.0, (math.nan, math.nan))
+    if brk.side == "above":  # events seen above the crisis: mu_c < seen, and mu_c > clear - margin
+        lo, hi = brk.clear - margin, brk.seen
+    else:  # events seen below: mu_c > seen, and mu_c < clear + margin
+        lo, hi = brk.seen, brk.clear + margin
+    gap = max(lo - fit_mu, fit_mu - hi, 0.0)
+    outside = gap / fit_err if fit_err > 0 else (math.inf if gap > 0 else 0.0)
+    if outside <= 1.0:
+        return Located(float(fit_mu), float(fit_err), "fit", float(outside), (float(lo), float(hi)))
+    return Located(0.5 * (lo + hi), 0.5 * (hi - lo), "bracket", float(outside), (float(lo), float(hi)))
