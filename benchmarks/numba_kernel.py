@@ -49,8 +49,9 @@ from numba import njit, prange
 
 # ---- constants of the method (same values as gear_rattle.mapimpl.finder / flight / sticking) ----
 TWO_PI = 2.0 * math.pi
-TWO_PI_HI = 6.28318530717958623200e00
-TWO_PI_LO = 2.44929359829470635446e-16
+TWO_PI_HI = float.fromhex("0x1.921fb54400000p+2")   # three-term Cody-Waite split (mapimpl.flight)
+TWO_PI_MID = float.fromhex("0x1.0b4611a600000p-32")
+TWO_PI_LO = 8.089064995183803e-21
 TWO_PI_BELOW = float(np.nextafter(TWO_PI, 0.0))
 EPS = 2.220446049250313e-16
 H0, H_MAX = 0.5, 2.0
@@ -163,14 +164,14 @@ def _forcing_rate(sn, cs, alpha, beta):
 def _reduce(theta):
     """Phase mod 2 pi by a two-term 2 pi (``mapimpl.flight.reduce_phase`` without the turn counter)."""
     m = math.floor(theta / TWO_PI)
-    th = (theta - m * TWO_PI_HI) - m * TWO_PI_LO
+    th = ((theta - m * TWO_PI_HI) - m * TWO_PI_MID) - m * TWO_PI_LO
     if th >= TWO_PI:
         adj = 1.0
     elif th < 0.0:
         adj = -1.0
     else:
         adj = 0.0
-    th = (th - adj * TWO_PI_HI) - adj * TWO_PI_LO
+    th = ((th - adj * TWO_PI_HI) - adj * TWO_PI_MID) - adj * TWO_PI_LO
     return min(max(th, 0.0), TWO_PI_BELOW)
 
 

@@ -27,15 +27,14 @@ import jax
 
 from ..mapimpl.impact_map import MapState, Trajectory
 from ..mapimpl.orbit import sequence_from_states
+from ..mapimpl.flight import TWO_PI_HI, TWO_PI_LO, TWO_PI_MID
 from ..mapimpl.orbit import check_tau0
 from ..mapimpl.params import Params
 from ..mapimpl.results import ImpactSequence
 from ..mapimpl.sticking import STICK_TIME, decide_stick
 
-# Cody-Waite split of 2*pi (same constants as the map's phase reduction, so phases compare exactly).
+# Cody-Waite split of 2*pi: the map's constants (mapimpl.flight), so phases compare exactly.
 TWO_PI = 2.0 * math.pi
-_TWO_PI_HI = 6.28318530717958623200e00
-_TWO_PI_LO = 2.44929359829470635446e-16
 
 
 def forcing_rhs(tau: float, alpha: float, beta: float, gamma: float) -> float:
@@ -44,11 +43,12 @@ def forcing_rhs(tau: float, alpha: float, beta: float, gamma: float) -> float:
 
 
 def reduce_phase(theta: float, cycles: int) -> tuple[float, int]:
-    """``theta`` reduced into [0, 2 pi) with the whole turns carried into ``cycles`` (Cody-Waite)."""
+    """``theta`` reduced into [0, 2 pi) with the whole turns carried into ``cycles`` (the three-term
+    Cody-Waite reduction of :func:`gear_rattle.mapimpl.flight.reduce_phase`, in Python floats)."""
     m = math.floor(theta / TWO_PI)
-    th = (theta - m * _TWO_PI_HI) - m * _TWO_PI_LO
+    th = ((theta - m * TWO_PI_HI) - m * TWO_PI_MID) - m * TWO_PI_LO
     adj = 1 if th >= TWO_PI else (-1 if th < 0.0 else 0)
-    th = (th - adj * _TWO_PI_HI) - adj * _TWO_PI_LO
+    th = ((th - adj * TWO_PI_HI) - adj * TWO_PI_MID) - adj * TWO_PI_LO
     th = min(max(th, 0.0), math.nextafter(TWO_PI, 0.0))
     return th, cycles + int(m) + adj
 

@@ -91,6 +91,21 @@ def reversal_condition(sdot, sigma):
     return -sigma * sdot
 
 
+def dip_condition(sddot, sigma):
+    """Event function of a **speed minimum** inside a segment: ``sigma sddot`` crosses zero upward where
+    ``sigma sdot`` stops decreasing.  Watched without ending the segment: if ``sigma sdot < 0`` there, the
+    velocity reversed and reversed back inside one solver step (both step ends have the same sign of
+    ``sdot``, so the reversal event missed it), and the segment is solved again up to that minimum,
+    where the reversal is a sign change (:func:`hidden_reversal`)."""
+    return sigma * sddot
+
+
+def hidden_reversal(sdot_at_dip, sigma):
+    """At a speed minimum (:func:`dip_condition`): the velocity points against ``sigma`` there, so the
+    segment reversed (twice) unseen before it."""
+    return sigma * sdot_at_dip < 0.0
+
+
 def wall_rate(f, sigma):
     """Rate of :func:`wall_condition` along the vector field ``f = (sdot, sddot)``."""
     return select(sigma > 0, f[0], -f[0])

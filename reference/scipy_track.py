@@ -28,9 +28,11 @@ Consequences:
    earlier root, which is the wall.  If only the reversal fires and the extremum lies *beyond* the
    wall, the crossing happened inside that step: ``s`` is monotone between the segment start and the
    extremum, so a second solve on exactly that interval sees the sign change and locates it
-   (:data:`reference.events.MISSED_CROSSING`).  The residual case is *two* velocity reversals inside
-   one step (an extremum and an inflection coinciding near a wall); ``max_step`` (default 0.25,
-   well below the forcing period ``2 pi``) keeps it to a non-generic, measure-zero degeneracy.
+   (:data:`reference.events.MISSED_CROSSING`).  *Two* velocity reversals inside one step (``sdot``
+   dips through zero and back between two step ends; 1 in ~1000 slow departures from a wall) are
+   caught by a third, non-terminal event at every speed minimum (:func:`reference.events.dip_condition`):
+   if ``sdot`` points backwards there, the segment is solved again up to that minimum, where the
+   reversal is a sign change.
 3. *A flight that returns to the wall it left* is an ordinary reversal followed by a segment that
    watches the start wall.
 4. *Grazing*: an excursion beyond a wall, however shallow, is caught (item 2); a tangency that stays
@@ -129,9 +131,10 @@ def _make_rhs(theta0: float, p: Params, variational: bool) -> Callable:
     return rhs_var
 
 
-def _events(sigma: float):
-    """The two event functions of a segment of direction ``sigma`` (:mod:`reference.events`) as
-    scipy events: the wall ahead first, then the velocity reversal."""
+def _events(sigma: float, rhs: Callable | None = None):
+    """The event functions of a segment of direction ``sigma`` (:mod:`reference.events`) as scipy
+    events: the wall ahead first, then the velocity reversal (both terminal), and, given the vector
+    field ``rhs``, the speed minimum (not terminal: :func:`reference.events.dip_condition`)."""
 
     def wall_ev(t, y):
         return ev.wall_condition(y[0], sigma)
@@ -142,7 +145,24 @@ def _events(sigma: float):
     for f in (wall_ev, rev_ev):
         f.terminal = ev.TERMINAL
         f.direction = float(ev.DIRECTION)
-    return [wall_ev, rev_ev]
+    if rhs is None:
+        return [wall_ev, rev_ev]
+
+    def dip_ev(t, y):
+        return ev.dip_condition(rhs(t, y)[1], sigma)
+
+    dip_ev.terminal = False
+    dip_ev.direction = float(ev.DIRECTION)
+    return [wall_ev, rev_ev, dip_ev]
+
+
+def _hidden_dip(sol, sigma: int) -> float | None:
+    """The first speed minimum of a solve at which the velocity points against ``sigma`` (two
+    reversals inside one step, unseen by the reversal event), or None."""
+    for t_d, y_d in zip(sol.t_events[2], sol.y_events[2]):
+        if ev.hidden_reversal(float(y_d[1]), sigma):
+            return float(t_d)
+    return None
 
 
 def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Options(), sigma: int | None = None,
@@ -162,7 +182,15 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
     samples = [] if points_per_unit else None
     for seg in range(1, MAX_SEGMENTS + 1):
         sol = solve_ivp(rhs, (t, opts.t_max), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
-                        max_step=opts.max_step, events=_events(sigma), dense_output=samples is not None)
+                        max_step=opts.max_step, events=_events(sigma, rhs), dense_output=samples is not None)
+        t_dip = _hidden_dip(sol, sigma) if sol.status >= 0 else None
+        if t_dip is not None:
+            # sdot reversed and reversed back inside one step before t_dip: solve again up to the speed
+            # minimum, where sdot has the opposite sign, so the reversal (or a wall before it) is found
+            redo = solve_ivp(rhs, (t, t_dip), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+                             max_step=opts.max_step, events=_events(sigma), dense_output=samples is not None)
+            if redo.status == 1:  # else the dip was a rounding-level tangency: keep the first solve
+                sol = redo
         if sol.status < 0:
             return Flight(_STEP_CAP, math.inf, 0, math.nan, None, seg, samples)
         if sol.status == 0:  # reached t_max without an event (OPEN_END)

@@ -113,7 +113,7 @@ def map_first_impact(theta0: float, s0: float, v0: float, p: Params):
 #: forcing turns the tooth round and then, past tau = pi, forward again): found by a random search of
 #: 8316 departures; the map (certified finder), diffrax and a 50-digit bisection of Eqs. (7)-(8) agree
 #: on the return (test_reference_diffrax.test_slow_departure_returns_to_start_wall); the scipy track
-#: misses it (test_reference_scipy, strict xfail).
+#: sees it through its speed-minimum event (sdot reverses twice inside one solver step).
 SLOW_DEPARTURES = [
     (Params(alpha=4.6168717169904765, beta=0.017982731450984075, gamma=0.12349509747636322, r=0.8),
      3.0697833122893763, -1.0, 0.005999804323986333),

@@ -99,10 +99,8 @@ def test_phi_functions_series_and_direct_agree():
 
 
 def test_reduce_phase_keeps_turns_and_phase():
-    """tau mod 2 pi (the map variable of Eqs. 12-13) split into turns and phase.  The phase of 1e6 + 0.25
-    (exact in float64) is kept to 1.2e-10 = ulp(1e6): TWO_PI_HI is float64(2 pi) with a full 53-bit
-    mantissa, so m * TWO_PI_HI rounds to half an ulp of m 2 pi (measured error 3.3e-11; see the xfail
-    test below; mapimpl.orbit limits |tau0| to TAU0_MAX = 1e6)."""
+    """tau mod 2 pi (the map variable of Eqs. 12-13) split into turns and phase; the phase of 1e6 + 0.25
+    (exact in float64) is kept (mapimpl.orbit limits |tau0| to TAU0_MAX = 1e6)."""
     theta, cycles = reduce_phase(jnp.asarray(1e6 + 0.25), jnp.asarray(0, jnp.int64))
     k = int(np.floor(1e6 / (2 * np.pi)))
     assert int(cycles) == k
@@ -112,14 +110,18 @@ def test_reduce_phase_keeps_turns_and_phase():
         assert 0.0 <= float(th) < 2 * np.pi
 
 
-@pytest.mark.xfail(strict=True, reason="reduce_phase: TWO_PI_HI has a full 53-bit mantissa, so m * TWO_PI_HI is "
-                   "not exact (flight.py says 'exact for small m'); the phase of an exactly representable "
-                   "argument near TAU0_MAX = 1e6 is off by ~ulp(m 2 pi)/2 = 3e-11 instead of ~ulp(2 pi)")
 def test_reduce_phase_is_exact_to_rounding_of_the_result():
-    """A two-term (Cody-Waite) reduction whose TWO_PI_HI has trailing zero bits gives theta to ~1 ulp of
-    the result for any exactly representable argument up to TAU0_MAX = 1e6 (the range of tau0 that
-    mapimpl.orbit accepts); measured error 3.3e-11 at 999999.25 (ulp(2 pi) = 8.9e-16)."""
-    x = 999999.25
-    theta, cycles = reduce_phase(jnp.asarray(x), jnp.asarray(0, jnp.int64))
-    exact = mp.mpf(x) - int(cycles) * 2 * mp.pi
-    assert abs(float(theta) - float(exact)) <= 2 * np.spacing(2 * np.pi)
+    """The three-term Cody-Waite reduction (33-bit TWO_PI_HI and TWO_PI_MID) gives theta to ~1 ulp of the
+    result for exactly representable arguments up to TAU0_MAX = 1e6 (the range of tau0 that
+    mapimpl.orbit accepts) and beyond; the two-term split with a full 53-bit TWO_PI_HI was off by 3.3e-11
+    at 999999.25.  The reference tracks' Python-float reduction must agree bit for bit."""
+    from gear_rattle.reference._common import reduce_phase as reduce_py
+
+    rng = np.random.default_rng(5)
+    xs = [999999.25, 1e6, -1e6, 6.4e6, 2 * np.pi * 159154, 3.0] + list(rng.uniform(-1e6, 1e6, 200))
+    for x in xs:
+        theta, cycles = reduce_phase(jnp.asarray(x), jnp.asarray(0, jnp.int64))
+        exact = mp.mpf(x) - int(cycles) * 2 * mp.pi
+        assert 0.0 <= float(theta) < 2 * np.pi
+        assert abs(float(theta) - float(exact)) <= 2 * np.spacing(2 * np.pi), x
+        assert reduce_py(float(x), 0) == (float(theta), int(cycles)), x

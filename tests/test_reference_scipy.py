@@ -16,7 +16,7 @@ from gear_rattle.mapimpl.params import Params
 from gear_rattle.mapimpl.sticking import release_delay
 from gear_rattle.reference import scipy_track as S
 from refhelpers import (GRAZE_DS, N_ORBIT, SLOW_DEPARTURES, map_first_impact, map_one, params_st, state_st,
-                        v0_for_apex)
+                        tau_tol, v0_for_apex)
 
 CI = settings(deadline=None, max_examples=12, derandomize=True)
 LONG = settings(deadline=None, max_examples=2000)
@@ -248,24 +248,13 @@ def test_dense_invariants(p, state):
     _check_invariants(p, state[0], state[1], 8)
 
 
-#: Bug (issue 11): the scipy track misses two velocity reversals that fall inside one solver step (the
-#: reversal event sees the same sign at both ends of the step).  docs/reference_track.md calls this
-#: non-generic; it is not: 1 of 60 random examples of test_dense_invariants (12 impacts) shows it, and
-#: 7 of 8316 random slow departures from a wall (|v0| = 1e-3 ... 0.3) miss a real impact because of it.
-DOUBLE_REVERSAL_BUG = ("scipy track: two velocity reversals inside one solver step go undetected, so s is not "
-                       "monotone on a segment and an impact on the wall behind can be missed")
-
-
 @pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason=DOUBLE_REVERSAL_BUG + " (random examples: not every run meets it; "
-                   "remove this marker when the strict xfails below pass)")
 @LONG
 @given(params_st, state_st)
 def test_dense_invariants_long(p, state):
     _check_invariants(p, state[0], state[1], 20)
 
 
-@pytest.mark.xfail(strict=True, reason=DOUBLE_REVERSAL_BUG)
 def test_dense_invariants_with_a_short_velocity_dip():
     """A random example (found by test_dense_invariants' strategy): in the 10th flight the velocity goes
     0.0056 -> -0.0028 -> 0.0010 between three samples 0.05 apart, i.e. s has a local maximum and a
@@ -274,16 +263,17 @@ def test_dense_invariants_with_a_short_velocity_dip():
     _check_invariants(p, 0.4948759939130039, 2.323183126740533, 12)
 
 
-@pytest.mark.xfail(strict=True, reason=DOUBLE_REVERSAL_BUG)
 @pytest.mark.parametrize("case", range(len(SLOW_DEPARTURES)))
 def test_slow_departure_returns_to_start_wall(case):
     """Eq. (3) from a wall with a slow departure: the first impact is the return to the start wall, as
-    the map finds it (times agree like any transversal impact, 1e-13)."""
+    the map finds it (the scipy track finds it through its speed-minimum event: sdot reverses twice
+    inside one solver step).  Times agree to the one-step bound tau_tol(v) = TAU_TOL + DS_TOL/|v|: these
+    returns are slow (|v| ~ 1e-3), so a displacement error becomes a time error ~ DS_TOL/|v|."""
     p, theta, s0, v0 = SLOW_DEPARTURES[case]
     fl = S.flight(theta, s0, v0, p)
     st, t, wall, v = map_first_impact(theta, s0, v0, p)
     assert st == HIT and wall == int(s0)
-    assert fl.status == "hit" and fl.wall == wall and abs(fl.t - t) < 1e-13
+    assert fl.status == "hit" and fl.wall == wall and abs(fl.t - t) <= tau_tol(v)
 
 
 # ---------------------------------------------------------------- validation
