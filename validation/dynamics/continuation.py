@@ -163,17 +163,32 @@ class Branch:
         }
 
 
-def _newton(fun, y0, max_iter=30, tol=1e-12, fd_h=None):
-    """Newton with a forward-difference Jacobian for ``fun: R^3 -> R^3``; returns (y, res, iters, ok)."""
+#: Newton steps taken by :func:`locate` after the tolerance is met, each kept only if it lowers the residual: the
+#: result does not depend on how far inside the tolerance the last regular step happened to land.
+POLISH_STEPS = 2
+
+
+def _newton(fun, y0, max_iter=30, tol=1e-12, fd_h=None, polish_steps=0):
+    """Newton with a forward-difference Jacobian for ``fun: R^3 -> R^3``; returns (y, res, iters, ok).
+    Once the residual is below ``tol``, up to ``polish_steps`` more steps are taken while they lower
+    it (the solution is then at the rounding level of ``fun``)."""
     y = np.array(y0, dtype=np.float64)
     res, it = np.inf, 0
-    for it in range(1, max_iter + 1):
+    polish = 0
+    for it in range(1, max_iter + polish_steps + 1):
         F = fun(y)
         if F is None or not np.all(np.isfinite(F)):
             return y, np.inf, it, False
-        res = float(np.max(np.abs(F)))
+        r_now = float(np.max(np.abs(F)))
+        if polish and r_now >= res:  # the polishing step did not help: keep the previous point
+            return y_prev, res, it, True
+        res = r_now
         if res < tol:
-            return y, res, it, True
+            if polish >= polish_steps or res == 0.0:
+                return y, res, it, True
+            polish += 1
+        elif it > max_iter:
+            break
         Jm = np.empty((3, 3))
         for j in range(3):
             h = (fd_h or 1e-7) * max(1.0, abs(y[j]))
@@ -190,6 +205,10 @@ def _newton(fun, y0, max_iter=30, tol=1e-12, fd_h=None):
             dy = np.linalg.solve(Jm, -F)
         except np.linalg.LinAlgError:
             return y, res, it, False
+        y_prev = y
+        if polish:  # a full step, judged at the next iteration
+            y = y + dy
+            continue
         lam = 1.0
         while lam > 1e-3:
             Fn = fun(y + lam * dy)
@@ -214,7 +233,7 @@ def locate(params: Params, param: str, kind: str, tau: float, sdot: float, mu: f
         G, d, ok = prob.test_fn(y, kind)
         return np.array([G[0], G[1], d]) if ok else None
 
-    y, res, it, conv = _newton(fun, [tau, sdot, mu], max_iter=max_iter, tol=tol)
+    y, res, it, conv = _newton(fun, [tau, sdot, mu], max_iter=max_iter, tol=tol, polish_steps=POLISH_STEPS)
     _, M, _ = prob.eval(y)
     return BifurcationPoint(kind, float(y[2]), float(y[0] % _TWO_PI), float(y[1]), np.linalg.eigvals(M), res,
                             bool(conv), it, param)
