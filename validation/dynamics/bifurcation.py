@@ -17,7 +17,7 @@ Transients (``transient`` impacts) are discarded, then ``keep`` impacts are reco
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
@@ -37,7 +37,6 @@ DIAGRAM_PARAMS = ("r", "alpha")
 #: Hard caps that keep a run bounded.
 MAX_POINTS = 20000
 MAX_IMPACTS = 50_000_000
-CHUNK = 20000
 
 
 def check_int(name: str, value, lo: int, hi: int) -> int:
@@ -59,75 +58,6 @@ def param_arrays(base: Params, name: str, values) -> ParamArrays:
     d = {k: np.full(v.shape, getattr(base, k)) for k in ("alpha", "beta", "gamma", "r")}
     d[name] = v
     return validate_arrays(d["alpha"], d["beta"], d["gamma"], d["r"])
-
-
-def _axes(p: ParamArrays):
-    return ParamArrays(*(0 if jnp.ndim(x) else None for x in p))
-
-
-def _run_rec(st: MapState, p: ParamArrays, n: int):
-    def body(s, _):
-        s1, info = step(s, p)
-        return s1, (s1.theta, s1.sdot, s1.wall, info.stuck, s1.status == ACTIVE)
-
-    return jax.lax.scan(body, st, None, length=n)
-
-
-@partial(jax.jit, static_argnums=(2,))
-def _rec_batch(st: MapState, p: ParamArrays, n: int):
-    return jax.vmap(_run_rec, in_axes=(0, _axes(p), None))(st, p, n)
-
-
-@partial(jax.jit, static_argnums=(2,))
-def _adv_batch(st: MapState, p: ParamArrays, n: int):
-    def one(s, pp):
-        return jax.lax.fori_loop(0, n, lambda _, x: step(x, pp)[0], s)
-
-    return jax.vmap(one, in_axes=(0, _axes(p)))(st, p)
-
-
-@dataclass
-class Record:
-    """Recorded orbits: arrays of shape ``(batch, n)`` and the final states."""
-
-    theta: np.ndarray
-    sdot: np.ndarray
-    wall: np.ndarray
-    stuck: np.ndarray
-    active: np.ndarray
-    cycles0: np.ndarray
-    final: MapState
-    tau_first: np.ndarray = field(default=None)
-
-
-def advance(st: MapState, p: ParamArrays, n: int, chunk: int = CHUNK, progress=None) -> MapState:
-    """Advance a batch ``n`` impacts without recording (in chunks, for progress reports)."""
-    n = check_int("transient", n, 0, MAX_IMPACTS)
-    done = 0
-    while done < n:
-        k = min(chunk, n - done)
-        st = _adv_batch(st, p, k)
-        done += k
-        if progress is not None:
-            progress(done, n)
-    return st
-
-
-def record(st: MapState, p: ParamArrays, n: int, chunk: int = CHUNK, progress=None) -> Record:
-    """Run a batch ``n`` impacts and record ``theta, sdot, wall, stuck, active`` of every state."""
-    n = check_int("n", n, 1, MAX_IMPACTS)
-    outs = []
-    done = 0
-    cyc0 = np.asarray(st.cycles)
-    while done < n:
-        k = min(chunk, n - done)
-        st, rec = _rec_batch(st, p, k)
-        outs.append([np.asarray(a) for a in rec])
-        done += k
-        if progress is not None:
-            progress(done, n)
-    cat = [np.concatenate([o[i] for o in outs], axis=1) for i in range(5)]
-    return Record(cat[0], cat[1], cat[2], cat[3], cat[4], cyc0, st)
 
 
 @partial(jax.jit, static_argnums=(2, 3))
