@@ -77,8 +77,13 @@ def environment() -> dict:
     try:
         import subprocess
 
+        root = Path(__file__).resolve().parents[2]
         env["git_commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                                           cwd=Path(__file__).resolve().parents[2], timeout=5).stdout.strip() or "unknown"
+                                           cwd=root, timeout=5).stdout.strip() or "unknown"
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], capture_output=True,
+                               text=True, cwd=root, timeout=5).stdout.strip()
+        if dirty and env["git_commit"] != "unknown":
+            env["git_commit"] += " (with uncommitted changes)"
     except Exception:  # pragma: no cover
         env["git_commit"] = "unknown"
     return env
