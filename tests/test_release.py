@@ -280,12 +280,11 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
     assert res.target == {k: all_notes["capture_target"][k] for k in ("theta", "sdot", "wall")}
 
 
-def test_sticking_walls_books_episodes_per_wall():
-    """The per-wall diagnostic (the engine's micro-step, episodes booked to their wall): states that
-    stick at once to the upper and to the lower wall, and one that never sticks within the cap."""
+def test_sticking_walls_names_the_first_wall():
+    """The per-wall diagnostic (the transient engine, stopped at the first sticking): states that stick at
+    once to the upper and to the lower wall, and one that never sticks within the cap."""
     ics = [R.stick_at_once_state(FIG11, 0, tau0=3.25), R.stick_at_once_state(FIG11, -1), (3.25, 0.4)]
-    w = R.sticking_walls([t for t, _ in ics], [s for _, s in ics], FIG11, cap=60, lanes=4)
+    w = R.sticking_walls([t for t, _ in ics], [s for _, s in ics], FIG11, cap=60)
     assert w["first_wall"].tolist()[:2] == [0, -1]
-    assert w["upper"].tolist()[:2] == [1, 0] and w["lower"].tolist()[:2] == [0, 1]
-    assert w["n"].tolist()[:2] == [60, 60]  # the post-release orbits are not captured within 60 impacts
-    assert (w["first_wall"][2] == 1) == (w["upper"][2] + w["lower"][2] == 0)
+    assert w["first_stick"].tolist()[:2] == [0, 0]
+    assert (w["first_wall"][2] == 1) == (w["first_stick"][2] == -1)

@@ -117,7 +117,7 @@ class TransientResult:
     ``n``: iterations the engine performed for the orbit; ``status``: orbit status codes
     (:class:`~gear_rattle.mapimpl.status.Orbit`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...);
     ``nstick``: sticking episodes computed; ``first_stick``: impact index at which the orbit first
-    stuck (-1: never); ``stick_wall``: its wall.  ``release``: per wall that was stuck to, the
+    stuck (-1: never); ``stick_wall``: its wall (``release="compose"``; 1 = not recorded when followed).  ``release``: per wall that was stuck to, the
     post-release orbit: ``{"wall", "ic", "first_stick", "T_post" (one per delta, -1: beyond the cap)}``.
     :meth:`duration` gives the durations, censored orbits set to ``cap``.
     """
@@ -280,7 +280,8 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
               progress=progress, label=label, **kw)
     hit[idx] = res.obs[0]["hit"]
     nn[idx], status[idx], nstick[idx], first[idx] = res.n, res.status, res.nstick, res.first_stick
-    swall[idx] = res.wall
+    # the wall the orbit stopped on: its first sticking wall in compose mode (unknown when followed: 1)
+    swall[idx] = res.wall if release == "compose" else 1
     hit_before_stick = hit.copy()
     releases = []
     stuck = status == int(Orbit.STUCK)

@@ -526,93 +526,25 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
             "orbits_reaching_target": int((~live).sum())}
 
 
-#: :func:`sticking_walls` books episodes in the engine's ``nstick`` field: upper-wall ones in units
-#: of 1, lower-wall ones in units of ``_LOWER_UNIT``, plus ``_FIRST_LOWER`` when the first was lower.
-_LOWER_UNIT, _FIRST_LOWER = 1 << 12, 1 << 24
-
-
-def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: int = 512, block: int = 32,
+def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: int | None = None,
                    delta: float = DELTA, progress=None) -> dict:
-    """Sticking episodes per wall of every pre-impact initial condition, up to capture (``delta``)
-    or ``cap`` iterations: the engine's micro-step (:mod:`mapimpl.engine.kernel`, same arithmetic,
-    same capture rule) with each episode booked to the wall it sticks to.
+    """Which wall every pre-impact initial condition first sticks to within ``cap`` iterations (before a
+    capture within ``delta``): the transient engine itself (``release="compose"``, which stops each orbit
+    at its first sticking).
 
-    Returns numpy arrays ``{"upper", "lower", "first_wall" (0, -1, or 1 = never stuck),
-    "status", "n", "hit"}`` (``hit``: the capture iteration, -1 if none).  At most 4095 episodes
-    per wall are booked (a cap of 20000 iterations allows far fewer at the paper's setting).  One device; a diagnostic (the transient engine itself does not separate walls).
+    Returns numpy arrays ``{"first_wall" (0, -1, or 1 = never stuck), "first_stick" (impact index,
+    -1: never), "status", "n"}``.
     """
     import numpy as np
 
-    from ...mapimpl import _jax  # noqa: F401
-    import jax
-    import jax.numpy as jnp
+    from ...mapimpl.engine.transients import transient_times
 
-    from ...mapimpl.engine import kernel as K
-    from ...mapimpl.engine.transients import initial_states, periodic_target
-    from ...mapimpl.finder import MAX_STEPS, T_MAX
-
-    tg = periodic_target(params)
-    th, sd, wl, _ = initial_states(params, tau0, sdot0)
-    n_ic = th.size
-    k = K.make_consts((params.alpha, params.beta, params.gamma, params.r), tg.theta, tg.sdot, tg.wall,
-                      np.asarray([delta]), int(cap), t_max=T_MAX, max_steps=MAX_STEPS)
-
-    def micro(s, kk):
-        ns = K.micro_step(s, kk)  # the engine's arithmetic, untouched; only the booking of nst differs
-        new_stick = (ns["mode"] == K.MODE_S) & (s["mode"] != K.MODE_S)
-        lower = new_stick & (ns["wall"] == -1)
-        first_lower = lower & (s["nst"] == 0)
-        ns["nst"] = ns["nst"] + jnp.where(lower, _LOWER_UNIT - 1, 0) + jnp.where(first_lower, _FIRST_LOWER, 0)
-        return ns
-
-    @jax.jit
-    def run(carry, qth, qsd, qw):
-        step_v = jax.vmap(micro, in_axes=(0, None))
-
-        def cond(c):
-            lanes_, res, nxt, nb = c
-            return (jnp.any(lanes_["mode"] != K.MODE_IDLE) | (nxt < n_ic)) & (nb < 64)
-
-        def body(c):
-            lanes_, res, nxt, nb = c
-            lanes_, nxt = K._load(lanes_, qth, qsd, qw, nxt, n_ic, 1)
-            lanes_ = jax.lax.fori_loop(0, block, lambda _, L: step_v(L, k), lanes_)
-            res, lanes_ = K._store(res, lanes_)
-            return lanes_, res, nxt, nb + 1
-
-        lanes_, res, nxt = carry
-        lanes_, res, nxt, _ = jax.lax.while_loop(cond, body, (lanes_, res, nxt, jnp.asarray(0, jnp.int32)))
-        return lanes_, res, nxt
-
-    lanes = int(min(lanes, n_ic))
-    res = dict(n=jnp.zeros(n_ic, jnp.int32), status=jnp.full(n_ic, K.NOT_RUN, jnp.int32),
-               nstick=jnp.zeros(n_ic, jnp.int32), hitn=jnp.full((n_ic, 1), -1, jnp.int32))
-    carry = (K.idle_lanes(lanes, 1), res, jnp.asarray(0, jnp.int32))
-    q = (jnp.asarray(th), jnp.asarray(sd), jnp.asarray(wl))
-    max_calls = 1 + (int(cap) + 1) * 200 * (n_ic // lanes + 2) // (block * 64)
-    for _ in range(max_calls):
-        carry = run(carry, *q)
-        lanes_s, res, nxt = carry
-        busy = int(jnp.sum(lanes_s["mode"] != K.MODE_IDLE))
-        if progress is not None:
-            progress(int(nxt) - busy, n_ic)
-        drained = int(nxt) >= n_ic
-        if drained and busy == 0:
-            break
-        # the tail, as in the engine: few long orbits left -> fewer lanes (same arithmetic per lane)
-        size = lanes_s["mode"].shape[0]
-        new = size
-        while drained and busy <= new // 8 and new // 8 >= 32:
-            new //= 8
-        if new < size:
-            carry = (K.compact(lanes_s, size=new), res, nxt)
-    else:  # pragma: no cover - the engine bounds every orbit
-        raise RuntimeError("sticking_walls: queue not drained (bug)")
-    nst = np.asarray(res["nstick"])
-    upper, lower = nst % _LOWER_UNIT, (nst % _FIRST_LOWER) // _LOWER_UNIT
-    first = np.where(nst >= _FIRST_LOWER, -1, np.where(upper > 0, 0, 1))
-    return {"upper": upper, "lower": lower, "first_wall": first, "status": np.asarray(res["status"]),
-            "n": np.asarray(res["n"]), "hit": np.asarray(res["hitn"][:, 0])}
+    res = transient_times(np.atleast_1d(np.asarray(tau0, float)), np.atleast_1d(np.asarray(sdot0, float)), params,
+                          delta=delta, deltas=(delta,), cap=int(cap), release="compose", lanes=lanes,
+                          progress=progress, label="sticking walls")
+    stuck = res.first_stick >= 0
+    return {"first_wall": np.where(stuck, res.stick_wall, 1), "first_stick": np.asarray(res.first_stick),
+            "status": np.asarray(res.status), "n": np.asarray(res.n)}
 
 
 # ---------------------------------------------------------------------------------------------
