@@ -70,6 +70,39 @@ def test_engine_durations_equal_per_orbit_durations(target):
     assert np.all(np.diff(h[both], axis=1) >= 0)
 
 
+def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
+    """Figs. 9-11, issue 10 item 3: every orbit that sticks is released at its wall's canonical phase
+    with sdot = 0, so its duration is first_stick + T_post; Fig. 11's durations use T_post certified
+    in ball arithmetic for the decimal parameters (certified_release_duration), the float64 roundings'
+    certified value and the engine's float64 sample are kept beside; orbits that never stick keep the
+    engine's duration."""
+    from gear_rattle.validation.golden.release import PAPER_DECIMAL, certified_release_duration
+    from gear_rattle.validation.transient.experiments import transients
+
+    s = transients(outdir=tmp_path, profile="quick", nx=12, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
+    f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False)
+    assert dec.status == "captured" and f64.status == "captured"
+    e = s["release"]["0.001"]["0"]
+    assert e["certified"]["value"] == dec.value and e["used"] == dec.value and e["source"] == "certified"
+    assert e["certified_float64_rounding"]["value"] == f64.value
+    assert s["params_decimal"] == PAPER_DECIMAL
+    z = np.load(tmp_path / "transients.npz")
+    comp = z["composed"]
+    assert comp.sum() >= 10 and comp.sum() == s["n_composed"] == sum(s["stick_counts"].values())
+    assert s["stick_counts"]["0"] == int(np.sum(comp & (z["stick_wall"] == 0)))
+    hit, first = z["hit"][..., 0], z["first_stick"]
+    assert np.array_equal(hit[comp & (z["stick_wall"] == 0)], first[comp & (z["stick_wall"] == 0)] + dec.value)
+    # the float64 sample composes the same first_stick with the engine's own T_post
+    sample = e["float64_sample"]
+    assert np.array_equal(z["hit_float64_sample"][..., 0][comp & (z["stick_wall"] == 0)],
+                          first[comp & (z["stick_wall"] == 0)] + sample)
+    assert np.array_equal(hit[~comp], z["hit_float64_sample"][..., 0][~comp])
+    # the fit of Fig. 11 is made on these durations
+    d = np.where(hit.ravel() < 0, s["cap"], hit.ravel())
+    assert s["fits"]["0.001"]["mean_n"] == pytest.approx(d.mean(), rel=1e-12)
+
+
 def test_survival_monotone_and_counts():
     d = np.array([0, 1, 1, 3, 7, 7, 7, 10])
     n, N = A.survival(d, 12)

@@ -489,12 +489,12 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
     import jax
     import jax.numpy as jnp
 
-    from ...mapimpl.engine.kernel import distance
+    from ...mapimpl.engine.observers import orbit_distance
     from ...mapimpl.engine.transients import PAPER_BOX, grid, periodic_target
     from ...mapimpl.impact_map import ACTIVE, make_state, step
 
     tg = periodic_target(params)
-    k = {"po_th": jnp.asarray(tg.theta), "po_v": jnp.asarray(tg.sdot), "po_w": jnp.asarray(tg.wall)}
+    po_th, po_v, po_w = jnp.asarray(tg.theta), jnp.asarray(tg.sdot), jnp.asarray(tg.wall)
     TAU, SD = grid(PAPER_BOX if box is None else box, n_side, n_side)
     st = make_state(jnp.asarray(TAU.ravel()), jnp.asarray(SD.ravel()))
     p = params.arrays()
@@ -506,7 +506,7 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
             J = jnp.where(info.stuck, jnp.eye(2), info.jac)
             Qn, R = jnp.linalg.qr(J @ Q)
             dg = jnp.diagonal(R)
-            far = distance(s1.theta, s1.sdot, s1.wall, k) >= delta_far
+            far = orbit_distance(s1.theta, s1.sdot, s1.wall, po_th, po_v, po_w) >= delta_far
             live1 = live & (s1.status == ACTIVE) & far
             use = live1 & ~info.stuck
             acc = acc + jnp.where(use, jnp.log(jnp.abs(dg[0])), 0.0)

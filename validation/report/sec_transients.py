@@ -18,7 +18,7 @@ PHI_KEYS = {500: "phi_500", 1000: "phi_1000"}
 
 def build(ctx) -> Section:
     from ...mapimpl.engine.transients import PAPER_BOX, PAPER_PARAMS
-    from ..transient.experiments import basins, transients, uncertainty
+    from ..transient.experiments import basins, float64_horizon, stick_time_sensitivity, transients, uncertainty
 
     sec = Section(KEY, TITLE)
     data = ctx.out_dir / "data" / "transients"
@@ -36,8 +36,10 @@ def build(ctx) -> Section:
           f"(box {bx[0]:g} < tau0 < {bx[1]:g}, {bx[2]:g} < sdot0 < {bx[3]:g}). The transient "
           "duration is the number of map iterations until the orbit comes within delta of the stable "
           "4-impact period-1 orbit (found by Newton, not typed in). Orbits that chatter and stick are "
-          "followed through the sticking policy, not dropped. Method and the alternative IC reading: "
-          "docs/transients.md.")
+          "followed through the sticking policy, not dropped: each is released at its wall's canonical phase with "
+          "sdot = 0, so all of them continue on one post-release orbit, whose duration T_post is certified in ball "
+          "arithmetic in this run (below). Figs. 9-11 use the certified T_post. Method and the alternative IC reading: "
+          "docs/transients.md, docs/release.md.")
     fr = b["short_fraction"]
     sec.fig(data / "fig9_basins.png",
             f"Fig. 9 reproduced (computed, {b['nx']}x{b['ny']} mesh): black = transient shorter than n; short "
@@ -71,73 +73,209 @@ def build(ctx) -> Section:
 
     fits = t["fits"]
     main = fits.get(f"{t['delta']:g}")
-    sec.fig(data / "fig11_survival.png",
-            f"Fig. 11 reproduced (computed, {t['nx']}x{t['ny']} mesh, cap {t['cap']}): survival N(n) and the "
-            "Eq. (14) fit.")
-    sec.table(["delta", "<n>", "+-", "kappa", "+- (bootstrap)", "decay time <n>/kappa", "+- (bootstrap)", "censored"],
-              [[d, f["mean_n"], f["mean_n_se"], f["kappa"], f["kappa_se_boot"], f["tau_fit"], f["tau_fit_se_boot"],
-                f["n_censored"]] for d, f in fits.items() if f is not None])
     if main is None:
         raise RuntimeError("the Eq. (14) fit failed at the main delta")
+    delta = float(t["delta"])
+    dk = f"{delta:g}"
+    rel = t["release"][dk]
+    pn, pk, pt = PAPER["mean_n"], PAPER["kappa"], PAPER["decay_time"]
+    ctx.say("certified T_post of the upper wall (release_T_post)")
+    up = rel.get("0")
+    from ..transient.experiments import certified_t_post
+
+    confirm = ctx.profile == "paper"
+    up_dec = up["certified"] if up else certified_t_post(pp, 0, delta, confirm=confirm)
+    up_f64 = up["certified_float64_rounding"] if up else certified_t_post(pp, 0, delta, rounding="float64",
+                                                                          confirm=confirm)
+    sample_up = up["float64_sample"] if up else None
+
+    # --- the release orbit: one certified number per wall
+    counts = t["stick_counts"]
+    n_ic = t["nx"] * t["ny"]
+    sec.p(f"Orbits that chatter and stick before coming within delta = {delta:g}: {t['n_composed']} of {n_ic} "
+          f"({100 * t['n_composed'] / n_ic:.1f}% of the mesh); by the wall of their first sticking episode "
+          f"(the engine's stick_wall): upper wall s = 0: {counts['0']}, lower wall s = -1: {counts['-1']}. "
+          "Each such orbit's duration is n_s + T_post, n_s the impact at which it first sticks and T_post the "
+          "duration of its wall's one post-release orbit, counted from the release.")
+
+    def _cert_text(c):
+        if c["status"] == "captured":
+            return str(c["value"])
+        if c["status"] == "undecided":
+            return f"undecided (> {c['lower_bound']})"
+        return f"never captured ({c['status']})"
+
+    trows = []
+    for w, e in sorted(rel.items(), key=lambda kv: -int(kv[0])):
+        for c in (e["certified"], e["certified_float64_rounding"]):
+            trows.append([("upper (s = 0)" if w == "0" else "lower (s = -1)"),
+                          "exact decimals as printed" if c["rounding"] == "decimal" else "their float64 roundings",
+                          _cert_text(c), c["precision"] or "", "yes" if c["confirmed"] else "no",
+                          f"{c['seconds']:.1f}"])
+        trows.append([("upper (s = 0)" if w == "0" else "lower (s = -1)"), "float64 engine (a sample)",
+                      e["float64_sample"] if e["float64_sample"] >= 0 else f"> cap", "", "", ""])
+    if not rel:
+        trows.append(["upper (s = 0)", "exact decimals as printed", _cert_text(up_dec), up_dec["precision"] or "",
+                      "yes" if up_dec["confirmed"] else "no", f"{up_dec['seconds']:.1f}"])
+    sec.table(["wall", f"parameters (alpha, beta, gamma, r) = ({', '.join(t['params_decimal'].values())})",
+               f"T_post (delta = {delta:g})", "decided at (bits)", "confirmed at the next precision", "seconds"],
+              trows)
+    used = {w: e["source"] for w, e in rel.items()}
+    if any(v != "certified" for v in used.values()):
+        sec.p("WARNING: the certification was undecided for wall(s) "
+              + ", ".join(w for w, v in used.items() if v != "certified")
+              + "; the durations of the orbits that stick there use the float64 sample instead.")
+    sec.p("T_post is certified in ball arithmetic (python-flint arb; validation/golden/release.py): every flight, "
+          "impact and sticking decision of the post-release orbit and every distance to the target is proven at the "
+          "precision shown" + (" and the next precision gives the same impact" if confirm else
+                               " (the quick profile does not repeat it at a second precision)")
+          + ". The main <n>, kappa and decay time below use the certified value for the decimal parameters. The "
+          "float64 roundings of the same parameters (a change of ~1e-17) give another value, and the float64 engine's "
+          "own post-release orbit yet another: the release orbit is chaotic, so T_post is exact for the stated "
+          "parameters but is not a robust feature of the model.")
+
+    sec.fig(data / "fig11_survival.png",
+            f"Fig. 11 reproduced (computed, {t['nx']}x{t['ny']} mesh, cap {t['cap']}, certified T_post): survival N(n) "
+            "and the Eq. (14) fit.")
+    sec.table(["delta", "T_post (upper wall, certified)", "<n>", "+-", "kappa", "+- (bootstrap)",
+               "decay time <n>/kappa", "+- (bootstrap)", "censored"],
+              [[d, _cert_text(t["release"][d]["0"]["certified"]) if "0" in t["release"][d] else "",
+                f["mean_n"], f["mean_n_se"], f["kappa"], f["kappa_se_boot"], f["tau_fit"], f["tau_fit_se_boot"],
+                f["n_censored"]] for d, f in fits.items() if f is not None])
     sec.p("Eq. (14) written with the decay time T of N(n): N(n) = N0 exp(-n/T), so kappa = <n>/T; for a pure "
-          "exponential whose mean is <n>, kappa = 1.")
-    # how the chattering initial conditions are counted: refit this run's durations with the two other
-    # natural conventions (the spans below are computed, whatever they show)
+          "exponential whose mean is <n>, kappa = 1. T_post at the other deltas is certified at one precision.")
+
+    # --- how the orbits that stick are counted: refit this run's durations with other conventions
     import numpy as np
 
     from ..transient import analysis as A
 
     z = np.load(data / "transients.npz")
-    k = [float(x) for x in z["deltas"]].index(float(z["delta"]))
-    dur = z["hit"].reshape(-1, z["hit"].shape[-1])[:, k].astype(np.int64)
+    k = [float(x) for x in z["deltas"]].index(delta)
     cap = int(z["cap"])
-    cens = dur < 0
-    dur = np.where(cens, cap, dur)
-    stuck = z["nstick"].ravel() > 0
-    variants = [["followed through the sticking policy (ours)", dur, cens],
-                ["counted as decayed at once (duration 0)", np.where(stuck, 0, dur), cens & ~stuck],
-                ["left out", dur[~stuck], cens[~stuck]]]
+
+    def _cols(h):
+        h = h.reshape(-1, h.shape[-1])[:, k].astype(np.int64)
+        return np.where(h < 0, cap, h), h < 0
+
+    dur, cens = _cols(z["hit"])
+    dur_s, cens_s = _cols(z["hit_float64_sample"])
+    stuck = z["composed"].ravel()
+    first = z["first_stick"].ravel().astype(np.int64)
+    sw = z["stick_wall"].ravel()
+    variants = [["followed, certified T_post of the decimal parameters (ours)", dur, cens]]
+    if rel:
+        f64 = {int(w): e["certified_float64_rounding"] for w, e in rel.items()}
+        d64 = dur.copy()
+        c64 = cens.copy()
+        for w, c in f64.items():
+            sel = stuck & (sw == w)
+            comp = first + (int(c["value"]) if c["status"] == "captured" else cap + 1)
+            if c["status"] == "undecided":
+                comp = np.where(sel, dur_s, comp)
+            d64 = np.where(sel, np.minimum(comp, cap), d64)
+            c64 = np.where(sel, comp > cap, c64)
+        variants.append(["followed, certified T_post of the float64-rounded parameters", d64, c64])
+        variants.append(["followed, the float64 engine's own post-release orbit (a sample)", dur_s, cens_s])
+    variants += [["counted as decayed at once (duration 0)", np.where(stuck, 0, dur), cens & ~stuck],
+                 ["left out", dur[~stuck], cens[~stuck]]]
     vrows = []
     for name, d_, c_ in variants:
         f_ = A.fit_survival(d_, c_, cap=cap, n_boot=50, seed=ctx.seed)
-        vrows.append([name, int(d_.size), f_.mean_n, f_.kappa, f_.tau_fit])
-    sec.table(["orbits that stick (" + f"{100 * stuck.mean():.1f}% of the mesh) are", "orbits", "<n>", "kappa",
-               "decay time"], vrows)
-    pn, pk = PAPER["mean_n"], PAPER["kappa"]
-    between = all(min(vrows[0][i], vrows[1][i]) <= pv <= max(vrows[0][i], vrows[1][i])
-                  for i, pv in ((2, pn.value), (3, pk.value)))
+        vrows.append([name, int(d_.size), f_.mean_n, f_.mean_n_se, f_.kappa, f_.kappa_se_boot, f_.tau_fit])
+    sec.table(["orbits that stick (" + f"{100 * stuck.mean():.1f}% of the mesh) are", "orbits", "<n>", "+-", "kappa",
+               "+- (bootstrap)", "decay time"], vrows)
+    decayed = next(r for r in vrows if r[0].startswith("counted as decayed"))
+    between = all(min(vrows[0][i], decayed[i]) <= pv <= max(vrows[0][i], decayed[i])
+                  for i, pv in ((2, pn.value), (4, pk.value)))
     spans = {name: (min(r[i] for r in vrows), max(r[i] for r in vrows)) for name, i in
-             (("decay time", 4), ("<n>", 2), ("kappa", 3))}
-    rel = {name: (hi - lo) / lo if lo else float("nan") for name, (lo, hi) in spans.items()}
-    sec.p(f"Across the three conventions the decay time spans {spans['decay time'][0]:.0f}-{spans['decay time'][1]:.0f} "
-          f"({100 * rel['decay time']:.1f}%), <n> spans {spans['<n>'][0]:.0f}-{spans['<n>'][1]:.0f} "
-          f"({100 * rel['<n>']:.1f}%) and kappa {spans['kappa'][0]:.3f}-{spans['kappa'][1]:.3f} "
-          f"({100 * rel['kappa']:.1f}%). The paper's <n> = {pn.printed} and kappa = {pk.printed} "
-          + ("both lie between the first two conventions in this run (the paper does not say how chattering orbits "
-             "were treated)." if between else
-             "do not both lie between the first two conventions in this run."))
-    # the other reading of (tau0, sdot0): a free-flight state just after leaving s = -1 (docs/transients.md)
+             (("decay time", 6), ("<n>", 2), ("kappa", 4))}
+    relsp = {name: (hi - lo) / lo if lo else float("nan") for name, (lo, hi) in spans.items()}
+    sample_row = next((r for r in vrows if "a sample" in r[0]), None)
+    effect = ""
+    if sample_row is not None:
+        effect = (f" Replacing the certified T_post by the float64 engine's sample ({sample_up}) moves <n> by "
+                  f"{sample_row[2] - vrows[0][2]:+.0f} ({(sample_row[2] - vrows[0][2]) / vrows[0][3]:+.1f} of its "
+                  f"standard error) and kappa by {sample_row[4] - vrows[0][4]:+.3f}: one chaotic float64 orbit "
+                  f"decides that much of the result.")
+    sec.p(f"Across these conventions the decay time spans {spans['decay time'][0]:.0f}-{spans['decay time'][1]:.0f} "
+          f"({100 * relsp['decay time']:.1f}%), <n> spans {spans['<n>'][0]:.0f}-{spans['<n>'][1]:.0f} "
+          f"({100 * relsp['<n>']:.1f}%) and kappa {spans['kappa'][0]:.3f}-{spans['kappa'][1]:.3f} "
+          f"({100 * relsp['kappa']:.1f}%)." + effect + f" The paper's <n> = {pn.printed} and kappa = {pk.printed} "
+          + ("both lie between ours (certified) and 'counted as decayed at once' in this run (the paper does not say "
+             "how chattering orbits were treated)." if between else
+             "do not both lie between ours (certified) and 'counted as decayed at once' in this run."))
+
+    # --- sensitivity to the sticking decision (the chatter threshold STICK_TIME)
+    ctx.say("Fig. 11: sensitivity to the chatter threshold stick_time")
+    sens = stick_time_sensitivity(outdir=data, profile=ctx.profile, seed=ctx.seed, progress=prog)
+    srows = []
+    for r_ in sens["rows"]:
+        f_ = r_["fit"]
+        srows.append([f"{r_['stick_time']:g}" + (" (this run)" if r_["base"] else ""),
+                      f"{100 * r_['sticking_fraction']:.2f}%", f"{r_['stick_counts']['0']} / {r_['stick_counts']['-1']}",
+                      r_["T_post_upper"] if r_["T_post_upper_status"] == "captured" else r_["T_post_upper_status"],
+                      f_["mean_n"] if f_ else "fit failed", f_["mean_n_se"] if f_ else "",
+                      f_["kappa"] if f_ else "", f_["kappa_se_boot"] if f_ else ""])
+    sub = ("the run's mesh" if sens["stride"] == 1 else
+           f"a coarser sub-mesh ({sens['nx']}x{sens['ny']}: every {sens['stride']}nd row and column of the run's "
+           f"mesh, to bound the cost)")
+    sec.table(["stick_time (chatter threshold)", "sticking fraction", "stick upper / lower", "certified T_post (upper)",
+               "<n>", "+-", "kappa", "+- (bootstrap)"], srows)
+    fr = [r_["sticking_fraction"] for r_ in sens["rows"]]
+    ns_ = [r_["fit"]["mean_n"] for r_ in sens["rows"] if r_["fit"]]
+    ks_ = [r_["fit"]["kappa"] for r_ in sens["rows"] if r_["fit"]]
+    base_fit = next(r_["fit"] for r_ in sens["rows"] if r_["base"])
+    sec.p(f"Sensitivity to the sticking decision, on {sub}: chatter whose predicted accumulation time is below "
+          "stick_time is replaced by sticking (mapimpl.sticking.STICK_TIME); each value uses its own certified T_post. "
+          f"Over stick_time = {', '.join(format(r_['stick_time'], 'g') for r_ in sens['rows'])} the sticking fraction spans "
+          f"{100 * min(fr):.2f}-{100 * max(fr):.2f}%, <n> {min(ns_):.0f}-{max(ns_):.0f} and kappa "
+          f"{min(ks_):.4f}-{max(ks_):.4f}"
+          + (f" (standard errors on this mesh: {base_fit['mean_n_se']:.0f} and {base_fit['kappa_se_boot']:.3f})."
+             if base_fit else "."))
+
+    # --- a float64 transient is a sample, not a value
+    ctx.say("transient Lyapunov exponent and the float64 horizon")
+    hz = float64_horizon(pp, profile=ctx.profile, delta=delta)
+    long_frac = float(np.mean(dur > hz["horizon_delta"]))
+    sec.p(f"A float64 orbit is a sample, not a value, past ~{hz['horizon_delta']:.0f} impacts: the transient's "
+          f"largest Lyapunov exponent is lambda1 = {hz['lambda1']:.3f} per impact (QR method over "
+          f"{hz['impacts_used']} transient impacts of {hz['orbits']} orbits from a {hz['n_side']}x{hz['n_side']} grid "
+          f"of the box, computed in this run), so a rounding error of u = 2^-53 grows to delta = {delta:g} after "
+          f"ln(delta/u)/lambda1 = {hz['horizon_delta']:.0f} impacts and to order one after ln(1/u)/lambda1 = "
+          f"{hz['horizon_1']:.0f}. Every float64 transient longer than that ({100 * long_frac:.1f}% of this run's "
+          "durations) is a sample of the transient-length distribution, not the value for its initial condition: "
+          "the histogram, <n>, kappa and the decay time are statistics of such samples and are meaningful as "
+          "statistics; the duration of one initial condition is not. The post-release orbit shared by all "
+          "sticking orbits is the one transient computed as a value (certified above).")
+
+    # --- the other reading of (tau0, sdot0): a free-flight state just after leaving s = -1 (docs/transients.md)
     ctx.say("Fig. 11 with the alternative initial-condition reading (free flight from s = -1)")
     alt = transients(outdir=data / "alt_ic_s0_-1", profile=ctx.profile, seed=ctx.seed, progress=prog,
                      ic_mode="free", s0=-1.0)
     alt_main = alt["fits"].get(f"{alt['delta']:g}")
     irows = [["pre-impact state at s = 0 (ours)", main["mean_n"], main["kappa"], main["tau_fit"],
-              t["engine"]["orbits_with_sticking"]]]
+              t["n_composed"]]]
     if alt_main is not None:
         irows.append(["free flight leaving s = -1", alt_main["mean_n"], alt_main["kappa"], alt_main["tau_fit"],
-                      alt["engine"]["orbits_with_sticking"]])
-    irows.append(["paper", pn.value, pk.value, PAPER["decay_time"].value, ""])
+                      alt["n_composed"]])
+    irows.append(["paper", pn.value, pk.value, pt.value, ""])
     sec.table(["initial conditions (tau0, sdot0) read as", "<n>", "kappa", "decay time", "orbits that stick"], irows)
     if alt_main is not None:
         closer = abs(main["mean_n"] - pn.value) < abs(alt_main["mean_n"] - pn.value)
         dtau = 100.0 * (alt_main["tau_fit"] - main["tau_fit"]) / main["tau_fit"]
-        sec.p(f"With the free-flight reading {alt['engine']['orbits_with_sticking']} orbits stick (pre-impact reading: "
-              f"{t['engine']['orbits_with_sticking']}), the decay time changes by {dtau:+.1f}% and <n> by "
+        sec.p(f"With the free-flight reading {alt['n_composed']} orbits stick (pre-impact reading: "
+              f"{t['n_composed']}), the decay time changes by {dtau:+.1f}% and <n> by "
               f"{alt_main['mean_n'] - main['mean_n']:+.0f}: in this run the "
               + ("pre-impact" if closer else "free-flight") + " reading gives the <n> closer to the paper's.")
-    conv = (f"<n> over the three conventions for orbits that stick: {spans['<n>'][0]:.0f}-{spans['<n>'][1]:.0f}; "
-            f"the paper's <n> and kappa {'both lie' if between else 'do not both lie'} between the values of the "
-            f"first two (followed / counted as decayed at once)")
+
+    # --- summary rows
+    conv = (f"orbits that stick ({100 * stuck.mean():.1f}% of the mesh) use the certified T_post = "
+            f"{_cert_text(up_dec)} of the upper wall"
+            + (f"; with the float64 engine's sample ({sample_up}) <n> would be {sample_row[2]:.0f}" if sample_row else "")
+            + f"; <n> over the conventions for orbits that stick: {spans['<n>'][0]:.0f}-{spans['<n>'][1]:.0f}; "
+            f"the paper's <n> and kappa {'both lie' if between else 'do not both lie'} between ours and 'counted as "
+            "decayed at once'")
     sec.numbers.append(row(
         "mean_n", "mean transient duration <n>", float(main["mean_n"]), float(main["mean_n_se"]), paper="mean_n",
         computed_text=f"{main['mean_n']:.0f}", error_text=f"+- {main['mean_n_se']:.0f}", explanation=conv,
@@ -146,16 +284,39 @@ def build(ctx) -> Section:
     sec.numbers.append(row(
         "kappa", "kappa of N(n) = N0 exp(-kappa n/<n>)", float(main["kappa"]), float(main["kappa_se_boot"]),
         paper="kappa", computed_text=f"{main['kappa']:.3f}", error_text=f"+- {main['kappa_se_boot']:.3f} (bootstrap)",
-        explanation=f"kappa = <n>/decay time; our least-squares error of kappa is {main['kappa_se_ls']:.2g}, the "
-                    f"bootstrap error {main['kappa_se_boot']:.2g} (ratio {ratio:.1f}); fit over n = {main['n_lo']}-"
-                    f"{main['n_hi']}, {main['n_ic']} orbits, {main['n_censored']} censored at the cap",
+        explanation=f"kappa = <n>/decay time, with the certified T_post; our least-squares error of kappa is "
+                    f"{main['kappa_se_ls']:.2g}, the bootstrap error {main['kappa_se_boot']:.2g} (ratio {ratio:.1f}); "
+                    f"fit over n = {main['n_lo']}-{main['n_hi']}, {main['n_ic']} orbits, {main['n_censored']} censored "
+                    f"at the cap" + (f"; with the float64 sample of T_post kappa would be {sample_row[4]:.3f}"
+                                     if sample_row else ""),
         where=pk.where))
-    pt = PAPER["decay_time"]
     sec.numbers.append(row(
         "decay_time", "decay time of N(n), <n>/kappa", float(main["tau_fit"]), float(main["tau_fit_se_boot"]),
         paper="decay_time", computed_text=f"{main['tau_fit']:.0f}", error_text=f"+- {main['tau_fit_se_boot']:.0f}",
         explanation=f"the paper's value is {pn.printed}/{pk.printed} = {pt.value:.1f} +- {pt.error:.1f} (its error "
                     f"propagates the rounding of {pn.printed} and the stated error of kappa); decay time across the "
-                    f"three conventions for orbits that stick: {spans['decay time'][0]:.0f}-{spans['decay time'][1]:.0f}",
+                    f"conventions for orbits that stick: {spans['decay time'][0]:.0f}-{spans['decay time'][1]:.0f}",
         where=pt.where))
+    sec.numbers.append(release_row(up_dec, up_f64, sample_up, delta))
     return sec
+
+
+def release_row(dec: dict, f64: dict, sample, delta: float):
+    """The summary row ``release_T_post``: the certified post-release duration of the upper wall's
+    canonical release orbit for the decimal parameters (error 0: certified), with the value for their
+    float64 roundings and the float64 engine's sample in the text.  Not in the paper: not compared."""
+    ok = dec["status"] == "captured"
+    val = float(dec["value"]) if ok else None
+    f64_text = (str(f64["value"]) if f64["status"] == "captured" else f64["status"])
+    conf = "confirmed at the next precision" if dec["confirmed"] else "not repeated at a second precision"
+    expl = (f"certified in ball arithmetic (python-flint arb, validation/golden/release.py): the post-release orbit "
+            f"of the upper wall s = 0 (released at the canonical phase {dec['release_phase'][:20]}... with sdot = 0) "
+            f"first comes within delta = {delta:g} of the 4-impact orbit at post-release impact "
+            + (f"{dec['value']}" if ok else f"? ({dec['status']}, > {dec['lower_bound']} certified)")
+            + f" for the exact decimal parameters (alpha, beta, gamma, r) = ({', '.join(dec['params'].values())}); "
+            f"decided at {dec['precision']} bits, {conf}. For their float64 roundings T_post = {f64_text} (certified); "
+            f"the float64 engine's own post-release orbit gives {sample if sample is not None else 'no value'} "
+            "(a sample: float64 loses the orbit after ~60 impacts)")
+    return row("release_T_post", "post-release duration T_post of the canonical release orbit (upper wall)", val,
+               0.0 if ok else None, paper=None, computed_text=str(dec["value"]) if ok else dec["status"],
+               error_text="0 (certified)" if ok else "", explanation=expl, where="Figs. 9-11 (Section 4)")
