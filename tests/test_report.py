@@ -304,3 +304,42 @@ def test_period_and_laminar_detection_on_synthetic_series():
     frac, n_ph, tail = _laminar_in_series(np.concatenate([six, burst, six]), 0.05)
     assert n_ph == 2 and tail is not None and 0.8 < frac < 1.0
     assert _laminar_in_series(np.concatenate([six, burst]), 0.05)[2] is None
+
+
+# ------------------------------------------------------------------ the transient section (Figs. 9-11)
+
+def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeypatch):
+    """Figs. 9-11 / Eq. (14), issue 10 item 3: the quick report's transient section (its experiments
+    shrunk to small meshes here; the section's code is the real one) gives a ``release_T_post`` row
+    whose value is what ``certified_release_duration`` returns for the decimal parameters (error 0,
+    not compared with the paper, the float64-rounding value and the float64 sample in its text), and
+    keeps the mean_n / kappa / decay_time rows, computed from durations in which every sticking orbit
+    is first_stick + the certified T_post."""
+    import numpy as np
+
+    from gear_rattle.validation.golden.release import PAPER_DECIMAL, certified_release_duration
+    from gear_rattle.validation.report import sec_transients
+    from gear_rattle.validation.transient import experiments as E
+
+    small = {"basins": dict(nx=16, ny=8, ns=(90, 500)), "uncertainty": dict(n_points=20, eps=[1e-6, 1e-5, 1e-4],
+                                                                             ns=(100, 500)),
+             "transients": dict(nx=18, deltas=(1e-3,), n_boot=5)}
+    for name, kw in small.items():
+        f = getattr(E, name)
+        monkeypatch.setattr(E, name, lambda *a, _f=f, _kw=kw, **k: _f(*a, **{**k, **_kw}))
+    ctx = builder.Context(profile="quick", out_dir=tmp_path, progress=False)
+    sec = sec_transients.build(ctx)
+    nums = {n.key: n for n in sec.numbers}
+    assert {"mean_n", "kappa", "decay_time", "release_T_post"} <= set(nums)
+    dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
+    f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False)
+    r = nums["release_T_post"]
+    assert r.value == dec.value and r.error == 0 and r.verdict == NOT_COMPARED
+    assert "certified" in r.explanation and "ball arithmetic" in r.explanation
+    assert f"T_post = {f64.value}" in r.explanation and "sample" in r.explanation
+    z = np.load(tmp_path / "data" / "transients" / "transients.npz")
+    c = z["composed"] & (z["stick_wall"] == 0)
+    assert c.sum() >= 5
+    assert np.array_equal(z["hit"][..., 0][c], z["first_stick"][c] + dec.value)
+    d = z["hit"][..., 0].ravel()
+    assert nums["mean_n"].value == pytest.approx(np.where(d < 0, int(z["cap"]), d).mean(), rel=1e-12)

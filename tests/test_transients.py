@@ -79,7 +79,7 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     from gear_rattle.validation.golden.release import PAPER_DECIMAL, certified_release_duration
     from gear_rattle.validation.transient.experiments import transients
 
-    s = transients(outdir=tmp_path, profile="quick", nx=12, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    s = transients(outdir=tmp_path, profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
     dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
     f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False)
     assert dec.status == "captured" and f64.status == "captured"
