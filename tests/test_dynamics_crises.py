@@ -41,5 +41,8 @@ def test_alpha1_boundary_crisis_from_escape_times():
     assert b["clear"] - res["bracket_margin"] - res["alpha1_err"] <= res["alpha1"] <= b["seen"] + res["alpha1_err"]
     assert res["alpha1_err"] < 5e-5
     assert res["node"].stable and res["node"].impacts == 4
-    # the paper's value: measured mean lifetime there is finite (escapes seen) iff it lies above our alpha1
-    assert (res["paper"]["T"] < np.inf) == (PAPER_ALPHA1 > res["bracket"]["seen"] - 1e-12) or PAPER_ALPHA1 > res["alpha1"]
+    # where the paper's value lies: if it is above our alpha1 (beyond the error), escapes must have been
+    # observed there (a finite measured mean lifetime): the chaotic set is already transient at 1.24370
+    assert res["paper"]["measured_at"] == PAPER_ALPHA1
+    if PAPER_ALPHA1 > res["alpha1"] + 3 * res["alpha1_err"]:
+        assert np.isfinite(res["paper"]["T"]) and res["paper"]["T"] > 0
