@@ -216,17 +216,55 @@ def test_cli_bad_input_exit_2(capsys):
     assert "delta" in capsys.readouterr().err
 
 
-@pytest.mark.slow
-def test_fig11_paper_scale():
-    """Fig. 11 (paper: <n> = 2272, kappa = 0.893): 400 x 400 mesh, cap 20000.  We assert the
-    exponential law holds (kappa within 0.2 of 1 with a positive decay time) and <n> within a
-    factor 2 of the paper's; the exact values are reported in docs/transients.md."""
+@pytest.fixture(scope="module")
+def fig11_paper(tmp_path_factory):
+    """Fig. 11 at the paper's scale (400 x 400 mesh, cap 20000, delta = 1e-3), the orbits that stick
+    composed with the certified T_post (decimal parameters)."""
     from gear_rattle.validation.transient.experiments import transients
 
-    s = transients(outdir="/tmp/gear_rattle_fig11", profile="paper", progress=False)
-    f = s["fits"]["0.001"]
-    assert 0.5 * 2272 < f["mean_n"] < 2 * 2272
-    assert abs(f["kappa"] - 1) < 0.2
+    return transients(outdir=tmp_path_factory.mktemp("fig11"), profile="paper", progress=False)
+
+
+def _z(computed, error, key):
+    """z-score of our value against the paper's (Eq. 14 values of validation/report/paper.py), with
+    our error bar and the paper's (stated error, or the rounding of its last printed digit)."""
+    from gear_rattle.validation.report.paper import PAPER
+
+    pv = PAPER[key]
+    return (computed - pv.value) / np.hypot(error, pv.sigma)
+
+
+@pytest.mark.slow
+def test_fig11_paper_scale_decay_time_agrees_with_eq14(fig11_paper):
+    """Fig. 11 / Eq. (14): the decay time of N(n), <n>/kappa, against the paper's 2272/0.893 = 2544;
+    tolerance: |z| <= 2 with our bootstrap error and the paper's (rounding of 2272, error of kappa).
+    The tail of N(n) does not depend on how sticking orbits are counted, so this is the robust number."""
+    f = fig11_paper["fits"]["0.001"]
+    assert fig11_paper["release"]["0.001"]["0"]["source"] == "certified"
+    assert abs(_z(f["tau_fit"], f["tau_fit_se_boot"], "decay_time")) <= 2
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="Eq. (14) <n> = 2272: ours is higher by many standard errors (quick "
+                                       "profile 2383 +- 41 with the certified T_post); the paper does not say how "
+                                       "chattering orbits were counted (docs/transients.md)")
+def test_fig11_paper_scale_mean_n_against_eq14(fig11_paper):
+    """Fig. 11 / Eq. (14): <n> against the paper's 2272 with |z| <= 2 (our standard error of the mean
+    and the rounding of 2272).  A known disagreement, reported in the validation report: strict xfail,
+    so that a change which makes it agree is noticed."""
+    f = fig11_paper["fits"]["0.001"]
+    assert abs(_z(f["mean_n"], f["mean_n_se"], "mean_n")) <= 2
+
+
+@pytest.mark.slow
+def test_fig11_paper_scale_kappa_against_eq14(fig11_paper):
+    """Fig. 11 / Eq. (14): kappa = <n>/decay time against the paper's 0.893 +- 0.001, |z| <= 2 with our
+    bootstrap error; and the float64 sample of T_post moves <n> by more than its standard error
+    (why the certified value is used)."""
+    f = fig11_paper["fits"]["0.001"]
+    assert abs(_z(f["kappa"], f["kappa_se_boot"], "kappa")) <= 2
+    g = fig11_paper["fits_float64_sample"]
+    assert abs(g["mean_n"] - f["mean_n"]) > f["mean_n_se"]
 
 
 @pytest.mark.slow
