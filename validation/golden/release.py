@@ -429,13 +429,13 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
     state that sticks at once (:func:`stick_at_once_state`; iteration 0 sticks, so the capture
     iteration is ``T_post``).  Returns ``{"value", "status", "tau0", "sdot0", "nstick"}`` (``value``
     None when the orbit is not captured within ``cap``)."""
-    from ...mapimpl.engine import kernel as K
     from ...mapimpl.engine.transients import transient_times
+    from ...mapimpl.status import ORBIT_NAMES
 
     tau0, sdot0 = stick_at_once_state(params, wall)
     res = transient_times([tau0], [sdot0], params, delta=delta, cap=cap, lanes=1, devices=1, progress=False)
     hit = int(res.hit[0, res.column(delta)])
-    return {"value": hit if hit >= 0 else None, "status": K.STATUS_NAMES[int(res.status[0])],
+    return {"value": hit if hit >= 0 else None, "status": ORBIT_NAMES[int(res.status[0])],
             "tau0": tau0, "sdot0": sdot0, "nstick": int(res.nstick[0]), "cap": int(cap)}
 
 
