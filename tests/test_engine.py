@@ -245,6 +245,10 @@ def test_laminar_counts_only_complete_phases():
     for i, nr in enumerate(near):
         o, _ = lam.update(o, _ev(i, theta=1.0 if nr else 2.0), k)
     assert int(o["count"]) == 2 and float(o["total"]) == 4 + 5 and float(o["total_sq"]) == 16 + 25
+    # the stay in progress at the end (impacts 19-22): the report's settling runs read its start from it
+    assert int(o["run"]) == 4 and "run" in lam.outputs()
+    o, _ = lam.update(o, _ev(len(near), theta=2.0), k)
+    assert int(o["run"]) == 0
 
 
 def test_sample_keeps_a_window_and_stops_after_it():

@@ -221,7 +221,9 @@ class Laminar(Observer):
     distance ``eps`` (:func:`euclidean_distance`) of a periodic orbit (the ghost of the fold orbit at
     r2), counted from impact ``n_start``; a run counts when it is at least ``min_length`` long and
     both ends were seen (it started after an impact outside).  Outputs: ``count``, ``total`` (sum of
-    lengths), ``total_sq`` (sum of squared lengths), ``exposure`` (impacts observed)."""
+    lengths), ``total_sq`` (sum of squared lengths), ``exposure`` (impacts observed) and ``run``: the
+    length of the run in progress when the orbit ended (0 if its last observed impact was outside), so
+    a run that lasts to the end began at impact ``n - run + 1``."""
 
     theta: np.ndarray
     sdot: np.ndarray
@@ -250,7 +252,7 @@ class Laminar(Observer):
                 "exposure": (_I32, (), 0)}
 
     def outputs(self):
-        return ("count", "total", "total_sq", "exposure")
+        return ("count", "total", "total_sq", "exposure", "run")
 
     def consts(self):
         return {"th": jnp.asarray(self.theta), "sd": jnp.asarray(self.sdot), "eps": jnp.asarray(self.eps, _F64),

@@ -101,8 +101,10 @@ class Settling:
     ``settled`` (ends periodic and inside the ``eps``-neighbourhood of the reference orbit), ``capture``
     (impact at which its final stay there began; -1 if not settled), ``phases`` (complete laminar
     phases of >= MIN_LAMINAR impacts before that), ``period`` (impacts, driving periods) of the final
-    orbit, the Floquet multipliers of the orbit it settled on (the first settled one), and ``laminar``:
-    the lengths of all complete stays (>= MIN_LAMINAR impacts, ended by a burst) of all orbits."""
+    orbit, the Floquet multipliers of the orbit it settled on (the first settled one), and the
+    complete stays of all orbits (>= MIN_LAMINAR impacts, begun after and ended by a burst): their
+    number ``laminar_count``, the sum ``laminar_total`` and the sum of squares ``laminar_total_sq`` of
+    their lengths."""
 
     value: float
     n_ics: int
@@ -113,7 +115,18 @@ class Settling:
     phases: np.ndarray
     period: list
     multipliers: np.ndarray | None
-    laminar: np.ndarray
+    laminar_count: int
+    laminar_total: float
+    laminar_total_sq: float
+
+    def laminar_mean(self) -> tuple[float, float]:
+        """Mean length of the complete stays and its standard error (NaN below two stays)."""
+        k = self.laminar_count
+        if k < 2:
+            return (self.laminar_total / k if k else float("nan")), float("nan")
+        mean = self.laminar_total / k
+        var = max(self.laminar_total_sq - k * mean * mean, 0.0) / (k - 1)
+        return mean, math.sqrt(var / k)
 
     def common_period(self) -> tuple[int, int] | None:
         ps = [p for p, s in zip(self.period, self.settled) if s and p is not None]
@@ -144,35 +157,36 @@ def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, n: int, eps: float,
             seed: int) -> Settling:
     """Run ``n_ics`` orbits (random pre-impact states at s = 0, 0 <= tau0 < 2 pi, 0.05 <= sdot0 <= 0.5) at
-    ``param = value`` for ``n`` impacts on the engine (every state recorded by a ``Sample`` observer)
-    and see whether and when each settles near the reference orbit (``ref_th, ref_sd``)."""
+    ``param = value`` for ``n`` impacts on the engine and see whether and when each settles near the
+    reference orbit (``ref_th, ref_sd``).  Two observers, no history: a
+    :class:`~gear_rattle.mapimpl.engine.observers.Laminar` counts the stays within ``eps`` (Euclidean)
+    of the reference orbit from impact 1 on and gives the length of the stay in progress at impact
+    ``n``; a :class:`~gear_rattle.mapimpl.engine.observers.Sample` keeps the last SETTLE_TAIL states for
+    the period test."""
     from ...mapimpl.engine.driver import run
-    from ...mapimpl.engine.observers import Sample
+    from ...mapimpl.engine.observers import Laminar, Sample
     from ...mapimpl.orbit import map_orbit
     from ...mapimpl.periodic import find_periodic
-    from ..dynamics.crises import distance_to_orbit
 
+    if n < SETTLE_TAIL:
+        raise ValueError(f"n={n!r} is out of range: allowed n >= {SETTLE_TAIL} (the tail of the period test)")
     rng = np.random.default_rng(seed)
     t0, s0 = rng.uniform(0.0, 2 * np.pi, n_ics), rng.uniform(0.05, 0.5, n_ics)
     P = base.replace(**{param: value})
-    res = run(t0, s0, np.zeros(n_ics, np.int32), P, (Sample(keep=n, n_start=1),), cap=n, lanes=8, progress=False)
-    th_all, sd_all = res.obs[0]["theta"], res.obs[0]["sdot"]
-    act = np.isfinite(th_all)
-    with np.errstate(invalid="ignore"):
-        near = np.where(act, distance_to_orbit(np.nan_to_num(th_all), np.nan_to_num(sd_all), ref_th, ref_sd) < eps,
-                        False)
-    settled, capture, phases, period, mult, laminar = [], [], [], [], None, []
+    lam = Laminar(np.mod(np.asarray(ref_th, float), 2 * np.pi), np.asarray(ref_sd, float), eps=eps,
+                  min_length=MIN_LAMINAR, n_start=1)
+    res = run(t0, s0, np.zeros(n_ics, np.int32), P, (lam, Sample(keep=SETTLE_TAIL, n_start=n - SETTLE_TAIL + 1)),
+              cap=n, progress=False)
+    lo, tail = res.obs
+    reached = res.n == n
+    run_end = np.where(reached, lo["run"], 0)
+    settled, capture, period, mult = [], [], [], None
     for j in range(n_ics):
-        starts, lens = _runs(near[j])
-        th, sd = th_all[j, -SETTLE_TAIL:], sd_all[j, -SETTLE_TAIL:]
-        p = _period(th, sd) if bool(act[j, -1]) else None
-        inside = bool(starts.size) and starts[-1] + lens[-1] == near.shape[1]
-        ok = inside and p is not None
-        done = (starts > 0) & (starts + lens < near.shape[1]) & (lens >= MIN_LAMINAR)
+        th, sd = tail["theta"][j], tail["sdot"][j]
+        p = _period(th, sd) if bool(reached[j]) else None
+        ok = bool(run_end[j] > 0) and p is not None
         settled.append(ok)
-        capture.append(int(starts[-1]) if ok else -1)
-        phases.append(int(done.sum()))
-        laminar.extend(int(x) for x in lens[done])
+        capture.append(int(n - run_end[j] + 1) if ok else -1)
         if p is None:
             period.append(None)
             continue
@@ -182,8 +196,9 @@ def _settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, 
         if ok and mult is None:
             po = find_periodic(P, float(th[-1]), float(sd[-1]), p, turns)
             mult = po.multipliers if po.converged else None
-    return Settling(float(value), n_ics, n, float(eps), np.array(settled), np.array(capture), np.array(phases),
-                    period, mult, np.array(laminar, dtype=float))
+    return Settling(float(value), n_ics, n, float(eps), np.array(settled), np.array(capture),
+                    np.asarray(lo["count"], int), period, mult, int(np.sum(lo["count"])),
+                    float(np.sum(lo["total"])), float(np.sum(lo["total_sq"])))
 
 
 def _laminar_in_series(sd: np.ndarray, eps: float) -> tuple[float, int, int | None]:
@@ -388,12 +403,12 @@ def build(ctx) -> Section:
                     + (f"; that orbit has {settle6.common_period()[0]} impacts per {settle6.common_period()[1]} "
                        "driving period(s)" if settle6.common_period() else ""),
         where=p_r2.where))
-    L6 = lam6.laminar
+    m6, e6 = lam6.laminar_mean()
     ex6 = (f"at r = {r_f6:g} (r - r2 = {r_f6 - r2v:+.3g}), {lam6.n_ics} orbits of {lam6.n} impacts from random initial "
-           f"conditions: {int(lam6.settled.sum())} settled on a periodic orbit; {L6.size} complete laminar phases "
-           f"(>= {MIN_LAMINAR} impacts within {lam6.eps:g} of the fold orbit, ended by a burst)")
-    if L6.size > 1:
-        ex6 += f" of mean length {L6.mean():.0f} +- {L6.std(ddof=1) / np.sqrt(L6.size):.0f} impacts"
+           f"conditions: {int(lam6.settled.sum())} settled on a periodic orbit; {lam6.laminar_count} complete laminar "
+           f"phases (>= {MIN_LAMINAR} impacts within {lam6.eps:g} of the fold orbit, ended by a burst)")
+    if lam6.laminar_count > 1:
+        ex6 += f" of mean length {m6:.0f} +- {e6:.0f} impacts"
     sec.numbers.append(row("r2_fig6", "r2 against the r of Fig. 6", r2v, paper="r2_fig6",
                            computed_text=f"{r2v:.10f}", error_text=f"Newton residual {f.residual:.0e}",
                            explanation=ex6, where=PAPER["r2_fig6"].where))
