@@ -12,14 +12,22 @@ exactly; ``kappa < 1`` means the tail decays more slowly than the mean suggests 
 short transients).  Standard errors: the ordinary least-squares one (which treats the highly
 correlated cumulative counts as independent and so is far too small, like the paper's
 ``+-0.001``) and a bootstrap over initial conditions (the honest one).
+
+The line fits are :func:`numpy.linalg.lstsq` on the weighted design matrix (:func:`linear_fit`); the
+bootstraps (Eq. 14 over initial conditions, the uncertainty exponent of Fig. 10 over random points)
+are :func:`scipy.stats.bootstrap` (``method="percentile"``, ``n_resamples=n_boot``, a
+``numpy.random.default_rng(seed)`` generator, one resample per batch), whose ``standard_error`` is
+reported.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import stats
 
 
 def _check_durations(durations, censored=None):
@@ -47,24 +55,62 @@ def survival(durations, n_max: int | None = None) -> tuple[np.ndarray, np.ndarra
 
 
 def linear_fit(x, y, w=None):
-    """Weighted least squares ``y = a + b x``: ``(a, b, se_a, se_b)`` (standard errors from residuals)."""
+    """Weighted least squares ``y = a + b x``: ``(a, b, se_a, se_b)`` (standard errors from residuals).
+
+    Minimises ``sum w (y - a - b x)^2`` with :func:`numpy.linalg.lstsq` on the design matrix
+    ``sqrt(w) [1, x]``.  The standard errors are those of the covariance ``s^2 (X^T W X)^-1`` with the
+    residual variance ``s^2 = sum w res^2 / (n - 2)``: ``w`` are relative weights (their scale
+    cancels), not inverse variances.  Raises ``ValueError`` for fewer than 3 points, mismatched
+    shapes, x or y not finite, weights negative or not finite, or fewer than two distinct x values.
+    """
     x, y = np.asarray(x, float), np.asarray(y, float)
     if x.size < 3 or x.shape != y.shape:
         raise ValueError("linear_fit needs at least 3 points of matching shape")
     w = np.ones_like(x) if w is None else np.asarray(w, float)
-    W = w.sum()
-    xm, ym = (w * x).sum() / W, (w * y).sum() / W
-    sxx = (w * (x - xm) ** 2).sum()
-    if sxx <= 0:
+    if w.shape != x.shape:
+        raise ValueError("linear_fit weights must have the shape of x")
+    x, y, w = x.ravel(), y.ravel(), w.ravel()
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise ValueError("linear_fit needs finite x and y")
+    if not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
+        raise ValueError("linear_fit weights are out of range: allowed finite w >= 0, not all 0")
+    sw = np.sqrt(w)
+    X = np.column_stack([sw, sw * x])
+    if np.all(x[w > 0] == x[w > 0][0]):
         raise ValueError("linear_fit needs at least two distinct x values")
-    b = (w * (x - xm) * (y - ym)).sum() / sxx
-    a = ym - b * xm
+    (a, b), _rss, rank, _sv = np.linalg.lstsq(X, sw * y, rcond=None)
+    if rank < 2:
+        raise ValueError("linear_fit needs at least two distinct x values")
     res = y - a - b * x
-    dof = x.size - 2
-    s2 = (w * res ** 2).sum() / dof * (x.size / W)  # residual variance (weights normalised to mean 1)
-    se_b = math.sqrt(s2 / (sxx * x.size / W))
-    se_a = math.sqrt(s2 * (1.0 / x.size + xm * xm / (sxx * x.size / W)))
-    return a, b, se_a, se_b
+    s2 = float((w * res ** 2).sum()) / (x.size - 2)
+    # (X^T W X)^-1 from the triangular factor of the weighted design matrix: R^-1 R^-T
+    Rinv = np.linalg.inv(np.linalg.qr(X, mode="r"))
+    cov = s2 * (Rinv @ Rinv.T)
+    return float(a), float(b), math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1])
+
+
+def _boot_se(res) -> np.ndarray:
+    """Standard error(s) of a :func:`scipy.stats.bootstrap` result: ``res.standard_error`` when every
+    resample gave a value; resamples whose fit failed (NaN) are left out otherwise, NaN below 2 left."""
+    dist = np.atleast_2d(res.bootstrap_distribution)
+    se = np.atleast_1d(np.asarray(res.standard_error, float)).copy()
+    for k, row in enumerate(dist):
+        if not np.all(np.isfinite(row)):
+            good = row[np.isfinite(row)]
+            se[k] = float(np.std(good, ddof=1)) if good.size > 1 else math.nan
+    return se
+
+
+def _bootstrap(sample, statistic, n_boot: int, seed: int):
+    """:func:`scipy.stats.bootstrap` of a vectorised ``statistic`` over the observations (axis 0) of
+    ``sample``: percentile method, ``n_boot`` resamples drawn one at a time from
+    ``numpy.random.default_rng(seed)`` (one resample in memory at a time; the draws are those of
+    ``rng.integers(0, n, n)`` per resample).  The confidence interval is not used (failed resamples
+    give NaN and the interval is then undefined: its warning is silenced)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", category=stats.DegenerateDataWarning)
+        return stats.bootstrap((sample,), statistic, n_resamples=int(n_boot), batch=1, vectorized=True,
+                               axis=0, method="percentile", rng=np.random.default_rng(seed))
 
 
 @dataclass
@@ -105,10 +151,14 @@ def _fit_once(d, n_lo, n_hi, n_max):
 
 def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | None = None, n_hi: int | None = None,
                  n_min_count: int = 100, n_boot: int = 200, seed: int = 0) -> SurvivalFit:
-    """Fit Eq. (14) to the survival curve of ``durations`` (see the module docstring).
+    """Fit Eq. (14) to the survival curve of ``durations`` (Fig. 11; see the module docstring).
 
     ``censored`` marks orbits stopped at ``cap`` (their duration is >= cap); the fit range must end
-    below the cap.  Deterministic (``seed``).  Raises ``ValueError`` on bad input or an empty range.
+    below the cap.  ``kappa_se_boot`` and ``tau_fit_se_boot`` are the ``standard_error`` of
+    :func:`scipy.stats.bootstrap` over the initial conditions (``n_boot`` resamples of the durations,
+    each refitted over the same range; a resample whose fit fails or does not decay is left out;
+    NaN for ``n_boot < 2``).  Deterministic (``seed``).  Raises ``ValueError`` on bad input or an
+    empty range.
     """
     d, c = _check_durations(durations, censored)
     cap = int(d.max()) if cap is None else int(cap)
@@ -132,19 +182,22 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
     kappa = mean_n / tau
     kappa_se_ls = mean_n * se_b  # slope error only, <n> held fixed (what a plain LS fit reports)
     tau_se_ls = se_b / b ** 2
-    rng = np.random.default_rng(seed)
-    ks, ts = [], []
-    for _ in range(int(n_boot)):
-        db = d[rng.integers(0, d.size, d.size)]
-        try:
-            _, bb, _, _ = _fit_once(db, n_lo, n_hi, cap)
-        except ValueError:
-            continue
-        if bb < 0:
-            ts.append(-1.0 / bb)
-            ks.append(db.mean() * -bb)
-    kse = float(np.std(ks, ddof=1)) if len(ks) > 1 else math.nan
-    tse = float(np.std(ts, ddof=1)) if len(ts) > 1 else math.nan
+    kse = tse = math.nan
+    if n_boot >= 2 and d.size >= 2:
+        def stat(db, axis=-1):  # (..., n) resamples of the durations -> (2, ...): kappa, tau_fit
+            db = np.moveaxis(db, axis, -1)
+            out = np.full((2,) + db.shape[:-1], np.nan)
+            for i in np.ndindex(db.shape[:-1]):
+                try:
+                    _, bb, _, _ = _fit_once(db[i], n_lo, n_hi, cap)
+                except ValueError:
+                    continue
+                if bb < 0:
+                    out[(0,) + i] = db[i].mean() * -bb
+                    out[(1,) + i] = -1.0 / bb
+            return out
+
+        kse, tse = (float(v) for v in _boot_se(_bootstrap(d, stat, n_boot, seed)))
     return SurvivalFit(float(math.exp(a)), float(kappa), float(kappa_se_ls), kse, mean_n, mean_se, float(tau),
                        float(tau_se_ls), tse, n_lo, n_hi, int(d.size), int(c.sum()))
 
@@ -188,26 +241,36 @@ def _uncertain(dA, dB, dC, n_threshold):
 
 
 def fit_uncertainty(eps, unc: np.ndarray, n_threshold: int, n_boot: int = 200, seed: int = 0) -> UncertaintyFit:
-    """Fit ``log10 f = log10 C + phi log10 eps`` (ordinary least squares over the eps with f > 0) and
-    bootstrap the exponent by resampling the random points.  ``unc``: boolean (P, E) uncertain mask."""
+    """Fit ``log10 f = log10 C + phi log10 eps`` (Fig. 10: ordinary least squares over the eps with
+    f > 0) and bootstrap the exponent by resampling the random points with
+    :func:`scipy.stats.bootstrap` (``n_boot`` resamples of the rows of ``unc``, a resample with fewer
+    than 3 nonzero fractions left out; ``phi_se_boot`` is its ``standard_error``, NaN for
+    ``n_boot < 2``; deterministic, ``seed``).  ``unc``: boolean (P, E) uncertain mask."""
     eps = np.asarray(eps, float)
     unc = np.asarray(unc, bool)
     if eps.ndim != 1 or unc.ndim != 2 or unc.shape[1] != eps.size:
         raise ValueError("unc must have shape (n_points, len(eps))")
     if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
         raise ValueError("eps is out of range: allowed eps > 0")
+    if n_boot < 0 or int(n_boot) != n_boot:
+        raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
     f = unc.mean(axis=0)
     ok = f > 0
     if ok.sum() < 3:
         raise ValueError("fewer than 3 eps values with a nonzero uncertain fraction: cannot fit an exponent")
     a, b, se_a, se_b = linear_fit(np.log10(eps[ok]), np.log10(f[ok]))
-    rng = np.random.default_rng(seed)
-    bs = []
     P = unc.shape[0]
-    for _ in range(int(n_boot)):
-        fb = unc[rng.integers(0, P, P)].mean(axis=0)
-        okb = fb > 0
-        if okb.sum() >= 3:
-            bs.append(linear_fit(np.log10(eps[okb]), np.log10(fb[okb]))[1])
-    return UncertaintyFit(int(n_threshold), eps, f, float(b), float(se_b),
-                          float(np.std(bs, ddof=1)) if len(bs) > 1 else math.nan, float(a), int(P))
+    le = np.log10(eps)
+
+    def stat(ub, axis=-1):  # (E, ..., P) resamples of the points -> (...): the exponent
+        fb = np.moveaxis(ub, axis, -1).mean(axis=-1)
+        out = np.full(fb.shape[1:], np.nan)
+        for i in np.ndindex(fb.shape[1:]):
+            col = fb[(slice(None),) + i]
+            okb = col > 0
+            if okb.sum() >= 3:
+                out[i] = linear_fit(le[okb], np.log10(col[okb]))[1]
+        return out
+
+    se_boot = float(_boot_se(_bootstrap(unc, stat, n_boot, seed))[0]) if n_boot >= 2 and P >= 2 else math.nan
+    return UncertaintyFit(int(n_threshold), eps, f, float(b), float(se_b), se_boot, float(a), int(P))
