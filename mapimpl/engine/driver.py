@@ -103,12 +103,14 @@ def engine_devices(devices=None) -> list:
 
 
 def default_lanes(n_per_device: int) -> int:
-    """Enough lanes to amortise per-operation overhead, few enough that each lane serves ~16 orbits
-    (short tail when the queue runs dry); on the CPU at most 512 (the working set stays in cache
-    when every core runs a device; Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048), on an
-    accelerator up to 65536.  A multiple of :data:`kernel.LANE_QUANTUM`."""
+    """As many lanes as there are orbits per device, up to 512 on the CPU (the working set stays in
+    cache when every core runs a device; Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048) and
+    65536 on an accelerator.  A micro-step has a fixed cost besides its per-lane cost (on 2 cores a
+    block of 128 lanes does ~3.8e5 impacts per CPU-second, one of 512 ~5e5), so narrower blocks only
+    lengthen runs of few orbits; the tail of a run, when the queue is dry and few orbits are left,
+    moves to a smaller block (:func:`_drive`).  A multiple of :data:`kernel.LANE_QUANTUM`."""
     top = 512 if jax.default_backend() == "cpu" else 65536
-    return K.padded_lanes(min(top, max(64, 2 ** int(math.log2(max(n_per_device // 16, 1))))))
+    return K.padded_lanes(min(top, max(int(n_per_device), 1)))
 
 
 def _check_int(name, v, lo, hi):

@@ -88,6 +88,11 @@ def attractor_ics(branch, alpha_ref: float, n: int, settle: int, seed: int = 0, 
             "drawn": drawn, "captured": captured, "alpha_ref": float(alpha_ref), "settle": int(settle)}
 
 
+def _first(ics: dict, n: int) -> dict:
+    """The first ``n`` initial conditions of :func:`attractor_ics`' result (its bookkeeping kept)."""
+    return {k: (v[:n] if k in ("theta", "sdot", "wall") else v) for k, v in ics.items()}
+
+
 def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | None = None,
               label: str = "alpha1: lifetimes", base: Params = ALPHA1_START, level: float = LEVEL) -> list[dict]:
     """Mean escape time from the chaotic set at each alpha: every initial condition of ``ics`` at every
@@ -170,7 +175,10 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         br = branch or four_impact_branch()
     if not br.folds:
         raise RuntimeError("the 4-impact branch has no fold in its range")
-    ics = attractor_ics(br, pr["alpha_ref"], pr["ics"], pr["settle"], seed=seed, cost=cost)
+    n_probe = int(pr.get("probe_ics", pr["ics"]))
+    probe_ics = attractor_ics(br, pr["alpha_ref"], max(pr["ics"], n_probe), pr["settle"], seed=seed, cost=cost)
+    ics = _first(probe_ics, pr["ics"])  # the scans use the first ``ics`` of them
+    probe_ics = _first(probe_ics, n_probe)
     rows = lifetimes(pr["coarse"], ics, br, pr["cap"], cost=cost, label="alpha1: coarse scan")
     sad0 = orbit_on_branch(br, float(np.min(pr["coarse"])), "saddle")
     g0 = goy_exponent(sad0.multipliers)
@@ -184,7 +192,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     goy = fit_crisis(*_arrays(rows), "above", g=g)
     # bracket runs (N x probe_cap impacts each): a bisection started from the fit, and a run where the
     # law predicts the mean lifetime T_deep unless one that long was measured
-    strong = ics["theta"].size * (pr["probe_cap"] - N0)
+    strong = probe_ics["theta"].size * (pr["probe_cap"] - N0)
     for _ in range(int(pr["max_probes"])):
         a, k, E = _arrays(rows)
         err = math.hypot(goy.err, range_systematic(a, k, E, "above", g=g)[0])
@@ -194,7 +202,8 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         probes = next_probes(a, k, E, "above", goy.mu_c, max(2 * err, pr["target"] / 2), pr["target"], strong, deep)
         if not probes:
             break
-        rows += lifetimes(np.round(probes, 9), ics, br, pr["probe_cap"], cost=cost, label="alpha1: bracket runs")
+        rows += lifetimes(np.round(probes, 9), probe_ics, br, pr["probe_cap"], cost=cost,
+                          label="alpha1: bracket runs")
         goy = fit_crisis(*_arrays(rows), "above", g=g)
     with Timer(cost, "alpha1: fits"):
         goy, free, syst_goy, sub_goy, syst_free, sub_free = _fits(rows, g)
@@ -228,6 +237,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         "lifetimes": table, "T_max_measured": float(max(finite_T)) if finite_T else math.nan,
         "paper": paper,
         "diagram": {"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},
-        "ics": {k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {"n": int(ics["theta"].size)},
+        "ics": {k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {"n": int(ics["theta"].size),
+                                                                                 "probe_n": int(probe_ics["theta"].size)},
         "cost": cost.as_dict(), "profile": profile,
     }

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ....mapimpl import _jax  # noqa: F401
+import jax
 from ....mapimpl.engine.driver import EngineResult, run
 from ....mapimpl.params import Params
 from ....mapimpl.periodic import PeriodicOrbit, find_periodic
@@ -70,8 +71,12 @@ class Timer:
 
 
 def engine_run(cost: Cost | None, label: str, theta, sdot, wall, params: dict | Params, observers, cap: int,
-               lanes: int = 256, progress=None) -> EngineResult:
-    """:func:`gear_rattle.mapimpl.engine.driver.run` with its cost added to ``cost``."""
+               lanes: int | None = None, progress=None) -> EngineResult:
+    """:func:`gear_rattle.mapimpl.engine.driver.run` with its cost added to ``cost``.  ``lanes``: default
+    as many as there are orbits per device, up to 512 on the CPU and 65536 on an accelerator (these
+    runs have few, long orbits; a micro-step has a fixed cost, so wide blocks pay)."""
+    if lanes is None:
+        lanes = 512 if jax.default_backend() == "cpu" else 65536
     w0, c0 = time.perf_counter(), time.process_time()
     res = run(theta, sdot, wall, params, observers, cap=cap, lanes=lanes, progress=progress, label=label)
     if cost is not None:

@@ -1,8 +1,12 @@
 """Run sizes of the crisis analyses: ``"quick"`` (about 2 minutes for the three on 2 idle cores; coarse)
 and ``"paper"`` (the numbers of docs/dynamics.md; about 10 minutes together on 2 idle cores).
 
-Why these sizes (docs/dynamics.md, "Run sizes"): the engine does ~1.4e6 impacts/s per idle core;
-the paper profile spends ~1e8-3e8 impacts on each of r1 and alpha1 and ~2e7 on r2.
+Why these sizes (docs/dynamics.md, "Run sizes"): the engine does ~5e5 impacts/s per idle core on
+these orbits when each device holds >= 512 of them (~3.8e5 at 128: a micro-step has a fixed cost),
+so the paper profile runs many orbits of moderate length: a bracket run is 1024 orbits x 5e4 impacts
+(>= 5e7 impacts, issue 10) rather than 256 x 2e5.  Escapes and band hops are memoryless after the
+first few hundred impacts (constant hazard), so the exposure, not the orbit length, sets the
+statistics.  The paper profile spends ~1e8-3e8 impacts on each of r1 and alpha1 and ~2e7 on r2.
 
 * ``r2``: ``dr`` -- offsets r - r2 of the laminar-phase runs; ``orbits`` per offset; ``cap`` impacts per
   orbit; ``n_start`` discarded.
@@ -11,7 +15,8 @@ the paper profile spends ~1e8-3e8 impacts on each of r1 and alpha1 and ~2e7 on r
   ``orbits``/``cap`` of the scans; ``probe_orbits``/``probe_cap`` of each bracket run (their product
   is the exposure of a run that sees no hop); ``max_probes`` -- bracket runs at most; ``target`` --
   the bracket half-width aimed at.
-* ``alpha1``: ``alpha_ref`` (below alpha1: the chaotic attractor on which the orbits start), ``ics``,
+* ``alpha1``: ``alpha_ref`` (below alpha1: the chaotic attractor on which the orbits start), ``ics``
+  (orbits per alpha of the scans), ``probe_ics`` (orbits of each bracket run; default ``ics``),
   ``settle``; ``coarse`` -- alpha values of the first scan (the paper's 1.2437 among them); ``fine`` --
   offsets above the first estimate; ``cap`` of the scans; ``probe_cap``; ``max_probes``; ``target``;
   ``T_deep`` -- a mean lifetime the scans must reach (a probe is placed where the law predicts it).
@@ -34,15 +39,15 @@ PROFILES = {
     },
     "paper": {
         "r2": {"dr": np.logspace(-5.5, -2.5, 7), "orbits": 16, "cap": 100_000, "n_start": 2000},
-        "r1": {"r_ref": 0.7416, "ics": 256, "settle": 5000,
+        "r1": {"r_ref": 0.7416, "ics": 1024, "settle": 5000,
                "coarse": np.array([0.74100, 0.74120, 0.74130, 0.74136, 0.74140]),
                "fine": np.array([3.2e-5, 1.6e-5, 8e-6, 4e-6, 2e-6]),
-               "orbits": 64, "cap": 100_000, "probe_orbits": 256, "probe_cap": 200_000, "max_probes": 4,
+               "orbits": 128, "cap": 50_000, "probe_orbits": 1024, "probe_cap": 50_000, "max_probes": 4,
                "target": 2e-6},
-        "alpha1": {"alpha_ref": 1.2425, "ics": 256, "settle": 5000,
+        "alpha1": {"alpha_ref": 1.2425, "ics": 256, "probe_ics": 1024, "settle": 5000,
                    "coarse": np.array([1.2437, 1.2440, 1.2446, 1.2455, 1.2470]),
                    "fine": np.array([8e-5, 4e-5, 2e-5, 1e-5]),
-                   "cap": 100_000, "probe_cap": 200_000, "max_probes": 3, "target": 1e-5, "T_deep": 1e6},
+                   "cap": 50_000, "probe_cap": 50_000, "max_probes": 3, "target": 1e-5, "T_deep": 1e6},
     },
 }
 
