@@ -26,7 +26,7 @@ TITLE = "Figs. 4-8: bifurcations, Lyapunov exponents, intermittency (r2) and cri
 SETTINGS = {
     "quick": {"fig4_values": 120, "fig8_values": 120, "transient": 1000, "keep": 150, "lyap_n": 4000,
               "ts_n": 1500, "settle_ics": 8, "settle_n": 20000},
-    "paper": {"fig4_values": 600, "fig8_values": 600, "transient": 5000, "keep": 400, "lyap_n": 50000,
+    "paper": {"fig4_values": 600, "fig8_values": 600, "transient": 5000, "keep": 400, "lyap_n": 20000,
               "ts_n": 4000, "settle_ics": 32, "settle_n": 100000},
 }
 
