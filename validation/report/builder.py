@@ -57,6 +57,18 @@ class Context:
             print(f"[report] {text}", file=sys.stderr, flush=True)
 
 
+def speed_reference(n: int = 10_000_000) -> float:
+    """Seconds for a pure-Python loop of ``n`` integer additions: a rough single-core speed of the machine
+    at the time of the run, so that run times can be compared across machines and days (2.3-2.9 s on
+    the shared 2-core development machine on 2026-11-23).  Recorded in the header as
+    ``speed_reference_s``."""
+    t0 = time.perf_counter()
+    acc = 0
+    for i in range(n):
+        acc += i
+    return round(time.perf_counter() - t0, 3)
+
+
 def environment() -> dict:
     """Versions, machine and device, for the report header."""
     import jax
@@ -74,6 +86,7 @@ def environment() -> dict:
             env[mod] = importlib.import_module(mod).__version__
         except Exception:  # pragma: no cover - optional
             env[mod] = "not installed"
+    env["speed_reference_s"] = speed_reference()
     try:
         import subprocess
 
@@ -113,6 +126,8 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
         if unknown:
             raise ValueError(f"sections={sorted(unknown)} not known: allowed {', '.join(m.KEY for m in mods)}")
         mods = [m for m in mods if m.KEY in sections]
+    # the commit and the machine are recorded before the run (a commit made while it runs is not its code)
+    env = environment()
     t_all = time.perf_counter()
     done: list[Section] = []
     for m in mods:
@@ -127,7 +142,6 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
         done.append(sec)
     total = time.perf_counter() - t_all
     check_keys(done)
-    env = environment()
     cmd = " ".join(argv) if argv is not None else " ".join(sys.argv)
     preamble = [
         "Reproduction of de Souza, Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-772, "
