@@ -280,6 +280,37 @@ def _crisis_figures(ctx, sec, r1: dict, a1: dict) -> None:
                   "fitted crisis are not drawn on these axes.")
 
 
+def _jsonable(x):
+    """``x`` with numpy scalars/arrays as Python numbers/lists and objects that are not data (periodic
+    orbits, branches, fits) left out."""
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items() if _jsonable(v) is not _SKIP}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x if _jsonable(v) is not _SKIP]
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.integer, np.floating, np.bool_)):
+        return x.item()
+    if x is None or isinstance(x, (bool, int, float, str)):
+        return x
+    return _SKIP
+
+
+_SKIP = object()
+
+
+def _save_crises(ctx, r2: dict, r1: dict, a1: dict) -> None:
+    """The crisis analyses' results -- every scan row, bracket, fit and their cost (impacts, wall and CPU
+    seconds per engine run) -- as ``data/dynamics/crises.json`` beside the report."""
+    import json
+
+    d = ctx.out_dir / "data" / "dynamics"
+    d.mkdir(parents=True, exist_ok=True)
+    out = {"profile": ctx.profile, "r2": _jsonable(r2),
+           "r1": _jsonable(r1), "alpha1": _jsonable(a1)}
+    (d / "crises.json").write_text(json.dumps(out, indent=1, allow_nan=True))
+
+
 def build(ctx) -> Section:
     from ..dynamics.continuation import orbit_states
     from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
@@ -298,6 +329,8 @@ def build(ctx) -> Section:
     r1 = locate_r1(ctx.profile, branch=branch)
     ctx.say("alpha1: escape times from the pre-crisis chaotic set (engine)")
     a1 = locate_alpha1(ctx.profile)
+
+    _save_crises(ctx, r2, r1, a1)
 
     ctx.say("Fig. 4 bifurcation diagram and Lyapunov exponents")
     _, lam4, err4 = _diagram_with_lyapunov(ctx, sec, "Fig. 4", "r", 0.70, 0.95, A3, st,
