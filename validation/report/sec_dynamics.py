@@ -484,7 +484,8 @@ def build(ctx) -> Section:
                     f"{r1['paper_fig7']['below_r1_by']:.2e} below our r1",
         where=PAPER["r1"].where))
     ex_a1 = (f"reported: {_method_text(a1)}. GOY law T ~ (alpha - alpha1)^(-g) fitted by maximum likelihood to the escape times from the chaotic set "
-             f"({a1['ics']['n']} orbits settled on the attractor at alpha = {a1['ics']['alpha_ref']:g}) at "
+             f"({a1['ics']['n']} orbits per alpha in the scans, {a1['ics'].get('probe_n', a1['ics']['n'])} in the bracket "
+             f"runs, settled on the attractor at alpha = {a1['ics']['alpha_ref']:g}) at "
              f"{len(a1['lifetimes'])} values of alpha, mean lifetimes up to {a1['T_max_measured']:.3g} impacts "
              f"(g = {a1['goy_exponent']:.4f} of the saddle 4-impact orbit): {a1['alpha1_goy']:.6f} +- "
              f"{a1['alpha1_goy_err']:.1e}, error: statistical "
