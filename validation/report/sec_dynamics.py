@@ -284,9 +284,10 @@ def _jsonable(x):
     """``x`` with numpy scalars/arrays as Python numbers/lists and objects that are not data (periodic
     orbits, branches, fits) left out."""
     if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items() if _jsonable(v) is not _SKIP}
+        pairs = ((str(k), _jsonable(v)) for k, v in x.items())
+        return {k: v for k, v in pairs if v is not _SKIP}
     if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x if _jsonable(v) is not _SKIP]
+        return [v for v in map(_jsonable, x) if v is not _SKIP]
     if isinstance(x, np.ndarray):
         return x.tolist()
     if isinstance(x, (np.integer, np.floating, np.bool_)):

@@ -15,7 +15,7 @@ sizes in :mod:`.profiles`.  Methods and results: docs/dynamics.md.
 """
 
 from .alpha1 import PAPER_ALPHA1, locate_alpha1
-from .orbits import (ALPHA1_START, R2_START, attractor_point, distance_to_orbit, four_impact_branch, orbit_on_branch,
+from .orbits import (ALPHA1_START, R2_START, attractor_point, four_impact_branch, orbit_on_branch,
                      six_impact_branch)
 from .profiles import PROFILES
 from .r1 import PAPER_R1_FIG7, locate_r1
@@ -25,7 +25,7 @@ from .stats import (Bracket, CrisisFit, Located, MeanTime, bracket, locate, cens
 
 __all__ = [
     "locate_r2", "locate_r1", "locate_alpha1", "PROFILES", "PAPER_R2_FIG5", "PAPER_R1_FIG7", "PAPER_ALPHA1",
-    "attractor_point", "distance_to_orbit", "six_impact_branch", "four_impact_branch", "orbit_on_branch", "R2_START", "ALPHA1_START",
+    "attractor_point", "six_impact_branch", "four_impact_branch", "orbit_on_branch", "R2_START", "ALPHA1_START",
     "LaminarStats", "laminar_statistics", "MeanTime", "CrisisFit", "Bracket", "mean_time", "censored_lifetimes",
     "lifetime_lower_bound", "fit_crisis", "fit_crisis_fixed", "range_systematic", "fit_power_law", "goy_exponent",
     "bracket", "Located", "locate",

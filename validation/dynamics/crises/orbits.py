@@ -158,16 +158,3 @@ def orbit_points(orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     th = np.concatenate([np.mod(np.asarray(o.tau, float), 2 * np.pi) for o in orbits])
     sd = np.concatenate([np.asarray(o.sdot, float) for o in orbits])
     return th, sd, np.where(sd > 0, 0, -1).astype(np.int32)
-
-
-def distance_to_orbit(theta, sdot, orb_theta, orb_sdot) -> np.ndarray:
-    """Euclidean distance in the (theta mod 2 pi, sdot) plane from each point to the nearest of the
-    orbit points ``(orb_theta, orb_sdot)`` (the laminar criterion of the report's settling runs, as in
-    the :class:`~gear_rattle.mapimpl.engine.observers.Laminar` observer)."""
-    theta, sdot = np.asarray(theta, float), np.asarray(sdot, float)
-    d = np.full(theta.shape, np.inf)
-    for t0, s0 in zip(np.asarray(orb_theta, float), np.asarray(orb_sdot, float)):
-        dt = np.mod(np.abs(theta - t0), 2 * np.pi)
-        dt = np.minimum(dt, 2 * np.pi - dt)
-        d = np.minimum(d, np.hypot(dt, sdot - s0))
-    return d
