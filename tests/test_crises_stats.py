@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from gear_rattle.validation.dynamics.crises.stats import (Bracket, bracket, locate, censored_lifetimes, fit_crisis, lifetime_lower_bound,
-                                                          mean_time, next_probes, range_systematic)
+                                                          mean_time, next_probes, range_systematic, WHY_BRACKET_NARROWER,
+                                                          WHY_FIT_NARROWER, WHY_FIT_OUTSIDE, WHY_NO_BRACKET)
 
 
 def test_censored_lifetimes_recover_the_mean_with_heavy_censoring_and_left_truncation():
@@ -101,14 +102,32 @@ def test_locate_reports_the_fit_inside_the_bracket_and_the_bracket_when_the_fit_
     """r1 at paper scale: the GOY fit (from the far points) lay above the r at which no hop was seen in
     5e7 impacts; then the direct observations decide."""
     b = Bracket("below", seen=0.7414329, clear=0.7414365, clear_exposure=5.1e7, clear_bound=1.7e7, level=0.95)
-    inside = locate(0.7414340, 2e-6, b)
+    inside = locate(0.7414340, 1e-6, b)
     assert inside.method == "fit" and inside.value == 0.7414340 and inside.outside == 0.0
+    assert inside.why == WHY_FIT_NARROWER
     out = locate(0.7414435, 2.4e-6, b, margin=1.7e-9)
-    assert out.method == "bracket"
+    assert out.method == "bracket" and out.why == WHY_FIT_OUTSIDE
     assert out.value == pytest.approx(0.5 * (0.7414329 + 0.7414365 + 1.7e-9))
     assert out.err == pytest.approx(0.5 * (0.7414365 + 1.7e-9 - 0.7414329))
     assert out.outside == pytest.approx((0.7414435 - 0.7414365 - 1.7e-9) / 2.4e-6)
     above = Bracket("above", seen=1.2433, clear=1.2431, clear_exposure=5e7, clear_bound=1.7e7, level=0.95)
     assert locate(1.2436, 1e-5, above).method == "bracket"
     assert locate(1.24325, 1e-5, above).method == "fit"
-    assert locate(1.0, 1.0, Bracket("above", 1.2, math.nan, 0.0, 0.0, 0.95)).method == "fit"
+    no = locate(1.0, 1.0, Bracket("above", 1.2, math.nan, 0.0, 0.0, 0.95))
+    assert no.method == "fit" and no.why == WHY_NO_BRACKET
+
+
+def test_locate_states_the_bracket_when_it_is_narrower_than_a_consistent_fit():
+    """The published r1 run (docs/report, paper profile): GOY fit 0.7414394 +- 7.2e-6 (dominated by the
+    fit-range systematic), 1.0e-6 above the bracket [0.7414354, 0.7414384 + 1.7e-9] but within its
+    error; the bracket's half-width 1.5e-6 is the narrower statement, so it is reported."""
+    b = Bracket("below", seen=0.741435351, clear=0.7414383709, clear_exposure=5.07e7, clear_bound=1.69e7, level=0.95)
+    loc = locate(0.7414393709, 7.2e-6, b, margin=1.7e-9)
+    assert loc.method == "bracket" and loc.why == WHY_BRACKET_NARROWER
+    assert 0 < loc.outside < 1
+    assert loc.value == pytest.approx(0.5 * (0.741435351 + 0.7414383709 + 1.7e-9), abs=1e-13)
+    assert loc.err == pytest.approx(0.5 * (0.7414383709 + 1.7e-9 - 0.741435351), rel=1e-9)
+    assert loc.err < 2e-6
+    # the same bracket with a fit narrower than it and inside it: the fit
+    tight = locate(0.7414370, 1e-6, b, margin=1.7e-9)
+    assert tight.method == "fit" and tight.value == 0.7414370 and tight.why == WHY_FIT_NARROWER

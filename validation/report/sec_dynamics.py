@@ -233,15 +233,28 @@ def _bracket_text(b: dict, digits: int) -> str:
     return f"events at {b['seen']:.{digits}f}; {tail}"
 
 
+def _window_text(w: dict | None) -> str:
+    """The Lyapunov check at the upper end of the r1 bracket (:func:`~..dynamics.crises.r1.lyapunov_at`)."""
+    if w is None:
+        return "no upper end, nothing to check"
+    verdict = ("chaotic on every orbit, not a periodic window" if w["chaotic"]
+               else "NOT chaotic on every orbit: possibly a periodic window, so this end is not used")
+    return (f"lambda1 = {w['lam1_min']:.4f} ... {w['lam1_max']:.4f} per impact at r = {w['r']:.10g} "
+            f"({w['orbits']} orbits x {w['n']} impacts): {verdict}")
+
+
 def _method_text(res: dict) -> str:
     """How the reported crisis point was decided (:func:`~..dynamics.crises.stats.locate`)."""
     loc = res["located"]
+    lo, hi = loc["interval"]
     if loc["method"] == "fit":
-        return "the GOY fit, which lies inside the bracket by direct observation" if np.isfinite(loc["interval"][0]) \
-            else "the GOY fit (no bracket: no run without events was long enough)"
-    return (f"the bracket by direct observation [{loc['interval'][0]:.7g}, {loc['interval'][1]:.7g}], midpoint and "
-            f"half-width: the GOY fit lies {loc['outside']:.1f} of its errors outside it, so the fitted law does "
-            "not hold that close to the crisis")
+        return ("the GOY fit, which lies inside the bracket by direct observation and is narrower"
+                if np.isfinite(lo) else "the GOY fit (no bracket: no run without events was long enough)")
+    if loc.get("why") == "bracket narrower than the fit":
+        return (f"the bracket by direct observation [{lo:.8g}, {hi:.8g}], midpoint and half-width: it is narrower "
+                f"than the GOY fit's error, and the fit lies {'inside it' if loc['outside'] == 0 else 'within its error of it'}")
+    return (f"the bracket by direct observation [{lo:.8g}, {hi:.8g}], midpoint and half-width: the GOY fit lies "
+            f"{loc['outside']:.1f} of its errors outside it, so the fitted law does not hold that close to the crisis")
 
 
 def _crisis_figures(ctx, sec, r1: dict, a1: dict) -> None:
@@ -399,6 +412,8 @@ def build(ctx) -> Section:
                                                        f"(g = {r1['g_free']:.2f} +- {r1['g_free_err']:.2f})"],
         ["r1: GOY exponent of the mediating saddle 6-impact orbit", f"{r1['goy_exponent']:.4f}"],
         ["r1: bracket by direct observation (hops seen at / none at)", _bracket_text(r1["bracket"], 7)],
+        ["r1: largest Lyapunov exponent of band orbits at the bracket's upper end (a window there would not "
+         "bound r1)", _window_text(r1.get("clear_lyapunov"))],
         ["alpha1: crisis (reported: " + _method_text(a1) + ")", f"{a1['alpha1']:.6f} +- {a1['alpha1_err']:.6f}"],
         ["alpha1: GOY fit of the mean escape time from the chaotic set",
          f"{a1['alpha1_goy']:.6f} +- {a1['alpha1_goy_err']:.6f}"],
@@ -481,7 +496,7 @@ def build(ctx) -> Section:
                     f"{r1['r1_goy_err']:.1e}, error: statistical "
                     f"{r1['r1_stat']:.1e} and fit-range systematic {r1['r1_syst']:.1e}; exponent free: "
                     f"{r1['r1_free']:.7f} +- {r1['r1_free_err']:.1e}; bracket by direct observation "
-                    f"{_bracket_text(r1['bracket'], 7)}; the paper's r = {r1['paper_fig7']['r']:g} of Fig. 7 lies "
+                    f"{_bracket_text(r1['bracket'], 7)}; {_window_text(r1.get('clear_lyapunov'))}; the paper's r = {r1['paper_fig7']['r']:g} of Fig. 7 lies "
                     f"{r1['paper_fig7']['below_r1_by']:.2e} below our r1",
         where=PAPER["r1"].where))
     ex_a1 = (f"reported: {_method_text(a1)}. GOY law T ~ (alpha - alpha1)^(-g) fitted by maximum likelihood to the escape times from the chaotic set "

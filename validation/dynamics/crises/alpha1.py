@@ -143,7 +143,8 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     Returns a dict:
 
     * ``alpha1``, ``alpha1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies
-      in the bracket by direct observation, else the bracket's midpoint and half-width; ``method``,
+      in the bracket by direct observation and is narrower, else the bracket's midpoint and half-width;
+      ``method``,
       ``located``;
     * ``alpha1_goy``, ``alpha1_goy_err``: the GOY fit (exponent fixed to that of the saddle 4-impact
       orbit at alpha1) and its total error ``sqrt(stat^2 + syst^2)``; ``alpha1_stat`` (68 %
@@ -233,7 +234,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         "subranges_goy": sub_goy, "subranges_free": sub_free,
         "goy_exponent": g, "saddle": sad, "alpha_sn": br.folds[0].mu, "node": node, "branch": br,
         "bracket": brk.as_dict(), "bracket_margin": margin,
-        "consistent": where.method == "fit" and np.isfinite(brk.clear),
+        "consistent": where.outside <= 1.0 and np.isfinite(brk.clear),
         "lifetimes": table, "T_max_measured": float(max(finite_T)) if finite_T else math.nan,
         "paper": paper,
         "diagram": {"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},

@@ -14,7 +14,8 @@ statistics.  The paper profile spends ~1e8-3e8 impacts on each of r1 and alpha1 
   ``coarse`` -- r values of the first scan; ``fine`` -- offsets below the first estimate of r1;
   ``orbits``/``cap`` of the scans; ``probe_orbits``/``probe_cap`` of each bracket run (their product
   is the exposure of a run that sees no hop); ``max_probes`` -- bracket runs at most; ``target`` --
-  the bracket half-width aimed at.
+  the bracket half-width aimed at; ``lyap_orbits`` x ``lyap_n``: the Lyapunov run at the bracket's
+  upper end (a chaotic attractor there, not a periodic window).
 * ``alpha1``: ``alpha_ref`` (below alpha1: the chaotic attractor on which the orbits start), ``ics``
   (orbits per alpha of the scans), ``probe_ics`` (orbits of each bracket run; default ``ics``),
   ``settle``; ``coarse`` -- alpha values of the first scan (the paper's 1.2437 among them); ``fine`` --
@@ -32,7 +33,7 @@ PROFILES = {
         "r1": {"r_ref": 0.7416, "ics": 64, "settle": 3000,
                "coarse": np.array([0.74100, 0.74120, 0.74130, 0.74136]), "fine": np.array([2e-5, 8e-6]),
                "orbits": 32, "cap": 20_000, "probe_orbits": 64, "probe_cap": 40_000, "max_probes": 1,
-               "target": 2e-6},
+               "target": 2e-6, "lyap_orbits": 8, "lyap_n": 5000},
         "alpha1": {"alpha_ref": 1.2425, "ics": 64, "settle": 2000,
                    "coarse": np.array([1.2437, 1.2442, 1.2450, 1.2465]), "fine": np.array([4e-5, 1.5e-5]),
                    "cap": 20_000, "probe_cap": 40_000, "max_probes": 1, "target": 1e-5, "T_deep": 1e5},
@@ -43,7 +44,7 @@ PROFILES = {
                "coarse": np.array([0.74100, 0.74120, 0.74130, 0.74136, 0.74140]),
                "fine": np.array([3.2e-5, 1.6e-5, 8e-6, 4e-6, 2e-6]),
                "orbits": 128, "cap": 50_000, "probe_orbits": 1024, "probe_cap": 50_000, "max_probes": 4,
-               "target": 2e-6},
+               "target": 2e-6, "lyap_orbits": 16, "lyap_n": 20_000},
         "alpha1": {"alpha_ref": 1.2425, "ics": 256, "probe_ics": 1024, "settle": 5000,
                    "coarse": np.array([1.2437, 1.2440, 1.2446, 1.2455, 1.2470]),
                    "fine": np.array([8e-5, 4e-5, 2e-5, 1e-5]),

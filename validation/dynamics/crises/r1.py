@@ -19,7 +19,10 @@ hopped never after the first half of the settling run (:func:`band_ics`).
 with the Pearson dispersion of the per-orbit counts) on a coarse scan of r, a first fit, a fine scan at
 offsets below the first estimate, the fits of the crisis law (GOY exponent fixed, and free) with the
 fit-range systematic, and a bracket by direct observation refined by bisection: hops seen at ``r_a``
-(so r1 > r_a), none in >= ``probe_orbits x probe_cap`` impacts at ``r_b``.
+(so r1 > r_a), none in >= ``probe_orbits x probe_cap`` impacts at ``r_b``.  No hop at ``r_b`` could
+also mean a periodic window (the orbits settle on a stable cycle inside the bands); the largest
+Lyapunov exponent of band orbits at ``r_b`` (:func:`lyapunov_at`) rules that out: only with it positive
+on every orbit is ``r_b`` the bracket's upper end.
 """
 
 from __future__ import annotations
@@ -29,11 +32,12 @@ import math
 import numpy as np
 
 from ....mapimpl import _jax  # noqa: F401
-from ....mapimpl.engine.observers import BandEscape, Sample
+from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....mapimpl.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
 from .profiles import get_profile
-from .stats import LEVEL, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes, range_systematic
+from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
+                    range_systematic)
 
 #: The paper's Fig. 7: r = 0.74001 "<~ r1".
 PAPER_R1_FIG7 = 0.74001
@@ -94,6 +98,23 @@ def hop_counts(r_values, ics: dict, orbits: int, cap: int, cost: Cost | None = N
             for rv, bb, ee in zip(r_values, b, e)]
 
 
+def lyapunov_at(r: float, ics: dict, orbits: int, n: int, cost: Cost | None = None, transient: int = 1000,
+                base: Params = R2_START) -> dict:
+    """Largest Lyapunov exponent (per impact, QR method on the engine's
+    :class:`~gear_rattle.mapimpl.engine.observers.Tangent`) of ``orbits`` band orbits (the first states
+    of ``ics``) at ``r``, over ``n`` impacts after ``transient``: positive on every orbit means a chaotic
+    attractor, not a periodic window.  Returns ``r``, ``lam1_min``, ``lam1_mean``, ``lam1_max``,
+    ``orbits``, ``n``, ``stuck`` (sticking steps), ``chaotic`` (``lam1_min > 0``)."""
+    idx = np.arange(orbits) % ics["theta"].size
+    res = engine_run(cost, "r1: Lyapunov at the bracket's upper end", ics["theta"][idx], ics["sdot"][idx],
+                     ics["wall"][idx], base.replace(r=float(r)), Tangent(n_start=transient), cap=transient + n)
+    t = res.obs[0]
+    lam1 = t["log_r"][:, 0] / np.maximum(t["n_free"], 1)
+    return {"r": float(r), "lam1_min": float(lam1.min()), "lam1_mean": float(lam1.mean()),
+            "lam1_max": float(lam1.max()), "orbits": int(orbits), "n": int(n), "stuck": int(t["n_stuck"].sum()),
+            "chaotic": bool(lam1.min() > 0.0 and t["n_stuck"].sum() == 0)}
+
+
 def _arrays(rows):
     r = np.array([x["r"] for x in rows])
     k = np.array([x["rate"].events for x in rows], float)
@@ -109,7 +130,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
     Returns a dict:
 
     * ``r1``, ``r1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies in the
-      bracket by direct observation, else the bracket's midpoint and half-width; ``method``
+      bracket by direct observation and is narrower, else the bracket's midpoint and half-width; ``method``
       (``"fit"``/``"bracket"``), ``located`` (:meth:`~.stats.Located.as_dict`);
     * ``r1_goy``, ``r1_goy_err``: the GOY fit of the mean time between hops (exponent fixed to that of
       the saddle 6-impact orbit at r1) and its total error ``sqrt(stat^2 + syst^2)``; ``r1_stat`` (68 %
@@ -120,7 +141,8 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
       :class:`~gear_rattle.mapimpl.periodic.PeriodicOrbit`);
     * ``bracket`` (:meth:`~.stats.Bracket.as_dict`): hops ``seen`` at the largest r with hops, none at
       ``clear`` in ``clear_exposure`` impacts (>= probe_orbits x probe_cap), which excludes mean times
-      below ``clear_bound``; ``bracket_margin``: the distance below ``clear`` at which the GOY law gives
+      below ``clear_bound``; ``clear_lyapunov`` (:func:`lyapunov_at` at ``clear``, None without one: the
+      bracket bounds r1 from above only when ``clear_lyapunov["chaotic"]``); ``bracket_margin``: the distance below ``clear`` at which the GOY law gives
       ``clear_bound``; ``lower_bound`` = ``bracket["seen"]`` (r1 > lower_bound); ``upper_bound`` =
       ``bracket["clear"]``; ``consistent``: the fit lies in the bracket within its error;
     * ``near``: the mean time between hops at the bracket's ``seen`` value (``T``, ``lo``, ``hi`` at 95 %,
@@ -168,8 +190,12 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
         syst_free, sub_free = range_systematic(r, k, E, "below", dispersion=phi)
         brk = bracket(r, k, E, "below", min_exposure=strong)
         margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
+    window = (lyapunov_at(brk.clear, ics, pr["lyap_orbits"], pr["lyap_n"], cost=cost)
+              if np.isfinite(brk.clear) else None)
     total = math.hypot(goy.err, syst_goy)
-    where = locate(goy.mu_c, total, brk, margin if np.isfinite(margin) else 0.0)
+    # a window at the upper end would not bound r1: then the fit alone
+    used = brk if window is None or window["chaotic"] else Bracket("below", brk.seen, math.nan, 0.0, 0.0, brk.level)
+    where = locate(goy.mu_c, total, used, margin if np.isfinite(margin) else 0.0)
     table = [{"r": x["r"], **{kk: v for kk, v in x["rate"].as_dict().items() if kk != "level"}}
              for x in sorted(rows, key=lambda x: x["r"])]
     seen = [x for x in rows if x["r"] == brk.seen]
@@ -182,7 +208,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
         "g_free_err": free.g_err, "fit_goy": goy.as_dict(), "fit_free": free.as_dict(),
         "subranges_goy": sub_goy, "subranges_free": sub_free, "goy_exponent": g, "saddle": sad,
         "bracket": brk.as_dict(), "bracket_margin": margin, "lower_bound": brk.seen, "upper_bound": brk.clear,
-        "consistent": where.method == "fit" and np.isfinite(brk.clear),
+        "consistent": where.outside <= 1.0 and np.isfinite(brk.clear), "clear_lyapunov": window,
         "near": {"r": brk.seen, **near_rate.as_dict()}, "hops": table,
         "paper_fig7": {"r": PAPER_R1_FIG7, "below_r1_by": where.value - PAPER_R1_FIG7},
         "ics": {k_: ics[k_] for k_ in ("r_ref", "settle", "drawn", "rejected")} | {"n": int(ics["theta"].size)},

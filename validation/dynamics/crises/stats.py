@@ -34,6 +34,8 @@ mediated by a saddle orbit with multipliers ``m_u``, ``m_s``: ``g = 1/2 + ln|m_u
 **Bracket.**  Events seen at ``mu = a`` prove that ``a`` is on the post-crisis side; no event in
 ``E`` impacts at ``b`` proves only that ``T(b) > E / 3`` (95 %): with the law, ``mu_c`` lies within
 ``(C / (E/3))^(1/g)`` of ``b`` or beyond it (:func:`bracket`, :meth:`CrisisFit.distance_at`).
+:func:`locate` states the fit or the bracket, whichever is narrower, unless the fit contradicts the
+bracket (then the bracket).
 """
 
 from __future__ import annotations
@@ -530,35 +532,53 @@ def next_probes(mu, events, exposure, side: str, mu_fit: float, step: float, tar
 
 @dataclass(frozen=True)
 class Located:
-    """The crisis point a report states: ``value`` +- ``err`` and how it was decided (``method``:
-    ``"fit"`` or ``"bracket"``).  The GOY fit is reported when it lies inside the bracket by direct
-    observation (widened by the fit's own error); otherwise the fit's law is contradicted by the direct
-    observations near the crisis, and the bracket -- midpoint, half-width -- is what the data show.
-    ``outside``: how far the fit lies outside the bracket, in units of its error (0 inside)."""
+    """The crisis point a report states: ``value`` +- ``err`` and how it was decided.
+
+    ``method``: ``"fit"`` (the GOY fit, +- its statistical and fit-range error) or ``"bracket"`` (the
+    midpoint and half-width of the bracket by direct observation); ``why``: the reason (see
+    :func:`locate`); ``outside``: how far the fit lies outside the bracket, in units of its error (0
+    inside); ``interval``: the bracket ``(lo, hi)`` (NaN without one)."""
 
     value: float
     err: float
     method: str
     outside: float
     interval: tuple[float, float]
+    why: str = ""
 
     def as_dict(self) -> dict:
-        return {"value": self.value, "err": self.err, "method": self.method, "outside": self.outside,
-                "interval": self.interval}
+        return {"value": self.value, "err": self.err, "method": self.method, "why": self.why,
+                "outside": self.outside, "interval": self.interval}
+
+
+#: The reasons :func:`locate` gives.
+WHY_NO_BRACKET = "no bracket"
+WHY_FIT_NARROWER = "fit inside the bracket and narrower"
+WHY_BRACKET_NARROWER = "bracket narrower than the fit"
+WHY_FIT_OUTSIDE = "fit outside the bracket"
 
 
 def locate(fit_mu: float, fit_err: float, brk: Bracket, margin: float = 0.0) -> Located:
     """Decide the reported crisis point from a fit (``fit_mu`` +- ``fit_err``, statistical and fit-range
     systematic combined) and a :class:`Bracket` (``margin``: the distance beyond ``clear`` that the
-    fitted law still allows, :meth:`CrisisFit.distance_at` of ``clear_bound``)."""
+    fitted law still allows, :meth:`CrisisFit.distance_at` of ``clear_bound``).
+
+    The bracket is what the data show without a model; the fit adds the crisis law.  So: without a
+    bracket, the fit; with the fit more than its error outside the bracket, the bracket (the law does
+    not hold that close to the crisis); with the fit inside (within its error), the narrower of the two
+    -- the fit's error or the bracket's half-width."""
     if not np.isfinite(brk.clear):
-        return Located(float(fit_mu), float(fit_err), "fit", 0.0, (math.nan, math.nan))
+        return Located(float(fit_mu), float(fit_err), "fit", 0.0, (math.nan, math.nan), WHY_NO_BRACKET)
     if brk.side == "above":  # events seen above the crisis: mu_c < seen, and mu_c > clear - margin
         lo, hi = brk.clear - margin, brk.seen
     else:  # events seen below: mu_c > seen, and mu_c < clear + margin
         lo, hi = brk.seen, brk.clear + margin
     gap = max(lo - fit_mu, fit_mu - hi, 0.0)
     outside = gap / fit_err if fit_err > 0 else (math.inf if gap > 0 else 0.0)
-    if outside <= 1.0:
-        return Located(float(fit_mu), float(fit_err), "fit", float(outside), (float(lo), float(hi)))
-    return Located(0.5 * (lo + hi), 0.5 * (hi - lo), "bracket", float(outside), (float(lo), float(hi)))
+    interval = (float(lo), float(hi))
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    if outside > 1.0:
+        return Located(mid, half, "bracket", float(outside), interval, WHY_FIT_OUTSIDE)
+    if half < fit_err:
+        return Located(mid, half, "bracket", float(outside), interval, WHY_BRACKET_NARROWER)
+    return Located(float(fit_mu), float(fit_err), "fit", float(outside), interval, WHY_FIT_NARROWER)
