@@ -66,6 +66,21 @@ def test_continuation_passes_fold_r2(orbit6):
     assert g.mu == pytest.approx(f.mu, abs=1e-14)
 
 
+@pytest.mark.parametrize("name", ["r", "alpha"])
+def test_dG_dmu_by_autodiff_agrees_with_central_differences(orbit6, name):
+    """The continuation's tangent column dG/dmu (Eqs. 12-13 composed 6 times, Fig. 4a's orbit) comes from
+    forward-mode autodiff; central differences (step 1e-7, truncation error of order h^2) agree to
+    their own accuracy: measured 6.4e-8 (r) and 2.2e-7 (alpha) relative, bound 1e-6."""
+    from gear_rattle.validation.dynamics.continuation import _Problem
+
+    p, o = orbit6
+    prob = _Problem(p, name, 6, 1, int(o.walls[0]))
+    y = np.array([o.tau[0], o.sdot[0], getattr(p, name)])
+    ad, fd = prob.dG_dmu(y), prob._dG_dmu_fd(y)
+    assert np.all(np.isfinite(ad))
+    assert np.allclose(ad, fd, rtol=1e-6, atol=0)
+
+
 def test_goy_fixed_exponent_fit_recovers_critical_value():
     """The Grebogi-Ott-Yorke fit used for r1 and alpha1 (docs/dynamics.md) on synthetic data with 1%
     noise: the critical value within 4 standard errors (measured 0.1), and a standard error of the

@@ -13,7 +13,8 @@ eigenvalues of ``M``; their product is ``prod_n r^2 exp(-beta dt_n) sdot_n / sdo
 :func:`closed_form_det` returns as an independent check.
 
 Continuation (``mu`` = ``r`` or ``alpha``): unknowns ``y = (tau, sdot, mu)``; the 2x3 Jacobian
-``[M - I | dG/dmu]`` (``dG/dmu`` by central differences of the p-fold map) gives the tangent (its null
+``[M - I | dG/dmu]`` (``dG/dmu`` by forward-mode autodiff of the p-fold map, central differences as
+the fallback) gives the tangent (its null
 vector); predictor ``y + h t``, corrector Newton on ``(G(y), t . (y - y_pred)) = 0``.
 
 Bifurcation points: a fold of the branch has ``det(M - I) = 0`` (a multiplier +1), a flip has
@@ -97,6 +98,18 @@ class _Problem:
         return G, np.asarray(J, dtype=np.float64), good
 
     def dG_dmu(self, y, G0=None):
+        """``dG/dmu`` at ``y``: forward-mode autodiff of the p-fold map (:data:`_extended_jacobian`, the
+        Jacobian :func:`locate` compiles for the same number of impacts), central differences where it
+        is not finite or the step is not valid (one-sided at ``r = 1``)."""
+        base = np.array([self.params.alpha, self.params.beta, self.params.gamma, self.params.r], dtype=np.float64)
+        Jm, ok = _extended_jacobian(jnp.asarray(y, jnp.float64), base, _MU_INDEX[self.name], float(self.turns),
+                                    self.wall, -1.0, self.impacts)
+        col = np.asarray(Jm, dtype=np.float64)[:2, 2]
+        if bool(ok) and np.all(np.isfinite(col)):
+            return col
+        return self._dG_dmu_fd(y, G0)
+
+    def _dG_dmu_fd(self, y, G0=None):
         h = 1e-7 * max(1.0, abs(y[2]))
         if self.name == "r" and y[2] + h > 1.0:
             Gm, _, okm = self.eval(y - np.array([0, 0, h]))
