@@ -56,6 +56,10 @@ N0 = 100
 DIAGRAM_IMPACTS = 5400
 
 
+#: The deep probe is placed where the fitted law predicts this multiple of ``T_deep``: the law is
+#: extrapolated there, and aiming at ``T_deep`` itself measured 4.6e5 and 5.2e5 (paper profile).
+DEEP_AIM = 1.5
+
 def nodes(branch, alphas) -> list:
     """The stable 4-impact orbit (node branch) at each alpha."""
     return [orbit_on_branch(branch, float(a), "node") for a in np.atleast_1d(alphas)]
@@ -192,14 +196,14 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     g = goy_exponent(sad.multipliers)
     goy = fit_crisis(*_arrays(rows), "above", g=g)
     # bracket runs (N x probe_cap impacts each): a bisection started from the fit, and a run where the
-    # law predicts the mean lifetime T_deep unless one that long was measured
+    # law predicts DEEP_AIM x T_deep unless a mean lifetime >= T_deep was measured
     strong = probe_ics["theta"].size * (pr["probe_cap"] - N0)
     for _ in range(int(pr["max_probes"])):
         a, k, E = _arrays(rows)
         err = math.hypot(goy.err, range_systematic(a, k, E, "above", g=g)[0])
         deep = None
         if not np.any((k > 0) & (E >= pr["T_deep"] * np.maximum(k, 1))):
-            deep = goy.mu_at(pr["T_deep"])
+            deep = goy.mu_at(DEEP_AIM * pr["T_deep"])
         probes = next_probes(a, k, E, "above", goy.mu_c, max(2 * err, pr["target"] / 2), pr["target"], strong, deep)
         if not probes:
             break

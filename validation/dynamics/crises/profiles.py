@@ -20,7 +20,8 @@ statistics.  The paper profile spends ~1e8-3e8 impacts on each of r1 and alpha1 
   (orbits per alpha of the scans), ``probe_ics`` (orbits of each bracket run; default ``ics``),
   ``settle``; ``coarse`` -- alpha values of the first scan (the paper's 1.2437 among them); ``fine`` --
   offsets above the first estimate; ``cap`` of the scans; ``probe_cap``; ``max_probes``; ``target``;
-  ``T_deep`` -- a mean lifetime the scans must reach (a probe is placed where the law predicts it).
+  ``T_deep`` -- a mean lifetime the scans must reach (a probe is placed where the law predicts
+  ``alpha1.DEEP_AIM`` = 1.5 times it).
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ PROFILES = {
         "alpha1": {"alpha_ref": 1.2425, "ics": 256, "probe_ics": 1024, "settle": 5000,
                    "coarse": np.array([1.2437, 1.2440, 1.2446, 1.2455, 1.2470]),
                    "fine": np.array([8e-5, 4e-5, 2e-5, 1e-5]),
-                   "cap": 50_000, "probe_cap": 50_000, "max_probes": 3, "target": 1e-5, "T_deep": 1e6},
+                   "cap": 50_000, "probe_cap": 50_000, "max_probes": 4, "target": 1e-5, "T_deep": 1e6},
     },
 }
 
