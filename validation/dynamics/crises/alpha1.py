@@ -60,6 +60,7 @@ DIAGRAM_IMPACTS = 5400
 #: extrapolated there, and aiming at ``T_deep`` itself measured 4.6e5 and 5.2e5 (paper profile).
 DEEP_AIM = 1.5
 
+
 def nodes(branch, alphas) -> list:
     """The stable 4-impact orbit (node branch) at each alpha."""
     return [orbit_on_branch(branch, float(a), "node") for a in np.atleast_1d(alphas)]

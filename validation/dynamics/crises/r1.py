@@ -142,9 +142,10 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
     * ``bracket`` (:meth:`~.stats.Bracket.as_dict`): hops ``seen`` at the largest r with hops, none at
       ``clear`` in ``clear_exposure`` impacts (>= probe_orbits x probe_cap), which excludes mean times
       below ``clear_bound``; ``clear_lyapunov`` (:func:`lyapunov_at` at ``clear``, None without one: the
-      bracket bounds r1 from above only when ``clear_lyapunov["chaotic"]``); ``bracket_margin``: the distance below ``clear`` at which the GOY law gives
-      ``clear_bound``; ``lower_bound`` = ``bracket["seen"]`` (r1 > lower_bound); ``upper_bound`` =
-      ``bracket["clear"]``; ``consistent``: the fit lies in the bracket within its error;
+      bracket bounds r1 from above only when ``clear_lyapunov["chaotic"]``); ``bracket_margin``: the
+      distance below ``clear`` at which the GOY law gives ``clear_bound``; ``lower_bound`` =
+      ``bracket["seen"]`` (r1 > lower_bound); ``upper_bound`` = ``bracket["clear"]``; ``consistent``: the
+      fit lies in the bracket within its error;
     * ``near``: the mean time between hops at the bracket's ``seen`` value (``T``, ``lo``, ``hi`` at 95 %,
       ``hops``, ``exposure``, ``dispersion``, ``orbits``);
     * ``hops``: per r ``{r, T, lo, hi, events, exposure, dispersion, orbits}``;
