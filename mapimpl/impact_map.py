@@ -33,7 +33,7 @@ import jax
 import jax.numpy as jnp
 
 from .finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
-from .flight import TWO_PI, forcing, phi1, reduce_phase
+from .flight import TWO_PI, forcing, phi12, reduce_phase
 from .params import ParamArrays
 from .status import ORBIT_NAMES, Orbit
 from .sticking import STICK_TIME, decide_stick, released_turns
@@ -93,7 +93,7 @@ def make_state(tau, sdot, wall=None, status=ACTIVE) -> MapState:
 def _jacobian(theta0, sdot_n, v0, dt, theta1, v1, p: ParamArrays):
     alpha, beta, gamma, r = p
     e = jnp.exp(-beta * dt)
-    e1 = dt * phi1(beta * dt)
+    e1 = dt * phi12(beta * dt, e)[0]
     a0 = forcing(theta0, alpha, beta, gamma) - beta * v0
     a1 = forcing(theta1, alpha, beta, gamma) - beta * v1
     dt1_dtau = (v0 + e1 * a0) / v1
