@@ -4,10 +4,17 @@ Importing any ``gear_rattle`` module switches JAX to float64 (``jax_enable_x64``
 computes in double precision.  Nothing else happens on import.
 
 :func:`use_cpu_devices` is the opt-in second half, called by the command line (and by tests and
-benchmarks) before JAX starts: on the CPU, one XLA device per available core, so that the engine
-(:mod:`gear_rattle.mapimpl.engine`) can run one queue of orbits per core -- a single XLA CPU device
-executes its small element-wise kernels on one thread.  A library user who wants the same calls it
-before the first JAX computation.
+benchmarks) before JAX starts:
+
+* on the CPU, one XLA device per available core, so that the engine (:mod:`gear_rattle.mapimpl.engine`)
+  can run one queue of orbits per core -- a single XLA CPU device executes its small element-wise
+  kernels on one thread;
+* the XLA:CPU compiler options of :data:`ENGINE_XLA_FLAGS` (on the jaxlib versions they were tested
+  with, :data:`ENGINE_XLA_TESTED`; ``GEAR_RATTLE_XLA_TUNING=0`` leaves them out), under which the
+  engine's kernel runs about twice as fast (docs/engine.md, "Compiling the kernel").
+
+A library user who wants the same calls it before the first JAX computation.  Results are correct
+either way; float64 samples of chaotic orbits (docs/release.md) depend on the compiler and its options.
 """
 
 from __future__ import annotations
@@ -20,6 +27,55 @@ jax.config.update("jax_enable_x64", True)
 
 #: Environment variable that sets the number of XLA CPU devices chosen by :func:`use_cpu_devices`.
 CPU_DEVICES_ENV = "GEAR_RATTLE_CPU_DEVICES"
+#: Environment variable: ``0`` keeps :func:`use_cpu_devices` from adding :data:`ENGINE_XLA_FLAGS`.
+XLA_TUNING_ENV = "GEAR_RATTLE_XLA_TUNING"
+#: XLA:CPU options for the engine's kernel: the loop emitters with multi-output fusion (a value that
+#: several results need is computed once, in one loop, rather than re-computed in each result's loop or
+#: written to memory between loops) and whole-loop compilation of while loops (the engine's block of
+#: micro-steps runs as one compiled function instead of one runtime call per fused loop per micro-step).
+ENGINE_XLA_FLAGS = (
+    "--xla_cpu_use_fusion_emitters=false",
+    "--xla_backend_extra_options=xla_cpu_use_multi_output_fusion=true,"
+    "xla_cpu_small_while_loop_byte_threshold=1000000000",
+)
+#: jaxlib versions (major, minor) with which :data:`ENGINE_XLA_FLAGS` were tested; XLA aborts the process
+#: on a flag it does not know, so other versions run without them.
+ENGINE_XLA_TESTED = ((0, 10),)
+
+
+def _jaxlib_version() -> tuple[int, int]:
+    try:
+        from jaxlib.version import __version__ as v
+        major, minor = (int(x) for x in v.split(".")[:2])
+        return major, minor
+    except Exception:  # pragma: no cover - unusual installs
+        return (0, 0)
+
+
+def engine_xla_flags() -> tuple[str, ...]:
+    """The :data:`ENGINE_XLA_FLAGS` that :func:`use_cpu_devices` applies here: all of them on a tested
+    jaxlib version unless ``GEAR_RATTLE_XLA_TUNING=0``, else none."""
+    if os.environ.get(XLA_TUNING_ENV, "1").strip() == "0" or _jaxlib_version() not in ENGINE_XLA_TESTED:
+        return ()
+    return ENGINE_XLA_FLAGS
+
+
+def xla_tuning_active() -> bool:
+    """Whether this process runs with :data:`ENGINE_XLA_FLAGS` (set in ``XLA_FLAGS`` before JAX started)."""
+    flags = os.environ.get("XLA_FLAGS", "")
+    return all(f in flags for f in ENGINE_XLA_FLAGS)
+
+
+def _add_engine_xla_flags() -> None:
+    from jax._src import xla_bridge
+
+    started = getattr(xla_bridge, "backends_are_initialized", lambda: True)()
+    if started:
+        return
+    flags = os.environ.get("XLA_FLAGS", "")
+    extra = [f for f in engine_xla_flags() if f.split("=")[0] not in flags]
+    if extra:
+        os.environ["XLA_FLAGS"] = " ".join([flags, *extra]).strip()
 
 
 def _wanted_cpu_devices(n: int | None) -> int:
@@ -47,12 +103,14 @@ def use_cpu_devices(n: int | None = None) -> int:
     """Ask JAX for ``n`` XLA CPU devices (default: ``$GEAR_RATTLE_CPU_DEVICES``, else one per
     available core) and return the number of CPU devices JAX will use.
 
-    Must run before JAX's first computation.  Nothing is changed when ``XLA_FLAGS`` already sets
-    ``--xla_force_host_platform_device_count``, when JAX has already started (the count is then
-    whatever it is), or on JAX versions without ``jax_num_cpu_devices`` (before 0.5).  Raises
-    ``ValueError`` for a bad ``n`` or environment value.
+    Also adds :func:`engine_xla_flags` to ``XLA_FLAGS`` (those it does not name already).  Must run
+    before JAX's first computation.  Nothing is changed when JAX has already started (the count is then
+    whatever it is); the device count is left alone when ``XLA_FLAGS`` already sets
+    ``--xla_force_host_platform_device_count`` or on JAX versions without ``jax_num_cpu_devices``
+    (before 0.5).  Raises ``ValueError`` for a bad ``n`` or environment value.
     """
     want = _wanted_cpu_devices(n)
+    _add_engine_xla_flags()
     if "xla_force_host_platform_device_count" in os.environ.get("XLA_FLAGS", ""):
         return len(jax.devices("cpu"))
     if getattr(jax.config, "jax_num_cpu_devices", None) is None:  # pragma: no cover - old JAX
