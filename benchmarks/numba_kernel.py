@@ -12,13 +12,14 @@ The method (mirrored decision for decision from :mod:`gear_rattle.mapimpl.finder
 :mod:`~gear_rattle.mapimpl.flight`, :mod:`~gear_rattle.mapimpl.sticking` and the engine's micro-step
 :mod:`gear_rattle.mapimpl.engine.kernel`):
 
-* closed-form flight, Eqs. (7)-(8) in the cancellation-free form of ``mapimpl.flight`` (``phi1``,
-  ``phi2``, ``sigma`` by their Taylor series below argument 1), sin/cos of the flight's start phase
-  once per flight, ``sin t`` inside ``sigma`` from the double angle of ``t/2``;
+* closed-form flight, Eqs. (7)-(8) in the cancellation-free form of ``mapimpl.flight``
+  (``phi12``: one Taylor series for ``phi2`` below argument 1 with ``phi1 = 1 - x phi2``, the direct
+  forms with ``expm1(-x) = e - 1`` above; ``sigma`` by its 9-term series below 1), sin/cos of the
+  flight's start phase once per flight, ``sin t`` inside ``sigma`` from the double angle of ``t/2``;
 * certified safe steps (``safe_step``: derivative bounds ``M2 = alpha + b e^{-beta t}``,
   ``M3 = alpha + beta b e^{-beta t}``, window ``H`` doubling to 2), the bracket test at the point
   just past the root predicted by the local quadratic (skipped when no root is predicted in the
-  window), safeguarded Newton from the tangent at the test point with the same stopping rules (2 ulp,
+  window; uniqueness certified on the test interval from both ends, ``bracket_unique``), safeguarded Newton from the tangent at the test point with the same stopping rules (2 ulp,
   predicted error far below an ulp, bracket width, 80 iterations), the velocity at the root
   extrapolated from the last Newton evaluation; the first safe step of a flight from its closed-form
   state at ``t = 0`` (no evaluation); a safe step below one ulp is a graze;
@@ -31,8 +32,9 @@ The method (mirrored decision for decision from :mod:`gear_rattle.mapimpl.finder
   when a flight exceeds ``T_MAX`` (escaped) or a search ``MAX_STEPS`` safe steps (failed).
 
 Every loop is bounded (``cap`` impacts, ``MAX_STEPS`` safe steps per flight, 80 Newton iterations).
-The differences from the engine are arithmetic only: libm ``sin``/``cos``/``exp``/``expm1`` (the
-engine: fdlibm polynomial kernels and XLA's own ``exp``), so orbits agree to a few ulps per impact;
+The differences from the engine are arithmetic only: libm ``sin``/``cos``/``exp`` (the engine: fdlibm
+polynomial kernels and XLA's own ``exp``; one reciprocal of ``t`` where this kernel divides twice), so
+orbits agree to a few ulps per impact;
 chaotic orbits then separate after ~50-100 impacts while short transients end identically.
 
     from numba_kernel import numba_transients
@@ -59,7 +61,7 @@ T_MAX = 2000.0
 MAX_STEPS = 4000
 NEWTON_ITERS = 80
 STICK_TIME = 1e-6
-SERIES_X = 1.0  # phi1, phi2 and (in the engine's flight) sigma use their Taylor series below this
+SERIES_X = 1.0  # phi2 and (in the engine's flight) sigma use their Taylor series below this
 
 # status codes (the engine's names; the values of gear_rattle.mapimpl.engine.kernel)
 CONVERGED, CAPPED, STUCK_FOREVER, ESCAPED, FAILED = 0, 1, 2, 3, 4
@@ -78,10 +80,8 @@ def _inv_factorials(start: int, n: int) -> list[float]:
 
 # Taylor coefficients, built exactly as in mapimpl.flight; stored highest order first for Horner
 # (acc = c[-1]; acc = acc * x + c for c in c[-2::-1]).
-_PHI1 = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(1, 20))]
-_PHI2 = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(2, 20))]
-_SIGMA = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:14])]
-PHI1_TOP, PHI1_REST = _PHI1[-1], tuple(_PHI1[-2::-1])
+_PHI2 = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(2, 18))]
+_SIGMA = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:9])]  # the engine's 9 terms
 PHI2_TOP, PHI2_REST = _PHI2[-1], tuple(_PHI2[-2::-1])
 SIGMA_TOP, SIGMA_REST = _SIGMA[-1], tuple(_SIGMA[-2::-1])
 
@@ -92,23 +92,15 @@ INF = math.inf
 # ------------------------------------------------------------------------------ flight, Eqs. (7)-(8)
 
 @njit(inline="always", **_JIT)
-def _phi1(x):
+def _phi12(x, e):
+    """mapimpl.flight.phi12: (phi1, phi2) given e = exp(-x); one series (phi2) below x = 1 with
+    phi1 = 1 - x phi2, the direct forms with expm1(-x) = e - 1 above."""
     if x >= SERIES_X:
-        return -math.expm1(-x) / x
-    acc = PHI1_TOP
-    for c in PHI1_REST:
-        acc = acc * x + c
-    return acc
-
-
-@njit(inline="always", **_JIT)
-def _phi2(x):
-    if x >= SERIES_X:
-        return (x + math.expm1(-x)) / (x * x)
+        return -(e - 1.0) / x, ((x - 1.0) + e) / (x * x)
     acc = PHI2_TOP
     for c in PHI2_REST:
         acc = acc * x + c
-    return acc
+    return 1.0 - x * acc, acc
 
 
 @njit(inline="always", **_JIT)
@@ -126,14 +118,14 @@ def _sigma_from_sin(t, sin_t):
 @njit(inline="always", **_JIT)
 def _flight(t, sn0, cs0, v0, alpha, beta, gamma):
     """Flight time ``t`` after leaving phase ``tau0`` (``sn0, cs0 = sin, cos tau0``) with velocity
-    ``v0``: ``(ds, v, a, exp(-beta t))``, ``ds = s - s0`` (Eqs. 7-8, cancellation-free)."""
+    ``v0``: ``(ds, v, a, exp(-beta t), sin(tau0 + t), cos(tau0 + t))``, ``ds = s - s0`` (Eqs. 7-8,
+    cancellation-free)."""
     half = 0.5 * t
     sh = math.sin(half)
     ch = math.cos(half)
     bt = beta * t
     e = math.exp(-bt)
-    p1 = _phi1(bt)
-    p2 = _phi2(bt)
+    p1, p2 = _phi12(bt, e)
     if abs(half) < 1e-8:
         sc = 1.0 - half * half / 6.0
     else:
@@ -147,7 +139,7 @@ def _flight(t, sn0, cs0, v0, alpha, beta, gamma):
     sin_t = sn0 * ct + cs0 * st
     cos_t = cs0 * ct - sn0 * st
     a = -alpha * sin_t + alpha * beta * cos_t + gamma - beta * v
-    return ds, v, a, e
+    return ds, v, a, e, sin_t, cos_t
 
 
 @njit(inline="always", **_JIT)
@@ -176,6 +168,16 @@ def _reduce(theta):
 
 
 # ------------------------------------------------------------------------------ the finder's decisions
+
+@njit(inline="always", **_JIT)
+def _bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
+    """mapimpl.finder.bracket_unique: velocity or acceleration keeps its sign on [t_a, t_b], bounds
+    applied from both ends."""
+    A = min(min(abs(a_a), abs(a_b)) + m3 * ell, m2)
+    if v_a * v_b > 0.0 and abs(v_a) + abs(v_b) > A * ell:
+        return True
+    return a_a * a_b > 0.0 and abs(a_a) + abs(a_b) > m3 * ell
+
 
 @njit(inline="always", **_JIT)
 def _safe_time(d, u, A):
@@ -334,25 +336,23 @@ def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, 
                     return n, FAILED, nstick, evals
                 ta = t_next
                 H = H_new
-                ds, v, a, e = _flight(ta, sn0, cs0, v0, alpha, beta, gamma)
+                ds, v, a, e, _, _ = _flight(ta, sn0, cs0, v0, alpha, beta, gamma)
                 evals += 1
                 b = bc * e
                 continue
             # bracket test at t_b (mapimpl.finder.bracket_test)
-            amax = min(abs(a) + m3 * wdw, m2)
-            unique = (abs(v) > amax * wdw) or (abs(a) > m3 * wdw)
             slope = max(u_near + a_near * h_est, 1e-300)
             h_try = h_est + 2.0 * (m3 * h_est * h_est * h_est / 6.0) / slope + 4.0 * EPS * (ta + h_est)
             w_b = min(wdw, h_try) if (math.isfinite(h_try) and h_try > 0.0) else wdw
             tb = ta + w_b
             v_a = v
-            dsb, vb, ab, eb = _flight(tb, sn0, cs0, v0, alpha, beta, gamma)
+            dsb, vb, ab, eb, sb, cb = _flight(tb, sn0, cs0, v0, alpha, beta, gamma)
             evals += 1
             if top_near:
                 g_b, dg_b = -s0 - dsb, -vb
             else:
                 g_b, dg_b = (s0 + 1.0) + dsb, vb
-            bracket = (g_b <= 0.0) and unique
+            bracket = (g_b <= 0.0) and _bracket_unique(v_a, a, vb, ab, m2, m3, tb - ta)
             if not bracket:
                 if ta + h_near <= ta:  # stalled: a graze at ta
                     t_hit, v_hit, top_hit = ta, v_a, top_near
@@ -364,28 +364,25 @@ def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, 
                     return n, FAILED, nstick, evals
                 ta = t_new
                 H = H_new
-                ds, v, a, e = _flight(ta, sn0, cs0, v0, alpha, beta, gamma)
+                ds, v, a, e, _, _ = _flight(ta, sn0, cs0, v0, alpha, beta, gamma)
                 evals += 1
                 b = bc * e
                 continue
-            # safeguarded Newton on [ta, tb] (mapimpl.finder.newton_step), from the tangent at tb
-            x = tb - g_b / dg_b
-            if not (math.isfinite(x) and x > ta and x < tb):
-                x = 0.5 * (ta + tb)
+            # safeguarded root iteration on [ta, tb] (mapimpl.finder.root_step), from tb with its evaluation;
+            # derivative bounds at ta (valid for all later times)
+            x, g, dg, d2g, vx, ax, sx, cx = tb, g_b, dg_b, (-ab if top_near else ab), vb, ab, sb, cb
             lo, hi, top, k = ta, tb, top_near, 0
             while True:
-                dsx, vx, ax, ex = _flight(x, sn0, cs0, v0, alpha, beta, gamma)
-                evals += 1
-                m2x = alpha + bc * ex
-                if top:
-                    g, dg = -s0 - dsx, -vx
-                else:
-                    g, dg = (s0 + 1.0) + dsx, vx
                 if g > 0.0:
                     lo = x
                 else:
                     hi = x
-                raw = x - g / dg
+                disc = dg * dg - 2.0 * g * d2g
+                model = disc >= 0.0
+                if model:
+                    raw = x - 2.0 * g / (dg + math.copysign(math.sqrt(disc), 1.0 if dg >= 0.0 else -1.0))
+                else:
+                    raw = x - g / dg
                 fin = math.isfinite(raw)
                 tiny = fin and abs(raw - x) <= 2.0 * EPS * abs(x)
                 ok = fin and raw > lo and raw < hi
@@ -396,16 +393,26 @@ def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, 
                 else:
                     xn = 0.5 * (lo + hi)
                 step = abs(xn - x)
-                quad_ok = ok and (m2x * step * step <= 1e-3 * EPS * abs(dg) * abs(xn))
+                small = m3 * step * step * step * (1.0 / 6.0) if model else 0.5 * m2 * step * step
+                bound_ok = ok and (small <= 5e-4 * EPS * abs(dg) * abs(xn))
                 k += 1
                 conv = ((g == 0.0) or tiny or (step <= 2.0 * EPS * abs(x)) or (hi - lo <= 2.0 * EPS * hi)
-                        or quad_ok or k >= NEWTON_ITERS)
+                        or bound_ok or k >= NEWTON_ITERS)
                 if g == 0.0:
                     xn = x
                 if conv:
-                    t_hit, v_hit, top_hit = xn, vx + ax * (xn - x), top
+                    # the velocity at the root, to second order from the last evaluation (the engine's)
+                    dx = xn - x
+                    jerk = _forcing_rate(sx, cx, alpha, beta) - beta * ax
+                    t_hit, v_hit, top_hit = xn, vx + ax * dx + jerk * 0.5 * dx * dx, top
                     break
                 x = xn
+                dsx, vx, ax, ex, sx, cx = _flight(x, sn0, cs0, v0, alpha, beta, gamma)
+                evals += 1
+                if top:
+                    g, dg, d2g = -s0 - dsx, -vx, -ax
+                else:
+                    g, dg, d2g = (s0 + 1.0) + dsx, vx, ax
             break
         # ---------------- the impact: next pre-impact state ----------------
         th1 = _reduce(th0 + t_hit)

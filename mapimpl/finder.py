@@ -11,10 +11,11 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
 2. **Certified bracket.**  A step that is not a full window ``H`` looks at a point ``t_b`` in
    ``(t_a, t_a + w]``, ``w = min(2 h_near, h_far, H)``: just past the root that the local quadratic
    predicts (else ``t_a + w``).  If the near wall is crossed at ``t_b`` *and* either the velocity or
-   the acceleration provably keeps its sign on ``[t_a, t_a + w]`` (bounds again), the gap is monotone
-   or convex/concave there, so the bracket ``[t_a, t_b]`` holds exactly one root, and no earlier root
-   exists (step 1).  A safeguarded Newton iteration, started from the tangent at ``t_b``, finds it to
-   a few ulps.  When the quadratic predicts no root inside the window the test is skipped: a failed
+   the acceleration provably keeps its sign on ``[t_a, t_b]`` (bounds again, applied from both ends:
+   :func:`bracket_unique`), the gap is monotone or convex/concave there, so the bracket ``[t_a, t_b]``
+   holds exactly one root, and no earlier root exists (step 1; the far wall is not reached before
+   ``t_a + w``).  A safeguarded iteration on the local quadratic model (:func:`root_step`: the
+   evaluations give ``s''`` too), started at ``t_b``, finds it to a few ulps.  When the quadratic predicts no root inside the window the test is skipped: a failed
    test would continue at ``t_a + h_near``, which is where the step goes.
 3. **Start on a wall.**  A flight that starts on a wall (gap exactly 0, see :mod:`mapimpl.flight`)
    first gets a departure certificate ``[0, t_dep]`` during which it provably cannot return
@@ -27,8 +28,8 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
    ``STEP_CAP``) end the search.  Every loop is bounded.
 
 All code is branch-free ``jax.numpy`` inside ``lax.while_loop`` so it jit-compiles and vmaps.  The
-decisions :func:`safe_step`, :func:`bracket_test` and :func:`newton_step` and the departure certificate
-:func:`departure_time_sc` are the one implementation of the method: the transient engine's micro-step
+decisions :func:`safe_step`, :func:`bracket_unique`, :func:`bracket_test` and :func:`root_step` and the
+departure certificate :func:`departure_time_sc` are the one implementation of the method: the transient engine's micro-step
 kernel (:mod:`mapimpl.engine.kernel`) calls the same functions.
 """
 
@@ -77,13 +78,15 @@ def safe_time(d, u, A):
     ``d >= 0`` is the gap to a wall, ``u`` the velocity toward it and ``A`` an upper bound of the
     acceleration toward it; before that time the wall provably cannot be reached.
     """
-    inf = jnp.inf
     disc = u * u + 2.0 * A * d
     root = jnp.sqrt(jnp.maximum(disc, 0.0))
-    # approaching: stable form 2d / (u + sqrt(disc)); receding with A > 0: (-u + sqrt(disc)) / A
-    approach = jnp.where(disc >= 0.0, 2.0 * d / (u + root), inf)
-    recede = jnp.where(A > 0.0, (root - u) / jnp.where(A > 0.0, A, 1.0), inf)
-    return jnp.where(u > 0.0, approach, recede)
+    # approaching: stable form 2d / (u + sqrt(disc)); receding with A > 0: (-u + sqrt(disc)) / A (one
+    # division of the selected operands; +inf where no root exists)
+    approach = u > 0.0
+    num = jnp.where(approach, 2.0 * d, root - u)
+    den = jnp.where(approach, u + root, jnp.where(A > 0.0, A, 1.0))
+    none = jnp.where(approach, jnp.logical_not(disc >= 0.0), jnp.logical_not(A > 0.0))
+    return jnp.where(none, jnp.inf, num / den)
 
 
 def _gaps(s0, ds):
@@ -128,7 +131,7 @@ class SafeStep(NamedTuple):
     ``move``: go on to ``t_next`` with window ``H_new`` (a full window, or straight on to
     ``t_a + h_near`` when no root is predicted inside the window); ``beyond`` / ``capped``: that move
     passes ``t_max`` / uses up ``max_steps``.  Otherwise test the near wall (``top_near``) at ``t_b``
-    with :func:`bracket_test`.  ``it``: steps used including this one.
+    with :func:`bracket_unique` and :func:`bracket_test`.  ``it``: steps used including this one.
     """
 
     move: jnp.ndarray
@@ -140,7 +143,6 @@ class SafeStep(NamedTuple):
     top_near: jnp.ndarray
     h_near: jnp.ndarray
     t_b: jnp.ndarray
-    unique: jnp.ndarray
 
 
 def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> SafeStep:
@@ -163,11 +165,8 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
     h_far = jnp.maximum(hu, hl)
     windowed = h_near >= H
     w = jnp.minimum(jnp.minimum(2.0 * h_near, h_far), H)
-    amax = jnp.minimum(jnp.abs(a) + m3 * w, m2)
-    unique = (jnp.abs(v) > amax * w) | (jnp.abs(a) > m3 * w)
     # test point: just past the root predicted by the local quadratic (Taylor error <= M3 h^3/6),
-    # still inside [t_a, t_a + w] so the certificate holds; the test doubles as the first Newton
-    # evaluation
+    # inside [t_a, t_a + w] (no other wall before it); the test doubles as the first Newton evaluation
     d_near = jnp.where(top_near, du, dl)
     u_near = jnp.where(top_near, v, -v)
     a_near = jnp.where(top_near, a, -a)
@@ -182,45 +181,70 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
     it_new = it + 1
     t_next = jnp.where(windowed, t_a + H, t_a + h_near)
     return SafeStep(move=windowed | skip_test, t_next=t_next, H_new=H_new, beyond=t_next > t_max,
-                    capped=it_new >= max_steps, it=it_new, top_near=top_near, h_near=h_near, t_b=t_a + w_b,
-                    unique=unique)
+                    capped=it_new >= max_steps, it=it_new, top_near=top_near, h_near=h_near, t_b=t_a + w_b)
 
 
-def bracket_test(g_b, dg_b, t_a, t_b, h_near, unique):
-    """Method, step 2: the gap ``g_b`` (derivative ``dg_b``) to the near wall at the test point ``t_b``.
+def bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
+    """Whether the gap to a wall is monotone or convex/concave on a test interval ``[t_a, t_b]`` of
+    length ``ell = t_b - t_a`` (exact in floating point, Sterbenz), so that a sign change across it is
+    exactly one root (method, step 2).
 
-    Returns ``(bracket, stalled, x0)``: whether ``[t_a, t_b]`` holds exactly one root; whether no
-    progress is possible (a safe step below one ulp of ``t_a``: a graze at ``t_a``); and the Newton
-    start (the zero of the tangent at ``t_b`` when it lies in the bracket, else the midpoint).
-    Neither bracket nor stalled: go on to ``t_a + h_near``.
+    ``v, a``: velocity and acceleration at both ends; ``m2 >= |s''|``, ``m3 >= |s'''|`` for times
+    ``>= t_a``.  The velocity keeps its sign if it has the same sign at both ends and
+    ``|v_a| + |v_b| > A ell`` with ``A = min(|a_a| + m3 ell, |a_b| + m3 ell, m2) >= |s''|`` on the
+    interval (``v`` lies above both lines ``v_a - A (t - t_a)`` and ``v_b - A (t_b - t)``, whose
+    maximum is at least ``(|v_a| + |v_b| - A ell) / 2``); likewise the acceleration with ``m3``.  Bounds
+    from both ends certify about twice as long intervals as bounds from ``t_a`` alone."""
+    A = jnp.minimum(jnp.minimum(jnp.abs(a_a), jnp.abs(a_b)) + m3 * ell, m2)
+    keep_v = (v_a * v_b > 0.0) & (jnp.abs(v_a) + jnp.abs(v_b) > A * ell)
+    keep_a = (a_a * a_b > 0.0) & (jnp.abs(a_a) + jnp.abs(a_b) > m3 * ell)
+    return keep_v | keep_a
+
+
+def bracket_test(g_b, t_a, h_near, unique):
+    """Method, step 2: the gap ``g_b`` to the near wall at the test point ``t_b``.
+
+    Returns ``(bracket, stalled)``: whether ``[t_a, t_b]`` holds exactly one root (``unique``:
+    :func:`bracket_unique`); whether no progress is possible (a safe step below one ulp of ``t_a``: a
+    graze at ``t_a``).  Neither: go on to ``t_a + h_near``.  On a bracket the root iteration
+    (:func:`root_step`) starts from ``t_b`` with this evaluation.
     """
     bracket = (g_b <= 0.0) & unique
     stalled = (~bracket) & (t_a + h_near <= t_a)
-    x0 = t_b - g_b / dg_b
-    x0 = jnp.where(jnp.isfinite(x0) & (x0 > t_a) & (x0 < t_b), x0, 0.5 * (t_a + t_b))
-    return bracket, stalled, x0
+    return bracket, stalled
 
 
-def newton_step(x, g, dg, lo, hi, m2, k):
-    """One safeguarded Newton iteration on a certified bracket ``[lo, hi]`` (method, step 2).
+def root_step(x, g, dg, d2g, lo, hi, m2, m3, k):
+    """One safeguarded root iteration on a certified bracket ``[lo, hi]`` (method, step 2).
 
-    ``g, dg``: gap and its derivative at ``x``; ``m2 >= |g''|``; ``k``: iterations so far.  Returns
-    ``(x_new, lo, hi, done, k + 1)``; ``done`` when ``x_new`` is the root to rounding, or after
-    ``_NEWTON_ITERS`` iterations.
+    ``g, dg, d2g``: gap and its first two derivatives at ``x`` (``d2g = -+ s''``, known from the same
+    evaluation); ``m2 >= |g''|``, ``m3 >= |g'''|`` on the bracket; ``k``: iterations so far.  The step
+    goes to the zero of the local quadratic model ``g + dg d + d2g d^2/2`` nearest ``x`` (Newton's step
+    where the model has none) when that lies inside the bracket, else bisects.  Returns
+    ``(x_new, lo, hi, done, k + 1)``; ``done`` when ``x_new`` is the root to rounding: ``x`` itself, or a
+    point whose error, at most ``m3 d^3 / (6 |dg|)`` after a model step (``m2 d^2 / (2 |dg|)`` after a
+    Newton step), is far below an ulp -- it is accepted without evaluating there -- or after
+    ``_NEWTON_ITERS`` iterations.  Near a transversal root the error goes from ``e`` to
+    ``~ e^3 m3 / |dg|`` per step: one evaluation past a good start suffices.
     """
     lo_n = jnp.where(g > 0.0, x, lo)
     hi_n = jnp.where(g > 0.0, hi, x)
-    raw = x - g / dg
-    # a Newton step below 2 ulp means x is the root to rounding (checked before the bracket safeguard,
-    # which would reject the step raw == x == hi that rounding produces there and bisect ~50 times)
+    disc = dg * dg - 2.0 * g * d2g
+    model = disc >= 0.0
+    # stable form of the model's nearer zero, -2 g / (dg + sgn(dg) sqrt(disc)); one division of the
+    # selected operands
+    den = dg + jnp.where(dg >= 0.0, 1.0, -1.0) * jnp.sqrt(jnp.maximum(disc, 0.0))
+    raw = x + jnp.where(model, -2.0 * g, -g) / jnp.where(model, den, dg)
+    # a step below 2 ulp means x is the root to rounding (checked before the bracket safeguard, which
+    # would reject the step raw == x == hi that rounding produces there and bisect ~50 times)
     tiny = jnp.isfinite(raw) & (jnp.abs(raw - x) <= 2.0 * _EPS * jnp.abs(x))
     ok = jnp.isfinite(raw) & (raw > lo_n) & (raw < hi_n)
     xn = jnp.where(ok, raw, jnp.where(tiny, x, 0.5 * (lo_n + hi_n)))
     step = jnp.abs(xn - x)
-    # the error after this step is <= |g''| step^2 / (2 |g'|), and M2 bounds g'' over the whole
-    # flight: accept without another evaluation when that is far below an ulp
-    quad_ok = ok & (m2 * step * step <= 1e-3 * _EPS * jnp.abs(dg) * jnp.abs(xn))
-    conv = (g == 0.0) | tiny | (step <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n) | quad_ok
+    # accept without another evaluation when the error bound is far below an ulp of the root
+    small = jnp.where(model, m3 * step * step * step * (1.0 / 6.0), 0.5 * m2 * step * step)
+    bound_ok = ok & (small <= 5e-4 * _EPS * jnp.abs(dg) * jnp.abs(xn))
+    conv = (g == 0.0) | tiny | (step <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n) | bound_ok
     xn = jnp.where(g == 0.0, x, xn)
     k_new = k + 1
     return xn, lo_n, hi_n, conv | (k_new >= _NEWTON_ITERS), k_new
@@ -238,7 +262,7 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
     def gap_of(t, wall_top):
         fp = flight(t, tau0, v0, alpha, beta, gamma)
         du, dl = _gaps(s0, fp.ds)
-        return jnp.where(wall_top, du, dl), jnp.where(wall_top, -fp.v, fp.v)
+        return jnp.where(wall_top, du, dl), jnp.where(wall_top, -fp.v, fp.v), fp
 
     # ---- phase 1: certified safe steps until a bracket [lo, hi] with one root ----
     def cond(c):
@@ -249,8 +273,12 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         fp = flight(t_a, tau0, v0, alpha, beta, gamma)
         m2, m3, _ = derivative_bounds(t_a, tau0, v0, alpha, beta, gamma)
         st = safe_step(fp.ds, fp.v, fp.a, m2, m3, t_a, H, c["it"], t_dep, s0, t_max, max_steps)
-        g_b, dg_b = gap_of(st.t_b, st.top_near)
-        bracket, stalled, x0 = bracket_test(g_b, dg_b, t_a, st.t_b, st.h_near, st.unique)
+        g_b, dg_b, fb = gap_of(st.t_b, st.top_near)
+        unique = bracket_unique(fp.v, fp.a, fb.v, fb.a, m2, m3, st.t_b - t_a)
+        bracket, stalled = bracket_test(g_b, t_a, st.h_near, unique)
+        # the first root step, from t_b with this evaluation (d2g = -+ s''; the bracket is [t_a, t_b])
+        x0, _, _, done0, _ = root_step(st.t_b, g_b, dg_b, jnp.where(st.top_near, -fb.a, fb.a), t_a, st.t_b, m2, m3,
+                                       0)
         bracket, stalled = bracket & ~st.move, stalled & ~st.move
         t_new = jnp.where(st.move, st.t_next, jnp.where(bracket | stalled, t_a, t_a + st.h_near))
         beyond = t_new > t_max
@@ -258,28 +286,29 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         status = jnp.where(bracket, HIT, jnp.where(stalled, GRAZE, jnp.where(beyond, NO_IMPACT, STEP_CAP)))
         return dict(
             t=t_new, H=st.H_new, it=st.it, done=bracket | stalled | beyond | capped,
-            hi=jnp.where(bracket, st.t_b, t_new), x0=x0,
+            hi=jnp.where(bracket, st.t_b, t_new), x0=x0, rdone=done0,
             top=jnp.where(bracket | stalled, st.top_near, c["top"]), status=status,
         )
 
     init = dict(
         t=jnp.zeros_like(v0), H=jnp.asarray(_H0, jnp.float64), it=jnp.asarray(0, jnp.int32),
-        done=jnp.asarray(False), hi=jnp.zeros_like(v0), x0=jnp.zeros_like(v0), top=jnp.asarray(True),
-        status=jnp.asarray(STEP_CAP),
+        done=jnp.asarray(False), hi=jnp.zeros_like(v0), x0=jnp.zeros_like(v0), rdone=jnp.asarray(False),
+        top=jnp.asarray(True), status=jnp.asarray(STEP_CAP),
     )
     c = jax.lax.while_loop(cond, body, init)
     lo, hi, top, status = c["t"], c["hi"], c["top"], c["status"]
 
-    # ---- phase 2: safeguarded Newton on the bracket (exactly one root inside) ----
-    m2 = derivative_bounds(lo, tau0, v0, alpha, beta, gamma)[0]
+    # ---- phase 2: safeguarded root iteration on the bracket (exactly one root inside) ----
+    m2, m3, _ = derivative_bounds(lo, tau0, v0, alpha, beta, gamma)
 
     def nbody(n):
-        g, dg = gap_of(n["x"], top)
-        x, lo_n, hi_n, done, k = newton_step(n["x"], g, dg, n["lo"], n["hi"], m2, n["k"])
+        g, dg, fp = gap_of(n["x"], top)
+        x, lo_n, hi_n, done, k = root_step(n["x"], g, dg, jnp.where(top, -fp.a, fp.a), n["lo"], n["hi"], m2, m3,
+                                           n["k"])
         return dict(x=x, lo=lo_n, hi=hi_n, done=done, k=k)
 
     need = status == HIT
-    n0 = dict(x=c["x0"], lo=lo, hi=hi, done=~need, k=jnp.asarray(0, jnp.int32))
+    n0 = dict(x=c["x0"], lo=lo, hi=hi, done=~need | c["rdone"], k=jnp.asarray(1, jnp.int32))
     n = jax.lax.while_loop(lambda n: ~n["done"], nbody, n0)
     t_hit = jnp.where(need, n["x"], lo)
     ok = (status == HIT) | (status == GRAZE)

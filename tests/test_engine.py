@@ -321,3 +321,53 @@ def test_bad_inputs_name_the_argument(target):
         Capture([1.0], [0.5], [0], [-1.0])
     with pytest.raises(ValueError, match="keep"):
         Sample(keep=0)
+
+
+def test_engine_xla_options_only_on_tested_jaxlib_and_can_be_turned_off(monkeypatch):
+    """use_cpu_devices adds ENGINE_XLA_FLAGS only on the jaxlib versions they were tested with (XLA aborts
+    on a flag it does not know) and not with GEAR_RATTLE_XLA_TUNING=0."""
+    from gear_rattle.mapimpl import _jax as J
+
+    monkeypatch.delenv(J.XLA_TUNING_ENV, raising=False)
+    monkeypatch.setattr(J, "_jaxlib_version", lambda: J.ENGINE_XLA_TESTED[0])
+    assert J.engine_xla_flags() == J.ENGINE_XLA_FLAGS
+    monkeypatch.setenv(J.XLA_TUNING_ENV, "0")
+    assert J.engine_xla_flags() == ()
+    monkeypatch.delenv(J.XLA_TUNING_ENV)
+    monkeypatch.setattr(J, "_jaxlib_version", lambda: (99, 0))
+    assert J.engine_xla_flags() == ()
+
+
+def test_durations_without_the_xla_options_agree(target):
+    """The engine compiled without ENGINE_XLA_FLAGS (a fresh process with GEAR_RATTLE_XLA_TUNING=0: XLA's
+    default CPU emitters, the kernel's materialising barriers, 512-lane blocks) gives the same durations
+    as this process: identical for the transients shorter than 40 impacts (no chaotic amplification of
+    the ulp-level differences of fused multiply-adds) on random ICs of the Fig. 9 window, where the
+    tongues of short transients are."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    from gear_rattle.mapimpl._jax import xla_tuning_active
+
+    rng = np.random.default_rng(5)
+    tau0, sdot0 = rng.uniform(0, 2 * np.pi, 800), rng.uniform(1e-3, 0.5, 800)
+    code = ("import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
+            "from gear_rattle.mapimpl._jax import xla_tuning_active; "
+            "from gear_rattle.mapimpl.engine.transients import transient_times; "
+            "t, s = (np.array(x) for x in json.loads(sys.stdin.read())); "
+            "r = transient_times(t, s, cap=200, progress=False); "
+            "print(json.dumps([xla_tuning_active(), r.duration()[0].tolist()]))")
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    env["GEAR_RATTLE_XLA_TUNING"] = "0"
+    proc = subprocess.run([sys.executable, "-c", code], input=json.dumps([tau0.tolist(), sdot0.tolist()]),
+                          capture_output=True, text=True, env=env, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    tuned_there, d_there = json.loads(proc.stdout)
+    d_here = transient_times(tau0, sdot0, cap=200, progress=False, target=target).duration()[0]
+    assert not tuned_there
+    short = (d_here < 40) | (np.asarray(d_there) < 40)
+    assert short.sum() >= 15 and np.array_equal(d_here[short], np.asarray(d_there)[short])
+    if not xla_tuning_active():
+        pytest.skip("this process runs without the XLA options too: compared like with like")

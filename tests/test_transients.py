@@ -169,18 +169,20 @@ def test_bad_cpu_device_env_var():
 
 
 def test_library_import_changes_neither_devices_nor_matplotlib_backend():
-    """Importing the library enables float64 only: no XLA device split, no matplotlib backend switch."""
+    """Importing the library enables float64 only: no XLA device split or options, no matplotlib backend
+    switch."""
     import os
     import subprocess
     import sys
 
-    code = ("import matplotlib; b = matplotlib.get_backend(); import gear_rattle, jax; "
+    code = ("import os, matplotlib; b = matplotlib.get_backend(); import gear_rattle, jax; "
             "import gear_rattle.validation.report.sec_dynamics, gear_rattle.validation.plots; "
-            "print(len(jax.devices()), jax.config.jax_enable_x64, matplotlib.get_backend() == b)")
+            "print(len(jax.devices()), jax.config.jax_enable_x64, matplotlib.get_backend() == b, "
+            "'XLA_FLAGS' in os.environ)")
     env = {k: v for k, v in os.environ.items() if k not in ("GEAR_RATTLE_CPU_DEVICES", "XLA_FLAGS", "MPLBACKEND")}
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.split() == ["1", "True", "True"]
+    assert proc.stdout.split() == ["1", "True", "True", "False"]  # nor the engine's XLA options
 
 
 @pytest.mark.parametrize("kwargs,word", [

@@ -34,6 +34,7 @@ from .. import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
+from .._jax import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
 from ..orbit import TAU0_MAX, TAU0_RANGE
 from ..params import Params, validate_arrays
@@ -103,14 +104,21 @@ def engine_devices(devices=None) -> list:
 
 
 def default_lanes(n_per_device: int) -> int:
-    """As many lanes as there are orbits per device, up to 512 on the CPU (the working set stays in
-    cache when every core runs a device; Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048) and
-    65536 on an accelerator.  A micro-step has a fixed cost besides its per-lane cost (on 2 cores a
-    block of 128 lanes does ~3.8e5 impacts per CPU-second, one of 512 ~5e5), so narrower blocks only
+    """As many lanes as there are orbits per device, up to :func:`cpu_lanes` on the CPU and 65536 on an
+    accelerator.  A micro-step has a fixed cost besides its per-lane cost, so narrower blocks only
     lengthen runs of few orbits; the tail of a run, when the queue is dry and few orbits are left,
     moves to a smaller block (:func:`_drive`).  A multiple of :data:`kernel.LANE_QUANTUM`."""
-    top = 512 if jax.default_backend() == "cpu" else 65536
+    top = cpu_lanes() if jax.default_backend() == "cpu" else 65536
     return K.padded_lanes(min(top, max(int(n_per_device), 1)))
+
+
+def cpu_lanes() -> int:
+    """The widest CPU block: where the working set of a device's micro-step stays in its core's cache.
+    With the engine's XLA options (:func:`gear_rattle.mapimpl._jax.xla_tuning_active`) 256 lanes: Fig. 11's
+    200 x 200 grid on 2 cores did 4.3e6, 5.4e6 and 4.6e6 impacts/s at 512, 256 and 128 lanes
+    (2026-11-24); without them the kernel keeps more intermediate arrays and 512 lanes was best
+    (Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048, 2026-11-22)."""
+    return 256 if xla_tuning_active() else 512
 
 
 def _check_int(name, v, lo, hi):
@@ -229,7 +237,9 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     if lanes is None:
         lanes = default_lanes(min(th.size, chunk) // ndev)
     lanes = K.padded_lanes(lanes)
-    k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps)
+    uniform = all(np.all(a == a[0]) for a in pa.values())
+    k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps,
+                      params=tuple(float(pa[nm][0]) for nm in ("alpha", "beta", "gamma", "r")) if uniform else None)
     k_dev = [jax.device_put(k, dv) for dv in devs]
     n = th.size
     out = {name: np.zeros(n, dt) for name, dt in (("n", np.int32), ("status", np.int32), ("nst", np.int32),
@@ -306,4 +316,5 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
                         out["cyc"], out_obs, elapsed,
                         meta={"lanes": int(lanes), "block": int(block), "chunk": int(chunk),
                               "backend": jax.default_backend(), "devices": len(devs), "cap": cap,
+                              "uniform_params": bool(uniform), "xla_tuning": xla_tuning_active(),
                               "stop_at_stick": bool(stop_at_stick), "observers": [type(o).__name__ for o in obs]})

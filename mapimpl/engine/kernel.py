@@ -3,43 +3,52 @@ only.
 
 Why not ``vmap(mapimpl.impact_map.step)``?  A vmapped ``lax.while_loop`` runs until its *slowest*
 lane is done, so a batch of map steps costs the maximum, not the mean, number of finder iterations
-(safe steps + Newton) over the batch, and a batch of orbits costs its longest orbit.  This kernel
-flattens everything into one uniform *micro-step*, one closed-form flight evaluation per lane,
-driven by a per-lane state machine:
+(safe steps + root iterations) over the batch, and a batch of orbits costs its longest orbit.  This
+kernel flattens the search for the next impact into uniform *search micro-steps*, one closed-form
+flight evaluation per lane (:func:`search_step`), driven by a per-lane state machine:
 
 ``A``  safe step at ``t_a`` (:func:`mapimpl.finder.safe_step`);
-``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_test`, when the step did not move on);
-``N``  one safeguarded Newton iteration on the certified bracket (:func:`mapimpl.finder.newton_step`);
+``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`)
+       and, on a bracket, the first root step from that evaluation;
+``N``  one safeguarded root iteration on the certified bracket (:func:`mapimpl.finder.root_step`);
+``H``  an impact found, waiting for the next arrival pass;
 ``L``  a freshly loaded initial condition (its pre-impact state is processed as an arrival).
 
-When a lane's search ends, the impact is applied in the same micro-step: the arrival is shown to
-the observers (:mod:`gear_rattle.mapimpl.engine.observers`), the sticking policy of
+The modes use disjoint quantities, so they share the search fields (:data:`SEARCH_FIELDS`).  Every few
+micro-steps an *arrival pass* (:func:`arrival`) processes the lanes in ``H`` and ``L``: the observers
+(:mod:`gear_rattle.mapimpl.engine.observers`) see the pre-impact state, the sticking policy of
 :mod:`mapimpl.sticking` decides the next flight (Eq. 11 reset, or the release at the canonical
 release phase), and that flight's first safe step is taken (its state at ``t = 0`` is known in closed
-form).  When its orbit is done, the lane is refilled from the queue of initial conditions at the end
-of the current block of micro-steps, so lanes are busy almost all the time.
+form).  All lanes advance in lock step and pay for every code path of a pass, so the arrival, as
+costly as a search step but needed once per ~5 evaluations, runs every :data:`ARRIVE_EVERY` steps
+rather than at every one (:func:`run_blocks`).  When its orbit is done, the lane is refilled from the
+queue of initial conditions at the end of the current block, so lanes are busy almost all the time.
 
 Every lane carries its own parameters (alpha, beta, gamma, r) and the constants that depend on them
 alone (the release phase of each wall and its sin/cos), prepared once per initial condition by
 :func:`prepare_queue`: one kernel serves a fixed parameter set (Figs. 9-11) and a parameter plane
-(the atlas) alike.
+(the atlas) alike; when all orbits of a run share one parameter set the lanes read it from the run
+constants instead (:func:`make_consts`, same arithmetic).
 
 The decisions are the finder's own functions -- :func:`mapimpl.finder.safe_step`,
-:func:`~mapimpl.finder.bracket_test`, :func:`~mapimpl.finder.newton_step`,
-:func:`~mapimpl.finder.departure_time_sc` -- and the sticking policy is
-:func:`mapimpl.sticking.decide_stick_sc`; only the control flow differs from
+:func:`~mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`,
+:func:`~mapimpl.finder.root_step`, :func:`~mapimpl.finder.departure_time_sc` -- and the sticking policy
+is :func:`mapimpl.sticking.decide_stick_sc`; only the control flow differs from
 :func:`mapimpl.impact_map.step` (one evaluation per micro-step instead of nested loops).  The
 arithmetic differs by a few ulps per step (tests compare with ``step``): sin/cos come from
 :func:`mapimpl.engine.fastmath.sincos` (vectorised fdlibm kernels), sin/cos of the flight start phase
-are computed once per flight, ``sin t`` inside ``sigma`` comes from the double angle, and at the
-root the velocity and sin/cos of the phase are extrapolated from the last evaluation to first order
-in the final Newton correction (below ~1e-9, so the neglected term is below 1e-18).
+are computed once per flight, ``sin t`` inside ``sigma`` comes from the double angle, one reciprocal
+of ``t`` serves ``sinc`` and ``sigma``, and at the root the velocity and sin/cos of the phase are
+extrapolated from the last evaluation to second order in the last correction (the map evaluates the
+flight there again).
 
 **Determinism.**  Each lane's arithmetic is its own: results do not depend on the number of lanes,
-their order, the block, the chunk or the number of devices of one backend.  One exception was found
-and is designed out: XLA compiles a one-lane block into scalar code whose floating-point contraction
-differs from the vectorised code of wider blocks, so lane blocks are always a multiple of
-:data:`LANE_QUANTUM` lanes (padded with idle lanes; tested).
+their order, the block, the chunk, the number of devices of one backend, or on when a lane's arrival
+is processed.  One exception was found and is designed out: XLA compiles a one-lane block into scalar
+code whose floating-point contraction differs from the vectorised code of wider blocks, so lane
+blocks are always a multiple of :data:`LANE_QUANTUM` lanes (padded with idle lanes; tested).  The
+compiler and its options (:data:`gear_rattle.mapimpl._jax.ENGINE_XLA_FLAGS`) decide where
+multiply-adds are fused, so float64 samples of chaotic orbits depend on them.
 """
 
 from __future__ import annotations
@@ -50,49 +59,72 @@ from .. import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ..finder import _H0, MAX_STEPS, T_MAX, _gaps, bracket_test, departure_time_sc, newton_step, safe_step
-from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_sc, phi1, phi2, reduce_phase
+from ..finder import (_H0, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
+                      safe_step)
+from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_rate_sc, forcing_sc, phi12, reduce_phase
 from ..status import Orbit
 from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
 from .observers import Impact, Observer
 
-# lane modes
-MODE_A, MODE_B, MODE_N, MODE_L, MODE_IDLE = 0, 1, 2, 3, 4
+# lane modes: searching (A: safe step, B: bracket test, N: root iteration), pending arrival (L: a loaded
+# initial condition, H: an impact found), idle
+MODE_A, MODE_B, MODE_N, MODE_L, MODE_IDLE, MODE_H = 0, 1, 2, 3, 4, 5
+#: Default number of search micro-steps between two arrival passes (see :func:`run_blocks`).
+ARRIVE_EVERY = 4
 #: Lane blocks are padded to a multiple of this many lanes (see the module docstring).
 LANE_QUANTUM = 8
 
 
 def _barrier(x, pred):
-    """Materialise ``x`` once.  Without it XLA:CPU fuses the shared flight evaluation (cheap
-    multiply-adds, hence duplicated) into every one of the ~30 output fusions of the micro-step:
-    30x the work.  ``optimization_barrier`` is removed before fusion on CPU, but the operands and
-    results of a ``lax.cond`` on a run-time predicate (always true here) are real buffers."""
+    """Materialise ``x`` once, where that pays: on the CPU without the engine's XLA options
+    (:data:`gear_rattle.mapimpl._jax.ENGINE_XLA_FLAGS`).  There XLA:CPU fuses a value that several
+    results need (the flight evaluation: cheap multiply-adds) into each result's loop -- 2.6x the work
+    of the search step -- and ``optimization_barrier`` is removed before fusion, but the operands and
+    results of a ``lax.cond`` on a run-time predicate (always true here) are real buffers.  With the
+    options (multi-output fusion, no duplication) and on an accelerator the barrier only costs copies
+    (and, on a GPU, a predicate read per micro-step), so ``x`` is returned as it is."""
+    if not _BARRIERS:
+        return x
     return jax.lax.cond(pred, lambda y: y, lambda y: jax.tree_util.tree_map(jnp.zeros_like, y), x)
 
 
-def _sigma_from_sin(t, sin_t):
-    big = jnp.abs(t) >= _SERIES_X
-    tb = jnp.where(big, t, 1.0)
-    direct = (tb - jnp.where(big, sin_t, 0.0)) / (tb * tb * tb)
-    ts = jnp.where(big, 0.0, t)
-    return jnp.where(big, direct, _horner(ts * ts, _SIGMA_COEFFS))
+#: Whether :func:`_barrier` materialises (decided when the kernel is first traced; see there).
+_BARRIERS = None
+
+
+def _decide_barriers() -> None:
+    global _BARRIERS
+    if _BARRIERS is None:
+        from .._jax import xla_tuning_active
+
+        _BARRIERS = jax.default_backend() == "cpu" and not xla_tuning_active()
+
+
+#: The Taylor series of sigma below |t| = 1 needs 9 terms (the next, t^18/21!, is below 2e-20 of 1/6).
+_SIGMA_COEFFS_1 = _SIGMA_COEFFS[:9]
 
 
 def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
     """:func:`mapimpl.flight.flight` (Eqs. 7-8, cancellation-free) with ``sin/cos(tau0)`` given.
 
-    Returns ``(ds, v, a, e, sin(tau0 + t), cos(tau0 + t))`` with ``e = exp(-beta t)``."""
+    Returns ``(ds, v, a, e, sin(tau0 + t), cos(tau0 + t))`` with ``e = exp(-beta t)``.  The same
+    formulas with fewer operations for vector units: one reciprocal of ``t`` serves ``sinc(t/2)`` and
+    the direct form of ``sigma(t) = (t - sin t)/t^3`` (``sin t`` from the double angle), whose Taylor
+    series below ``|t| = 1`` needs 9 terms."""
     sh, ch = sincos(0.5 * t)
     bt = beta * t
     e = jnp.exp(-bt)
-    p1 = phi1(bt)
-    p2 = phi2(bt)
+    p1, p2 = phi12(bt, e)
     half = 0.5 * t
     small = jnp.abs(half) < 1e-8
-    sc = jnp.where(small, 1.0 - half * half / 6.0, sh / jnp.where(small, 1.0, half))
+    big = jnp.abs(t) >= _SERIES_X
+    inv_t = 1.0 / jnp.where(small, 1.0, t)
+    sc = jnp.where(small, 1.0 - half * half * (1.0 / 6.0), 2.0 * sh * inv_t)
     st, ct = 2.0 * sh * ch, 1.0 - 2.0 * sh * sh
-    q = -0.5 * alpha * sn0 * sc * sc + alpha * cs0 * (beta * p2 - t * _sigma_from_sin(t, st)) + gamma * p2
+    ts = jnp.where(big, 0.0, t)
+    sig = jnp.where(big, (t - st) * (inv_t * inv_t * inv_t), _horner(ts * ts, _SIGMA_COEFFS_1))
+    q = -0.5 * alpha * sn0 * sc * sc + alpha * cs0 * (beta * p2 - t * sig) + gamma * p2
     ds = t * v0 * p1 + t * t * q
     sin_mid = sn0 * ch + cs0 * sh
     v = v0 * e + t * (-alpha * sin_mid * sc + (alpha * beta * cs0 + gamma) * p1)
@@ -103,14 +135,18 @@ def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
 
 
 def make_consts(cap, observers: tuple[Observer, ...], stop_at_stick=False, stick_time=STICK_TIME, t_max=T_MAX,
-                max_steps=MAX_STEPS) -> dict:
-    """Pytree of run constants (JAX arrays): caps, the sticking threshold and the observers' constants
-    (under ``"obs"``, one dict per observer)."""
+                max_steps=MAX_STEPS, params=None) -> dict:
+    """Pytree of run constants (JAX arrays): caps, the sticking threshold, the observers' constants
+    (under ``"obs"``, one dict per observer) and, when every orbit of the run has the same parameters
+    ``params = (alpha, beta, gamma, r)``, those parameters and their release constants (under ``"up"``,
+    the :data:`PARAM_FIELDS` as scalars: the lanes then read them from here instead of from their own
+    fields, which saves memory traffic; same arithmetic, same results)."""
     return dict(
         cap=jnp.asarray(cap, jnp.int32), stick_time=jnp.asarray(stick_time, jnp.float64),
         t_max=jnp.asarray(t_max, jnp.float64), max_steps=jnp.asarray(max_steps, jnp.int32),
         stop_at_stick=jnp.asarray(bool(stop_at_stick)), true=jnp.asarray(True),
         obs=tuple(o.consts() for o in observers),
+        up=None if params is None else param_consts(*params),
     )
 
 
@@ -130,10 +166,19 @@ LANE_FIELDS = dict(
     # the current flight: start phase and its sin/cos, velocity, wall, turns, sticking delay, whether it
     # starts from a release, departure certificate, decaying bound term, acceleration at t = 0
     th0=_F64, sn0=_F64, cs0=_F64, v0=_F64, s0=_F64, cyc0=_I32, tdl=_F64, rel=_BOOL, tdep=_F64, bc=_F64,
-    # the search
-    ta=_F64, H=_F64, it=_I32, tb=_F64, topn=_BOOL, uniq=_BOOL, hnear=_F64, hnew=_F64, va=_F64,
-    x=_F64, lo=_F64, hi=_F64, top=_BOOL, k=_I32,
+    # the search: what each field holds depends on the mode (see SEARCH_FIELDS)
+    te=_F64, p1=_F64, p2=_F64, hw=_F64, va=_F64, aa=_F64, ba=_F64, top=_BOOL, it=_I32, k=_I32,
 )
+
+#: The search fields by lane mode.  A lane's modes use disjoint quantities, so they share fields: a
+#: search micro-step then reads and writes few arrays, which is what it costs on a CPU.
+SEARCH_FIELDS = {
+    #      te       p1            p2            hw                            va          aa        ba        top          it, k
+    "A": ("t_a", None, None, "window H", None, None, None, None, "safe steps"),
+    "B": ("t_b", "t_a", "h_near", "window after a failed test", "v(t_a)", "a(t_a)", "b(t_a)", "near wall", "safe steps"),
+    "N": ("x", "lo", "hi", None, None, None, None, "wall", "Newton iterations"),
+    "H": ("t_hit", "sin(phase)", "cos(phase)", None, "v(t_hit)", None, None, "wall", None),
+}
 
 #: Fields copied from the queue when a lane is loaded (see :func:`prepare_queue`).
 QUEUE_FIELDS = ("th", "sd", "wall", "sn", "cs", "al", "be", "ga", "rr",
@@ -180,13 +225,39 @@ def prepare_queue(theta, sdot, wall, alpha, beta, gamma, r):
     return q
 
 
+#: Lane fields that depend on the parameters alone (see :func:`make_consts`).
+PARAM_FIELDS = ("al", "be", "ga", "rr", "rp0", "rs0", "rc0", "nv0", "rp1", "rs1", "rc1", "nv1")
+
+
+def param_consts(alpha, beta, gamma, r) -> dict:
+    """The :data:`PARAM_FIELDS` of one parameter set, as scalars, computed by :func:`prepare_queue` on a
+    block of :data:`LANE_QUANTUM` orbits (the same compiled arithmetic as a queue's)."""
+    z = jnp.zeros(LANE_QUANTUM, _F64)
+    q = prepare_queue(z, z + 1.0, jnp.zeros(LANE_QUANTUM, _I32), alpha, beta, gamma, r)
+    return {name: q[name][0] for name in PARAM_FIELDS}
+
+
+def _lanewise(fn, k):
+    """``fn`` (one lane's state -> its new state) vmapped over the lanes; with a run's uniform parameters
+    (``k["up"]``) the lanes see those scalars instead of their own parameter fields."""
+    up = k.get("up")
+    if up is None:
+        return jax.vmap(fn)
+
+    def one(s):
+        ns = fn({**s, **up})
+        return {**ns, **{name: s[name] for name in up}}
+
+    return jax.vmap(one)
+
+
 def _step_jacobian(s, t_hit, v1, sn1, cs1):
     """Analytic Jacobian ``d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)`` of the step that ends at this
     arrival (:func:`mapimpl.impact_map._jacobian`, implicit differentiation of the impact condition,
     Eqs. 12-13); zero after a release (a sticking step forgets its input)."""
     al, be, ga, rr = s["al"], s["be"], s["ga"], s["rr"]
     e = jnp.exp(-be * t_hit)
-    e1 = t_hit * phi1(be * t_hit)
+    e1 = t_hit * phi12(be * t_hit, e)[0]
     a0 = forcing_sc(s["sn0"], s["cs0"], al, be, ga) - be * s["v0"]
     a1 = forcing_sc(sn1, cs1, al, be, ga) - be * v1
     dt1_dtau = (s["v0"] + e1 * a0) / v1
@@ -195,58 +266,103 @@ def _step_jacobian(s, t_hit, v1, sn1, cs1):
     return jnp.where(s["rel"], jnp.zeros((2, 2)), J)
 
 
-def micro_step(s, k, observers: tuple[Observer, ...]):
-    """One micro-step of one lane (scalar state ``s``; vmapped by the engine)."""
+def search_step(s, k):
+    """One search micro-step of one lane (scalar state ``s``; vmapped by the engine): one flight
+    evaluation (Eqs. 7-8) at ``te`` and the finder's decision for the lane's mode
+    (:data:`SEARCH_FIELDS` says what each search field holds in each mode).
+
+    ``A``: a certified safe step from ``t_a`` (:func:`mapimpl.finder.safe_step`): move on, or test the
+    near wall at ``t_b`` next; ``B``: the bracket test (:func:`~mapimpl.finder.bracket_unique`,
+    :func:`~mapimpl.finder.bracket_test`): the first root step on the certified bracket ``[t_a, t_b]``
+    from this evaluation, or back to safe steps from ``t_a + h_near``, or a graze at ``t_a``; ``N``:
+    one safeguarded root iteration (:func:`~mapimpl.finder.root_step`).  A search that ends leaves the
+    lane in mode ``H`` with the impact -- flight time, wall, velocity and sin/cos of the phase,
+    extrapolated from this evaluation to the root to second order in the last correction (below ~1e-6,
+    so the neglected terms are below ~1e-18) -- for the next :func:`arrival` pass.  Lanes in other modes
+    are left unchanged."""
+    _decide_barriers()
+    alpha, beta, gamma = s["al"], s["be"], s["ga"]
+    mode = s["mode"]
+    inA, inB, inN = (mode == MODE_A), (mode == MODE_B), (mode == MODE_N)
+    te, p1, p2, top = s["te"], s["p1"], s["p2"], s["top"]
+    ds, v, a, e, sin_t, cos_t = _barrier(flight_sc(te, s["sn0"], s["cs0"], s["v0"], alpha, beta, gamma), k["true"])
+    b = s["bc"] * e
+    du, dl = _gaps(s["s0"], ds)
+    g = jnp.where(top, du, dl)
+    dg = jnp.where(top, -v, v)
+    # A: one safe step from te = t_a
+    A = safe_step(ds, v, a, alpha + b, alpha + beta * b, te, s["hw"], s["it"], s["tdep"], s["s0"], k["t_max"],
+                  k["max_steps"])
+    # B: the bracket test at te = t_b (p1 = t_a, p2 = h_near), uniqueness from both ends of [t_a, t_b],
+    # with the derivative bounds at t_a (valid for all later times)
+    ba = s["ba"]
+    m2_a, m3_a = alpha + ba, alpha + beta * ba
+    bracket, stalled = bracket_test(g, p1, p2, bracket_unique(s["va"], s["aa"], v, a, m2_a, m3_a, te - p1))
+    # B (on a bracket) and N: one root step at te, on [t_a, t_b] or on [p1, p2] = [lo, hi]
+    xr, lo_r, hi_r, r_done, kr = root_step(te, g, dg, jnp.where(top, -a, a), p1, jnp.where(inB, te, p2), m2_a, m3_a,
+                                           jnp.where(inB, 0, s["k"]))
+    A, bracket, stalled, xr, lo_r, hi_r, r_done, kr = _barrier((A, bracket, stalled, xr, lo_r, hi_r, r_done, kr),
+                                                               k["true"])
+
+    # outcome
+    graze = inB & stalled
+    root = (inN | (inB & bracket))
+    hit = (root & r_done) | graze
+    t_hit = jnp.where(graze, p1, xr)  # a graze is an impact at t_a
+    dx = t_hit - te
+    jerk = forcing_rate_sc(sin_t, cos_t, alpha, beta) - beta * a
+    B_retry = inB & ~bracket & ~stalled  # no root in [t_a, t_b]: go on to t_a + h_near
+    B_t_new = p1 + p2
+    escaped = (B_retry & (B_t_new > k["t_max"])) | (inA & A.move & A.beyond)
+    failed = (B_retry & ~(B_t_new > k["t_max"]) & (s["it"] >= k["max_steps"])) | (inA & A.move & ~A.beyond & A.capped)
+    toB = inA & ~A.move
+
+    ns = dict(s)
+    new_mode = jnp.where(inA, jnp.where(A.move, MODE_A, MODE_B),
+                         jnp.where(root, jnp.where(r_done, MODE_H, MODE_N),
+                                   jnp.where(inB, jnp.where(stalled, MODE_H, MODE_A), mode)))
+    ns["mode"] = jnp.where(escaped | failed, MODE_IDLE, new_mode).astype(_I32)
+    ns["ostat"] = jnp.where(escaped, int(Orbit.NO_IMPACT), jnp.where(failed, int(Orbit.STEP_CAP), s["ostat"])).astype(_I32)
+    ns["te"] = jnp.where(inA, jnp.where(A.move, A.t_next, A.t_b),
+                         jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te)))
+    half_dx2 = 0.5 * dx * dx
+    ns["p1"] = jnp.where(hit, sin_t + cos_t * dx - sin_t * half_dx2,
+                         jnp.where(toB, te, jnp.where(root, lo_r, p1)))
+    ns["p2"] = jnp.where(hit, cos_t - sin_t * dx - cos_t * half_dx2,
+                         jnp.where(toB, A.h_near, jnp.where(root, hi_r, p2)))
+    ns["hw"] = jnp.where(inA, A.H_new, s["hw"])
+    ns["va"] = jnp.where(toB, v, jnp.where(root & r_done, v + a * dx + jerk * half_dx2, s["va"]))
+    ns["top"] = jnp.where(toB, A.top_near, top)
+    ns["aa"] = jnp.where(toB, a, s["aa"])
+    ns["ba"] = jnp.where(toB, b, s["ba"])
+    ns["it"] = jnp.where(inA, A.it, s["it"])
+    ns["k"] = jnp.where(root, kr, s["k"])
+    return ns
+
+
+def arrival(s, k, observers: tuple[Observer, ...]):
+    """The arrival pass of one lane (scalar state ``s``; vmapped by the engine): a lane in mode ``H``
+    (an impact found by :func:`search_step`) or ``L`` (a freshly loaded initial condition) arrives at a
+    pre-impact state.  The observers see it, the sticking policy of :mod:`mapimpl.sticking` decides the
+    next flight (Eq. 11 reset, or the release at the canonical release phase), and that flight's first
+    safe step is taken from its closed-form state at ``t = 0`` (no evaluation); the lane goes on in
+    mode ``A`` or ``B``, or its orbit ends.  Lanes in other modes are left unchanged."""
+    _decide_barriers()
     alpha, beta, gamma, r = s["al"], s["be"], s["ga"], s["rr"]
     mode = s["mode"]
-    inA, inB, inN, inL = (mode == MODE_A), (mode == MODE_B), (mode == MODE_N), (mode == MODE_L)
-    # ---------------- one flight evaluation ----------------
-    t_eval = jnp.where(inA, s["ta"], jnp.where(inB, s["tb"], jnp.where(inN, s["x"], 0.0)))
-    ds, v, a, e, sin_t, cos_t = _barrier(flight_sc(t_eval, s["sn0"], s["cs0"], s["v0"], alpha, beta, gamma),
-                                         k["true"])
-    b = s["bc"] * e
-    m2 = alpha + b
-    du, dl = _gaps(s["s0"], ds)
-    ta, H = s["ta"], s["H"]
-
-    # ---------------- B: bracket test at t_b ----------------
-    g_b = jnp.where(s["topn"], du, dl)
-    dg_b = jnp.where(s["topn"], -v, v)
-    bracket, stalled, x_b = bracket_test(g_b, dg_b, ta, s["tb"], s["hnear"], s["uniq"])
-    B_t_new = ta + s["hnear"]
-    B_beyond = B_t_new > k["t_max"]
-    B_capped = s["it"] >= k["max_steps"]
-
-    # ---------------- N: safeguarded Newton iteration ----------------
-    x = s["x"]
-    g = jnp.where(s["top"], du, dl)
-    dg = jnp.where(s["top"], -v, v)
-    xn, lo_n, hi_n, N_done, kN = newton_step(x, g, dg, s["lo"], s["hi"], m2, s["k"])
-    lo_n, hi_n, xn, N_done = _barrier((lo_n, hi_n, xn, N_done), k["true"])
-
-    # ---------------- search outcome ----------------
-    got_hit = (inN & N_done) | (inB & stalled & ~bracket)
-    t_hit = jnp.where(inN, xn, ta)
-    # first-order extrapolation from this evaluation to the root: velocity and sin/cos of the phase
-    dx = t_hit - t_eval
-    v_hit = jnp.where(inN, v + a * dx, s["va"])
-    top_hit = jnp.where(inN, s["top"], s["topn"])
-    escaped = inB & ~bracket & ~stalled & B_beyond
-    failed = inB & ~bracket & ~stalled & ~B_beyond & B_capped
-
-    # ---------------- arrival at a pre-impact state (an impact found now, or a loaded state) ----------
-    arrive = got_hit | inL
+    inL = mode == MODE_L
+    arrive = inL | (mode == MODE_H)
+    t_hit = s["te"]
     th_r, turns = reduce_phase(s["th0"] + t_hit, jnp.asarray(0, _I32))
     th1 = jnp.where(inL, s["th"], th_r)
     cyc1 = jnp.where(inL, s["cyc"], s["cyc0"] + turns)
-    v1 = jnp.where(inL, s["sd"], v_hit)
-    wall1 = jnp.where(inL, s["wall"], jnp.where(top_hit, 0, -1)).astype(_I32)
-    sn1 = jnp.where(inL, s["sn"], sin_t + cos_t * dx)
-    cs1 = jnp.where(inL, s["cs"], cos_t - sin_t * dx)
+    v1 = jnp.where(inL, s["sd"], s["va"])
+    wall1 = jnp.where(inL, s["wall"], jnp.where(s["top"], 0, -1)).astype(_I32)
+    sn1 = jnp.where(inL, s["sn"], s["p1"])
+    cs1 = jnp.where(inL, s["cs"], s["p2"])
     dt1 = jnp.where(inL, 0.0, s["tdl"] + t_hit)
     n1 = jnp.where(inL, s["n"], s["n"] + 1)
-    (th1, cyc1, v1, sn1, cs1, dt1, n1, arrive, got_hit, escaped, failed, bracket, stalled) = _barrier(
-        (th1, cyc1, v1, sn1, cs1, dt1, n1, arrive, got_hit, escaped, failed, bracket, stalled), k["true"])
+    (th1, cyc1, v1, wall1, sn1, cs1, dt1, n1) = _barrier((th1, cyc1, v1, wall1, sn1, cs1, dt1, n1), k["true"])
     # the sticking policy for the step from this impact (release constants of the lane's parameters)
     top1 = wall1 == 0
     rel_ph = jnp.where(top1, s["rp0"], s["rp1"])
@@ -285,62 +401,38 @@ def micro_step(s, k, observers: tuple[Observer, ...]):
     (stop, capped, stick_stop, orbit_end, go_on, go_stick, th0_new, sn0_new, cs0_new, v0_new, delay_used, cyc0_new,
      tdep_new, bc_new, a0_new) = _barrier((stop, capped, stick_stop, orbit_end, go_on, go_stick, th0_new, sn0_new,
                                            cs0_new, v0_new, delay_used, cyc0_new, tdep_new, bc_new, a0_new), k["true"])
+    # the new flight's first safe step, from its state at t = 0: (ds, v, a) = (0, v0, a0) in closed form
+    A = _barrier(safe_step(0.0, v0_new, a0_new, alpha + bc_new, alpha + beta * bc_new, 0.0, _H0, 0, tdep_new, s0_new,
+                           k["t_max"], k["max_steps"]), k["true"])
+    escaped = go_on & A.move & A.beyond
+    failed = go_on & A.move & ~A.beyond & A.capped
 
-    # ---------------- A: one safe step ----------------
-    # from this micro-step's evaluation (mode A), or from t = 0 of the flight that starts now: its state
-    # there is (ds, v, a) = (0, v0, a0) in closed form, so a new flight needs no evaluation for its first
-    # step.  (A lane never does both: lanes in mode A do not arrive at an impact.)
-    doA = inA | go_on
-    ta_in = jnp.where(inA, ta, 0.0)
-    H_in = jnp.where(inA, H, _H0)
-    v_in = jnp.where(inA, v, v0_new)
-    b_in = jnp.where(inA, b, bc_new)
-    A = _barrier(safe_step(jnp.where(inA, ds, 0.0), v_in, jnp.where(inA, a, a0_new), alpha + b_in, alpha + beta * b_in,
-                           ta_in, H_in, jnp.where(inA, s["it"], 0), jnp.where(inA, s["tdep"], tdep_new),
-                           jnp.where(inA, s["s0"], s0_new), k["t_max"], k["max_steps"]), k["true"])
-    escaped = escaped | (doA & A.move & A.beyond)
-    failed = failed | (doA & A.move & ~A.beyond & A.capped)
-
-    # ---------------- next state ----------------
     ns = dict(s)
-    new_mode = mode
-    new_mode = jnp.where(inB & bracket, MODE_N, new_mode)
-    new_mode = jnp.where(inB & ~bracket & ~stalled, MODE_A, new_mode)
-    new_mode = jnp.where(doA, jnp.where(A.move, MODE_A, MODE_B), new_mode)
-    lane_end = orbit_end | escaped | failed
-    ns["mode"] = jnp.where(lane_end, MODE_IDLE, new_mode).astype(_I32)
-    # A (after a safe step) and B -> A (after a failed bracket test)
-    ns["ta"] = jnp.where(doA, jnp.where(A.move, A.t_next, ta_in), jnp.where(inB & ~bracket & ~stalled, B_t_new, ta))
-    ns["H"] = jnp.where(doA, jnp.where(A.move, A.H_new, H_in), jnp.where(inB, s["hnew"], H))
-    ns["it"] = jnp.where(doA, A.it, s["it"])
-    ns["tb"] = jnp.where(doA, A.t_b, s["tb"])
-    ns["topn"] = jnp.where(doA, A.top_near, s["topn"])
-    ns["uniq"] = jnp.where(doA, A.unique, s["uniq"])
-    ns["hnear"] = jnp.where(doA, A.h_near, s["hnear"])
-    ns["hnew"] = jnp.where(doA, A.H_new, s["hnew"])
-    ns["va"] = jnp.where(doA, v_in, s["va"])
-    # B -> N initialisation (lo = t_a, hi = t_b, x = the tangent's zero); N update
-    ns["lo"] = jnp.where(inB, ta, jnp.where(inN, lo_n, s["lo"]))
-    ns["hi"] = jnp.where(inB, s["tb"], jnp.where(inN, hi_n, s["hi"]))
-    ns["x"] = jnp.where(inB, x_b, jnp.where(inN, xn, x))
-    ns["k"] = jnp.where(inB, 0, jnp.where(inN, kN, s["k"]))
-    ns["top"] = jnp.where(inB, s["topn"], s["top"])
+    ns["mode"] = jnp.where(arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE,
+                                             jnp.where(A.move, MODE_A, MODE_B)), mode).astype(_I32)
+    ostat = jnp.where(stop, int(Orbit.STOPPED), jnp.where(arrive & stuck_forever, int(Orbit.STUCK_FOREVER),
+                      jnp.where(stick_stop, int(Orbit.STUCK), jnp.where(capped, int(Orbit.CAPPED), s["ostat"]))))
+    ns["ostat"] = jnp.where(escaped, int(Orbit.NO_IMPACT), jnp.where(failed, int(Orbit.STEP_CAP), ostat)).astype(_I32)
+    # the search of the new flight: mode A from its first safe step, or B (t_a = 0)
+    ns["te"] = jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), s["te"])
+    ns["p1"] = jnp.where(go_on, 0.0, s["p1"])
+    ns["p2"] = jnp.where(go_on, A.h_near, s["p2"])
+    ns["hw"] = jnp.where(go_on, A.H_new, s["hw"])
+    ns["va"] = jnp.where(go_on, v0_new, s["va"])
+    ns["top"] = jnp.where(go_on, A.top_near, s["top"])
+    ns["aa"] = jnp.where(go_on, a0_new, s["aa"])
+    ns["ba"] = jnp.where(go_on, bc_new, s["ba"])
+    ns["it"] = jnp.where(go_on, A.it, s["it"])
     # arrival at a pre-impact state
     ns["th"] = jnp.where(arrive, th1, s["th"])
     ns["sd"] = jnp.where(arrive, v1, s["sd"])
     ns["wall"] = jnp.where(arrive, wall1, s["wall"])
     ns["cyc"] = jnp.where(arrive, cyc1, s["cyc"])
-    ns["sn"] = jnp.where(arrive, sn1, s["sn"])
-    ns["cs"] = jnp.where(arrive, cs1, s["cs"])
     ns["n"] = jnp.where(arrive, n1, s["n"])
     ns["obs"] = tuple(obs_new)
     sticks = arrive & stick
     ns["nst"] = s["nst"] + sticks.astype(_I32)
     ns["nstk"] = jnp.where(sticks & (s["nstk"] < 0), n1, s["nstk"])
-    ostat = jnp.where(stop, int(Orbit.STOPPED), jnp.where(arrive & stuck_forever, int(Orbit.STUCK_FOREVER),
-                      jnp.where(stick_stop, int(Orbit.STUCK), jnp.where(capped, int(Orbit.CAPPED), s["ostat"]))))
-    ostat = jnp.where(escaped, int(Orbit.NO_IMPACT), jnp.where(failed, int(Orbit.STEP_CAP), ostat))
-    ns["ostat"] = ostat.astype(_I32)
     # the new flight
     ns["th0"] = jnp.where(go_on, th0_new, s["th0"])
     ns["sn0"] = jnp.where(go_on, sn0_new, s["sn0"])
@@ -352,9 +444,7 @@ def micro_step(s, k, observers: tuple[Observer, ...]):
     ns["rel"] = jnp.where(go_on, go_stick, s["rel"])
     ns["tdep"] = jnp.where(go_on, tdep_new, s["tdep"])
     ns["bc"] = jnp.where(go_on, bc_new, s["bc"])
-    # idle lanes do not change
-    idle = mode == MODE_IDLE
-    return jax.tree_util.tree_map(lambda old, new: jnp.where(idle, old, new), s, ns)
+    return ns
 
 
 def _load(lanes, queue, next_ic, n_ic, observers):
@@ -409,24 +499,41 @@ def compact(lanes, size: int):
     return jax.tree_util.tree_map(lambda x: x[order], lanes)
 
 
-@partial(jax.jit, static_argnames=("observers", "block", "max_blocks"))
-def run_blocks(carry, queue, k, observers, block=32, max_blocks=64):
-    """Advance the engine by up to ``max_blocks`` blocks of ``block`` micro-steps (early exit when
-    every initial condition of the queue is done).  ``carry = (lanes, res, next_ic)``; ``queue``: the
-    arrays of :func:`prepare_queue` (possibly padded) and ``n_ic``, the number of initial conditions in
-    it (a run-time value, so one compilation serves every queue of the same padded length)."""
+@partial(jax.jit, static_argnames=("observers", "block", "max_blocks", "every"))
+def run_blocks(carry, queue, k, observers, block=32, max_blocks=64, every=ARRIVE_EVERY):
+    """Advance the engine by up to ``max_blocks`` blocks (early exit when every initial condition of
+    the queue is done).  A block refills idle lanes from the queue, then runs ``block`` search
+    micro-steps (:func:`search_step`) with an arrival pass (:func:`arrival`) before the first and after
+    every ``every``-th of them, and stores the orbits that ended.  ``carry = (lanes, res, next_ic)``;
+    ``queue``: the arrays of :func:`prepare_queue` (possibly padded) and ``n_ic``, the number of
+    initial conditions in it (a run-time value, so one compilation serves every queue of the same
+    padded length).
+
+    Why an arrival pass every few steps, not at every one: the lanes advance in lock step, so every
+    lane pays for every code path of a pass.  The search (one flight evaluation and a few decisions) is
+    the common path; the arrival -- observers, sticking policy, the next flight's set-up and first safe
+    step, about as costly as a search step (on the CPU: ~32 and ~40 ns per lane, docs/engine.md) --
+    happens once per ~5 evaluations.  A lane whose search has ended waits (mode ``H``) for the next pass,
+    about ``(every - 1) / 2`` micro-steps on average; each lane's arithmetic does not depend on when its
+    arrival is processed."""
     n_ic = queue["n_ic"]
-    step_v = jax.vmap(lambda s: micro_step(s, k, observers))
+    search_v = _lanewise(lambda s: search_step(s, k), k)
+    arrive_v = _lanewise(lambda s: arrival(s, k, observers), k)
+    every = max(1, min(int(every), int(block)))
 
     def cond(c):
         lanes, res, next_ic, nb = c
         busy = jnp.any(lanes["mode"] != MODE_IDLE) | (next_ic < n_ic)
         return busy & (nb < max_blocks)
 
+    def sub_block(_, lanes):
+        lanes = jax.lax.fori_loop(0, every, lambda _, L: search_v(L), lanes)
+        return arrive_v(lanes)
+
     def body(c):
         lanes, res, next_ic, nb = c
         lanes, next_ic = _load(lanes, queue, next_ic, n_ic, observers)
-        lanes = jax.lax.fori_loop(0, block, lambda _, L: step_v(L), lanes)
+        lanes = jax.lax.fori_loop(0, block // every, sub_block, arrive_v(lanes))
         res, lanes = _store(res, lanes, observers)
         return lanes, res, next_ic, nb + 1
 
@@ -451,9 +558,11 @@ def trace(queue1, k, n_impacts: int, observers=()):
         l, h, it = c
         return (l["mode"] != MODE_IDLE) & (l["n"] < n_impacts) & (it < 200 * (n_impacts + 1))
 
+    up = k.get("up") or {}
+
     def body(c):
         l, h, it = c
-        l2 = micro_step(l, k, observers)
+        l2 = {**arrival(search_step({**l, **up}, k), k, observers), **{name: l[name] for name in up}}
         arrived = (l2["n"] != l["n"]) | (it == 0)
         row = jnp.stack([l2["th"], l2["sd"], l2["wall"].astype(_F64)])
         h = jnp.where(arrived, h.at[l2["n"]].set(row), h)
@@ -469,6 +578,6 @@ def padded_lanes(lanes: int) -> int:
     return max(q, -(-int(lanes) // q) * q)
 
 
-__all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "LANE_QUANTUM", "flight_sc", "make_consts",
-           "idle_lanes", "empty_results", "prepare_queue", "micro_step", "compact", "run_blocks", "trace",
-           "padded_lanes"]
+__all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "MODE_H", "ARRIVE_EVERY", "LANE_QUANTUM", "flight_sc",
+           "make_consts", "idle_lanes", "empty_results", "prepare_queue", "search_step", "arrival", "compact",
+           "run_blocks", "trace", "padded_lanes"]
