@@ -12,10 +12,10 @@ shapes, as ``bench_transients.py`` does):
   ratio engine / numba of impacts per wall second of each repeat pair, its median and spread;
 * per core: both on one core (numba 1 thread, engine 1 device) on every ``--stride``-th IC of the grid;
 * where the time goes: flight evaluations per impact (counted by the numba kernel; the engine makes
-  the same decisions, so the same count up to chaotic sampling), the cost per evaluation of each,
-  and (best effort, it uses the engine's internals) the engine's cost per lane-micro-step in steady
-  state: the whole micro-step, the micro-step with the distance check removed, the flight
-  evaluation alone and the sin/cos kernel alone;
+  the same decisions, so the same count up to chaotic sampling), the cost per impact and per
+  evaluation, and (best effort, it uses the engine's internals) the engine's steady-state costs on one
+  core: per impact in its block loop, per lane for a search micro-step, an arrival pass, a flight
+  evaluation and the sin/cos kernel;
 * agreement: durations equal per IC (all, and short transients < 50 impacts on a sample of the Fig. 9
   window, where the tongues of short transients are), and the two survival samples of the orbits that
   never stick (two-sample KS test, means with standard errors).  The orbits that stick (17.6% of the
@@ -158,57 +158,63 @@ def short_check(target, deltas, delta, n_ic=4000, cap=300, seed=0) -> dict:
     return out
 
 
-def engine_split(tau, sd, target, deltas, cap, lanes=512, warm=2048, steps=4096) -> dict:
-    """Steady-state cost per lane-micro-step of the engine's kernel on one device (one core), and of
-    parts of it.  Uses the engine's internals (``mapimpl.engine.kernel``): best effort."""
+def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
+    """Steady-state costs of the engine's kernel on one device (one core), and of its parts, per lane:
+    a block loop (``run_blocks``: search micro-steps, an arrival pass every ``ARRIVE_EVERY`` of them, the
+    refills), the search micro-step alone, the arrival pass alone, the flight evaluation alone and the
+    sin/cos kernel alone.  Uses the engine's internals (``mapimpl.engine.kernel``): best effort."""
     from gear_rattle.mapimpl.engine import kernel as K
-
-    lanes = min(lanes, tau.size)
-    dev = jax.devices()[0]
-    k = jax.device_put(K.make_consts((P.alpha, P.beta, P.gamma, P.r), target.theta, target.sdot, target.wall,
-                                     np.asarray(deltas, np.float64), cap), dev)
-    th = np.asarray(K._reduce(jnp.asarray(tau[:lanes])))
-    wall = np.where(sd[:lanes] > 0, 0, -1).astype(np.int32)
-    q = [jax.device_put(jnp.asarray(a), dev) for a in (th, sd[:lanes], wall)]
-    nd = len(deltas)
-    lanes0, _ = K._load(jax.device_put(K.idle_lanes(lanes, nd), dev), *q, jnp.int32(0), lanes, nd)
-
-    def timed_steps(step_fn, carry):
-        run = jax.jit(lambda c, kk, n: jax.lax.fori_loop(0, n, lambda _, x: step_fn(x, kk), c), static_argnums=2)
-        carry = jax.block_until_ready(run(carry, k, warm))  # compile + reach a steady mix of modes
-        jax.block_until_ready(run(carry, k, steps))  # compile the timed trip count
-        c0 = time.process_time()  # CPU time: the machine is shared, and only this computation runs here
-        jax.block_until_ready(run(carry, k, steps))
-        return (time.process_time() - c0) / (steps * lanes) * 1e9
-
-    out = {"lanes": lanes, "micro_steps_timed": steps, "clock": "process CPU time"}
-    step_v = jax.vmap(K.micro_step, in_axes=(0, None))
-    out["ns_per_lane_micro_step"] = timed_steps(step_v, lanes0)
-    orig = K.distance
-    try:
-        K.distance = lambda theta, sdot, wall, kk: jnp.asarray(jnp.inf, jnp.float64)
-        step_nd = jax.vmap(K.micro_step, in_axes=(0, None))
-        out["ns_per_lane_micro_step_no_distance"] = timed_steps(step_nd, lanes0)
-    finally:
-        K.distance = orig
-    # the flight evaluation alone (the next time depends on the result, so nothing is hoisted)
-    tt = jnp.asarray(np.linspace(0.1, 3.0, lanes))
-    sn0, cs0 = jnp.sin(tt), jnp.cos(tt)
-    v0 = jnp.asarray(sd[:lanes])
-    fl = jax.vmap(K.flight_sc, in_axes=(0, 0, 0, 0, None, None, None))
-
-    def flight_only(t, _k):
-        ds, v, a, e = fl(t, sn0, cs0, v0, P.alpha, P.beta, P.gamma)
-        return t + 1e-300 * (ds + v + a + e)
-
-    out["ns_per_lane_flight_eval"] = timed_steps(flight_only, tt)
     from gear_rattle.mapimpl.engine.fastmath import sincos
+    from gear_rattle.mapimpl.engine.observers import Capture
+    from gear_rattle.mapimpl.status import Orbit
 
-    def sincos_only(t, _k):
-        s, c = sincos(t)
-        return t + 1e-300 * (s + c)
+    dev = jax.devices()[0]
+    obs = (Capture(target.theta, target.sdot, target.wall, np.asarray(deltas, np.float64)),)
+    perm = np.random.default_rng(0).permutation(tau.size)  # a steady mix of short and long orbits
+    q = dict(K.prepare_queue(tau[perm], sd[perm], np.zeros(tau.size, np.int32), P.alpha, P.beta, P.gamma, P.r))
+    q["n_ic"] = jnp.asarray(tau.size, jnp.int32)
+    k = K.make_consts(cap, obs, True, params=(P.alpha, P.beta, P.gamma, P.r))
+    carry = (K.idle_lanes(lanes, obs), K.empty_results(tau.size, obs), jnp.asarray(0, jnp.int32))
+    q, k, carry = jax.device_put((q, k, carry), dev)
 
-    out["ns_per_lane_sincos"] = timed_steps(sincos_only, tt)
+    def impacts(c):
+        ln, res, _ = c
+        done = np.asarray(res["status"]) != int(Orbit.NOT_RUN)
+        busy = (np.asarray(ln["mode"]) != K.MODE_IDLE) | (np.asarray(ln["ic"]) >= 0)
+        return int(np.asarray(res["n"])[done].sum()) + int(np.asarray(ln["n"])[busy].sum())
+
+    block = 32
+    carry, _ = K.run_blocks(carry, q, k, obs, block=block, max_blocks=blocks)  # compile + reach steady state
+    i0, c0 = impacts(carry), time.process_time()
+    carry, nb = jax.block_until_ready(K.run_blocks(carry, q, k, obs, block=block, max_blocks=blocks))
+    c_run, imp = time.process_time() - c0, impacts(carry) - i0
+    out = {"lanes": lanes, "clock": "process CPU time", "arrive_every": K.ARRIVE_EVERY,
+           "blocks_ns_per_impact": c_run / imp * 1e9,
+           "search_steps_per_impact": int(nb) * (block // K.ARRIVE_EVERY) * K.ARRIVE_EVERY * lanes / imp}
+    lanes0 = carry[0]
+    steps = 2000
+
+    def per_lane(step_fn):
+        run = jax.jit(lambda c, kk: jax.lax.fori_loop(0, steps, lambda _, x: step_fn(x, kk), c))
+        jax.block_until_ready(run(lanes0, k))
+        t0 = time.process_time()
+        jax.block_until_ready(run(lanes0, k))
+        return (time.process_time() - t0) / (steps * lanes) * 1e9
+
+    out["ns_per_lane_search_step"] = per_lane(lambda x, kk: K._lanewise(lambda s: K.search_step(s, kk), kk)(x))
+    out["ns_per_lane_arrival_pass"] = per_lane(lambda x, kk: K._lanewise(lambda s: K.arrival(s, kk, obs), kk)(x))
+
+    def flight_only(x, _k):
+        def one(s):
+            r = K.flight_sc(s["te"], s["sn0"], s["cs0"], s["v0"], P.alpha, P.beta, P.gamma)
+            return {**s, "te": s["te"] + 1e-300 * sum(r)}
+        return jax.vmap(one)(x)
+
+    def sincos_only(x, _k):
+        return {**x, "te": x["te"] + 1e-300 * sum(sincos(x["te"]))}
+
+    out["ns_per_lane_flight_eval"] = per_lane(flight_only)
+    out["ns_per_lane_sincos"] = per_lane(sincos_only)
     return out
 
 
@@ -275,16 +281,15 @@ def main(argv=None):
     out["target_ratio"] = 2.0
     # ---- where the time goes ----
     ev = reps_n[-1]["evaluations"]
-    imp_n, imp_e = reps_n[-1]["impacts"], reps_e[-1]["impacts"]
-    ticks = ev + int(re.nstick.sum()) + tau.size  # + post-sticking set-ups + loads: the engine's micro-steps
+    imp_n = reps_n[-1]["impacts"]
     out["work"] = {"flight_evaluations_per_impact_numba": ev / imp_n,
-                   "engine_micro_steps_estimate": ticks * imp_e / imp_n,
+                   "numba_ns_per_impact_per_core": np.median([m["wall_s"] * m["threads"] / m["impacts"]
+                                                              for m in reps_n]) * 1e9,
+                   "engine_ns_per_impact_per_core": np.median([m["wall_s"] * m["devices"] / m["impacts"]
+                                                               for m in reps_e]) * 1e9,
                    "numba_ns_per_evaluation_per_core": np.median([m["wall_s"] * m["threads"] / m["evaluations"]
                                                                   for m in reps_n]) * 1e9,
-                   "engine_ns_per_micro_step_per_core": np.median([m["wall_s"] * m["devices"] for m in reps_e])
-                   / (ticks * imp_e / imp_n) * 1e9,
-                   "numba_cpu_ns_per_evaluation": np.median([m["cpu_s"] / m["evaluations"] for m in reps_n]) * 1e9,
-                   "engine_cpu_ns_per_micro_step": np.median([m["cpu_s"] for m in reps_e]) / (ticks * imp_e / imp_n) * 1e9}
+                   "numba_cpu_ns_per_evaluation": np.median([m["cpu_s"] / m["evaluations"] for m in reps_n]) * 1e9}
     # ---- agreement ----
     out["agreement_fig11_grid"] = agreement(rn, re, a.cap, list(re.deltas).index(a.delta))
     out["agreement_short_transients_fig9_window"] = short_check(target, deltas, a.delta)
@@ -303,7 +308,7 @@ def main(argv=None):
     # ---- the engine's cost split (internals; best effort) ----
     if not a.no_split:
         try:
-            sp = engine_split(tau[::7], sd[::7], target, deltas, a.cap)
+            sp = engine_split(tau, sd, target, deltas, a.cap)
             sp["numba_cpu_ns_per_evaluation"] = (out["one_core"]["numba"]["cpu_s"]
                                                       / out["one_core"]["numba"]["evaluations"] * 1e9
                                                       if "one_core" in out else None)
