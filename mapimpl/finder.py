@@ -15,8 +15,9 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
    :func:`bracket_unique`), the gap is monotone or convex/concave there, so the bracket ``[t_a, t_b]``
    holds exactly one root, and no earlier root exists (step 1; the far wall is not reached before
    ``t_a + w``).  A safeguarded iteration on the local quadratic model (:func:`root_step`: the
-   evaluations give ``s''`` too), started at ``t_b``, finds it to a few ulps.  When the quadratic predicts no root inside the window the test is skipped: a failed
-   test would continue at ``t_a + h_near``, which is where the step goes.
+   evaluations give ``s''`` too), started at ``t_b``, finds it to a few ulps.  When the quadratic
+   predicts no root inside the window the test is skipped: a failed test would continue at
+   ``t_a + h_near``, which is where the step goes.
 3. **Start on a wall.**  A flight that starts on a wall (gap exactly 0, see :mod:`mapimpl.flight`)
    first gets a departure certificate ``[0, t_dep]`` during which it provably cannot return
    (Taylor bounds of order 2, 3 or 4, so it also covers a release from sticking with
@@ -29,8 +30,8 @@ Method (never skips a crossing, never stops on an absolute gap tolerance):
 
 All code is branch-free ``jax.numpy`` inside ``lax.while_loop`` so it jit-compiles and vmaps.  The
 decisions :func:`safe_step`, :func:`bracket_unique`, :func:`bracket_test` and :func:`root_step` and the
-departure certificate :func:`departure_time_sc` are the one implementation of the method: the transient engine's micro-step
-kernel (:mod:`mapimpl.engine.kernel`) calls the same functions.
+departure certificate :func:`departure_time_sc` are the one implementation of the method: the many-orbit
+engine's kernel (:mod:`mapimpl.engine.kernel`) calls the same functions.
 """
 
 from __future__ import annotations
@@ -166,7 +167,8 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
     windowed = h_near >= H
     w = jnp.minimum(jnp.minimum(2.0 * h_near, h_far), H)
     # test point: just past the root predicted by the local quadratic (Taylor error <= M3 h^3/6),
-    # inside [t_a, t_a + w] (no other wall before it); the test doubles as the first Newton evaluation
+    # inside [t_a, t_a + w] (no other wall before it); on a bracket the test's evaluation starts the root
+    # iteration
     d_near = jnp.where(top_near, du, dl)
     u_near = jnp.where(top_near, v, -v)
     a_near = jnp.where(top_near, a, -a)
@@ -186,8 +188,8 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
 
 def bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
     """Whether the gap to a wall is monotone or convex/concave on a test interval ``[t_a, t_b]`` of
-    length ``ell = t_b - t_a`` (exact in floating point, Sterbenz), so that a sign change across it is
-    exactly one root (method, step 2).
+    length ``ell = t_b - t_a`` (as computed: within an ulp of the represented interval), so that a sign
+    change across it is exactly one root (method, step 2).
 
     ``v, a``: velocity and acceleration at both ends; ``m2 >= |s''|``, ``m3 >= |s'''|`` for times
     ``>= t_a``.  The velocity keeps its sign if it has the same sign at both ends and
