@@ -19,10 +19,12 @@ The method (mirrored decision for decision from :mod:`gear_rattle.mapimpl.finder
 * certified safe steps (``safe_step``: derivative bounds ``M2 = alpha + b e^{-beta t}``,
   ``M3 = alpha + beta b e^{-beta t}``, window ``H`` doubling to 2), the bracket test at the point
   just past the root predicted by the local quadratic (skipped when no root is predicted in the
-  window; uniqueness certified on the test interval from both ends, ``bracket_unique``), safeguarded Newton from the tangent at the test point with the same stopping rules (2 ulp,
-  predicted error far below an ulp, bracket width, 80 iterations), the velocity at the root
-  extrapolated from the last Newton evaluation; the first safe step of a flight from its closed-form
-  state at ``t = 0`` (no evaluation); a safe step below one ulp is a graze;
+  window; uniqueness certified on the test interval from both ends, ``bracket_unique``), the
+  safeguarded root iteration on the local quadratic model from the test point (``root_step``) with
+  the same stopping rules (2 ulp, predicted error far below an ulp, bracket width, 80 iterations),
+  the velocity at the root extrapolated to second order from the last evaluation; the first safe
+  step of a flight from its closed-form state at ``t = 0`` (no evaluation); a safe step below one
+  ulp is a graze;
 * the departure certificate of a flight that starts on a wall (``departure_time_sc``);
 * the sticking policy (``decide_stick_sc``) with the canonical release phase of each wall
   (``release_phase``, a function of the parameters alone: computed once per run here);
@@ -181,14 +183,20 @@ def _bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
 
 @njit(inline="always", **_JIT)
 def _safe_time(d, u, A):
-    """Smallest h > 0 with d - u h - A h^2 / 2 = 0 (inf if none)."""
+    """Smallest h > 0 with d - u h - A h^2 / 2 = 0 (inf if none); mapimpl.finder.safe_time, with its
+    lower bounds where u^2 + 2 A d underflows."""
     disc = u * u + 2.0 * A * d
     if u > 0.0:
         if disc >= 0.0:
+            if disc < 1e-290:
+                return 2.0 * d / (2.0 * u + math.sqrt(2.0 * max(A, 0.0)) * math.sqrt(d))
             return 2.0 * d / (u + math.sqrt(disc))
         return INF
     if A > 0.0:
-        return (math.sqrt(max(disc, 0.0)) - u) / A
+        h = (math.sqrt(max(disc, 0.0)) - u) / A
+        if disc < 1e-290:
+            h = max(h, math.sqrt(2.0 * A) * math.sqrt(d) / A)
+        return h
     return INF
 
 

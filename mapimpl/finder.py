@@ -87,7 +87,15 @@ def safe_time(d, u, A):
     num = jnp.where(approach, 2.0 * d, root - u)
     den = jnp.where(approach, u + root, jnp.where(A > 0.0, A, 1.0))
     none = jnp.where(approach, jnp.logical_not(disc >= 0.0), jnp.logical_not(A > 0.0))
-    return jnp.where(none, jnp.inf, num / den)
+    h = jnp.where(none, jnp.inf, num / den)
+    # where u^2 + 2 A d underflows (|u| and A d near the smallest normal numbers, e.g. alpha ~ 1e-308)
+    # the forms above lose the 2 A d term: receding, they would give 0 -- a false graze -- and
+    # approaching, more than the root.  Lower bounds without the underflow there (they hold
+    # everywhere: sqrt(u^2 + 2 A d) <= |u| + sqrt(2 A) sqrt(d)); elsewhere h is unchanged, bit for bit.
+    tiny = disc < 1e-290
+    sq = jnp.sqrt(2.0 * jnp.maximum(A, 0.0)) * jnp.sqrt(d)
+    h_tiny = jnp.where(approach, 2.0 * d / (2.0 * u + sq), jnp.maximum(h, sq / jnp.where(A > 0.0, A, 1.0)))
+    return jnp.where(tiny & ~none, h_tiny, h)
 
 
 def _gaps(s0, ds):

@@ -194,3 +194,18 @@ def test_bracket_unique_certifies_a_sign_that_holds():
             v, a = np.asarray(fp.v), np.asarray(fp.a)
             assert np.all(v > 0) or np.all(v < 0) or np.all(a > 0) or np.all(a < 0)
     assert 40 < n_cert < 360 and n_cert > n_one
+
+
+def test_tiny_acceleration_coasts_to_rest_without_a_false_graze():
+    """alpha at the smallest normal number, gamma = 0: after the impact the tooth coasts to rest at
+    s = -0.75 and never reaches a wall (NO_IMPACT, as the scipy track says).  The safe time's quadratic
+    u^2 + 2 A d underflowed to 0 there, which made the receding safe time 0 and the search report a
+    graze at t = 1415.5 with gap 0.25 (found by the long Hypothesis profile of the cross-track tests).
+    The underflow branch gives the lower bound sqrt(2 d / A) instead; elsewhere safe_time is unchanged."""
+    h = fi(0.0, 0.0, -0.375, 2.2250738585072014e-308, 0.5, 0.0)
+    assert int(h.status) == NO_IMPACT and not np.isfinite(float(h.t))
+    for d, u, A in [(0.25, 0.0, 1e-300), (0.25, -1e-160, 1e-300), (0.25, 1e-160, 1e-300)]:
+        h = float(safe_time(d, u, A))
+        root = float((mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d)) - mp.mpf(u)) / mp.mpf(A)) if u <= 0 else \
+            float(2 * mp.mpf(d) / (mp.mpf(u) + mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d))))
+        assert 0 < h <= root * (1 + 1e-15) and h >= 0.99 * root
