@@ -276,8 +276,13 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
     res = R.certified_release_duration(R.PAPER_DECIMAL, 0, rounding=rounding)
     assert res.status == "captured" and res.confirmed
     assert res.value == notes["T_post"] and res.precision == notes["precision_bits"]
-    # the recorded target is the engine's float64 4-impact orbit
-    assert res.target == {k: all_notes["capture_target"][k] for k in ("theta", "sdot", "wall")}
+    # the recorded target is the engine's float64 4-impact orbit: its Newton solution is determined to
+    # its residual (~1e-13), and compilations of the map (XLA options, arithmetic changes) move it by
+    # up to 5e-13 (measured 2026-11-24): equal walls, the numbers to 1e-11
+    rec = all_notes["capture_target"]
+    assert res.target["wall"] == rec["wall"]
+    for k in ("theta", "sdot"):
+        assert np.allclose(np.asarray(res.target[k], float), np.asarray(rec[k], float), rtol=0, atol=1e-11), k
 
 
 def test_sticking_walls_names_the_first_wall():

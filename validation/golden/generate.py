@@ -315,8 +315,11 @@ def _versions() -> dict:
     import scipy
     import jax
 
+    from ...mapimpl._jax import xla_tuning_active
+
     return {"python": ".".join(platform.python_version_tuple()[:2]), "python-flint": flint.__version__,
-            "numpy": numpy.__version__, "scipy": scipy.__version__, "jax": jax.__version__}
+            "numpy": numpy.__version__, "scipy": scipy.__version__, "jax": jax.__version__,
+            "engine_xla_options": xla_tuning_active()}
 
 
 def _track_agreement(case: Case, tracks=("map", "scipy")) -> dict:
@@ -464,6 +467,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--recertify", action="store_true",
                     help="re-certify the committed cases with their committed settings (no searches)")
     args = ap.parse_args(argv)
+    from ...mapimpl._jax import use_cpu_devices
+
+    use_cpu_devices()  # as the command line does: the engine's float64 samples in the notes are the CLI's
     t0 = time.time()
     if args.recertify:
         from .suite import case_ids
