@@ -170,13 +170,14 @@ LANE_FIELDS = dict(
     te=_F64, p1=_F64, p2=_F64, hw=_F64, va=_F64, aa=_F64, ba=_F64, top=_BOOL, it=_I32, k=_I32,
 )
 
-#: The search fields by lane mode.  A lane's modes use disjoint quantities, so they share fields: a
-#: search micro-step then reads and writes few arrays, which is what it costs on a CPU.
+#: The search fields by lane mode, in the order ``te, p1, p2, hw, va, aa, ba, top, (it, k)``.  A lane's
+#: modes use disjoint quantities, so they share fields: a search micro-step then reads and writes few
+#: arrays, which is what it costs on a CPU.
 SEARCH_FIELDS = {
-    #      te       p1            p2            hw                            va          aa        ba        top          it, k
     "A": ("t_a", None, None, "window H", None, None, None, None, "safe steps"),
-    "B": ("t_b", "t_a", "h_near", "window after a failed test", "v(t_a)", "a(t_a)", "b(t_a)", "near wall", "safe steps"),
-    "N": ("x", "lo", "hi", None, None, None, None, "wall", "Newton iterations"),
+    "B": ("t_b", "t_a", "h_near", "window after a failed test", "v(t_a)", "a(t_a)", "b(t_a)", "near wall",
+          "safe steps"),
+    "N": ("x", "lo", "hi", None, None, None, "b(t_a)", "wall", "root iterations"),
     "H": ("t_hit", "sin(phase)", "cos(phase)", None, "v(t_hit)", None, None, "wall", None),
 }
 
@@ -322,7 +323,8 @@ def search_step(s, k):
                          jnp.where(root, jnp.where(r_done, MODE_H, MODE_N),
                                    jnp.where(inB, jnp.where(stalled, MODE_H, MODE_A), mode)))
     ns["mode"] = jnp.where(escaped | failed, MODE_IDLE, new_mode).astype(_I32)
-    ns["ostat"] = jnp.where(escaped, int(Orbit.NO_IMPACT), jnp.where(failed, int(Orbit.STEP_CAP), s["ostat"])).astype(_I32)
+    ns["ostat"] = jnp.where(escaped, int(Orbit.NO_IMPACT),
+                            jnp.where(failed, int(Orbit.STEP_CAP), s["ostat"])).astype(_I32)
     ns["te"] = jnp.where(inA, jnp.where(A.move, A.t_next, A.t_b),
                          jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te)))
     half_dx2 = 0.5 * dx * dx
@@ -578,6 +580,6 @@ def padded_lanes(lanes: int) -> int:
     return max(q, -(-int(lanes) // q) * q)
 
 
-__all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "MODE_H", "ARRIVE_EVERY", "LANE_QUANTUM", "flight_sc",
-           "make_consts", "idle_lanes", "empty_results", "prepare_queue", "search_step", "arrival", "compact",
-           "run_blocks", "trace", "padded_lanes"]
+__all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "MODE_H", "ARRIVE_EVERY", "LANE_QUANTUM",
+           "SEARCH_FIELDS", "PARAM_FIELDS", "flight_sc", "make_consts", "param_consts", "idle_lanes", "empty_results",
+           "prepare_queue", "search_step", "arrival", "compact", "run_blocks", "trace", "padded_lanes"]
