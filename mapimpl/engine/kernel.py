@@ -238,18 +238,23 @@ def param_consts(alpha, beta, gamma, r) -> dict:
     return {name: q[name][0] for name in PARAM_FIELDS}
 
 
-def _lanewise(fn, k):
-    """``fn`` (one lane's state -> its new state) vmapped over the lanes; with a run's uniform parameters
-    (``k["up"]``) the lanes see those scalars instead of their own parameter fields."""
+def _with_run_params(fn, k):
+    """``fn`` (one lane's state -> its new state), seeing a run's uniform parameters (``k["up"]``)
+    instead of the lane's own parameter fields, which it leaves as they were."""
     up = k.get("up")
     if up is None:
-        return jax.vmap(fn)
+        return fn
 
     def one(s):
         ns = fn({**s, **up})
         return {**ns, **{name: s[name] for name in up}}
 
-    return jax.vmap(one)
+    return one
+
+
+def _lanewise(fn, k):
+    """:func:`_with_run_params` of ``fn``, vmapped over the lanes."""
+    return jax.vmap(_with_run_params(fn, k))
 
 
 def _step_jacobian(s, t_hit, v1, sn1, cs1):
@@ -314,8 +319,9 @@ def search_step(s, k):
     jerk = forcing_rate_sc(sin_t, cos_t, alpha, beta) - beta * a
     B_retry = inB & ~bracket & ~stalled  # no root in [t_a, t_b]: go on to t_a + h_near
     B_t_new = p1 + p2
-    escaped = (B_retry & (B_t_new > k["t_max"])) | (inA & A.move & A.beyond)
-    failed = (B_retry & ~(B_t_new > k["t_max"]) & (s["it"] >= k["max_steps"])) | (inA & A.move & ~A.beyond & A.capped)
+    B_beyond = B_t_new > k["t_max"]
+    escaped = (B_retry & B_beyond) | (inA & A.move & A.beyond)
+    failed = (B_retry & ~B_beyond & (s["it"] >= k["max_steps"])) | (inA & A.move & ~A.beyond & A.capped)
     toB = inA & ~A.move
 
     ns = dict(s)
@@ -560,11 +566,11 @@ def trace(queue1, k, n_impacts: int, observers=()):
         l, h, it = c
         return (l["mode"] != MODE_IDLE) & (l["n"] < n_impacts) & (it < 200 * (n_impacts + 1))
 
-    up = k.get("up") or {}
+    one_micro_step = _with_run_params(lambda s: arrival(search_step(s, k), k, observers), k)
 
     def body(c):
         l, h, it = c
-        l2 = {**arrival(search_step({**l, **up}, k), k, observers), **{name: l[name] for name in up}}
+        l2 = one_micro_step(l)
         arrived = (l2["n"] != l["n"]) | (it == 0)
         row = jnp.stack([l2["th"], l2["sd"], l2["wall"].astype(_F64)])
         h = jnp.where(arrived, h.at[l2["n"]].set(row), h)
