@@ -182,6 +182,20 @@ def _bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
 
 
 @njit(inline="always", **_JIT)
+def _quadratic_time(d, u, a):
+    """Smallest h > 0 with d - u h - a h^2 / 2 = 0 (inf if none), no underflow guard: the estimate of
+    a root (mapimpl.finder.quadratic_time)."""
+    disc = u * u + 2.0 * a * d
+    if u > 0.0:
+        if disc >= 0.0:
+            return 2.0 * d / (u + math.sqrt(disc))
+        return INF
+    if a > 0.0:
+        return (math.sqrt(max(disc, 0.0)) - u) / a
+    return INF
+
+
+@njit(inline="always", **_JIT)
 def _safe_time(d, u, A):
     """Smallest h > 0 with d - u h - A h^2 / 2 = 0 (inf if none); mapimpl.finder.safe_time, with its
     lower bounds where u^2 + 2 A d underflows."""
@@ -332,7 +346,7 @@ def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, 
                     d_near, u_near, a_near = du, v, a
                 else:
                     d_near, u_near, a_near = dl, -v, -a
-                h_est = _safe_time(d_near, u_near, a_near)
+                h_est = _quadratic_time(d_near, u_near, a_near)
                 H_new = min(max(3.0 * h_near, 1e-300), H_MAX)
                 t_next = ta + h_near
                 # no root predicted in the window: go straight on to ta + h_near

@@ -73,28 +73,39 @@ class Hit(NamedTuple):
     steps: jnp.ndarray
 
 
+def quadratic_time(d, u, a):
+    """Smallest ``h > 0`` with ``d - u h - a h^2/2 = 0`` (``+inf`` if none), in the rounding-stable
+    forms, without guarding against underflow: the estimate of a root (``safe_step``'s test point);
+    :func:`safe_time` is the certified bound.
+
+    ``d >= 0``: a gap to a wall; ``u``: the velocity toward it; ``a``: the acceleration toward it.
+    """
+    disc = u * u + 2.0 * a * d
+    root = jnp.sqrt(jnp.maximum(disc, 0.0))
+    # approaching: stable form 2d / (u + sqrt(disc)); receding with a > 0: (-u + sqrt(disc)) / a (one
+    # division of the selected operands; +inf where no root exists)
+    approach = u > 0.0
+    num = jnp.where(approach, 2.0 * d, root - u)
+    den = jnp.where(approach, u + root, jnp.where(a > 0.0, a, 1.0))
+    none = jnp.where(approach, jnp.logical_not(disc >= 0.0), jnp.logical_not(a > 0.0))
+    return jnp.where(none, jnp.inf, num / den), disc, none
+
+
 def safe_time(d, u, A):
     """Smallest ``h > 0`` with ``d - u h - A h^2/2 = 0`` (``+inf`` if none).
 
     ``d >= 0`` is the gap to a wall, ``u`` the velocity toward it and ``A`` an upper bound of the
-    acceleration toward it; before that time the wall provably cannot be reached.
+    acceleration toward it; before that time the wall provably cannot be reached.  The root of
+    :func:`quadratic_time`, kept a lower bound where ``u^2 + 2 A d`` underflows.
     """
-    disc = u * u + 2.0 * A * d
-    root = jnp.sqrt(jnp.maximum(disc, 0.0))
-    # approaching: stable form 2d / (u + sqrt(disc)); receding with A > 0: (-u + sqrt(disc)) / A (one
-    # division of the selected operands; +inf where no root exists)
-    approach = u > 0.0
-    num = jnp.where(approach, 2.0 * d, root - u)
-    den = jnp.where(approach, u + root, jnp.where(A > 0.0, A, 1.0))
-    none = jnp.where(approach, jnp.logical_not(disc >= 0.0), jnp.logical_not(A > 0.0))
-    h = jnp.where(none, jnp.inf, num / den)
+    h, disc, none = quadratic_time(d, u, A)
     # where u^2 + 2 A d underflows (|u| and A d near the smallest normal numbers, e.g. alpha ~ 1e-308)
     # the forms above lose the 2 A d term: receding, they would give 0 -- a false graze -- and
     # approaching, more than the root.  Lower bounds without the underflow there (they hold
     # everywhere: sqrt(u^2 + 2 A d) <= |u| + sqrt(2 A) sqrt(d)); elsewhere h is unchanged, bit for bit.
     tiny = disc < 1e-290
     sq = jnp.sqrt(2.0 * jnp.maximum(A, 0.0)) * jnp.sqrt(d)
-    h_tiny = jnp.where(approach, 2.0 * d / (2.0 * u + sq), jnp.maximum(h, sq / jnp.where(A > 0.0, A, 1.0)))
+    h_tiny = jnp.where(u > 0.0, 2.0 * d / (2.0 * u + sq), jnp.maximum(h, sq / jnp.where(A > 0.0, A, 1.0)))
     return jnp.where(tiny & ~none, h_tiny, h)
 
 
@@ -180,7 +191,7 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
     d_near = jnp.where(top_near, du, dl)
     u_near = jnp.where(top_near, v, -v)
     a_near = jnp.where(top_near, a, -a)
-    h_est = safe_time(d_near, u_near, a_near)
+    h_est = quadratic_time(d_near, u_near, a_near)[0]  # an estimate: no underflow guard needed
     slope = jnp.maximum(u_near + a_near * h_est, 1e-300)
     h_try = h_est + 2.0 * (m3 * h_est * h_est * h_est / 6.0) / slope + 4.0 * _EPS * (t_a + h_est)
     w_b = jnp.where(jnp.isfinite(h_try) & (h_try > 0.0), jnp.minimum(w, h_try), w)

@@ -209,3 +209,27 @@ def test_tiny_acceleration_coasts_to_rest_without_a_false_graze():
         root = float((mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d)) - mp.mpf(u)) / mp.mpf(A)) if u <= 0 else \
             float(2 * mp.mpf(d) / (mp.mpf(u) + mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d))))
         assert 0 < h <= root * (1 + 1e-15) and h >= 0.99 * root
+
+
+def test_quadratic_time_is_safe_time_without_the_underflow_guard():
+    """finder.quadratic_time (the estimate behind safe_step's test point) is safe_time's root: equal
+    bit for bit wherever u^2 + 2 A d >= 1e-290, and in the underflow region the estimate may fall to 0
+    (receding, where subnormals are flushed) while the certified safe time keeps a positive lower bound.  The estimate only places
+    the bracket test, so the impacts found do not depend on it (checked on the engine by the
+    transient tests)."""
+    from gear_rattle.mapimpl.finder import quadratic_time
+
+    rng = np.random.default_rng(5)
+    d = rng.uniform(0, 1, 4000)
+    u = rng.normal(size=4000) * 10.0 ** rng.integers(-8, 3, 4000)
+    a = rng.normal(size=4000) * 3
+    q = np.asarray(quadratic_time(d, u, a)[0])
+    s = np.asarray(safe_time(d, u, a))
+    assert np.array_equal(q, s)
+    # the false graze of test_tiny_acceleration_coasts_to_rest_without_a_false_graze: 2 A d is subnormal
+    # (flushed to 0 where the CPU flushes subnormals, so the estimate may be 0 there); the guarded bound
+    # stays within 1% of the root sqrt(2 d / A) = 4.7e153 and never below the estimate
+    A_min = 2.2250738585072014e-308
+    q0, s0 = float(quadratic_time(0.25, 0.0, A_min)[0]), float(safe_time(0.25, 0.0, A_min))
+    root = float(mp.sqrt(2 * mp.mpf(0.25) / mp.mpf(A_min)))
+    assert 0.99 * root <= s0 <= root * (1 + 1e-15) and q0 <= s0
