@@ -194,10 +194,10 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         done = hit | (~retry & ~turn)
         status = jnp.where(hit, HIT, jnp.where(watch & reached, NO_IMPACT, STEP_CAP)).astype(jnp.int32)
         advance = ~retry
-        # restart at an extremum with sdot = -sigma * 1e-300 (it is 0 there to rounding, and its
+        # restart at an extremum with sdot = -sigma * START_SPEED (it is 0 there to rounding, and its
         # derivative along the extremum is 0): the combined condition then starts strictly negative,
         # so a short return to a wall inside the first step is an upcrossing with a valid bracket
-        y1 = jnp.where(turn, y1.at[1].set(-sig * 1e-300), y1)
+        y1 = jnp.where(turn, y1.at[1].set(-sig * ev.START_SPEED), y1)
         return dict(t=jnp.where(advance, t1, c["t"]), y=jnp.where(advance, y1, c["y"]),
                     sigma=jnp.where(turn, -sig, sig), seg=c["seg"] + 1, done=done,
                     status=jnp.where(done, status, c["status"]),

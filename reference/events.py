@@ -46,6 +46,9 @@ import jax.numpy as jnp
 T_MAX = 2000.0
 #: Most monotone segments (velocity reversals + 1) integrated in one flight before ``"step_cap"``.
 MAX_SEGMENTS = 4000
+#: Speed a segment that starts at rest is solved from (:func:`start_velocity`): far below every error of
+#: the tracks, yet it makes the reversal condition start strictly negative.
+START_SPEED = 1e-300
 
 #: The walls: ``s = 0`` (reached with ``sdot > 0``) and ``s = -1`` (reached with ``sdot < 0``).
 UPPER_WALL, LOWER_WALL = 0, -1
@@ -100,10 +103,18 @@ def dip_condition(sddot, sigma):
     return sigma * sddot
 
 
-def hidden_reversal(sdot_at_dip, sigma):
-    """At a speed minimum (:func:`dip_condition`): the velocity points against ``sigma`` there, so the
-    segment reversed (twice) unseen before it."""
-    return sigma * sdot_at_dip < 0.0
+def hidden_reversal(sdot_at_dip, sigma, tol=0.0):
+    """At a speed minimum (:func:`dip_condition`): the velocity points against ``sigma`` there by more
+    than ``tol``, so the segment reversed (twice) unseen before it.
+
+    ``tol`` is the velocity the integrator cannot tell from zero (its absolute tolerance): a dip whose
+    backward velocity is below it has no resolvable sign.  Such a dip follows many releases from
+    sticking: the forcing of Eq. (3) vanishes at the release phase only to rounding (``|s''| ~ 1e-16``),
+    and with the wrong sign of that rounding ``sdot`` dips to about ``-s''^2 / (2 s''') ~ -1e-31`` just
+    after the start.  Counted as a reversal it split the flight into segments ~1e-16 long at its start
+    (repeated joints in the dense output) and, while the reversal condition started at zero (before
+    :func:`start_velocity`), into zero-length segments up to :data:`MAX_SEGMENTS` (``"step_cap"``)."""
+    return sigma * sdot_at_dip < -tol
 
 
 def wall_rate(f, sigma):
@@ -161,6 +172,20 @@ def restart_direction(wall, v0):
     return initial_direction(wall, v0, 0.0)
 
 
+def start_velocity(sdot, sigma):
+    """The velocity a segment of direction ``sigma`` is solved from: ``sdot`` if it points along
+    ``sigma``, else ``sigma START_SPEED``.  A segment starts at rest after a release (``sdot = 0``) and
+    at a landed reversal (``sdot = 0`` to rounding); there its reversal condition would start at zero
+    (or above), and a solver that locates an event by a sign change at step ends takes the start
+    itself for the root of any upcrossing inside the first step (scipy's ``brentq`` returns an end
+    where the condition is 0): a zero-length segment, after which the next one, toward the wall it
+    starts on, ends the same way, until :data:`MAX_SEGMENTS`.  Started strictly negative, a return
+    inside the first step (a slow departure turning back within 0.03, alpha = 0.5, gamma = -0.5) is a
+    proper bracket.  (The diffrax track restarts after every reversal with ``START_SPEED`` in the new
+    direction.)"""
+    return select(sigma * sdot > 0.0, sdot, sigma * START_SPEED)
+
+
 def pre_impact_wall(s0: float, sdot0: float, a0: float) -> int | None:
     """The wall of a start ``(s0, sdot0)`` that is already a pre-impact state (on a wall, moving into
     it, or at rest there with the acceleration ``a0`` pointing into it); None for a free start."""
@@ -182,8 +207,8 @@ def start_wall(wall: int | None, sdot: float) -> int:
     return int(wall)
 
 
-__all__ = ["T_MAX", "MAX_SEGMENTS", "UPPER_WALL", "LOWER_WALL", "DIRECTION", "TERMINAL", "WALL_REACHED",
-           "REVERSAL", "MISSED_CROSSING", "OPEN_END", "FLIGHT_HIT", "FLIGHT_NO_IMPACT", "FLIGHT_STEP_CAP",
-           "FLIGHT_STATUS_NAMES", "select", "wall_ahead", "wall_condition", "reversal_condition", "wall_rate",
-           "reversal_rate", "condition", "condition_rate", "newton_step", "beyond_wall", "segment_end",
-           "initial_direction", "restart_direction", "pre_impact_wall", "start_wall"]
+__all__ = ["T_MAX", "MAX_SEGMENTS", "START_SPEED", "UPPER_WALL", "LOWER_WALL", "DIRECTION", "TERMINAL",
+           "WALL_REACHED", "REVERSAL", "MISSED_CROSSING", "OPEN_END", "FLIGHT_HIT", "FLIGHT_NO_IMPACT",
+           "FLIGHT_STEP_CAP", "FLIGHT_STATUS_NAMES", "select", "wall_ahead", "wall_condition", "reversal_condition",
+           "wall_rate", "reversal_rate", "condition", "condition_rate", "newton_step", "beyond_wall", "segment_end",
+           "initial_direction", "restart_direction", "start_velocity", "pre_impact_wall", "start_wall"]

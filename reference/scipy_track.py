@@ -38,6 +38,11 @@ Consequences:
 4. *Grazing*: an excursion beyond a wall, however shallow, is caught (item 2); a tangency that stays
    inside is a reversal.  Near grazing the impact time is ill-conditioned (``dtau ~ ds / |sdot|``),
    for every track.
+5. *A segment that starts at rest* (after a release, or at a reversal) is solved from the velocity
+   ``sigma * 1e-300`` (:func:`reference.events.start_velocity`), so its reversal condition starts
+   strictly negative: started at zero, scipy located any upcrossing inside the first step at the start
+   itself, and zero-length segments followed one another up to ``MAX_SEGMENTS``.  A speed minimum whose
+   backward velocity is below ``atol`` is no hidden reversal (:func:`reference.events.hidden_reversal`).
 
 **Jacobian (second route).**  :func:`step_jacobian` integrates the variational equations
 ``Phi' = [[0, 1], [0, -beta]] Phi`` along the flight and composes
@@ -156,11 +161,13 @@ def _events(sigma: float, rhs: Callable | None = None):
     return [wall_ev, rev_ev, dip_ev]
 
 
-def _hidden_dip(sol, sigma: int) -> float | None:
-    """The first speed minimum of a solve at which the velocity points against ``sigma`` (two
-    reversals inside one step, unseen by the reversal event), or None."""
+def _hidden_dip(sol, sigma: int, atol: float) -> float | None:
+    """The first speed minimum of a solve at which the velocity points against ``sigma`` by more than
+    the absolute tolerance ``atol`` (two reversals inside one step, unseen by the reversal event), or
+    None.  A dip below ``atol`` has no resolvable sign (:func:`reference.events.hidden_reversal`: the
+    rounding-level dip just after a release from sticking)."""
     for t_d, y_d in zip(sol.t_events[2], sol.y_events[2]):
-        if ev.hidden_reversal(float(y_d[1]), sigma):
+        if ev.hidden_reversal(float(y_d[1]), sigma, atol):
             return float(t_d)
     return None
 
@@ -181,13 +188,17 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
     t = 0.0
     samples = [] if points_per_unit else None
     for seg in range(1, MAX_SEGMENTS + 1):
-        sol = solve_ivp(rhs, (t, opts.t_max), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+        # solved from a velocity along sigma (0 after a release, ~0 after a reversal: the reversal
+        # condition then starts strictly negative, reference.events.start_velocity)
+        y_s = y.copy()
+        y_s[1] = ev.start_velocity(float(y[1]), sigma)
+        sol = solve_ivp(rhs, (t, opts.t_max), y_s, method="DOP853", rtol=opts.rtol, atol=opts.atol,
                         max_step=opts.max_step, events=_events(sigma, rhs), dense_output=samples is not None)
-        t_dip = _hidden_dip(sol, sigma) if sol.status >= 0 else None
+        t_dip = _hidden_dip(sol, sigma, opts.atol) if sol.status >= 0 else None
         if t_dip is not None:
             # sdot reversed and reversed back inside one step before t_dip: solve again up to the speed
             # minimum, where sdot has the opposite sign, so the reversal (or a wall before it) is found
-            redo = solve_ivp(rhs, (t, t_dip), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+            redo = solve_ivp(rhs, (t, t_dip), y_s, method="DOP853", rtol=opts.rtol, atol=opts.atol,
                              max_step=opts.max_step, events=_events(sigma), dense_output=samples is not None)
             if redo.status == 1:  # else the dip was a rounding-level tangency: keep the first solve
                 sol = redo
@@ -195,7 +206,7 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
             return Flight(_STEP_CAP, math.inf, 0, math.nan, None, seg, samples)
         if sol.status == 0:  # reached t_max without an event (OPEN_END)
             if samples is not None:
-                _sample(sol, t, opts.t_max, points_per_unit, samples)
+                _sample(sol, t, opts.t_max, points_per_unit, samples, y)
             return Flight(_NO_IMPACT, math.inf, 0, math.nan, None, seg, samples)
         hit = len(sol.t_events[0]) > 0
         k = 0 if hit else 1
@@ -206,14 +217,14 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
             # the extremum lies beyond the wall ahead: s crossed it and came back inside one step
             # (scipy issue 9228).  s is monotone on [t, t_e], so a solve that ends at t_e sees the
             # crossing as a sign change and locates it; without one, the extremum is a reversal.
-            sol2 = solve_ivp(rhs, (t, t_e), y, method="DOP853", rtol=opts.rtol, atol=opts.atol,
+            sol2 = solve_ivp(rhs, (t, t_e), y_s, method="DOP853", rtol=opts.rtol, atol=opts.atol,
                              max_step=opts.max_step, events=_events(sigma)[:1])
             if sol2.status == 1 and len(sol2.t_events[0]):
                 hit = True
                 t_e, y_e = _land(rhs, sol2, float(sol2.t_events[0][-1]),
                                  np.array(sol2.y_events[0][-1], dtype=np.float64), sigma, True, opts)
         if samples is not None:
-            _sample(sol, t, t_e, points_per_unit, samples, y_e)
+            _sample(sol, t, t_e, points_per_unit, samples, y, y_e)
         if hit:
             phi = y_e[2:].reshape(2, 2) if variational else None
             return Flight(_HIT, t_e, ev.wall_ahead(sigma), float(y_e[1]), phi, seg, samples)
@@ -239,11 +250,15 @@ def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: O
     return t_e + dt, y_n + f * dt
 
 
-def _sample(sol, t0: float, t1: float, ppu: float, out: list, y1: np.ndarray | None = None) -> None:
+def _sample(sol, t0: float, t1: float, ppu: float, out: list, y0: np.ndarray, y1: np.ndarray | None = None) -> None:
+    """Dense samples of one segment on ``[t0, t1]``: the first is the segment's start state ``y0`` (not
+    the solver's start, whose velocity may be :func:`reference.events.start_velocity`), the last the
+    refined event state ``y1`` when given."""
     m = max(2, int(math.ceil((t1 - t0) * ppu)) + 1)
     ts = np.linspace(t0, t1, m)
     ys = sol.sol(ts)
-    if y1 is not None:  # the refined event state
+    ys[:, 0] = y0[: ys.shape[0]]
+    if y1 is not None:
         ys[:, -1] = y1[: ys.shape[0]]
     out.append((ts, ys[0].copy(), ys[1].copy()))
 
@@ -308,10 +323,14 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
                     dense.append((np.array([stick_tau]), np.array([float(wall)]), np.zeros(1), np.full(1, flights)))
                 break
             release_tau = tau_n + delay
-            if points_per_unit:
-                ts = np.linspace(stick_tau, release_tau, max(2, int(delay * points_per_unit)))
-                dense.append((ts, np.full(len(ts), float(wall)), np.zeros(len(ts)), np.full(len(ts), -1)))
             th0, cyc0 = release_start(theta, cycles, delay, phase)
+            if points_per_unit:
+                # the stuck interval ends where the dense flight after the release starts: at the canonical
+                # release phase, cyc0 2 pi + th0, which equals release_tau only to rounding (ending at
+                # release_tau put the first flight sample an ulp before the last stuck one)
+                t_leave = max(stick_tau, cyc0 * TWO_PI + th0)
+                ts = np.linspace(stick_tau, t_leave, max(2, int(delay * points_per_unit)))
+                dense.append((ts, np.full(len(ts), float(wall)), np.zeros(len(ts)), np.full(len(ts), -1)))
             v0 = 0.0
         else:
             th0, cyc0 = theta, cycles

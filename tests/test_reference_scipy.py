@@ -263,6 +263,62 @@ def test_dense_invariants_with_a_short_velocity_dip():
     _check_invariants(p, 0.4948759939130039, 2.323183126740533, 12)
 
 
+def test_release_at_a_rounding_level_forcing_leaves_the_wall():
+    """Long-profile counterexample of test_dense_invariants_long (alpha = 2, beta = 0.125, gamma = 0,
+    r = 0.375 from (0, 1)): 16 ever slower impacts on s = -1, sticking, release at the canonical phase
+    3.2659..., where the forcing of Eq. (3) is -6.4e-16 (zero to rounding).  Just after the start sdot
+    dips to ~ -1e-31 at a speed minimum, which the speed-minimum event took for a hidden double
+    reversal; the re-solve found the reversal at the start itself (its condition was 0 there), and
+    zero-length segments ping-ponged on the wall up to MAX_SEGMENTS (status "step_cap" after 16
+    impacts; the dense orbit repeated the joint point (s = -1, sdot = 0) thousands of times), where the
+    map leaves the wall.  Now a dip below the absolute tolerance is no reversal
+    (reference.events.hidden_reversal; without it: 3 segments, two ~1e-16 long) and a segment at rest
+    starts with its reversal condition strictly negative (reference.events.start_velocity): the
+    flight is one segment to s = 0, with the map's impact to the one-step bound tau_tol (measured
+    1.5e-14 in time, 2.2e-14 in velocity), and the orbit has the map's events (2 sticking episodes in
+    40 impacts)."""
+    from gear_rattle.reference import events as ev
+    from gear_rattle.reference._common import forcing_rhs, stick_decision
+
+    p = Params(2.0, 0.125, 0.0, 0.375)
+    _check_invariants(p, 0.0, 1.0, 20)
+    s, m = S.orbit(p, 0.0, 1.0, N_ORBIT), map_orbit(p, 0.0, 1.0, N_ORBIT)
+    assert s.status == m.status == "active" and list(s.kind) == list(m.kind) and np.array_equal(s.wall, m.wall)
+    assert s.n_sticking == 2
+    k = list(s.kind).index("stick") - 1  # the impact after which the tooth sticks
+    stick, _, _, phase = stick_decision(math.fmod(s.tau[k], 2 * math.pi), int(s.wall[k]), s.sdot[k], p)
+    assert stick and abs(forcing_rhs(phase, p.alpha, p.beta, p.gamma)) < 1e-15
+    fl = S.flight(phase, -1.0, 0.0, p, sigma=ev.restart_direction(-1, 0.0))
+    st, t, wall, v = map_first_impact(phase, -1.0, 0.0, p)
+    assert st == HIT and fl.status == "hit" and fl.segments == 1 and fl.wall == wall == 0
+    assert abs(fl.t - t) <= tau_tol(v) and abs(fl.v - v) <= tau_tol(v)
+
+
+def test_release_that_turns_back_inside_the_first_step():
+    """Long-profile counterexample (after the fix above) of test_dense_invariants_long: alpha = 0.5,
+    beta = 0.01, gamma = -0.5 (|gamma| just below alpha sqrt(1 + beta^2), the forcing is positive only
+    for 0.02 after the release at tau = 3 pi / 2), so the tooth released from s = -1 leaves by ~6e-9 and
+    returns after 0.04 at sdot = -1.3e-6, inside DOP853's first step.  That step's sign change of the
+    reversal condition, zero at the start, was located at the start itself: zero-length segments up to
+    MAX_SEGMENTS ("step_cap" at the first release).  Started strictly negative
+    (reference.events.start_velocity) the reversal is found at 0.03 and the return agrees with the map
+    to the one-step bound tau_tol(v) = 7.5e-7 of this slow return (measured 6.9e-11 in time, i.e. a
+    displacement error 9e-17 at |v| = 1.3e-6, and 1.4e-14 in velocity)."""
+    from gear_rattle.reference._common import stick_decision
+
+    p = Params(0.5, 0.01, -0.5, 0.3527672616988371)
+    _check_invariants(p, 6.0, 0.01, 20)
+    s, m = S.orbit(p, 6.0, 0.01, N_ORBIT), map_orbit(p, 6.0, 0.01, N_ORBIT)
+    assert s.status == m.status == "active" and list(s.kind) == list(m.kind) and s.n_sticking >= 1
+    k = list(s.kind).index("stick") - 1  # the impact after which the tooth sticks
+    stick, _, _, phase = stick_decision(math.fmod(s.tau[k], 2 * math.pi), int(s.wall[k]), s.sdot[k], p)
+    assert stick and abs(phase - 1.5 * math.pi) < 1e-12
+    fl = S.flight(phase, -1.0, 0.0, p, sigma=1)
+    st, t, wall, v = map_first_impact(phase, -1.0, 0.0, p)
+    assert st == HIT and fl.status == "hit" and fl.segments == 2 and fl.wall == wall == -1
+    assert abs(fl.t - t) <= tau_tol(v) and abs(fl.v - v) <= tau_tol(v)
+
+
 @pytest.mark.parametrize("case", range(len(SLOW_DEPARTURES)))
 def test_slow_departure_returns_to_start_wall(case):
     """Eq. (3) from a wall with a slow departure: the first impact is the return to the start wall, as
