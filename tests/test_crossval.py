@@ -80,8 +80,10 @@ def step_sdot_tol(tau1: float, v0: float, v1: float, p: Params) -> float:
 #: Grid step of the near-miss search along a closed-form flight; every local minimum of the gap on the
 #: grid that could lie within GRAZE_DEPTH of a wall (gap < _MISS_SCREEN, far above the gap's variation
 #: |s''| h^2 / 2 <= 6e-4 within one grid step, |s''| <= alpha sqrt(1 + beta^2) + |gamma| + beta |sdot|)
-#: is refined by a bounded minimisation.
+#: is refined by a bounded minimisation.  The grid has 2^k + 1 points (>= 65), so the jitted flight
+#: compiles once per k, not once per flight length.
 _MISS_GRID, _MISS_SCREEN = 0.01, 1e-2
+_flight_ds = jax.jit(lambda t, th0, v0, a, b, g: closed_flight(t, th0, v0, a, b, g).ds)
 
 
 def near_miss(p: Params, tau0: float, s0: float, v0: float, t_flight: float, depth: float = GRAZE_DEPTH) -> bool:
@@ -95,10 +97,10 @@ def near_miss(p: Params, tau0: float, s0: float, v0: float, t_flight: float, dep
     if not (t_flight > 0.0 and math.isfinite(t_flight)):
         return False
     th0 = math.fmod(float(tau0), 2.0 * math.pi)
-    t = np.linspace(0.0, t_flight, max(8, int(math.ceil(t_flight / _MISS_GRID))) + 1)
+    t = np.linspace(0.0, t_flight, 2 ** max(6, math.ceil(math.log2(t_flight / _MISS_GRID))) + 1)
 
     def gap(tt):  # distance to the nearer wall
-        s = s0 + np.asarray(closed_flight(tt, th0, v0, p.alpha, p.beta, p.gamma).ds)
+        s = s0 + np.asarray(_flight_ds(tt, th0, v0, p.alpha, p.beta, p.gamma))
         return np.minimum(-s, 1.0 + s)
 
     g = gap(t)
