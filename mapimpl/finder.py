@@ -79,6 +79,8 @@ def quadratic_time(d, u, a):
     :func:`safe_time` is the certified bound.
 
     ``d >= 0``: a gap to a wall; ``u``: the velocity toward it; ``a``: the acceleration toward it.
+    Returns ``(h, disc, none)``: the root, the discriminant ``u^2 + 2 a d`` and where no root exists
+    (the last two for :func:`safe_time`'s guard).
     """
     disc = u * u + 2.0 * a * d
     root = jnp.sqrt(jnp.maximum(disc, 0.0))
