@@ -22,7 +22,8 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="output directory (default out/transients)")
     p.add_argument("--lanes", type=positive_int("--lanes", MAX_LANES), default=None,
                    help=f"orbits advanced together per device, at most {MAX_LANES} "
-                        "(default: ~N/16, at most 512 on CPU)")
+                        "(default: the orbits per device, at most 256 on a CPU with the engine's XLA options, 512 "
+                        "without them, 65536 on an accelerator)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
