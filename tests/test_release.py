@@ -157,6 +157,66 @@ def test_capture_is_decided_at_the_first_impact_within_delta(target):
     assert json.loads(json.dumps(res.to_dict()))["value"] == expect
 
 
+def _same_attempt(a, b) -> bool:
+    """Equal in every field but the wall time (a slope of fewer than two radii is nan in both)."""
+    for k in a.__dataclass_fields__:
+        x, y = getattr(a, k), getattr(b, k)
+        if k == "seconds" or x == y or (isinstance(x, float) and isinstance(y, float) and math.isnan(x) and
+                                        math.isnan(y)):
+            continue
+        return False
+    return True
+
+
+def _straddle_setting():
+    """A target that puts the certified distance at post-release impact 30 within a 64-bit ball of
+    ``D = 2^-20`` (the orbit's sdot shifted by D), so that at 64 bits ``D`` is undecided there while
+    ``D / 2`` is decided; 0.5 is captured at once."""
+    p = R.model_params(R.PAPER_DECIMAL, "float64")
+    ref = R.certify_post_release(p, 0, prec=64, target=R.Target((), (), ()), max_impacts=30, record=True,
+                                 radius_limit=1e-3)
+    th, sd, w = ref.orbit[-1]
+    D = 2.0 ** -20
+    return p, R.Target((th,), (sd + D,), (w,)), (0.5, D, D / 2)
+
+
+def test_one_run_decides_every_delta_as_a_run_for_each_alone():
+    """certify_post_release_deltas: one certified orbit, each capture distance its own outcome --
+    captured, undecided (the distance ball straddles delta: that delta fails, the others go on) or not
+    captured -- each identical to the run for that delta alone."""
+    p, tg, deltas = _straddle_setting()
+    runs = R.certify_post_release_deltas(p, 0, prec=64, target=tg, deltas=deltas, max_impacts=40,
+                                         radius_limit=1e-3, record=True)
+    assert [runs[d].status for d in deltas] == ["captured", "failed", "no_capture"]
+    assert runs[deltas[1]].impacts == 29 and "straddles" in runs[deltas[1]].reason
+    assert runs[deltas[2]].impacts == 40 and len(runs[deltas[2]].orbit) == 40
+    for d in deltas:
+        alone = R.certify_post_release(p, 0, prec=64, target=tg, delta=d, max_impacts=40, radius_limit=1e-3,
+                                       record=True)
+        assert _same_attempt(runs[d], alone), d
+
+
+def test_schedule_for_several_deltas_is_the_schedule_for_each_alone():
+    """certified_release_durations: the runs are shared, but each delta gets exactly the attempts, value,
+    precision and confirmation of its own schedule (D undecided at 64 bits is decided at 128 and
+    confirmed at twice the last precision)."""
+    p, tg, deltas = _straddle_setting()
+    kw = dict(rounding="float64", precisions=(64, 128), target=tg, max_impacts=40, radius_limit=1e-3)
+    res = R.certified_release_durations(R.PAPER_DECIMAL, 0, deltas, **kw)
+    assert [a.prec for a in res[deltas[1]].attempts] == [64, 128, 256]
+    assert all(r.confirmed and r.status != "undecided" for r in res.values())
+    for d in deltas:
+        alone = R.certified_release_duration(R.PAPER_DECIMAL, 0, d, **kw)
+        a, b = res[d].to_dict(), alone.to_dict()
+        assert [_same_attempt(x, y) for x, y in zip(res[d].attempts, alone.attempts)] == [True] * len(b["attempts"])
+        for k in ("status", "value", "precision", "confirmed", "lower_bound", "delta", "target", "release_phase"):
+            assert a[k] == b[k], (d, k)
+    with pytest.raises(ValueError, match="deltas is empty"):
+        R.certified_release_durations(R.PAPER_DECIMAL, 0, (), **kw)
+    with pytest.raises(ValueError, match="delta"):
+        R.certified_release_durations(R.PAPER_DECIMAL, 0, (1e-3, -1.0), **kw)
+
+
 def test_sticking_again_is_certified_periodic():
     """Case 0007's parameters (alpha=2, gamma=1, r=0.5): the orbit released from the upper wall chatters
     and sticks to it again, so it repeats from the release and is never captured (status periodic)."""

@@ -38,6 +38,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import numbers
 import sys
 import time
 from dataclasses import asdict, dataclass, field
@@ -184,41 +185,76 @@ def _radius_text(log2r: float) -> str:
     return f"{10 ** (e - k):.2f}e{k:d}"
 
 
+def _check_deltas(deltas) -> tuple:
+    """The distinct capture distances of ``deltas`` (a number or a sequence), largest first."""
+    vals = [deltas] if isinstance(deltas, numbers.Real) else list(deltas)
+    if not vals:
+        raise ValueError("deltas is empty: allowed one or more finite capture distances > 0")
+    for d in vals:
+        if not (isinstance(d, numbers.Real) and math.isfinite(d) and d > 0):
+            raise ValueError(f"delta={d!r} is out of range: allowed finite delta > 0")
+    return tuple(sorted({float(d) for d in vals}, reverse=True))
+
+
 def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, delta: float = DELTA,
                          max_impacts: int = MAX_IMPACTS, stick_time: float = STICK_TIME,
                          radius_limit: float = RADIUS_LIMIT, deadline: float | None = None,
                          progress=None, record: bool = False) -> Attempt:
-    """Certify the post-release orbit of ``wall`` at ``prec`` bits (see module docstring).
+    """Certify the post-release orbit of ``wall`` at ``prec`` bits (see module docstring): the
+    :class:`Attempt` for one capture distance ``delta`` (:func:`certify_post_release_deltas`).
 
     ``params``: :class:`Params` (exact floats) or a mapping of decimal strings (:class:`certify.Model`);
     ``deadline``: a ``time.monotonic()`` value after which the attempt stops (status ``failed``);
     ``progress(prec, n, radius)``: called every 50 impacts (``radius``: decimal text).  At most ``max_impacts`` impacts; every
     flight has the interval budget of :func:`certify.certified_flight`: the attempt always ends.
     """
+    if not (isinstance(delta, numbers.Real) and math.isfinite(delta) and delta > 0):
+        raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
+    return certify_post_release_deltas(params, wall, prec=prec, target=target, deltas=(delta,),
+                                       max_impacts=max_impacts, stick_time=stick_time, radius_limit=radius_limit,
+                                       deadline=deadline, progress=progress, record=record)[float(delta)]
+
+
+def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Target, deltas=(DELTA,),
+                                max_impacts: int = MAX_IMPACTS, stick_time: float = STICK_TIME,
+                                radius_limit: float = RADIUS_LIMIT, deadline: float | None = None,
+                                progress=None, record: bool = False) -> dict[float, Attempt]:
+    """One certified run of the post-release orbit of ``wall`` at ``prec`` bits that decides every
+    capture distance of ``deltas`` at once: ``{delta: Attempt}``.
+
+    The orbit is the same for every ``delta``; each distance has its own outcome (the first impact
+    certified within it, or the impact whose capture decision is undecided), and the run goes on until
+    every distance has one.  An :class:`Attempt` is exactly what a run for its ``delta`` alone gives
+    (its ``seconds``: when its outcome was reached).  Other arguments: :func:`certify_post_release`.
+    """
     if wall not in (0, -1):
         raise ValueError(f"wall={wall!r} is out of range: allowed 0 (upper, s = 0) or -1 (lower, s = -1)")
     if not (isinstance(max_impacts, int) and max_impacts >= 1):
         raise ValueError(f"max_impacts={max_impacts!r} is out of range: allowed integer >= 1")
-    if not (math.isfinite(delta) and delta > 0):
-        raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
+    pending = list(_check_deltas(deltas))
     t0 = time.monotonic()
     xs, ys = [], []
-    closest = None
+    closest: dict[float, float | None] = {d: None for d in pending}
     walls_stuck: list = []
-    n, log2r, dist_text = 0, -math.inf, None
+    n, log2r = 0, -math.inf
     log2_limit = math.log2(radius_limit)
-
     orbit: list = []
+    out: dict[float, Attempt] = {}
 
-    def done(status, reason):
-        return Attempt(prec, status, n, reason, _radius_text(log2r), _slope(xs, ys), dist_text, closest,
-                       walls_stuck, time.monotonic() - t0, orbit)
+    def done(ds, status, reason, dist_text=None):
+        """The outcome of the distances ``ds`` after ``n`` certified impacts."""
+        k = sum(1 for x in xs if x <= n)
+        for d in ds:
+            out[d] = Attempt(prec, status, n, reason, _radius_text(log2r), _slope(xs[:k], ys[:k]), dist_text,
+                             closest[d], list(walls_stuck), time.monotonic() - t0, list(orbit[:n]))
+            pending.remove(d)
 
     with cert.precision(prec):
         model = cert.Model(params)
         phase = cert.release_phase(model, wall)
         if phase is None:
-            return done("stuck_forever", "the contact force never changes sign at this wall")
+            done(list(pending), "stuck_forever", "the contact force never changes sign at this wall")
+            return out
         released_from = {wall}
         try:
             # post-release impact 1: the flight leaving the wall at rest at the certified zero of f
@@ -229,10 +265,18 @@ def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, de
             while True:
                 lr = _log2_radius(tau, sdot)
                 if lr > log2_limit:
-                    return done("failed", f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} "
-                                          f"at impact {n + 1}")
+                    done(list(pending), "failed",
+                         f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} at impact {n + 1}")
+                    return out
                 theta = cert.mod_two_pi(tau)
-                captured, d = capture_decision(theta, sdot, cur, target, delta)
+                decisions = {}
+                for d in list(pending):  # largest first
+                    try:
+                        decisions[d] = capture_decision(theta, sdot, cur, target, d)
+                    except cert.CertificationError as e:
+                        done([d], "failed", f"{e} (impact {n + 1} undecided)")
+                if not pending:
+                    return out
                 n, log2r = n + 1, lr
                 if record:
                     orbit.append((cert.nearest_float(theta), cert.nearest_float(sdot), cur))
@@ -241,28 +285,37 @@ def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, de
                     ys.append(lr)
                 if progress is not None and n % 50 == 0:
                     progress(prec, n, _radius_text(lr))
-                if captured:
-                    dist_text = d.str(6, radius=True)
-                    return done("captured", f"within delta={delta:g} of the target at post-release impact {n}")
-                if d is not None:
-                    lb = float(d.lower())
-                    closest = lb if closest is None else min(closest, lb)
+                for d in list(pending):
+                    captured, dist = decisions[d]
+                    if captured:
+                        done([d], "captured", f"within delta={d:g} of the target at post-release impact {n}",
+                             dist.str(6, radius=True))
+                    elif dist is not None:
+                        lb = float(dist.lower())
+                        closest[d] = lb if closest[d] is None else min(closest[d], lb)
+                if not pending:
+                    return out
                 if n >= max_impacts:
-                    return done("no_capture", f"no capture within max_impacts={max_impacts}")
+                    done(list(pending), "no_capture", f"no capture within max_impacts={max_impacts}")
+                    return out
                 if deadline is not None and time.monotonic() > deadline:
-                    return done("failed", f"time budget exhausted after impact {n}")
+                    done(list(pending), "failed", f"time budget exhausted after impact {n}")
+                    return out
                 st = cert.certified_step(model, tau, sdot, cur, prec=prec, stick_time=stick_time)
                 if st.stick is not None:
                     walls_stuck.append(cur)
                     if st.tau is None:
-                        return done("stuck_forever", f"stuck forever to wall {cur} after impact {n}")
+                        done(list(pending), "stuck_forever", f"stuck forever to wall {cur} after impact {n}")
+                        return out
                     if cur in released_from:
-                        return done("periodic", f"sticks again to wall {cur} after impact {n}: the orbit "
-                                                "repeats from its release and is never captured")
+                        done(list(pending), "periodic", f"sticks again to wall {cur} after impact {n}: the orbit "
+                                                        "repeats from its release and is never captured")
+                        return out
                     released_from.add(cur)
                 tau, sdot, cur = st.tau, st.sdot, st.wall
         except cert.CertificationError as e:
-            return done("failed", f"{e} (impact {n + 1} undecided)")
+            done(list(pending), "failed", f"{e} (impact {n + 1} undecided)")
+            return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -333,19 +386,39 @@ def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int =
                                precisions=PRECISIONS, confirm: bool = True, target: Target | None = None,
                                stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
                                time_budget_s: float | None = None, progress=None) -> ReleaseDuration:
-    """``T_post`` of ``wall``'s canonical release orbit, certified (see module docstring).
+    """``T_post`` of ``wall``'s canonical release orbit for one capture distance ``delta``, certified
+    (see module docstring): :func:`certified_release_durations` for ``(delta,)``."""
+    if not (isinstance(delta, numbers.Real) and math.isfinite(delta) and delta > 0):
+        raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
+    return certified_release_durations(params_decimal, wall, (delta,), rounding=rounding, max_impacts=max_impacts,
+                                       precisions=precisions, confirm=confirm, target=target, stick_time=stick_time,
+                                       radius_limit=radius_limit, time_budget_s=time_budget_s,
+                                       progress=progress)[float(delta)]
 
-    Runs :func:`certify_post_release` at each precision of ``precisions`` (increasing) until one
-    decides every step up to the outcome; with ``confirm`` the next precision of the list (or twice
-    the last one) must give the same outcome, else :class:`certify.CertificationError` (a bug).
-    ``params_decimal``: decimal strings ``{"alpha": "1.245", ...}``; ``rounding``: ``"decimal"``
-    (exact decimals, balls) or ``"float64"`` (their float64 roundings, exact).  ``target``: the
-    capture target (default: :func:`float64_target` of the float64 parameters).  ``time_budget_s``:
-    wall-time budget of the whole schedule (an attempt past it fails, later ones are skipped).
-    ``progress(prec, n, radius)``: see :func:`certify_post_release`.
+
+def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int = 0, deltas=(DELTA,), *,
+                                rounding: str = "decimal", max_impacts: int = MAX_IMPACTS,
+                                precisions=PRECISIONS, confirm: bool = True, target: Target | None = None,
+                                stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
+                                time_budget_s: float | None = None, progress=None) -> dict[float, ReleaseDuration]:
+    """``T_post`` of ``wall``'s canonical release orbit for every capture distance of ``deltas``,
+    certified (see module docstring): ``{delta: ReleaseDuration}``.
+
+    Runs the orbit at each precision of ``precisions`` (increasing), every run deciding all the
+    distances still open (:func:`certify_post_release_deltas`: one orbit serves them all); a distance
+    is decided by the first precision that decides every step up to its outcome, and with ``confirm``
+    the next precision of the list (or twice the last one) must give it the same outcome, else
+    :class:`certify.CertificationError` (a bug).  Each distance gets exactly the attempts, value,
+    precision and confirmation that a schedule for it alone would give; their runs are shared
+    (``seconds``: the whole schedule).  ``params_decimal``: decimal strings ``{"alpha": "1.245", ...}``;
+    ``rounding``: ``"decimal"`` (exact decimals, balls) or ``"float64"`` (their float64 roundings, exact).
+    ``target``: the capture target (default: :func:`float64_target` of the float64 parameters).
+    ``time_budget_s``: wall-time budget of the whole schedule (an attempt past it fails, later ones are
+    skipped).  ``progress(prec, n, radius)``: see :func:`certify_post_release`.
     """
     pm = model_params(params_decimal, rounding)
     p64 = model_params(params_decimal, "float64")
+    ds = _check_deltas(deltas)
     precs = [int(p) for p in precisions]
     if not precs or any(b <= a for a, b in zip(precs, precs[1:])):
         raise ValueError(f"precisions={precisions!r} is out of range: allowed a non-empty increasing list of bits")
@@ -361,44 +434,59 @@ def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int =
     with cert.precision(128):
         ph = cert.release_phase(cert.Model(pm), wall)
     phase_text = "never" if ph is None else ph.str(30, radius=False)
-    attempts: list[Attempt] = []
+    attempts: dict[float, list[Attempt]] = {d: [] for d in ds}
+    decided: dict[float, Attempt | None] = {d: None for d in ds}
+    confirmed = {d: False for d in ds}
 
-    def run(prec):
-        a = certify_post_release(pm, wall, prec=prec, target=target, delta=delta, max_impacts=max_impacts,
-                                 stick_time=stick_time, radius_limit=radius_limit, deadline=deadline,
-                                 progress=progress)
-        attempts.append(a)
-        return a
+    def confirm_with(d, b):
+        a = decided[d]
+        if b.definite:
+            if (b.status, b.impacts) != (a.status, a.impacts):
+                raise cert.CertificationError(
+                    f"precisions {a.prec} and {b.prec} certify different outcomes at delta={d:g}: "
+                    f"{a.status} at {a.impacts} vs {b.status} at {b.impacts} (a bug)")
+            confirmed[d] = True
 
-    decided = None
-    i = 0
-    while i < len(precs):
-        if deadline is not None and time.monotonic() > deadline:
+    to_confirm: list[float] = []  # decided by the last run: confirmed (or not) by the next one
+    for i, prec in enumerate(precs):
+        open_ = [d for d in ds if decided[d] is None]
+        if not (open_ or to_confirm) or (deadline is not None and time.monotonic() > deadline):
             break
-        a = run(precs[i])
-        i += 1
-        if a.definite:
-            decided = a
-            break
-    confirmed = False
-    if decided is not None and confirm and (deadline is None or time.monotonic() <= deadline):
-        nxt = precs[i] if i < len(precs) else min(2 * decided.prec, cert.MAX_PREC)
-        if nxt > decided.prec:
-            b = run(nxt)
-            if b.definite:
-                if (b.status, b.impacts) != (decided.status, decided.impacts):
-                    raise cert.CertificationError(
-                        f"precisions {decided.prec} and {nxt} certify different outcomes: "
-                        f"{decided.status} at {decided.impacts} vs {b.status} at {b.impacts} (a bug)")
-                confirmed = True
-    lower = max([a.impacts - (1 if a.status == "captured" else 0) for a in attempts] or [0])
-    status = decided.status if decided is not None else "undecided"
-    return ReleaseDuration(
-        params={k: str(params_decimal[k]).strip() for k in cert.PARAM_NAMES}, rounding=rounding, wall=wall,
-        delta=float(delta), max_impacts=int(max_impacts), target=target.as_dict(), release_phase=phase_text,
-        status=status, value=decided.impacts if status == "captured" else None,
-        precision=decided.prec if decided else None, confirmed=confirmed, lower_bound=lower,
-        attempts=attempts, seconds=time.monotonic() - t0)
+        run = certify_post_release_deltas(pm, wall, prec=prec, target=target, deltas=open_ + to_confirm,
+                                          max_impacts=max_impacts, stick_time=stick_time,
+                                          radius_limit=radius_limit, deadline=deadline, progress=progress)
+        for d in to_confirm:
+            attempts[d].append(run[d])
+            confirm_with(d, run[d])
+        to_confirm = []
+        for d in open_:
+            attempts[d].append(run[d])
+            if run[d].definite:
+                decided[d] = run[d]
+                if confirm:
+                    to_confirm.append(d)
+    # decided at the last precision of the list: confirmed at twice it
+    nxt = min(2 * precs[-1], cert.MAX_PREC)
+    if to_confirm and nxt > precs[-1] and (deadline is None or time.monotonic() <= deadline):
+        run = certify_post_release_deltas(pm, wall, prec=nxt, target=target, deltas=to_confirm,
+                                          max_impacts=max_impacts, stick_time=stick_time,
+                                          radius_limit=radius_limit, deadline=deadline, progress=progress)
+        for d in to_confirm:
+            attempts[d].append(run[d])
+            confirm_with(d, run[d])
+    seconds = time.monotonic() - t0
+    out = {}
+    for d in ds:
+        a = decided[d]
+        lower = max([b.impacts - (1 if b.status == "captured" else 0) for b in attempts[d]] or [0])
+        status = a.status if a is not None else "undecided"
+        out[d] = ReleaseDuration(
+            params={k: str(params_decimal[k]).strip() for k in cert.PARAM_NAMES}, rounding=rounding, wall=wall,
+            delta=d, max_impacts=int(max_impacts), target=target.as_dict(), release_phase=phase_text,
+            status=status, value=a.impacts if status == "captured" else None,
+            precision=a.prec if a is not None else None, confirmed=confirmed[d], lower_bound=lower,
+            attempts=attempts[d], seconds=seconds)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------

@@ -64,24 +64,32 @@ def decimal_params(params: Params) -> dict:
 
 
 @functools.lru_cache(maxsize=128)
-def _certified(pdec: tuple, wall: int, delta: float, rounding: str, stick_time: float, confirm: bool) -> dict:
-    from ..golden.release import certified_release_duration
+def _certified(pdec: tuple, wall: int, deltas: tuple, rounding: str, stick_time: float, confirm: bool) -> dict:
+    from ..golden.release import certified_release_durations
 
-    r = certified_release_duration(dict(pdec), wall, delta, rounding=rounding, confirm=confirm, stick_time=stick_time)
-    d = r.to_dict()
-    return {k: d[k] for k in ("params", "rounding", "wall", "delta", "status", "value", "precision", "confirmed",
-                              "lower_bound", "release_phase", "seconds")}
-
-
-def certified_t_post(params: Params, wall: int, delta: float = DELTA, *, rounding: str = "decimal",
-                     stick_time: float = STICK_TIME, confirm: bool = True) -> dict:
-    """The certified post-release duration of ``wall``'s canonical release orbit
-    (:func:`validation.golden.release.certified_release_duration` for :func:`decimal_params`), as a
-    dict (``value``, ``status``, ``precision``, ``confirmed``, ``lower_bound``, ``seconds``, ...).
-    Cached per process: the report asks for the same orbit in several experiments."""
-    out = dict(_certified(tuple(sorted(decimal_params(params).items())), int(wall), float(delta), rounding,
-                          float(stick_time), bool(confirm)))
+    rs = certified_release_durations(dict(pdec), wall, deltas, rounding=rounding, confirm=confirm,
+                                     stick_time=stick_time)
+    out = {}
+    for d, r in rs.items():
+        dd = r.to_dict()
+        out[d] = {k: dd[k] for k in ("params", "rounding", "wall", "delta", "status", "value", "precision",
+                                     "confirmed", "lower_bound", "release_phase", "seconds")}
     return out
+
+
+def certified_t_post(params: Params, wall: int, delta: float = DELTA, *, deltas=None, rounding: str = "decimal",
+                     stick_time: float = STICK_TIME, confirm: bool = True) -> dict:
+    """The certified post-release duration of ``wall``'s canonical release orbit at capture distance
+    ``delta`` (:func:`validation.golden.release.certified_release_durations` for :func:`decimal_params`),
+    as a dict (``value``, ``status``, ``precision``, ``confirmed``, ``lower_bound``, ``seconds``, ...).
+
+    ``deltas``: all the capture distances the caller will ask for (containing ``delta``): one schedule
+    of certified runs decides them all (one orbit serves every distance; ``seconds`` is that schedule's
+    time).  Cached per process: the report asks for the same orbit in several experiments."""
+    ds = tuple(sorted({float(d) for d in (deltas if deltas is not None else ())} | {float(delta)}, reverse=True))
+    out = _certified(tuple(sorted(decimal_params(params).items())), int(wall), ds, rounding, float(stick_time),
+                     bool(confirm))
+    return dict(out[float(delta)])
 
 
 def _t_post_value(c: dict):
@@ -113,7 +121,8 @@ def release_durations(res, delta: float, *, source: str = "certified", confirm: 
         sample = int(np.asarray(rel["T_post"])[j])
         entry = {"float64_sample": sample}
         if source == "certified":
-            c = certified_t_post(res.params, w, float(res.deltas[j]), stick_time=stick_time, confirm=confirm)
+            c = certified_t_post(res.params, w, float(res.deltas[j]), deltas=tuple(float(x) for x in res.deltas),
+                                 stick_time=stick_time, confirm=confirm)
             v, ok = _t_post_value(c)
             entry["certified"] = c
             entry["used"], entry["source"] = (v, "certified") if ok else (sample if sample >= 0 else None,
@@ -290,8 +299,7 @@ def transients(outdir="out/transients", profile="quick", nx=None, ny=None, cap=N
     hit_used = np.empty(res.hit.shape, np.int64)
     release_info = {}
     for j, d in enumerate(res.deltas):
-        dur, cens, info = release_durations(res, d, source=release, confirm=confirm and d == float(delta),
-                                            stick_time=stick_time)
+        dur, cens, info = release_durations(res, d, source=release, confirm=confirm, stick_time=stick_time)
         release_info[f"{d:g}"] = info
         hit_used[:, j] = np.where(cens, -1, dur)
         try:
