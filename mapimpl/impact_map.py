@@ -33,7 +33,7 @@ import jax
 import jax.numpy as jnp
 
 from .finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
-from .flight import TWO_PI, forcing, phi12, reduce_phase
+from .flight import TWO_PI, forcing_sc, phi12, reduce_phase
 from .params import ParamArrays
 from .status import ORBIT_NAMES, Orbit
 from .sticking import STICK_TIME, decide_stick, released_turns
@@ -90,15 +90,26 @@ def make_state(tau, sdot, wall=None, status=ACTIVE) -> MapState:
                     jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32))
 
 
-def _jacobian(theta0, sdot_n, v0, dt, theta1, v1, p: ParamArrays):
-    alpha, beta, gamma, r = p
+def jacobian_sc(sin0, cos0, v0, dt, sin1, cos1, v1, alpha, beta, gamma, r):
+    """The analytic Jacobian ``d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` of a free step (module
+    docstring; implicit differentiation of the impact condition of Eqs. 12-13): the flight leaves the
+    wall at a phase with sine/cosine ``sin0, cos0`` and velocity ``v0 = -r sdot_n`` (Eq. 11) and hits
+    after ``dt`` at a phase with ``sin1, cos1`` with velocity ``v1``.  The one implementation of the
+    formula: :func:`step` and the engine's arrival pass (:mod:`mapimpl.engine.kernel`) call it."""
     e = jnp.exp(-beta * dt)
     e1 = dt * phi12(beta * dt, e)[0]
-    a0 = forcing(theta0, alpha, beta, gamma) - beta * v0
-    a1 = forcing(theta1, alpha, beta, gamma) - beta * v1
+    a0 = forcing_sc(sin0, cos0, alpha, beta, gamma) - beta * v0
+    a1 = forcing_sc(sin1, cos1, alpha, beta, gamma) - beta * v1
     dt1_dtau = (v0 + e1 * a0) / v1
     dt1_dsd = r * e1 / v1
     return jnp.array([[dt1_dtau, dt1_dsd], [a1 * dt1_dtau - e * a0, a1 * dt1_dsd - r * e]])
+
+
+def jacobian(theta0, v0, dt, theta1, v1, p: ParamArrays):
+    """:func:`jacobian_sc` at the phases ``theta0`` (start) and ``theta1`` (impact)."""
+    alpha, beta, gamma, r = p
+    return jacobian_sc(jnp.sin(theta0), jnp.cos(theta0), v0, dt, jnp.sin(theta1), jnp.cos(theta1), v1, alpha, beta,
+                       gamma, r)
 
 
 def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
@@ -132,7 +143,7 @@ def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
         sdot=jnp.where(advance, hit.v, sd), wall=jnp.where(advance, hit.wall, wall), status=status,
     )
     tau_n = state.tau
-    jac = _jacobian(th, sd, v0, hit.t, th1, hit.v, p)
+    jac = jacobian(th, v0, hit.t, th1, hit.v, p)
     jac = jnp.where(dec.stick, jnp.zeros((2, 2)), jac)
     nan = jnp.nan
     info = StepInfo(

@@ -28,7 +28,7 @@ from gear_rattle.mapimpl import _jax  # noqa: F401
 import jax
 
 from gear_rattle.mapimpl.flight import flight as closed_flight
-from gear_rattle.mapimpl.impact_map import ACTIVE, Trajectory, _jacobian, make_state
+from gear_rattle.mapimpl.impact_map import ACTIVE, Trajectory, jacobian, make_state
 from gear_rattle.mapimpl.orbit import sequence_from_states
 from gear_rattle.mapimpl.params import Params
 from gear_rattle.mapimpl.results import ImpactSequence
@@ -398,7 +398,7 @@ def analytic_jacobian(p: Params, tau_n: float, sdot_n: float, tau1: float, v1: f
     step from the pre-impact state ``(tau_n, sdot_n)`` to the impact ``(tau1, v1)``, evaluated at that
     impact wherever a track put it."""
     th0, th1 = math.fmod(tau_n, 2.0 * math.pi), math.fmod(tau1, 2.0 * math.pi)
-    return np.asarray(_jacobian(th0, sdot_n, -p.r * sdot_n, tau1 - tau_n, th1, v1, p.arrays()))
+    return np.asarray(jacobian(th0, -p.r * sdot_n, tau1 - tau_n, th1, v1, p.arrays()))
 
 
 def composition_norm(p: Params, tau_n: float, sdot_n: float, tau1: float, v1: float) -> float:

@@ -62,6 +62,7 @@ import jax.numpy as jnp
 from ..finder import (_H0, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
                       safe_step)
 from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_rate_sc, forcing_sc, phi12, reduce_phase
+from ..impact_map import jacobian_sc
 from ..status import Orbit
 from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
@@ -259,16 +260,9 @@ def _lanewise(fn, k):
 
 def _step_jacobian(s, t_hit, v1, sn1, cs1):
     """Analytic Jacobian ``d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)`` of the step that ends at this
-    arrival (:func:`mapimpl.impact_map._jacobian`, implicit differentiation of the impact condition,
-    Eqs. 12-13); zero after a release (a sticking step forgets its input)."""
-    al, be, ga, rr = s["al"], s["be"], s["ga"], s["rr"]
-    e = jnp.exp(-be * t_hit)
-    e1 = t_hit * phi12(be * t_hit, e)[0]
-    a0 = forcing_sc(s["sn0"], s["cs0"], al, be, ga) - be * s["v0"]
-    a1 = forcing_sc(sn1, cs1, al, be, ga) - be * v1
-    dt1_dtau = (s["v0"] + e1 * a0) / v1
-    dt1_dsd = rr * e1 / v1
-    J = jnp.array([[dt1_dtau, dt1_dsd], [a1 * dt1_dtau - e * a0, a1 * dt1_dsd - rr * e]])
+    arrival (:func:`mapimpl.impact_map.jacobian_sc`, Eqs. 12-13); zero after a release (a sticking
+    step forgets its input)."""
+    J = jacobian_sc(s["sn0"], s["cs0"], s["v0"], t_hit, sn1, cs1, v1, s["al"], s["be"], s["ga"], s["rr"])
     return jnp.where(s["rel"], jnp.zeros((2, 2)), J)
 
 
