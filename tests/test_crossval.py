@@ -233,11 +233,12 @@ def test_one_step_three_tracks_long():
 
 
 # ---------------------------------------------------------------- 2. many steps, FTLE horizon
-def _horizon(traj, n: int, p: Params, sdot0: float) -> tuple[int, float, np.ndarray]:
-    """Predicted errors of impacts k = 1..n of the map's trajectory ``traj`` from the pre-impact velocity
-    ``sdot0``.  Derivation: step j of a track errs by e_j (the one-step bound
-    :func:`step_tau_tol`: a displacement error ``flight_ds(v0_j)`` at the wall divided by ``|sdot_j|``,
-    ``v0_j`` the launch speed of flight j); to first order that error is a perturbation of impact j,
+def _horizon(traj, n: int, flights: list) -> tuple[int, float, np.ndarray]:
+    """Predicted errors of impacts k = 1..n of the map's trajectory ``traj`` (``flights``: its
+    :func:`map_flights`, which give each flight's launch speed).  Derivation: step j of a track errs by
+    e_j (the one-step bound :func:`step_tau_tol`: a displacement error ``flight_ds(v0_j)`` at the wall
+    divided by ``|sdot_j|``, ``v0_j`` the launch speed of flight j); to first order that error is a
+    perturbation of impact j,
     which steps j+1..k carry to impact k through their Jacobians, so by the triangle inequality
     ``|error_k| <= pred[k] = sum_{j <= k} ||J_k ... J_{j+1}|| e_j`` (valid while the errors stay
     small enough for the linearisation, ~1e-8 here; it holds for any r <= 1: elastic impacts,
@@ -247,7 +248,6 @@ def _horizon(traj, n: int, p: Params, sdot0: float) -> tuple[int, float, np.ndar
     the predictions."""
     jac = np.asarray(traj.infos.jac)
     sdot = np.asarray(traj.states.sdot)
-    stuck = np.asarray(traj.infos.stuck)
     pred = np.zeros(n + 1)
     terms: list[tuple[np.ndarray, float]] = []
     growth = np.eye(2)
@@ -256,8 +256,9 @@ def _horizon(traj, n: int, p: Params, sdot0: float) -> tuple[int, float, np.ndar
         J = jac[k - 1]
         if not np.all(np.isfinite(J)):
             return k - 1, lam, pred
-        v0 = 0.0 if stuck[k - 1] else p.r * abs(float(sdot0 if k == 1 else sdot[k - 2]))
-        terms = [(J @ P, e) for P, e in terms] + [(np.eye(2), step_tau_tol(v0, float(sdot[k - 1])))]
+        if k > len(flights):
+            return k - 1, lam, pred
+        terms = [(J @ P, e) for P, e in terms] + [(np.eye(2), step_tau_tol(abs(flights[k - 1][2]), float(sdot[k - 1])))]
         pred[k] = sum(np.linalg.norm(P, 2) * e for P, e in terms)
         growth = J @ growth
         if pred[k] > TOL_MANY / 10:
@@ -272,10 +273,10 @@ def _many_step_errors(p: Params, tau: float, sd: float, n: int):
     :func:`_horizon`: ``(K, lam, {track: (max dt / pred, max dv / (pred (1 + |sdot|)))})``; K = 0 when
     the horizon is empty (then nothing is compared)."""
     mseq, traj = _map_stepwise(p, tau, sd, n)
-    K, lam, pred = _horizon(traj, n, p, sd)
+    flights = map_flights(mseq)
+    K, lam, pred = _horizon(traj, n, flights)
     # stop before the first impact that grazes or whose flight passes a wall at a near miss (hit-or-miss
     # is ill-conditioned there for every track)
-    flights = map_flights(mseq)
     for k in range(1, min(K, len(flights)) + 1):
         if ill_conditioned(mseq, k, flights):
             K = k - 1
@@ -343,8 +344,8 @@ def test_horizon_is_short_on_the_chaotic_attractor():
     ln((TOL_MANY / 10) / step_tau_tol) / lambda1 = ln(1e-8 / 4e-12) / 0.35 = 22 impacts (|v| ~ 0.7).
     Measured: K = 22, finite-time exponent 0.27 over them; asserted 15 < K < 40 and > 0.15."""
     p = Params(3.0, 0.1, 0.1, 0.9)
-    _, traj = _map_stepwise(p, 0.0, 0.5, 200)
-    K, lam, pred = _horizon(traj, 200, p, 0.5)
+    mseq, traj = _map_stepwise(p, 0.0, 0.5, 200)
+    K, lam, pred = _horizon(traj, 200, map_flights(mseq))
     assert lam > 0.15 and 15 < K < 40
 
 
