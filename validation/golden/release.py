@@ -106,18 +106,19 @@ def certified_distance(theta: arb, sdot: arb, wall: int, target: Target) -> arb 
     return best
 
 
-def capture_decision(theta: arb, sdot: arb, wall: int, target: Target, delta: float) -> tuple[bool, arb | None]:
-    """``(captured, distance)``: certified ``distance < delta`` (True) or ``>= delta`` (False);
-    raises :class:`certify.CertificationError` when the ball straddles ``delta``."""
-    d = certified_distance(theta, sdot, wall, target)
-    if d is None:
-        return False, None
+def capture_decision(distance: arb | None, delta: float) -> bool:
+    """Whether the pre-impact state at the certified ``distance`` (:func:`certified_distance`; ``None``:
+    no target point on its wall) is captured: certified ``distance < delta`` (True) or ``>= delta``
+    (False); raises :class:`certify.CertificationError` when the ball straddles ``delta``."""
+    if distance is None:
+        return False
     dl = cert.exact(delta)
-    if d < dl:
-        return True, d
-    if d >= dl:
-        return False, d
-    raise cert.CertificationError(f"capture decision not definite: distance {d.str(5)} straddles delta={delta:g}")
+    if distance < dl:
+        return True
+    if distance >= dl:
+        return False
+    raise cert.CertificationError(f"capture decision not definite: distance {distance.str(5)} straddles "
+                                  f"delta={delta:g}")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -269,10 +270,11 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
                          f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} at impact {n + 1}")
                     return out
                 theta = cert.mod_two_pi(tau)
-                decisions = {}
+                dist = certified_distance(theta, sdot, cur, target)
+                captured = {}
                 for d in list(pending):  # largest first
                     try:
-                        decisions[d] = capture_decision(theta, sdot, cur, target, d)
+                        captured[d] = capture_decision(dist, d)
                     except cert.CertificationError as e:
                         done([d], "failed", f"{e} (impact {n + 1} undecided)")
                 if not pending:
@@ -286,8 +288,7 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
                 if progress is not None and n % 50 == 0:
                     progress(prec, n, _radius_text(lr))
                 for d in list(pending):
-                    captured, dist = decisions[d]
-                    if captured:
+                    if captured[d]:
                         done([d], "captured", f"within delta={d:g} of the target at post-release impact {n}",
                              dist.str(6, radius=True))
                     elif dist is not None:
