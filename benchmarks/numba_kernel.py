@@ -197,21 +197,16 @@ def _quadratic_time(d, u, a):
 
 @njit(inline="always", **_JIT)
 def _safe_time(d, u, A):
-    """Smallest h > 0 with d - u h - A h^2 / 2 = 0 (inf if none); mapimpl.finder.safe_time, with its
-    lower bounds where u^2 + 2 A d underflows."""
+    """Smallest h > 0 with d - u h - A h^2 / 2 = 0 (inf if none); mapimpl.finder.safe_time: the root of
+    _quadratic_time, with its lower bounds where u^2 + 2 A d underflows."""
+    h = _quadratic_time(d, u, A)
     disc = u * u + 2.0 * A * d
-    if u > 0.0:
-        if disc >= 0.0:
-            if disc < 1e-290:
-                return 2.0 * d / (2.0 * u + math.sqrt(2.0 * max(A, 0.0)) * math.sqrt(d))
-            return 2.0 * d / (u + math.sqrt(disc))
-        return INF
-    if A > 0.0:
-        h = (math.sqrt(max(disc, 0.0)) - u) / A
-        if disc < 1e-290:
-            h = max(h, math.sqrt(2.0 * A) * math.sqrt(d) / A)
-        return h
-    return INF
+    if disc < 1e-290 and (disc >= 0.0 if u > 0.0 else A > 0.0):  # a root exists, its forms underflow
+        sq = math.sqrt(2.0 * max(A, 0.0)) * math.sqrt(d)
+        if u > 0.0:
+            return 2.0 * d / (2.0 * u + sq)
+        return max(h, sq / A)
+    return h
 
 
 @njit(inline="always", **_JIT)

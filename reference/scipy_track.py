@@ -39,9 +39,9 @@ Consequences:
    inside is a reversal.  Near grazing the impact time is ill-conditioned (``dtau ~ ds / |sdot|``),
    for every track.
 5. *A segment that starts at rest* (after a release, or at a reversal) is solved from the velocity
-   ``sigma * 1e-300`` (:func:`reference.events.start_velocity`), so its reversal condition starts
-   strictly negative: started at zero, scipy located any upcrossing inside the first step at the start
-   itself, and zero-length segments followed one another up to ``MAX_SEGMENTS``.  A speed minimum whose
+   ``sigma * START_SPEED`` (1e-300, :func:`reference.events.start_velocity`), so its reversal condition
+   starts strictly negative: started at zero, scipy located any upcrossing inside the first step at the
+   start itself, and zero-length segments followed one another up to ``MAX_SEGMENTS``.  A speed minimum whose
    backward velocity is below ``atol`` is no hidden reversal (:func:`reference.events.hidden_reversal`).
 
 **Jacobian (second route).**  :func:`step_jacobian` integrates the variational equations

@@ -238,8 +238,8 @@ def _horizon(traj, n: int, flights: list) -> tuple[int, float, np.ndarray]:
     :func:`map_flights`, which give each flight's launch speed).  Derivation: step j of a track errs by
     e_j (the one-step bound :func:`step_tau_tol`: a displacement error ``flight_ds(v0_j)`` at the wall
     divided by ``|sdot_j|``, ``v0_j`` the launch speed of flight j); to first order that error is a
-    perturbation of impact j,
-    which steps j+1..k carry to impact k through their Jacobians, so by the triangle inequality
+    perturbation of impact j, which steps j+1..k carry to impact k through their Jacobians, so by the
+    triangle inequality
     ``|error_k| <= pred[k] = sum_{j <= k} ||J_k ... J_{j+1}|| e_j`` (valid while the errors stay
     small enough for the linearisation, ~1e-8 here; it holds for any r <= 1: elastic impacts,
     r = 1, only remove the impacts' share of the contraction, det J = r^2 exp(-beta dt) sdot_n /
@@ -254,9 +254,7 @@ def _horizon(traj, n: int, flights: list) -> tuple[int, float, np.ndarray]:
     lam = 0.0
     for k in range(1, n + 1):
         J = jac[k - 1]
-        if not np.all(np.isfinite(J)):
-            return k - 1, lam, pred
-        if k > len(flights):
+        if k > len(flights) or not np.all(np.isfinite(J)):
             return k - 1, lam, pred
         terms = [(J @ P, e) for P, e in terms] + [(np.eye(2), step_tau_tol(abs(flights[k - 1][2]), float(sdot[k - 1])))]
         pred[k] = sum(np.linalg.norm(P, 2) * e for P, e in terms)
