@@ -20,10 +20,18 @@ backend): :func:`use_cpu_devices` opts in to one XLA CPU device per core before 
 
 from __future__ import annotations
 
+from importlib import metadata as _metadata
+
 from .mapimpl._jax import use_cpu_devices
 from .mapimpl.params import Params
 
-__all__ = ["Params", "orbit", "find_periodic", "lyapunov", "transient_times", "use_cpu_devices", "TRACKS"]
+try:
+    #: The installed distribution's version (``gear-rattle --version``).
+    __version__ = _metadata.version("gear-rattle")
+except _metadata.PackageNotFoundError:  # a source tree on sys.path without an install
+    __version__ = "0+unknown"
+
+__all__ = ["__version__", "Params", "orbit", "find_periodic", "lyapunov", "transient_times", "use_cpu_devices", "TRACKS"]
 
 #: The tracks that compute an orbit: the closed-form map and two numerical integrations of Eq. (3).
 TRACKS = ("map", "scipy", "diffrax")

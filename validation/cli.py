@@ -14,6 +14,7 @@ import sys
 
 from ..mapimpl._jax import use_cpu_devices
 from .cliutil import CliError
+from .extras import MissingExtra
 
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
 COMMAND_MODULES = [
@@ -51,6 +52,9 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered subcommand."""
     parser = _Parser(prog="gear-rattle", description="Gear-rattling impact model (de Souza et al. 2004): "
                      "simulation, cross-validation and reproduction of the paper.")
+    from gear_rattle import __version__
+
+    parser.add_argument("--version", action="version", version=f"gear-rattle {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for name in COMMAND_MODULES:
@@ -72,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
         # the command line (not the library) spreads the engine over one XLA CPU device per core
         use_cpu_devices()
         return int(args._run(args) or 0)
-    except (ValueError, CliError) as e:
+    except (ValueError, CliError, MissingExtra) as e:
         print(f"gear-rattle {command}: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # Ctrl-C: one line, the shell's status for SIGINT

@@ -26,6 +26,7 @@ from typing import Callable
 import numpy as np
 
 from .compute import compute_tile
+from ..extras import require
 from .spec import AtlasSpec
 from .store import AtlasStore, open_store, tile_slices
 
@@ -36,13 +37,8 @@ CONNECT_TIMEOUT_S = 20
 
 
 def import_distributed():
-    """The ``distributed`` module, or ``ImportError`` telling how to install the ``atlas`` extra."""
-    try:
-        import distributed
-    except ImportError:
-        raise ImportError("the atlas on Dask needs the optional dependency dask[distributed]: "
-                          "pip install 'gear-rattle[atlas]'") from None
-    return distributed
+    """The ``distributed`` module, or :class:`~validation.extras.MissingExtra` naming the ``atlas`` extra."""
+    return require("distributed", "atlas", "the atlas on Dask")
 
 
 def default_workers() -> int:

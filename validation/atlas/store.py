@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from .compute import ENGINE, FIELDS
+from ..extras import require
 from .spec import AtlasSpec
 
 #: Per-tile timing arrays (float64, NaN until the tile is done).
@@ -40,13 +41,8 @@ FORMAT = "gear-rattle-atlas/1"
 
 
 def import_zarr():
-    """The ``zarr`` module, or ``ImportError`` telling how to install the ``atlas`` extra."""
-    try:
-        import zarr
-    except ImportError:
-        raise ImportError("the atlas needs the optional dependency zarr: "
-                          "pip install 'gear-rattle[atlas]'") from None
-    return zarr
+    """The ``zarr`` module, or :class:`~validation.extras.MissingExtra` naming the ``atlas`` extra."""
+    return require("zarr", "atlas", "the atlas")
 
 
 def check_tile(tile) -> tuple[int, int]:
