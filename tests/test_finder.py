@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from gear_rattle.mapimpl.finder import GRAZE, HIT, NO_IMPACT, first_impact, safe_time
-from tests.mpref import first_root, s_and_v
+from mpref import first_root, s_and_v
 
 A, B, G = 3.0, 0.1, 0.1
 fi = jax.jit(first_impact)

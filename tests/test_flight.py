@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from gear_rattle.mapimpl.flight import flight, flight_textbook, forcing, phi1, phi2, reduce_phase, sigma, TWO_PI
-from tests.mpref import s_and_v
+from mpref import s_and_v
 
 finite = dict(allow_nan=False, allow_infinity=False)
 

@@ -284,7 +284,7 @@ def test_certified_first_impact_agrees_with_50_digit_bisection():
     from flint import arb
 
     from gear_rattle.mapimpl.params import Params
-    from tests.mpref import first_root
+    from mpref import first_root
     from gear_rattle.validation.golden import certify as C
 
     p = Params(0.5, 0.1, 0.1, 0.9)

@@ -12,8 +12,8 @@ from gear_rattle.mapimpl.flight import forcing, forcing_rate
 from gear_rattle.mapimpl.impact_map import ACTIVE, NO_IMPACT, STUCK_FOREVER, make_state, step
 from gear_rattle.mapimpl.orbit import map_orbit
 from gear_rattle.mapimpl.sticking import STICK_TIME, release_delay
-from tests.mpref import first_root
-from tests.tally import Tally
+from mpref import first_root
+from tally import Tally
 
 step_jit = jax.jit(step)
 finite = dict(allow_nan=False, allow_infinity=False)

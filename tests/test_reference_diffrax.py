@@ -13,7 +13,7 @@ from gear_rattle.mapimpl.orbit import map_orbit
 from gear_rattle.mapimpl.params import Params
 from gear_rattle.reference import diffrax_track as D
 from refhelpers import GRAZE_DS, N_ORBIT, SLOW_DEPARTURES, map_first_impact, v0_for_apex
-from tests.mpref import first_root
+from mpref import first_root
 
 _flight = jax.jit(D.flight)
 

@@ -280,11 +280,11 @@ def test_fig11_paper_scale_float64_sample_of_t_post_moves_mean_n(fig11_paper):
 
 
 @pytest.mark.slow
-def test_fig10_paper_scale():
+def test_fig10_paper_scale(tmp_path):
     """Fig. 10 (paper: exponents 0.010 +- 0.001 at n = 500, 0.003 +- 0.002 at n = 1000): the
     exponents are near zero (riddled-like basins)."""
     from gear_rattle.validation.transient.experiments import uncertainty
 
-    s = uncertainty(outdir="/tmp/gear_rattle_fig10", profile="paper", progress=False)
+    s = uncertainty(outdir=tmp_path, profile="paper", progress=False)
     for n in ("500", "1000"):
         assert abs(s["fits"][n]["phi"]) < 0.05

@@ -5,7 +5,8 @@ de Souza, Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-
 is known), the error the paper states (``error``, ``None`` where it states none), what kind of
 statement it is (:data:`KINDS`), where it stands (section, figure caption or equation; the text
 has no page numbers) and the quoted words, verbatim from the paper's text (``tests/test_report.py``
-checks every quote against ``/work/shared/paper.txt``; math is quoted in the LaTeX of that text).
+checks every quote against that text, ``../shared/paper.txt`` beside the repository or
+``$GEAR_RATTLE_PAPER_TXT``; math is quoted in the LaTeX of that text).
 
 Report sections take the paper's numbers from here and nowhere else: ``PAPER["kappa"].value``.
 """

@@ -425,15 +425,18 @@ def stick_time_sensitivity(outdir="out/transients", profile="quick", stick_times
 
 # --------------------------------------------------------------- the float64 horizon (a sample, not a value)
 
-def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float = DELTA) -> dict:
+def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float = DELTA, n_side: int | None = None,
+                    impacts: int | None = None) -> dict:
     """The number of impacts after which a float64 transient orbit has lost the true one: the
     transient Lyapunov exponent ``lambda1`` (:func:`validation.golden.release.transient_lyapunov`, a
     small grid of the Fig. 11 box: 6 x 6 orbits x 2000 impacts quick, 8 x 8 x 3000 paper) and
     ``ln(delta / u) / lambda1`` (roundoff ``u = 2^-53`` grown to the capture distance) and
-    ``ln(1 / u) / lambda1`` (no digit left)."""
+    ``ln(1 / u) / lambda1`` (no digit left).  ``n_side`` and ``impacts`` override the profile's grid."""
     from ..golden import release as REL
 
-    n_side, impacts = _profile(profile, (6, 2000), (8, 3000))
+    p_side, p_impacts = _profile(profile, (6, 2000), (8, 3000))
+    n_side = p_side if n_side is None else int(n_side)
+    impacts = p_impacts if impacts is None else int(impacts)
     ly = REL.transient_lyapunov(params, n_side=n_side, impacts=impacts)
     lam = float(ly["lambda1"])
     return {**ly, "n_side": n_side, "impacts": impacts, "delta": delta,
