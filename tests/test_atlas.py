@@ -241,13 +241,6 @@ def test_cli_bad_integer_exit_2(capsys):
     assert e.value.code == 2 and "--tile" in capsys.readouterr().err
 
 
-def test_cli_without_the_extra_says_how_to_install(monkeypatch, tmp_path, capsys):
-    monkeypatch.setitem(sys.modules, "zarr", None)  # import zarr -> ImportError
-    rc = main(CLI_SMALL + ["--scheduler", "serial", "--out", str(tmp_path)])
-    err = capsys.readouterr().err
-    assert rc == 2 and err.count("\n") == 1 and "pip install 'gear-rattle[atlas]'" in err
-
-
 # --- paper scale (opt-in) -----------------------------------------------------------------------------
 
 @pytest.mark.slow

@@ -4,7 +4,7 @@ attractor reached from one initial condition, computed in tiles on Dask (an embe
 default, --scheduler ADDRESS for a running cluster, --scheduler serial in this process) and written to a
 Zarr store tile by tile: rerunning the same command resumes an interrupted run.  Writes the figure
 (atlas.png: lambda1 and period maps with the paper's Fig. 4 and Fig. 8 scans as lines) and a summary
-(atlas_summary.json) to --out.  Needs the optional dependencies: pip install 'gear-rattle[atlas]'.
+(atlas_summary.json) to --out.  Needs the optional dependencies: pip install "gear-rattle[atlas]".
 See docs/atlas.md."""
 
 from __future__ import annotations
