@@ -285,7 +285,7 @@ def test_certified_first_impact_agrees_with_50_digit_bisection():
 
     from gear_rattle.mapimpl.params import Params
     from mpref import first_root
-    from gear_rattle.validation.golden import certify as C
+    from gear_rattle.mapimpl import certified as C
 
     p = Params(0.5, 0.1, 0.1, 0.9)
     with C.precision(256):
@@ -304,7 +304,7 @@ def test_certification_refuses_what_it_cannot_prove():
     from flint import arb
 
     from gear_rattle.mapimpl.params import Params
-    from gear_rattle.validation.golden import certify as C
+    from gear_rattle.mapimpl import certified as C
 
     p = Params(0.5, 0.1, 0.1, 0.9)
     with C.precision(128):

@@ -2,7 +2,7 @@
 
 Every orbit that sticks is released at a phase that depends on the parameters alone
 (:func:`mapimpl.sticking.release_phase`), so all sticking initial conditions of the Fig. 11 mesh share
-one post-release orbit; ``validation/golden/release.py`` certifies its duration in ball arithmetic.
+one post-release orbit; :mod:`mapimpl.certified` certifies its duration in ball arithmetic.
 """
 
 from __future__ import annotations
@@ -22,8 +22,10 @@ from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case
 flint = pytest.importorskip("flint")
 from flint import arb  # noqa: E402
 
-from gear_rattle.validation.golden import certify as C  # noqa: E402
-from gear_rattle.validation.golden import release as R  # noqa: E402
+from gear_rattle.mapimpl import certified as C  # noqa: E402
+from gear_rattle.mapimpl.certified import duration as D  # noqa: E402
+from gear_rattle.validation.commands import release as CLI  # noqa: E402
+from gear_rattle.validation.transient import float64_release as F  # noqa: E402
 
 FIG11 = Params(1.245, 0.1, 0.1, 0.9)
 CASE = "0012-release-orbit-fig11"
@@ -46,7 +48,7 @@ def test_orbits_stuck_at_different_phases_continue_bit_identically(wall, phases)
     step_jit = jax.jit(step)
     out = []
     for th in phases:
-        tau0, sdot0 = R.stick_at_once_state(FIG11, wall, tau0=th)
+        tau0, sdot0 = F.stick_at_once_state(FIG11, wall, tau0=th)
         st = make_state(tau0, sdot0)
         assert bool(decide_stick(st.theta, st.wall, st.sdot, *p).stick)
         new, info = step_jit(st, p)
@@ -94,16 +96,16 @@ def test_release_phase_reduces_the_closed_form():
 
 def test_decimal_parameters_are_exact_decimal_balls():
     with C.precision(256):
-        m = C.Model(R.PAPER_DECIMAL)
+        m = C.Model(C.PAPER_DECIMAL)
         assert m.alpha.contains(arb("1.245")) and float(m.alpha.rad()) < 1e-70
         assert not m.alpha.contains(arb(1.245))  # the float64 rounding is another number
-        m64 = C.Model(R.model_params(R.PAPER_DECIMAL, "float64"))
+        m64 = C.Model(C.model_params(C.PAPER_DECIMAL, "float64"))
         assert m64.alpha == arb(1.245) and m64.alpha.is_exact()
     for bad, needle in (({"alpha": "x", "beta": "0.1", "gamma": "0.1", "r": "0.9"}, "alpha"),
                         ({"alpha": "1", "beta": "-0.1", "gamma": "0.1", "r": "0.9"}, "beta"),
                         ({"alpha": "1", "beta": "0.1", "gamma": "0.1"}, "keys")):
         with pytest.raises(ValueError, match=needle):
-            R.model_params(bad, "decimal")
+            C.model_params(bad, "decimal")
         with pytest.raises(ValueError, match=needle), C.precision(64):
             C.Model(bad)
 
@@ -113,7 +115,7 @@ def target():
     """The capture target as recorded in the golden case (exact float64 points; the slow test checks
     that it is the engine's 4-impact orbit)."""
     t = load_case(DEFAULT_SUITE / CASE).settings["notes"]["capture_target"]
-    return R.Target(tuple(float(x) for x in t["theta"]), tuple(float(x) for x in t["sdot"]), tuple(t["wall"]))
+    return C.Target(tuple(float(x) for x in t["theta"]), tuple(float(x) for x in t["sdot"]), tuple(t["wall"]))
 
 
 def test_certified_prefix_contains_the_float64_orbit(target):
@@ -122,11 +124,11 @@ def test_certified_prefix_contains_the_float64_orbit(target):
     over the first 15 post-release impacts (its error then grows at the Lyapunov rate)."""
     from gear_rattle.mapimpl.orbit import map_orbit
 
-    a = R.certify_post_release(R.model_params(R.PAPER_DECIMAL, "float64"), 0, prec=256, target=target,
+    a = C.certify_post_release(C.model_params(C.PAPER_DECIMAL, "float64"), 0, prec=256, target=target,
                                max_impacts=40, record=True)
     assert a.status == "no_capture" and a.impacts == 40 and float(a.radius) < 1e-50
     assert 0.8 < a.growth < 1.1  # bits lost per impact (chaos), cf. the transient Lyapunov exponent
-    tau0, sdot0 = R.stick_at_once_state(FIG11, 0, tau0=3.25)
+    tau0, sdot0 = F.stick_at_once_state(FIG11, 0, tau0=3.25)
     seq = map_orbit(FIG11, tau0, sdot0, 15)
     _, th, sd, wl = seq.impact_arrays()
     for n in range(1, 16):
@@ -141,15 +143,15 @@ def test_capture_is_decided_at_the_first_impact_within_delta(target):
     first impact that the float64 orbit puts within delta of it (margins far above float64 errors)."""
     from gear_rattle.mapimpl.orbit import map_orbit
 
-    tau0, sdot0 = R.stick_at_once_state(FIG11, 0, tau0=3.25)
+    tau0, sdot0 = F.stick_at_once_state(FIG11, 0, tau0=3.25)
     _, th, sd, wl = map_orbit(FIG11, tau0, sdot0, 10).impact_arrays()
-    tg = R.Target((float(th[7]),), (float(sd[7]),), (int(wl[7]),))
+    tg = C.Target((float(th[7]),), (float(sd[7]),), (int(wl[7]),))
     delta = 1e-3
     dist = [max(min(abs(th[n] - th[7]), 2 * math.pi - abs(th[n] - th[7])), abs(sd[n] - sd[7]))
             if wl[n] == wl[7] else math.inf for n in range(1, 8)]
     expect = 1 + next(i for i, d in enumerate(dist) if d < delta)
     assert all(abs(d - delta) > 1e-6 for d in dist[:expect])
-    res = R.certified_release_duration(R.PAPER_DECIMAL, 0, delta, rounding="float64", precisions=(128, 256),
+    res = C.certified_release_duration(C.PAPER_DECIMAL, 0, delta, rounding="float64", precisions=(128, 256),
                                        target=tg, max_impacts=20)
     assert res.status == "captured" and res.value == expect and res.confirmed
     assert res.precision == 128 and [a.prec for a in res.attempts] == [128, 256]
@@ -172,12 +174,12 @@ def _straddle_setting():
     """A target that puts the certified distance at post-release impact 30 within a 64-bit ball of
     ``D = 2^-20`` (the orbit's sdot shifted by D), so that at 64 bits ``D`` is undecided there while
     ``D / 2`` is decided; 0.5 is captured at once."""
-    p = R.model_params(R.PAPER_DECIMAL, "float64")
-    ref = R.certify_post_release(p, 0, prec=64, target=R.Target((), (), ()), max_impacts=30, record=True,
+    p = C.model_params(C.PAPER_DECIMAL, "float64")
+    ref = C.certify_post_release(p, 0, prec=64, target=C.Target((), (), ()), max_impacts=30, record=True,
                                  radius_limit=1e-3)
     th, sd, w = ref.orbit[-1]
     D = 2.0 ** -20
-    return p, R.Target((th,), (sd + D,), (w,)), (0.5, D, D / 2)
+    return p, C.Target((th,), (sd + D,), (w,)), (0.5, D, D / 2)
 
 
 def test_one_run_decides_every_delta_as_a_run_for_each_alone():
@@ -185,13 +187,13 @@ def test_one_run_decides_every_delta_as_a_run_for_each_alone():
     captured, undecided (the distance ball straddles delta: that delta fails, the others go on) or not
     captured -- each identical to the run for that delta alone."""
     p, tg, deltas = _straddle_setting()
-    runs = R.certify_post_release_deltas(p, 0, prec=64, target=tg, deltas=deltas, max_impacts=40,
+    runs = C.certify_post_release_deltas(p, 0, prec=64, target=tg, deltas=deltas, max_impacts=40,
                                          radius_limit=1e-3, record=True)
     assert [runs[d].status for d in deltas] == ["captured", "failed", "no_capture"]
     assert runs[deltas[1]].impacts == 29 and "straddles" in runs[deltas[1]].reason
     assert runs[deltas[2]].impacts == 40 and len(runs[deltas[2]].orbit) == 40
     for d in deltas:
-        alone = R.certify_post_release(p, 0, prec=64, target=tg, delta=d, max_impacts=40, radius_limit=1e-3,
+        alone = C.certify_post_release(p, 0, prec=64, target=tg, delta=d, max_impacts=40, radius_limit=1e-3,
                                        record=True)
         assert _same_attempt(runs[d], alone), d
 
@@ -202,25 +204,25 @@ def test_schedule_for_several_deltas_is_the_schedule_for_each_alone():
     confirmed at twice the last precision)."""
     p, tg, deltas = _straddle_setting()
     kw = dict(rounding="float64", precisions=(64, 128), target=tg, max_impacts=40, radius_limit=1e-3)
-    res = R.certified_release_durations(R.PAPER_DECIMAL, 0, deltas, **kw)
+    res = C.certified_release_durations(C.PAPER_DECIMAL, 0, deltas, **kw)
     assert [a.prec for a in res[deltas[1]].attempts] == [64, 128, 256]
     assert all(r.confirmed and r.status != "undecided" for r in res.values())
     for d in deltas:
-        alone = R.certified_release_duration(R.PAPER_DECIMAL, 0, d, **kw)
+        alone = C.certified_release_duration(C.PAPER_DECIMAL, 0, d, **kw)
         a, b = res[d].to_dict(), alone.to_dict()
         assert [_same_attempt(x, y) for x, y in zip(res[d].attempts, alone.attempts)] == [True] * len(b["attempts"])
         for k in ("status", "value", "precision", "confirmed", "lower_bound", "delta", "target", "release_phase"):
             assert a[k] == b[k], (d, k)
     with pytest.raises(ValueError, match="deltas is empty"):
-        R.certified_release_durations(R.PAPER_DECIMAL, 0, (), **kw)
+        C.certified_release_durations(C.PAPER_DECIMAL, 0, (), **kw)
     with pytest.raises(ValueError, match="delta"):
-        R.certified_release_durations(R.PAPER_DECIMAL, 0, (1e-3, -1.0), **kw)
+        C.certified_release_durations(C.PAPER_DECIMAL, 0, (1e-3, -1.0), **kw)
 
 
 def test_sticking_again_is_certified_periodic():
     """Case 0007's parameters (alpha=2, gamma=1, r=0.5): the orbit released from the upper wall chatters
     and sticks to it again, so it repeats from the release and is never captured (status periodic)."""
-    a = R.certify_post_release(Params(2.0, 0.1, 1.0, 0.5), 0, prec=256, target=R.Target((), (), ()),
+    a = C.certify_post_release(Params(2.0, 0.1, 1.0, 0.5), 0, prec=256, target=C.Target((), (), ()),
                                max_impacts=200)
     assert a.status == "periodic" and a.walls_stuck == [0] and 1 < a.impacts < 200
     # the float64 map from case 0007's initial state sticks to the same wall every a.impacts impacts
@@ -235,7 +237,7 @@ def test_sticking_again_is_certified_periodic():
 def test_undecided_schedule_keeps_a_certified_lower_bound(target):
     """A radius limit too tight for the schedule: every attempt fails, the result is 'undecided' and
     reports how many impacts were certified not captured."""
-    res = R.certified_release_duration(R.PAPER_DECIMAL, 0, precisions=(128,), radius_limit=1e-30, target=target,
+    res = C.certified_release_duration(C.PAPER_DECIMAL, 0, precisions=(128,), radius_limit=1e-30, target=target,
                                        max_impacts=200)
     assert res.status == "undecided" and res.value is None and res.precision is None and not res.confirmed
     assert 0 < res.lower_bound < 200 and res.attempts[0].status == "failed"
@@ -243,23 +245,23 @@ def test_undecided_schedule_keeps_a_certified_lower_bound(target):
 
 def test_bad_arguments_raise_value_errors(target):
     with pytest.raises(ValueError, match="wall"):
-        R.certify_post_release(FIG11, 1, prec=128, target=target)
+        C.certify_post_release(FIG11, 1, prec=128, target=target)
     with pytest.raises(ValueError, match="max_impacts"):
-        R.certify_post_release(FIG11, 0, prec=128, target=target, max_impacts=0)
+        C.certify_post_release(FIG11, 0, prec=128, target=target, max_impacts=0)
     with pytest.raises(ValueError, match="precisions"):
-        R.certified_release_duration(R.PAPER_DECIMAL, precisions=(512, 256), target=target)
+        C.certified_release_duration(C.PAPER_DECIMAL, precisions=(512, 256), target=target)
     with pytest.raises(ValueError, match="rounding"):
-        R.certified_release_duration(R.PAPER_DECIMAL, rounding="float32", target=target)
+        C.certified_release_duration(C.PAPER_DECIMAL, rounding="float32", target=target)
     with pytest.raises(ValueError, match="never presses"):
-        R.certify_post_release(Params(0.5, 0.1, 0.9, 0.5), -1, prec=128, target=target)
+        C.certify_post_release(Params(0.5, 0.1, 0.9, 0.5), -1, prec=128, target=target)
     with pytest.raises(ValueError, match="lam"):
-        R.float64_horizon(-0.1)
+        F.float64_horizon(-0.1)
 
 
 def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys, monkeypatch, target):
-    monkeypatch.setattr(R, "float64_target", lambda params: target)  # skip the 4-cycle search
+    monkeypatch.setattr(D, "float64_target", lambda params: target)  # skip the 4-cycle search
     out = tmp_path / "r.json"
-    assert R.main(["--max-impacts", "5", "--precisions", "128,256", "--rounding", "float64", "--quiet",
+    assert CLI.main(["--max-impacts", "5", "--precisions", "128,256", "--rounding", "float64", "--quiet",
                    "--json", str(out)]) == 0
     o = capsys.readouterr().out
     assert "T_post > 5" in o and "128 bits" in o
@@ -268,7 +270,7 @@ def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys, monkeypatch,
     for argv, needle in ((["--alpha", "x"], "alpha"), (["--precisions", "512,256"], "precisions"),
                          (["--max-impacts", "0"], "max-impacts"), (["--wall", "2"], "wall")):
         with pytest.raises(SystemExit) as ex:
-            R.main(argv)
+            CLI.main(argv)
         assert ex.value.code == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and needle in err[0] and "Traceback" not in err[0]
@@ -276,8 +278,8 @@ def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys, monkeypatch,
 
 def test_float64_horizon_follows_from_the_exponent():
     """The float64 horizon is computed from lambda1, not typed: ln(distance / 2^-53) / lambda1."""
-    assert math.isclose(R.float64_horizon(0.5), 53 * math.log(2) / 0.5)
-    assert R.float64_horizon(0.5, 1e-3) < R.float64_horizon(0.5) < R.float64_horizon(0.25)
+    assert math.isclose(F.float64_horizon(0.5), 53 * math.log(2) / 0.5)
+    assert F.float64_horizon(0.5, 1e-3) < F.float64_horizon(0.5) < F.float64_horizon(0.25)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -295,7 +297,7 @@ def test_release_golden_case_is_well_formed():
     assert s["params"] == {"alpha": 1.245, "beta": 0.1, "gamma": 0.1, "r": 0.9}
     ini = s["initial_state"]
     assert ini["kind"] == "pre-impact" and 3.0 < ini["tau0"] < 3.5 and 0.0 < ini["sdot0"] < 0.5  # Fig. 11 box
-    assert (ini["tau0"], ini["sdot0"]) == R.stick_at_once_state(FIG11, 0, tau0=3.25)
+    assert (ini["tau0"], ini["sdot0"]) == F.stick_at_once_state(FIG11, 0, tau0=3.25)
     assert list(e.kind[:4]) == ["impact", "stick", "release", "impact"] and list(e.n[:4]) == [0, 0, 0, 1]
     assert np.all(e.kind[3:] == "impact")
     ph, _ = release_phase(0, FIG11.alpha, FIG11.beta, FIG11.gamma)
@@ -311,7 +313,7 @@ def test_release_golden_case_is_well_formed():
     for v in tp.values():
         assert isinstance(v["T_post"], int) and v["T_post"] > s["n_impacts"]
         assert v["confirmed_at_bits"] > v["precision_bits"] >= 256
-    assert notes["capture_delta"] == R.DELTA
+    assert notes["capture_delta"] == C.DELTA
     tg = notes["capture_target"]
     assert len(tg["theta"]) == len(tg["sdot"]) == len(tg["wall"]) == 4 and sorted(tg["wall"]) == [-1, -1, 0, 0]
 
@@ -333,7 +335,7 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
     value the golden case carries."""
     all_notes = load_case(DEFAULT_SUITE / CASE).settings["notes"]
     notes = all_notes["T_post_certified"][rounding]
-    res = R.certified_release_duration(R.PAPER_DECIMAL, 0, rounding=rounding)
+    res = C.certified_release_duration(C.PAPER_DECIMAL, 0, rounding=rounding)
     assert res.status == "captured" and res.confirmed
     assert res.value == notes["T_post"] and res.precision == notes["precision_bits"]
     # the recorded target is the engine's float64 4-impact orbit: its Newton solution is determined to
@@ -348,8 +350,8 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
 def test_sticking_walls_names_the_first_wall():
     """The per-wall diagnostic (the transient engine, stopped at the first sticking): states that stick at
     once to the upper and to the lower wall, and one that never sticks within the cap."""
-    ics = [R.stick_at_once_state(FIG11, 0, tau0=3.25), R.stick_at_once_state(FIG11, -1), (3.25, 0.4)]
-    w = R.sticking_walls([t for t, _ in ics], [s for _, s in ics], FIG11, cap=60)
+    ics = [F.stick_at_once_state(FIG11, 0, tau0=3.25), F.stick_at_once_state(FIG11, -1), (3.25, 0.4)]
+    w = F.sticking_walls([t for t, _ in ics], [s for _, s in ics], FIG11, cap=60)
     assert w["first_wall"].tolist()[:2] == [0, -1]
     assert w["first_stick"].tolist()[:2] == [0, 0]
     assert (w["first_wall"][2] == 1) == (w["first_stick"][2] == -1)

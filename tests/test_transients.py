@@ -76,7 +76,7 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     in ball arithmetic for the decimal parameters (certified_release_duration), the float64 roundings'
     certified value and the engine's float64 sample are kept beside; orbits that never stick keep the
     engine's duration."""
-    from gear_rattle.validation.golden.release import PAPER_DECIMAL, certified_release_duration
+    from gear_rattle.mapimpl.certified import PAPER_DECIMAL, certified_release_duration
     from gear_rattle.validation.transient.experiments import transients
 
     s = transients(outdir=tmp_path, profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)

@@ -28,7 +28,7 @@ first initial condition that stuck there): the duration is ``first_stick + T_pos
 impact is 1).  This equals, bit for bit, following every orbit through (``release="follow"``,
 tested), and saves re-computing the same orbit thousands of times.  ``T_post`` is a float64 sample of
 a chaotic orbit; :meth:`TransientResult.duration` takes a certified value instead
-(:mod:`gear_rattle.validation.golden.release`).
+(:mod:`gear_rattle.mapimpl.certified.duration`).
 """
 
 from __future__ import annotations
@@ -152,7 +152,7 @@ class TransientResult:
         """``(durations, censored)``: iterations to come within ``delta`` (``cap`` when never).
 
         ``t_post``: ``{wall: T_post}`` replaces the float64 post-release duration of that wall (e.g. a
-        certified value, :mod:`gear_rattle.validation.golden.release`) for every orbit that stuck there
+        certified value, :mod:`gear_rattle.mapimpl.certified.duration`) for every orbit that stuck there
         before coming within ``delta``: its duration is ``first_stick + T_post`` (censored beyond the
         cap; ``T_post < 0`` or None: never captured)."""
         j = self.column(delta)

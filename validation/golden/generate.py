@@ -1,6 +1,6 @@
 """Regenerate the golden conformance suite: ``python -m gear_rattle.validation.golden.generate [--cases ID ...]``.
 
-Every case is certified from scratch with ball arithmetic (:mod:`validation.golden.certify`) and
+Every case is certified from scratch with ball arithmetic (:mod:`mapimpl.certified`) and
 written to ``validation/golden/cases/<id>/`` (``settings.json``, ``expected.csv``,
 ``provenance.json``).  Deterministic: the same software writes byte-identical files.  The map and
 scipy tracks are run on every case and their deviations recorded in the provenance ("agreed by two
@@ -27,7 +27,7 @@ from flint import arb
 
 from ...mapimpl.params import Params
 from ...mapimpl.sticking import STICK_TIME
-from . import certify as cert
+from ...mapimpl import certified as cert
 from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
     sequence_from_impacts
 
@@ -142,9 +142,10 @@ def finish_release_case(spec: Spec) -> Spec:
     certified post-release duration ``T_post`` for the decimal parameters and for their float64
     roundings (:func:`release.certified_release_duration`, several minutes), the float64 engine's
     own ``T_post``, ``delta`` and the capture target."""
-    from . import release as rel
+    from ...mapimpl import certified as rel
+    from ..transient import float64_release as fl64
 
-    ly = rel.transient_lyapunov(spec.params, n_side=RELEASE_LYAP_SIDE, impacts=RELEASE_LYAP_IMPACTS)
+    ly = fl64.transient_lyapunov(spec.params, n_side=RELEASE_LYAP_SIDE, impacts=RELEASE_LYAP_IMPACTS)
     lam = round(ly["lambda1"], 3)
     if not lam > 0:
         raise RuntimeError(f"transient lambda1={lam} is not positive")
@@ -160,7 +161,7 @@ def finish_release_case(spec: Spec) -> Spec:
             "T_post": d.value, "precision_bits": d.precision,
             "confirmed_at_bits": d.attempts[-1].prec, "capture_distance": d.attempts[-1].distance,
             "release_phase": d.release_phase}
-    f64 = rel.float64_release_duration(spec.params, 0)
+    f64 = fl64.float64_release_duration(spec.params, 0)
     target = rel.float64_target(spec.params)
     notes = dict(spec.notes)
     notes.update({
@@ -177,7 +178,7 @@ def finish_release_case(spec: Spec) -> Spec:
         "T_post_certified": cert_notes,
         "T_post_float64_engine": {"value": f64["value"], "meaning": "the float64 engine's own T_post: a sample of "
                                   "a chaotic orbit, not a value (the float64 orbit leaves the true one after "
-                                  f"~{rel.float64_horizon(lam, rel.DELTA):.0f} impacts at this lambda1)"},
+                                  f"~{fl64.float64_horizon(lam, rel.DELTA):.0f} impacts at this lambda1)"},
         "capture_delta": rel.DELTA,
         "capture_target": target.as_dict() | {"source": "float64 4-impact period-1 orbit of "
                                                "mapimpl.engine.transients.periodic_target, taken as exact numbers"},
@@ -194,7 +195,7 @@ def specs() -> list[Spec]:
     graze_v = grazing_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
     miss_v = near_miss_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
     n_chaos, lam = chaos_horizon(FIG3)
-    from .release import stick_at_once_state
+    from ..transient.float64_release import stick_at_once_state
 
     rel_tau0, rel_sdot0 = stick_at_once_state(FIG11, 0, tau0=RELEASE_TAU0)
     return [

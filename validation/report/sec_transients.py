@@ -136,7 +136,7 @@ def build(ctx) -> Section:
         sec.p("WARNING: the certification was undecided for wall(s) "
               + ", ".join(w for w, v in used.items() if v != "certified")
               + "; the durations of the orbits that stick there use the float64 sample instead.")
-    sec.p("T_post is certified in ball arithmetic (python-flint arb; validation/golden/release.py): every flight, "
+    sec.p("T_post is certified in ball arithmetic (python-flint arb; mapimpl/certified/): every flight, "
           "impact and sticking decision of the post-release orbit and every distance to the target is proven at the "
           "precision shown" + (" and the next precision gives the same impact" if confirm else
                                " (the quick profile does not repeat it at a second precision)")
@@ -323,7 +323,7 @@ def release_row(dec: dict, f64: dict, sample, delta: float):
     val = float(dec["value"]) if ok else None
     f64_text = (str(f64["value"]) if f64["status"] == "captured" else f64["status"])
     conf = "confirmed at the next precision" if dec["confirmed"] else "not repeated at a second precision"
-    expl = (f"certified in ball arithmetic (python-flint arb, validation/golden/release.py): the post-release orbit "
+    expl = (f"certified in ball arithmetic (python-flint arb, mapimpl/certified/): the post-release orbit "
             f"of the upper wall s = 0 (released at the canonical phase {dec['release_phase'][:20]}... with sdot = 0) "
             f"first comes within delta = {delta:g} of the 4-impact orbit at post-release impact "
             + (f"{dec['value']}" if ok else f"? ({dec['status']}, > {dec['lower_bound']} certified)")

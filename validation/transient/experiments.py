@@ -50,7 +50,7 @@ def _profile(profile, quick, paper):
 # (mapimpl.sticking.release_phase), so all of them continue on ONE post-release orbit, and an
 # initial condition that first sticks at its impact n_s has duration n_s + T_post.  The float64
 # engine's T_post is a sample (the orbit is chaotic and float64 loses it after ~60 impacts); the
-# value used here is certified in ball arithmetic (validation/golden/release.py, docs/release.md).
+# value used here is certified in ball arithmetic (mapimpl/certified/, docs/release.md).
 
 #: Where the durations of the orbits that stick come from: ``certified`` (T_post in ball arithmetic
 #: for the decimal parameters as printed) or ``float64`` (the engine's own post-release orbit, a sample).
@@ -65,7 +65,7 @@ def decimal_params(params: Params) -> dict:
 
 @functools.lru_cache(maxsize=128)
 def _certified(pdec: tuple, wall: int, deltas: tuple, rounding: str, stick_time: float, confirm: bool) -> dict:
-    from ..golden.release import certified_release_durations
+    from ...mapimpl.certified import certified_release_durations
 
     rs = certified_release_durations(dict(pdec), wall, deltas, rounding=rounding, confirm=confirm,
                                      stick_time=stick_time)
@@ -80,7 +80,7 @@ def _certified(pdec: tuple, wall: int, deltas: tuple, rounding: str, stick_time:
 def certified_t_post(params: Params, wall: int, delta: float = DELTA, *, deltas=None, rounding: str = "decimal",
                      stick_time: float = STICK_TIME, confirm: bool = True) -> dict:
     """The certified post-release duration of ``wall``'s canonical release orbit at capture distance
-    ``delta`` (:func:`validation.golden.release.certified_release_durations` for :func:`decimal_params`),
+    ``delta`` (:func:`mapimpl.certified.certified_release_durations` for :func:`decimal_params`),
     as a dict (``value``, ``status``, ``precision``, ``confirmed``, ``lower_bound``, ``seconds``, ...).
 
     ``deltas``: all the capture distances the caller will ask for (containing ``delta``): one schedule
@@ -428,11 +428,11 @@ def stick_time_sensitivity(outdir="out/transients", profile="quick", stick_times
 def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float = DELTA, n_side: int | None = None,
                     impacts: int | None = None) -> dict:
     """The number of impacts after which a float64 transient orbit has lost the true one: the
-    transient Lyapunov exponent ``lambda1`` (:func:`validation.golden.release.transient_lyapunov`, a
+    transient Lyapunov exponent ``lambda1`` (:func:`validation.transient.float64_release.transient_lyapunov`, a
     small grid of the Fig. 11 box: 6 x 6 orbits x 2000 impacts quick, 8 x 8 x 3000 paper) and
     ``ln(delta / u) / lambda1`` (roundoff ``u = 2^-53`` grown to the capture distance) and
     ``ln(1 / u) / lambda1`` (no digit left).  ``n_side`` and ``impacts`` override the profile's grid."""
-    from ..golden import release as REL
+    from . import float64_release as REL
 
     p_side, p_impacts = _profile(profile, (6, 2000), (8, 3000))
     n_side = p_side if n_side is None else int(n_side)

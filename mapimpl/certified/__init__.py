@@ -1,0 +1,44 @@
+"""The certified track: the model of Eq. (3) in ball arithmetic (python-flint ``arb``).
+
+Every impact time and velocity is *enclosed* by a ball and every decision (which wall, stick or
+bounce, captured or not) is proven, or the computation raises :class:`CertificationError`; it never
+guesses and never loops forever.  The golden suite's cases (``validation/golden``) and the certified
+post-release duration ``T_post`` of Figs. 9-11 (docs/release.md) are computed with it.
+
+Modules, bottom up:
+
+=================  =============================================================================
+:mod:`.balls`      working precision, exact balls of floats, :class:`CertificationError`
+:mod:`.model`      the parameters as balls (:class:`Model`) and the closed-form flight (Eqs. 7-8)
+:mod:`.contact`    the first wall contact of a flight, certified (:func:`certified_flight`)
+:mod:`.sticking`   the sticking policy in balls: stick or bounce, the release time
+:mod:`.orbit`      one certified map step (Eqs. 11-13) and certified impact sequences
+:mod:`.capture`    the capture target of Figs. 9-11 and the certified capture decision
+:mod:`.release`    one certified run of the canonical release orbit at one precision
+:mod:`.duration`   the certified ``T_post``: a schedule of precisions, confirmed
+=================  =============================================================================
+
+A new certified computation (e.g. periodic orbits by a Krawczyk operator) is a new module here,
+built on :mod:`.model`, :mod:`.contact` and :mod:`.orbit`.
+"""
+
+from .balls import MAX_PREC, PREC, CertificationError, exact, mod_two_pi, nearest_float, precision, span, upper_float
+from .capture import DELTA, Target, capture_decision, certified_distance, float64_target
+from .contact import MAX_EVALS, T_MAX, FlightCertificate, certified_flight, mean_value_impact
+from .duration import (PAPER_DECIMAL, PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
+                       certified_release_durations, model_params)
+from .model import PARAM_NAMES, Flight, Model, parameter_ball
+from .orbit import CertifiedOrbit, CertifiedStep, Event, certified_step, certify_orbit
+from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, certify_post_release, certify_post_release_deltas
+from .sticking import certify_release, certify_zero, release_delay, release_phase, release_time, stick_decision
+
+__all__ = [
+    "MAX_PREC", "PREC", "CertificationError", "exact", "mod_two_pi", "nearest_float", "precision", "span",
+    "upper_float", "DELTA", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
+    "T_MAX", "FlightCertificate", "certified_flight", "mean_value_impact", "PAPER_DECIMAL", "PRECISIONS",
+    "ROUNDINGS", "ReleaseDuration", "certified_release_duration", "certified_release_durations", "model_params",
+    "PARAM_NAMES", "Flight", "Model", "parameter_ball", "CertifiedOrbit", "CertifiedStep", "Event",
+    "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",
+    "certify_post_release_deltas", "certify_release", "certify_zero", "release_delay", "release_phase",
+    "release_time", "stick_decision",
+]

@@ -1,0 +1,66 @@
+"""Balls and precision: the helpers every certified computation uses (python-flint ``arb``).
+
+A ball ``[m +- r]`` encloses a real number; python-flint's ``ctx.prec`` is the working precision in
+bits (:func:`precision` sets it for a block).  Decisions on balls are definite or raise
+:class:`CertificationError`: a certified computation never guesses.
+"""
+
+from __future__ import annotations
+
+import math
+from contextlib import contextmanager
+
+from flint import arb, ctx
+
+#: Default working precision in bits (about 96 decimal digits).
+PREC = 320
+#: Highest working precision accepted (bits).
+MAX_PREC = 1 << 16
+
+
+class CertificationError(RuntimeError):
+    """The enclosure could not be certified (ambiguous decision, grazing, budget exhausted)."""
+
+
+@contextmanager
+def precision(bits: int):
+    """Temporarily set python-flint's working precision."""
+    if not (isinstance(bits, int) and not isinstance(bits, bool) and 64 <= bits <= MAX_PREC):
+        raise ValueError(f"prec={bits!r} is out of range: allowed integer 64 <= prec <= {MAX_PREC}")
+    old = ctx.prec
+    ctx.prec = bits
+    try:
+        yield
+    finally:
+        ctx.prec = old
+
+
+def exact(x: float) -> arb:
+    """The float64 ``x`` as an exact ball."""
+    return arb(float(x))
+
+
+def span(a: arb, b: arb) -> arb:
+    """The ball enclosing ``[a, b]`` (``a``, ``b`` balls)."""
+    return a.union(b)
+
+
+def upper_float(x: arb) -> float:
+    """A float64 ``>= `` every point of the ball ``x`` (rounded up)."""
+    u = float(x.upper())
+    return math.nextafter(u, math.inf)
+
+
+def nearest_float(x: arb) -> float:
+    """The float64 nearest to the ball's midpoint (40-digit decimal, then correctly rounded)."""
+    return float(x.mid().str(45, radius=False))
+
+
+def mod_two_pi(tau: arb) -> arb:
+    """``tau mod 2 pi`` as a ball; raises if the ball straddles a multiple of ``2 pi``."""
+    two_pi = 2 * arb.pi()
+    k = (tau / two_pi).floor()
+    if not k.is_exact():
+        raise CertificationError("tau mod 2 pi: the ball straddles a multiple of 2 pi")
+    return tau - k * two_pi
+

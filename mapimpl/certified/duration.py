@@ -1,0 +1,197 @@
+"""The certified post-release duration ``T_post``: a schedule of increasing precisions.
+
+:func:`certified_release_durations` runs the certified release orbit (:mod:`.release`) at each
+precision of a schedule until one decides every step up to the outcome, and confirms the outcome
+at the next precision (docs/release.md).  The parameters are balls around the *decimal* values as
+printed (``arb("1.245")``) or their exact float64 roundings (``rounding="float64"``).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import time
+from dataclasses import asdict, dataclass
+
+from ..params import Params
+from ..sticking import STICK_TIME
+from .balls import MAX_PREC, CertificationError, precision
+from .capture import DELTA, Target, float64_target
+from .model import PARAM_NAMES, Model
+from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, check_deltas, certify_post_release_deltas
+from .sticking import release_phase
+
+#: The printed parameters of the paper's Figs. 9-11 (exact decimals).
+PAPER_DECIMAL = {"alpha": "1.245", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
+#: Precision schedule (bits) of :func:`certified_release_duration`.
+PRECISIONS = (256, 512, 1024, 2048, 4096, 8192)
+#: How the printed decimals enter the model: as exact decimals (balls) or as their float64 roundings (exact).
+ROUNDINGS = ("decimal", "float64")
+
+
+@dataclass
+class ReleaseDuration:
+    """The certified post-release duration of one wall's canonical release orbit.
+
+    ``value``: ``T_post`` (``None`` unless ``status == "captured"``); ``status``: the certified
+    outcome (``captured``, ``periodic``, ``stuck_forever``, ``no_capture`` within ``max_impacts``) or
+    ``undecided`` (no precision decided it; ``lower_bound`` still holds); ``precision``: the first
+    precision (bits) that decided it; ``confirmed``: the next precision gave the same outcome;
+    ``lower_bound``: certified ``T_post > lower_bound`` (impacts certified not captured);
+    ``attempts``: every run; ``seconds``: total wall time.
+    """
+
+    params: dict
+    rounding: str
+    wall: int
+    delta: float
+    max_impacts: int
+    target: dict
+    release_phase: str
+    status: str
+    value: int | None
+    precision: int | None
+    confirmed: bool
+    lower_bound: int
+    attempts: list
+    seconds: float
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["attempts"] = [asdict(a) for a in self.attempts]
+        return d
+
+    def summary(self) -> str:
+        what = {"captured": f"T_post = {self.value}", "periodic": "never captured (periodic)",
+                "stuck_forever": "stuck forever", "no_capture": f"T_post > {self.max_impacts}",
+                "undecided": f"undecided (T_post > {self.lower_bound} certified)"}[self.status]
+        conf = "confirmed" if self.confirmed else "NOT confirmed"
+        at = f" at {self.precision} bits, {conf} at the next precision" if self.precision else ""
+        kind = "exact decimal" if self.rounding == "decimal" else "float64-rounded"
+        return (f"wall {self.wall}, {kind} parameters "
+                f"(alpha={self.params['alpha']}, beta={self.params['beta']}, gamma={self.params['gamma']}, "
+                f"r={self.params['r']}): {what}{at} ({self.seconds:.1f} s)")
+
+
+def model_params(params_decimal: dict, rounding: str):
+    """The parameters for :class:`.model.Model`: the decimal strings themselves (``"decimal"``) or
+    the float64 numbers they round to (``"float64"``, exact binary values)."""
+    if rounding not in ROUNDINGS:
+        raise ValueError(f"rounding={rounding!r} is out of range: allowed one of {', '.join(ROUNDINGS)}")
+    missing = [k for k in PARAM_NAMES if k not in params_decimal]
+    if missing or len(params_decimal) != len(PARAM_NAMES):
+        raise ValueError(f"params_decimal={params_decimal!r}: allowed exactly the keys {', '.join(PARAM_NAMES)}")
+    from ...mapimpl.params import check_value
+
+    text = {k: str(params_decimal[k]).strip() for k in PARAM_NAMES}
+    floats = Params(**{k: check_value(k, v) for k, v in text.items()})  # ValueError names the parameter
+    return dict(text) if rounding == "decimal" else floats
+
+
+def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int = 0, delta: float = DELTA, *,
+                               rounding: str = "decimal", max_impacts: int = MAX_IMPACTS,
+                               precisions=PRECISIONS, confirm: bool = True, target: Target | None = None,
+                               stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
+                               time_budget_s: float | None = None, progress=None) -> ReleaseDuration:
+    """``T_post`` of ``wall``'s canonical release orbit for one capture distance ``delta``, certified
+    (see module docstring): :func:`certified_release_durations` for ``(delta,)``."""
+    if not (isinstance(delta, numbers.Real) and math.isfinite(delta) and delta > 0):
+        raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
+    return certified_release_durations(params_decimal, wall, (delta,), rounding=rounding, max_impacts=max_impacts,
+                                       precisions=precisions, confirm=confirm, target=target, stick_time=stick_time,
+                                       radius_limit=radius_limit, time_budget_s=time_budget_s,
+                                       progress=progress)[float(delta)]
+
+
+def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int = 0, deltas=(DELTA,), *,
+                                rounding: str = "decimal", max_impacts: int = MAX_IMPACTS,
+                                precisions=PRECISIONS, confirm: bool = True, target: Target | None = None,
+                                stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
+                                time_budget_s: float | None = None, progress=None) -> dict[float, ReleaseDuration]:
+    """``T_post`` of ``wall``'s canonical release orbit for every capture distance of ``deltas``,
+    certified (see module docstring): ``{delta: ReleaseDuration}``.
+
+    Runs the orbit at each precision of ``precisions`` (increasing), every run deciding all the
+    distances still open (:func:`.release.certify_post_release_deltas`: one orbit serves them all); a distance
+    is decided by the first precision that decides every step up to its outcome, and with ``confirm``
+    the next precision of the list (or twice the last one) must give it the same outcome, else
+    :class:`.balls.CertificationError` (a bug).  Each distance gets exactly the attempts, value,
+    precision and confirmation that a schedule for it alone would give; their runs are shared
+    (``seconds``: the whole schedule).  ``params_decimal``: decimal strings ``{"alpha": "1.245", ...}``;
+    ``rounding``: ``"decimal"`` (exact decimals, balls) or ``"float64"`` (their float64 roundings, exact).
+    ``target``: the capture target (default: :func:`float64_target` of the float64 parameters).
+    ``time_budget_s``: wall-time budget of the whole schedule (an attempt past it fails, later ones are
+    skipped).  ``progress(prec, n, radius)``: see :func:`.release.certify_post_release`.
+    """
+    pm = model_params(params_decimal, rounding)
+    p64 = model_params(params_decimal, "float64")
+    ds = check_deltas(deltas)
+    precs = [int(p) for p in precisions]
+    if not precs or any(b <= a for a, b in zip(precs, precs[1:])):
+        raise ValueError(f"precisions={precisions!r} is out of range: allowed a non-empty increasing list of bits")
+    for p in precs:
+        if not 64 <= p <= MAX_PREC:
+            raise ValueError(f"precisions: {p} is out of range: allowed 64 <= prec <= {MAX_PREC}")
+    if time_budget_s is not None and not time_budget_s > 0:
+        raise ValueError(f"time_budget_s={time_budget_s!r} is out of range: allowed > 0")
+    if target is None:
+        target = float64_target(p64)
+    t0 = time.monotonic()
+    deadline = None if time_budget_s is None else t0 + float(time_budget_s)
+    with precision(128):
+        ph = release_phase(Model(pm), wall)
+    phase_text = "never" if ph is None else ph.str(30, radius=False)
+    attempts: dict[float, list[Attempt]] = {d: [] for d in ds}
+    decided: dict[float, Attempt | None] = {d: None for d in ds}
+    confirmed = {d: False for d in ds}
+
+    def confirm_with(d, b):
+        a = decided[d]
+        if b.definite:
+            if (b.status, b.impacts) != (a.status, a.impacts):
+                raise CertificationError(
+                    f"precisions {a.prec} and {b.prec} certify different outcomes at delta={d:g}: "
+                    f"{a.status} at {a.impacts} vs {b.status} at {b.impacts} (a bug)")
+            confirmed[d] = True
+
+    to_confirm: list[float] = []  # decided by the last run: confirmed (or not) by the next one
+    for i, prec in enumerate(precs):
+        open_ = [d for d in ds if decided[d] is None]
+        if not (open_ or to_confirm) or (deadline is not None and time.monotonic() > deadline):
+            break
+        run = certify_post_release_deltas(pm, wall, prec=prec, target=target, deltas=open_ + to_confirm,
+                                          max_impacts=max_impacts, stick_time=stick_time,
+                                          radius_limit=radius_limit, deadline=deadline, progress=progress)
+        for d in to_confirm:
+            attempts[d].append(run[d])
+            confirm_with(d, run[d])
+        to_confirm = []
+        for d in open_:
+            attempts[d].append(run[d])
+            if run[d].definite:
+                decided[d] = run[d]
+                if confirm:
+                    to_confirm.append(d)
+    # decided at the last precision of the list: confirmed at twice it
+    nxt = min(2 * precs[-1], MAX_PREC)
+    if to_confirm and nxt > precs[-1] and (deadline is None or time.monotonic() <= deadline):
+        run = certify_post_release_deltas(pm, wall, prec=nxt, target=target, deltas=to_confirm,
+                                          max_impacts=max_impacts, stick_time=stick_time,
+                                          radius_limit=radius_limit, deadline=deadline, progress=progress)
+        for d in to_confirm:
+            attempts[d].append(run[d])
+            confirm_with(d, run[d])
+    seconds = time.monotonic() - t0
+    out = {}
+    for d in ds:
+        a = decided[d]
+        lower = max([b.impacts - (1 if b.status == "captured" else 0) for b in attempts[d]] or [0])
+        status = a.status if a is not None else "undecided"
+        out[d] = ReleaseDuration(
+            params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES}, rounding=rounding, wall=wall,
+            delta=d, max_impacts=int(max_impacts), target=target.as_dict(), release_phase=phase_text,
+            status=status, value=a.impacts if status == "captured" else None,
+            precision=a.prec if a is not None else None, confirmed=confirmed[d], lower_bound=lower,
+            attempts=attempts[d], seconds=seconds)
+    return out
+

@@ -1,0 +1,145 @@
+"""The certified map step (Eqs. 11-13 with the sticking policy) and certified impact sequences.
+
+:func:`certified_step` is one map step (reset or sticking, then the certified flight of
+:mod:`.contact`); :func:`certify_orbit` chains steps into an impact sequence with the layout of
+:class:`mapimpl.results.ImpactSequence` (the golden suite's cases).  The inputs of each step are
+the enclosures of the previous impact, so the error bounds propagate from impact to impact.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from flint import arb
+
+from ..sticking import STICK_TIME
+from .balls import PREC, exact, mod_two_pi, precision
+from .contact import T_MAX, FlightCertificate, certified_flight, mean_value_impact
+from .model import Model
+from .sticking import certify_release, release_time, stick_decision
+
+@dataclass
+class Event:
+    """One certified row: ``n, tau, theta, wall, sdot (None for stick/release), kind``."""
+
+    n: int
+    tau: arb
+    theta: arb
+    wall: int
+    sdot: arb | None
+    kind: str
+    note: dict = field(default_factory=dict)
+
+
+@dataclass
+class CertifiedOrbit:
+    events: list
+    status: str
+    stop_reason: str
+    prec: int
+    flights: list
+
+
+@dataclass
+class CertifiedStep:
+    """One certified map step from a pre-impact state (Eqs. 11-13 with the sticking policy).
+
+    ``tau, sdot, wall``: the next pre-impact state (``None`` when stuck forever); ``flight``: its
+    certificate; ``stick``: the policy stick time ``tau_n + t_acc`` (``None``: the impact bounced);
+    ``release``: the certified release time (``None``: bounced, or stuck forever) and
+    ``release_pieces`` the pieces that proved the force pressing before it.
+    """
+
+    tau: arb | None
+    sdot: arb | None
+    wall: int | None
+    flight: FlightCertificate | None
+    stick: arb | None = None
+    release: arb | None = None
+    release_pieces: int = 0
+
+
+def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, stick_time: float = STICK_TIME,
+                   t_max: float = T_MAX) -> CertifiedStep:
+    """Apply the impact map to the pre-impact state ``(tau, sdot)`` on ``wall`` (balls): the reset
+    ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy, the jump to the accumulation point
+    and the release at the canonical phase (:func:`release_time`, certified by
+    :func:`certify_release`) with ``sdot = 0``; then the certified first impact (Eqs. 7-8) with the
+    mean-value enclosure (:func:`mean_value_impact`)."""
+    dec = stick_decision(model, tau, wall, sdot, stick_time)
+    stick = rel = None
+    pieces = 0
+    if dec is None:
+        start, v0, release = tau, -model.r * sdot, False
+    else:
+        t_acc, delay = dec
+        stick = tau + t_acc
+        if delay is None:
+            return CertifiedStep(None, None, None, None, stick)
+        start, pieces = certify_release(model, tau, release_time(model, tau, wall), wall, prec)
+        rel, v0, release = start, arb(0), True
+    c = certified_flight(model, start, float(wall), v0, release=release, prec=prec, t_max=t_max)
+    new_tau, c.v = mean_value_impact(model, c, start, float(wall), v0, release, prec, t_max)
+    return CertifiedStep(new_tau, c.v, c.wall, c, stick, rel, pieces)
+
+
+def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+                  prec: int = PREC, stick_time: float = STICK_TIME, radius_limit: float | None = None,
+                  t_max: float = T_MAX) -> CertifiedOrbit:
+    """Certified impact sequence with the layout of :class:`mapimpl.results.ImpactSequence`.
+
+    ``params``: a :class:`Params` or a mapping of decimal strings (see :class:`Model`).  Impact 0
+    is the pre-impact initial state (``s0`` None; exact) or the first impact of the flight leaving
+    the free state ``(tau0, s0, sdot0)``.  Stops early when the orbit sticks forever, or when a
+    radius exceeds ``radius_limit`` (the last certified event within the limit is kept).
+    """
+    if int(n_impacts) < 0:
+        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed n_impacts >= 0")
+    if not (math.isfinite(tau0) and math.isfinite(sdot0)):
+        raise ValueError("initial tau0 and sdot0 must be finite")
+    if radius_limit is not None and not radius_limit > 0:
+        raise ValueError(f"radius_limit={radius_limit!r} is out of range: allowed > 0")
+    with precision(prec):
+        model = Model(params)
+        events: list[Event] = []
+        flights: list[dict] = []
+
+        def add(n, tau, wall, sdot, kind, note=None):
+            events.append(Event(n, tau, mod_two_pi(tau), wall, sdot, kind, dict(note or {})))
+
+        if s0 is None:
+            if sdot0 == 0.0:
+                raise ValueError("initial sdot0=0.0 is out of range: a pre-impact state needs sdot0 != 0")
+            tau, sdot = exact(tau0), exact(sdot0)
+            wall = 0 if sdot0 > 0 else -1
+            add(0, tau, wall, sdot, "impact", {"source": "initial state (exact)"})
+        else:
+            if not (-1.0 <= s0 <= 0.0):
+                raise ValueError(f"initial s0={s0!r} is out of range: allowed -1 <= s0 <= 0")
+            c = certified_flight(model, exact(tau0), s0, exact(sdot0), prec=prec, t_max=t_max)
+            tau, sdot, wall = exact(tau0) + c.t, c.v, c.wall
+            flights.append(_flight_record(0, c))
+            add(0, tau, wall, sdot, "impact", {"source": "certified flight"})
+        status, reason = "active", "n_impacts reached"
+        for n in range(1, int(n_impacts) + 1):
+            st = certified_step(model, tau, sdot, wall, prec=prec, stick_time=stick_time, t_max=t_max)
+            if st.stick is not None:
+                add(n - 1, st.stick, wall, None, "stick", {"source": "policy: tau_n + t_acc"})
+                if st.tau is None:
+                    status, reason = "stuck_forever", "stuck forever (|gamma| >= R)"
+                    break
+                add(n - 1, st.release, wall, None, "release",
+                    {"source": "closed form zero of f, certified", "pieces": st.release_pieces})
+            if radius_limit is not None and max(float(st.tau.rad()), float(st.sdot.rad())) > radius_limit:
+                reason = f"radius limit {radius_limit:g} exceeded at impact {n}"
+                break
+            tau, sdot, wall = st.tau, st.sdot, st.wall
+            flights.append(_flight_record(n, st.flight))
+            add(n, tau, wall, sdot, "impact", {"source": "certified flight"})
+        return CertifiedOrbit(events, status, reason, prec, flights)
+
+
+def _flight_record(n: int, c: FlightCertificate) -> dict:
+    return {"impact": n, "wall": c.wall, "bracket": list(c.bracket), "pieces": c.pieces, "evals": c.evals,
+            "departure": c.departure}
