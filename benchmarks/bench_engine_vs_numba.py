@@ -49,7 +49,8 @@ import jax.numpy as jnp  # noqa: E402
 import numba  # noqa: E402
 from scipy import stats  # noqa: E402
 
-from gear_rattle.mapimpl.engine.transients import PAPER_BOX, PAPER_PARAMS, grid, periodic_target, transient_times  # noqa: E402
+from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times  # noqa: E402
+from gear_rattle.core.paper import PAPER_BOX, PAPER_PARAMS
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from numba_kernel import STATUS_NAMES, numba_transients  # noqa: E402
@@ -166,7 +167,7 @@ def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
     from gear_rattle.mapimpl.engine import kernel as K
     from gear_rattle.mapimpl.engine.fastmath import sincos
     from gear_rattle.mapimpl.engine.observers import Capture
-    from gear_rattle.mapimpl.status import Orbit
+    from gear_rattle.core.status import Status
 
     dev = jax.devices()[0]
     obs = (Capture(target.theta, target.sdot, target.wall, np.asarray(deltas, np.float64)),)
@@ -179,7 +180,7 @@ def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
 
     def impacts(c):
         ln, res, _ = c
-        done = np.asarray(res["status"]) != int(Orbit.NOT_RUN)
+        done = np.asarray(res["status"]) != int(Status.NOT_RUN)
         busy = (np.asarray(ln["mode"]) != K.MODE_IDLE) | (np.asarray(ln["ic"]) >= 0)
         return int(np.asarray(res["n"])[done].sum()) + int(np.asarray(ln["n"])[busy].sum())
 

@@ -22,7 +22,8 @@ import jax
 
 from gear_rattle.mapimpl import Params
 from gear_rattle.mapimpl.batch import batch_advance, states
-from gear_rattle.mapimpl.impact_map import iterate, make_state, step
+from gear_rattle.mapimpl.impact_map import iterate, step
+from gear_rattle.core.state import make_state
 
 
 def _time(fn, repeat=3):

@@ -13,12 +13,12 @@ import time
 
 import numpy as np
 
-from gear_rattle.mapimpl import _jax  # noqa: F401
+from gear_rattle.core import _jax  # noqa: F401
 import jax
 
 from gear_rattle.mapimpl.batch import batch_iterate, states
 from gear_rattle.mapimpl.orbit import map_orbit
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.reference import diffrax_track, scipy_track
 
 

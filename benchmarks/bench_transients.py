@@ -4,7 +4,7 @@ Measures map iterations (impacts) per second:
 
 * engine: :func:`mapimpl.engine.transients.transient_times` on random ICs of the paper's box,
   once on all devices of the default backend (on the CPU one XLA device per core, see
-  ``mapimpl/_jax.py``) and once on one device (steady state: compilation is done by a warm-up on
+  ``core/_jax.py``) and once on one device (steady state: compilation is done by a warm-up on
   the same shapes);
 * baseline: ``jax.jit(mapimpl.impact_map.step)`` in a Python loop, one orbit at a time (one core).
 
@@ -28,8 +28,10 @@ from gear_rattle import use_cpu_devices
 
 use_cpu_devices()
 
-from gear_rattle.mapimpl.impact_map import make_state, step
-from gear_rattle.mapimpl.engine.transients import PAPER_PARAMS, engine_devices, periodic_target, transient_times
+from gear_rattle.mapimpl.impact_map import step
+from gear_rattle.core.state import make_state
+from gear_rattle.mapimpl.engine.transients import engine_devices, periodic_target, transient_times
+from gear_rattle.core.paper import PAPER_PARAMS
 
 
 def bench_engine(n_ic, cap, lanes, devices=None, seed=0):

@@ -22,8 +22,8 @@ from __future__ import annotations
 
 from importlib import metadata as _metadata
 
-from .mapimpl._jax import use_cpu_devices
-from .mapimpl.params import Params
+from .core._jax import use_cpu_devices
+from .core.params import Params
 
 try:
     #: The installed distribution's version (``gear-rattle --version``).
@@ -39,7 +39,7 @@ TRACKS = ("map", "scipy", "diffrax")
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: str = "map",
           s0: float | None = None, **options):
-    """Impact sequence of one orbit (:class:`gear_rattle.mapimpl.results.ImpactSequence`) on ``track``:
+    """Impact sequence of one orbit (:class:`gear_rattle.core.results.ImpactSequence`) on ``track``:
     impact 0 is the pre-impact state ``(tau0, sdot0)`` (or, with ``s0``, the first impact of the
     free flight from ``(tau0, s0, sdot0)``), then ``n_impacts`` further impacts."""
     from .validation.tracks import orbit as _orbit
@@ -69,6 +69,7 @@ def transient_times(tau0, sdot0, params: Params | None = None, **options):
     """Transient durations until capture by the stable periodic orbit, for many initial conditions
     (:func:`gear_rattle.mapimpl.engine.transients.transient_times`; default parameters: the paper's
     Figs. 9-11, alpha = 1.245, beta = gamma = 0.1, r = 0.9)."""
-    from .mapimpl.engine.transients import PAPER_PARAMS, transient_times as _tt
+    from .mapimpl.engine.transients import transient_times as _tt
+    from .core.paper import PAPER_PARAMS
 
     return _tt(tau0, sdot0, PAPER_PARAMS if params is None else params, **options)

@@ -3,7 +3,8 @@
 Importing this package switches JAX to float64 (``jax_enable_x64``).
 """
 
-from . import _jax  # noqa: F401
-from .params import PAPER_FIG3, ParamArrays, Params, validate_arrays
+from ..core import _jax  # noqa: F401
+from ..core.params import ParamArrays, Params, validate_arrays
+from ..core.paper import PAPER_FIG3
 
 __all__ = ["Params", "ParamArrays", "PAPER_FIG3", "validate_arrays"]

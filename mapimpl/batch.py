@@ -10,12 +10,13 @@ from functools import partial
 
 import numpy as np
 
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .impact_map import MapState, Trajectory, iterate, make_state, step
-from .params import ParamArrays, Params
+from .impact_map import iterate, step
+from ..core.state import MapState, Trajectory, make_state
+from ..core.params import ParamArrays, Params
 
 
 def states(tau, sdot, wall=None) -> MapState:
@@ -48,7 +49,7 @@ def batch_advance(s: MapState, p: ParamArrays, n: int) -> MapState:
 
 def params_batch(params: list[Params] | None = None, **arrays) -> ParamArrays:
     """ParamArrays for a batch, from a list of Params or validated arrays (alpha=..., ...)."""
-    from .params import validate_arrays
+    from ..core.params import validate_arrays
 
     if params is not None:
         arrays = {k: np.array([getattr(q, k) for q in params]) for k in ("alpha", "beta", "gamma", "r")}

@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .flight import TWO_PI, flight
-from .results import ImpactSequence
+from .flight import flight
+from ..core.phase import TWO_PI
+from ..core.results import ImpactSequence
 
 #: Samples per kernel call (fixed shape: the last block is padded with t = 0).
 BLOCK = 4096

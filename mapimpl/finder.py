@@ -38,16 +38,13 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
 from .flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
-from .status import Flight
+from ..core.status import FlightOutcome
 
-#: Status codes of a flight search (:class:`gear_rattle.mapimpl.status.Flight`).
-HIT, GRAZE, NO_IMPACT, STEP_CAP = (int(f) for f in (Flight.HIT, Flight.GRAZE, Flight.NO_IMPACT, Flight.STEP_CAP))
-STATUS_NAMES = {int(f): f.name.lower() for f in Flight}
 
 #: Longest flight searched (in units of tau) before giving up with NO_IMPACT.
 T_MAX = 2000.0
@@ -306,7 +303,8 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         t_new = jnp.where(st.move, st.t_next, jnp.where(bracket | stalled, t_a, t_a + st.h_near))
         beyond = t_new > t_max
         capped = st.it >= max_steps
-        status = jnp.where(bracket, HIT, jnp.where(stalled, GRAZE, jnp.where(beyond, NO_IMPACT, STEP_CAP)))
+        F = FlightOutcome
+        status = jnp.where(bracket, F.HIT, jnp.where(stalled, F.GRAZE, jnp.where(beyond, F.NO_IMPACT, F.STEP_CAP)))
         return dict(
             t=t_new, H=st.H_new, it=st.it, done=bracket | stalled | beyond | capped,
             hi=jnp.where(bracket, st.t_b, t_new), x0=x0, rdone=done0,
@@ -316,7 +314,7 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
     init = dict(
         t=jnp.zeros_like(v0), H=jnp.asarray(_H0, jnp.float64), it=jnp.asarray(0, jnp.int32),
         done=jnp.asarray(False), hi=jnp.zeros_like(v0), x0=jnp.zeros_like(v0), rdone=jnp.asarray(False),
-        top=jnp.asarray(True), status=jnp.asarray(STEP_CAP),
+        top=jnp.asarray(True), status=jnp.asarray(FlightOutcome.STEP_CAP),
     )
     c = jax.lax.while_loop(cond, body, init)
     lo, hi, top, status = c["t"], c["hi"], c["top"], c["status"]
@@ -330,11 +328,11 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
                                            n["k"])
         return dict(x=x, lo=lo_n, hi=hi_n, done=done, k=k)
 
-    need = status == HIT
+    need = status == FlightOutcome.HIT
     n0 = dict(x=c["x0"], lo=lo, hi=hi, done=~need | c["rdone"], k=jnp.asarray(1, jnp.int32))
     n = jax.lax.while_loop(lambda n: ~n["done"], nbody, n0)
     t_hit = jnp.where(need, n["x"], lo)
-    ok = (status == HIT) | (status == GRAZE)
+    ok = (status == FlightOutcome.HIT) | (status == FlightOutcome.GRAZE)
     v_hit = flight(t_hit, tau0, v0, alpha, beta, gamma).v
     wall = jnp.where(top, 0, -1).astype(jnp.int32)
     return Hit(

@@ -26,68 +26,17 @@ All kernels take scalars; :mod:`mapimpl.batch` vmaps them.
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .finder import GRAZE, HIT, NO_IMPACT, STEP_CAP, T_MAX, first_impact
-from .flight import TWO_PI, forcing_sc, phi12, reduce_phase
-from .params import ParamArrays
-from .status import ORBIT_NAMES, Orbit
+from .finder import T_MAX, first_impact
+from .flight import forcing_sc, phi12
+from ..core.phase import reduce_phase
+from ..core.params import ParamArrays
+from ..core.state import MapState, StepInfo, Trajectory
+from ..core.status import FlightOutcome, Status
 from .sticking import STICK_TIME, decide_stick, released_turns
-
-#: Orbit status codes (:class:`gear_rattle.mapimpl.status.Orbit`): ACTIVE orbits go on; the others are
-#: terminal (the state is frozen).  A flight that ends NO_IMPACT / STEP_CAP ends its orbit with the
-#: orbit status of the same name and value.
-ACTIVE, STUCK_FOREVER = int(Orbit.ACTIVE), int(Orbit.STUCK_FOREVER)
-ORBIT_STATUS_NAMES = ORBIT_NAMES
-
-
-class MapState(NamedTuple):
-    """Pre-impact state of the map (see module docstring); ``status`` is an orbit status code."""
-
-    theta: jnp.ndarray
-    cycles: jnp.ndarray
-    sdot: jnp.ndarray
-    wall: jnp.ndarray
-    status: jnp.ndarray
-
-    @property
-    def tau(self):
-        """Elapsed time ``2 pi cycles + theta`` (float64; loses digits for very long orbits)."""
-        return self.cycles * TWO_PI + self.theta
-
-
-class StepInfo(NamedTuple):
-    """What happened during one map step.
-
-    ``stuck``: the step stuck to the wall (a sticking episode); ``stick_tau`` / ``release_tau``:
-    elapsed times of sticking and release (NaN if none); ``dt``: time from impact n to impact n+1;
-    ``graze``: the new impact touches the wall at zero velocity to within rounding;
-    ``steps``: safe steps of the first-impact search; ``jac``: 2x2 Jacobian (0 if stuck).
-    """
-
-    stuck: jnp.ndarray
-    stick_tau: jnp.ndarray
-    release_tau: jnp.ndarray
-    dt: jnp.ndarray
-    graze: jnp.ndarray
-    steps: jnp.ndarray
-    jac: jnp.ndarray
-
-
-def make_state(tau, sdot, wall=None, status=ACTIVE) -> MapState:
-    """Map state from an elapsed time and pre-impact velocity; the wall follows the sign of ``sdot``
-    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1) unless given."""
-    tau = jnp.asarray(tau, jnp.float64)
-    sdot = jnp.asarray(sdot, jnp.float64)
-    if wall is None:
-        wall = jnp.where(sdot > 0.0, 0, -1)
-    theta, cycles = reduce_phase(tau, jnp.zeros(jnp.shape(tau), jnp.int64))
-    return MapState(theta, cycles, sdot, jnp.asarray(wall, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
-                    jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32))
 
 
 def jacobian_sc(sin0, cos0, v0, dt, sin1, cos1, v1, alpha, beta, gamma, r):
@@ -131,13 +80,13 @@ def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
     s0 = wall.astype(jnp.float64)
     hit = first_impact(th0, s0, v0, alpha, beta, gamma, t_max=t_max)
     th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
-    ok = (hit.status == HIT) | (hit.status == GRAZE)
+    ok = (hit.status == FlightOutcome.HIT) | (hit.status == FlightOutcome.GRAZE)
     status = jnp.where(
-        state.status != ACTIVE, state.status,
-        jnp.where(never, STUCK_FOREVER,
-                  jnp.where(ok, ACTIVE, hit.status)),
+        state.status != Status.ACTIVE, state.status,
+        jnp.where(never, Status.STUCK_FOREVER,
+                  jnp.where(ok, Status.ACTIVE, hit.status)),
     ).astype(jnp.int32)
-    advance = status == ACTIVE
+    advance = status == Status.ACTIVE
     new = MapState(
         theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
         sdot=jnp.where(advance, hit.v, sd), wall=jnp.where(advance, hit.wall, wall), status=status,
@@ -147,11 +96,11 @@ def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
     jac = jnp.where(dec.stick, jnp.zeros((2, 2)), jac)
     nan = jnp.nan
     info = StepInfo(
-        stuck=dec.stick & (state.status == ACTIVE),
+        stuck=dec.stick & (state.status == Status.ACTIVE),
         stick_tau=jnp.where(dec.stick, tau_n + dec.t_acc, nan),
         release_tau=jnp.where(dec.stick & ~never, tau_n + delay, nan),
         dt=jnp.where(advance, delay + hit.t, nan),
-        graze=(hit.status == GRAZE) & advance,
+        graze=(hit.status == FlightOutcome.GRAZE) & advance,
         steps=hit.steps,
         jac=jnp.where(advance, jac, nan),
     )
@@ -166,17 +115,10 @@ def free_flight_start(tau0, s0, sdot0, p: ParamArrays, t_max=T_MAX) -> MapState:
     hit = first_impact(th0, jnp.asarray(s0, jnp.float64), jnp.asarray(sdot0, jnp.float64), alpha, beta, gamma,
                        t_max=t_max)
     th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
-    ok = (hit.status == HIT) | (hit.status == GRAZE)
-    status = jnp.where(ok, ACTIVE, hit.status).astype(jnp.int32)
+    ok = (hit.status == FlightOutcome.HIT) | (hit.status == FlightOutcome.GRAZE)
+    status = jnp.where(ok, Status.ACTIVE, hit.status).astype(jnp.int32)
     return MapState(jnp.where(ok, th1, th0), jnp.where(ok, cyc1, cyc0), jnp.where(ok, hit.v, sdot0),
                     jnp.where(ok, hit.wall, 0).astype(jnp.int32), status)
-
-
-class Trajectory(NamedTuple):
-    """Stacked pre-impact states (leading axis: impact index 1..n) and step infos."""
-
-    states: MapState
-    infos: StepInfo
 
 
 def iterate(state: MapState, p: ParamArrays, n: int, stick_time=STICK_TIME, t_max=T_MAX) -> Trajectory:
@@ -191,6 +133,5 @@ def iterate(state: MapState, p: ParamArrays, n: int, stick_time=STICK_TIME, t_ma
 
 
 __all__ = [
-    "ACTIVE", "STUCK_FOREVER", "ORBIT_STATUS_NAMES", "MapState", "StepInfo", "Trajectory",
-    "make_state", "step", "iterate", "free_flight_start", "HIT", "GRAZE", "NO_IMPACT", "STEP_CAP",
+    "step", "iterate", "free_flight_start",
 ]

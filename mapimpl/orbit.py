@@ -1,6 +1,6 @@
 """The map track's orbit driver, and the event table of a trajectory of pre-impact states.
 
-An :class:`~mapimpl.results.ImpactSequence` (every track's result type, :mod:`mapimpl.results`)
+An :class:`~core.results.ImpactSequence` (every track's result type, :mod:`core.results`)
 lists the events of one orbit in time order: impacts (``kind ==
 "impact"``, with the velocity just before the impact) and, under the sticking policy, ``"stick"``
 and ``"release"`` events.  Impact 0 is the initial pre-impact state (or, for a start in free flight,
@@ -13,73 +13,27 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .flight import TWO_PI
-from .impact_map import ACTIVE, ORBIT_STATUS_NAMES, MapState, Trajectory, free_flight_start, iterate, make_state
-from .params import Params
-from .results import ImpactSequence
+from ..core.status import Status
+from .impact_map import free_flight_start, iterate
+from ..core.checks import check_tau0
+from ..core.state import MapState, Trajectory, make_state, sequence_from_states
+from ..core.params import Params
+from ..core.results import ImpactSequence
 
 _iterate_jit = jax.jit(iterate, static_argnums=2, static_argnames=("stick_time", "t_max"))
 _free_start_jit = jax.jit(free_flight_start)
 
 
-def sequence_from_states(params: Params, first: MapState, traj, track: str = "map", meta=None) -> ImpactSequence:
-    """Build the event table from an initial state and an :func:`mapimpl.impact_map.iterate` result."""
-    st, info = traj.states, traj.infos
-    status = np.asarray(st.status)
-    taus = np.concatenate([[float(first.tau)], np.asarray(st.tau)])
-    sdots = np.concatenate([[float(first.sdot)], np.asarray(st.sdot)])
-    walls = np.concatenate([[int(first.wall)], np.asarray(st.wall)])
-    alive = np.concatenate([[int(first.status) == ACTIVE], status == ACTIVE])
-    stuck = np.asarray(info.stuck)
-    stick_tau, rel_tau = np.asarray(info.stick_tau), np.asarray(info.release_tau)
-    rows_n, rows_t, rows_w, rows_v, rows_k = [], [], [], [], []
-    for i in range(len(taus)):
-        if not alive[i]:
-            break
-        rows_n.append(i); rows_t.append(taus[i]); rows_w.append(walls[i]); rows_v.append(sdots[i]); rows_k.append("impact")
-        if i < len(stuck) and stuck[i]:
-            rows_n.append(i); rows_t.append(stick_tau[i]); rows_w.append(walls[i]); rows_v.append(np.nan)
-            rows_k.append("stick")
-            if np.isfinite(rel_tau[i]):
-                rows_n.append(i); rows_t.append(rel_tau[i]); rows_w.append(walls[i]); rows_v.append(np.nan)
-                rows_k.append("release")
-    final = int(first.status) if int(first.status) != ACTIVE else (int(status[-1]) if len(status) else ACTIVE)
-    t = np.asarray(rows_t, dtype=np.float64)
-    return ImpactSequence(
-        params=params, n=np.asarray(rows_n, dtype=np.int64), tau=t, theta=np.mod(t, TWO_PI),
-        wall=np.asarray(rows_w, dtype=np.int64), sdot=np.asarray(rows_v, dtype=np.float64),
-        kind=np.asarray(rows_k), status=ORBIT_STATUS_NAMES[final], track=track, meta=dict(meta or {}),
-    )
 
 
-#: Largest |tau0| accepted for an initial state (the transient engine's range too).  The phase
-#: reduction (:func:`mapimpl.flight.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
-#: moderate arguments: at |tau0| = 1e6 its error is below an ulp of tau0 (~1e-10); at 1e19 the
-#: phase is garbage and at ~6e19 the whole-turn counter overflows.
-TAU0_MAX = 1e6
 
 #: Impacts per XLA call of :func:`map_orbit` (about 0.1 s on a CPU core): Ctrl-C acts between
 #: chunks, and one compilation serves every orbit length.
 CHUNK = 1024
-
-
-#: The allowed range of tau0 in words (for messages).
-TAU0_RANGE = "|tau0| <= " + f"{TAU0_MAX:.0e}".replace("e+0", "e")
-
-
-def check_tau0(tau0: float) -> float:
-    """``tau0`` as a float, or ValueError naming tau0 and the range ``|tau0| <= TAU0_MAX``."""
-    try:
-        t = float(tau0)
-    except (TypeError, ValueError):
-        t = float("nan")
-    if not (np.isfinite(t) and abs(t) <= TAU0_MAX):
-        raise ValueError(f"initial tau0={tau0!r} is out of range: allowed a finite real with {TAU0_RANGE}")
-    return t
 
 
 def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = None) -> MapState:
@@ -138,7 +92,7 @@ def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK)
         parts.append(part)
         done += take
         state = MapState(*(jnp.asarray(x[-1]) for x in part.states))  # host copies: bitwise the carry
-        if int(state.status) != ACTIVE:
+        if int(state.status) != Status.ACTIVE:
             break
     if not parts:  # n = 0: empty arrays of the right shapes and types (traced, not compiled)
         shapes = jax.eval_shape(lambda s: iterate(s, pa, 0), first)

@@ -15,13 +15,15 @@ from functools import partial
 
 import numpy as np
 
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .flight import TWO_PI
-from .impact_map import ACTIVE, make_state, step
-from .params import ParamArrays, Params
+from ..core.phase import TWO_PI
+from ..core.status import Status
+from .impact_map import step
+from ..core.state import make_state
+from ..core.params import ParamArrays, Params
 
 
 @partial(jax.jit, static_argnums=(3,))
@@ -39,7 +41,7 @@ def pfold(tau, sdot, p: ParamArrays, n_steps: int, wall=None):
         return (st1, info.jac @ J), (st1.wall, info.stuck)
 
     (sp, J), (walls, stuck) = jax.lax.scan(body, (s, jnp.eye(2)), None, length=n_steps)
-    return sp.tau, sp.sdot, J, walls, jnp.any(stuck), sp.status == ACTIVE
+    return sp.tau, sp.sdot, J, walls, jnp.any(stuck), sp.status == Status.ACTIVE
 
 
 _step = jax.jit(step)

@@ -26,10 +26,11 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from . import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from .flight import TWO_PI, forcing_rate_sc, forcing_sc, reduce_phase
+from .flight import forcing_rate_sc, forcing_sc
+from ..core.phase import TWO_PI, reduce_phase
 
 #: Predicted chatter accumulation time below which the tooth is stuck to the wall (units of tau).
 STICK_TIME = 1e-6

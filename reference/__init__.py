@@ -8,8 +8,8 @@ only, with the impact law Eqs. (9)-(11), as an independent check of the closed-f
 
 Both define their events with one specification, :mod:`reference.events` (monotone segments, wall
 and reversal conditions, the missed-crossing guard, restarts, caps), apply the shared sticking policy
-of :mod:`mapimpl.sticking`, return :class:`mapimpl.results.ImpactSequence` (tracks ``"scipy"`` /
-``"diffrax"``) and are :class:`mapimpl.results.Track` objects (``scipy_track.TRACK``,
+of :mod:`mapimpl.sticking`, return :class:`core.results.ImpactSequence` (tracks ``"scipy"`` /
+``"diffrax"``) and are :class:`core.results.Track` objects (``scipy_track.TRACK``,
 ``diffrax_track.TRACK``).  The track modules are imported lazily (diffrax is heavy).
 """
 

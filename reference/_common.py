@@ -1,6 +1,6 @@
 """Pieces shared by the numerical tracks: the right-hand side of Eq. (3), input validation, phase
 bookkeeping, the sticking policy on host floats and the trajectory record from which the event
-table (:class:`mapimpl.results.ImpactSequence`) is built.  The hybrid-ODE events are in
+table (:class:`core.results.ImpactSequence`) is built.  The hybrid-ODE events are in
 :mod:`reference.events`.
 
 Nothing here uses the closed-form flight of Eqs. (7)-(8): the tracks integrate Eq. (3) numerically,
@@ -10,7 +10,7 @@ from its right-hand side only,
 
 so ``s'' = -alpha sin(tau) + alpha beta cos(tau) + gamma - beta s'``, and apply the impact law
 Eqs. (9)-(11) (``sdot -> -r sdot`` at ``s = 0`` reached upward and at ``s = -1`` reached downward).
-The only things taken from :mod:`mapimpl` are the validated :class:`~mapimpl.params.Params`, the
+The only things taken from :mod:`mapimpl` are the validated :class:`~core.params.Params`, the
 result types and the event-table builder, and the *shared* sticking policy
 :func:`mapimpl.sticking.decide_stick` (by design every track applies exactly the same policy).
 """
@@ -22,15 +22,15 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..mapimpl import _jax  # noqa: F401  (float64)
+from ..core import _jax  # noqa: F401  (float64)
 import jax
 
-from ..mapimpl.impact_map import MapState, Trajectory
-from ..mapimpl.orbit import sequence_from_states
-from ..mapimpl.flight import TWO_PI_HI, TWO_PI_LO, TWO_PI_MID
-from ..mapimpl.orbit import check_tau0
-from ..mapimpl.params import Params
-from ..mapimpl.results import ImpactSequence
+from ..core.state import MapState, Trajectory
+from ..core.state import sequence_from_states
+from ..core.phase import TWO_PI_HI, TWO_PI_LO, TWO_PI_MID
+from ..core.checks import check_tau0
+from ..core.params import Params
+from ..core.results import ImpactSequence
 from ..mapimpl.sticking import STICK_TIME, decide_stick
 
 # Cody-Waite split of 2*pi: the map's constants (mapimpl.flight), so phases compare exactly.
@@ -67,7 +67,7 @@ def check_option(name: str, value: float, lo: float, hi: float) -> float:
 def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None) -> int:
     """Validate the arguments of an ``orbit`` call (same rules and messages as :func:`mapimpl.orbit.map_orbit`)."""
     if not isinstance(params, Params):
-        raise ValueError(f"params={params!r} is out of range: allowed a mapimpl.params.Params")
+        raise ValueError(f"params={params!r} is out of range: allowed a core.params.Params")
     try:
         n = int(n_impacts)
     except (TypeError, ValueError):
@@ -120,7 +120,7 @@ class StepInfo(NamedTuple):
 class TrajectoryRecorder:
     """Collects the pre-impact states and step infos of an orbit computed step by step on the host
     (the scipy track) in the layout of :class:`mapimpl.impact_map.Trajectory`, so that every track
-    builds its :class:`~mapimpl.results.ImpactSequence` with the same
+    builds its :class:`~core.results.ImpactSequence` with the same
     :func:`mapimpl.orbit.sequence_from_states`."""
 
     def __init__(self, theta: float, cycles: int, sdot: float, wall: int, status: int) -> None:

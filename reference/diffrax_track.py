@@ -35,20 +35,18 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..mapimpl import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import diffrax
 import jax
 import jax.numpy as jnp
 import optimistix as optx
 
-from ..mapimpl.flight import reduce_phase
-from ..mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, STUCK_FOREVER, MapState, make_state
-from ..mapimpl.orbit import sequence_from_states
-from ..mapimpl.params import ParamArrays, Params
-from ..mapimpl.results import (
-    STATUS_ACTIVE, STATUS_NO_IMPACT, STATUS_STEP_CAP, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian,
-    TrackFunctions,
-)
+from ..core.phase import reduce_phase
+from ..core.state import MapState, make_state
+from ..core.state import sequence_from_states
+from ..core.params import ParamArrays, Params
+from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
+from ..core.status import FlightOutcome, Status
 from ..mapimpl.sticking import decide_stick, released_turns
 from . import events as ev
 from ._common import StepInfo, check_option, forcing_rhs, validate_start
@@ -60,9 +58,6 @@ MAX_STEPS = 16384
 #: Tolerances of the bisection root find locating an event on the step's dense interpolant (a bracket
 #: is always available; Newton started at the step end fails when that end is an extremum of s).
 ROOT_RTOL, ROOT_ATOL = 1e-14, 1e-13
-
-#: Flight status codes (:mod:`reference.events`).
-HIT, NO_IMPACT, STEP_CAP = ev.FLIGHT_HIT, ev.FLIGHT_NO_IMPACT, ev.FLIGHT_STEP_CAP
 
 
 class Options(NamedTuple):
@@ -176,7 +171,7 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
     t_max = jnp.asarray(opts.t_max, dtype)
     init = dict(t=jnp.asarray(0.0, dtype), y=jnp.stack([jnp.asarray(s0, dtype), jnp.asarray(v0, dtype)]),
                 sigma=jnp.asarray(sigma, dtype), seg=jnp.asarray(0, jnp.int32), done=~jnp.asarray(active),
-                status=jnp.asarray(STEP_CAP, jnp.int32), t_end=t_max, watch=jnp.asarray(True))
+                status=jnp.asarray(FlightOutcome.STEP_CAP, jnp.int32), t_end=t_max, watch=jnp.asarray(True))
 
     def cond(c):
         return (~c["done"]) & (c["seg"] < MAX_SEGMENTS)
@@ -192,7 +187,7 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         retry = watch & (end == ev.MISSED_CROSSING)
         turn = (watch & (end == ev.REVERSAL)) | (~watch & ~hit & reached)
         done = hit | (~retry & ~turn)
-        status = jnp.where(hit, HIT, jnp.where(watch & reached, NO_IMPACT, STEP_CAP)).astype(jnp.int32)
+        status = jnp.where(hit, FlightOutcome.HIT, jnp.where(watch & reached, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP)).astype(jnp.int32)
         advance = ~retry
         # restart at an extremum with sdot = -sigma * START_SPEED (it is 0 there to rounding, and its
         # derivative along the extremum is 0): the combined condition then starts strictly negative,
@@ -204,7 +199,7 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
                     t_end=jnp.where(retry, t1, t_max), watch=~retry)
 
     c = jax.lax.while_loop(cond, body, init)
-    hit = c["status"] == HIT
+    hit = c["status"] == FlightOutcome.HIT
     wall = ev.wall_ahead(c["sigma"]).astype(jnp.int32)
     return FlightResult(c["status"], jnp.where(hit, c["t"], jnp.inf), wall, jnp.where(hit, c["y"][1], jnp.nan),
                         c["seg"])
@@ -227,19 +222,19 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     th0 = jnp.where(released, dec.phase, th)  # the canonical release phase (as the map)
     cyc0 = state.cycles + jnp.where(released, released_turns(th, delay, dec.phase), 0).astype(state.cycles.dtype)
     v0, sigma = _start(wall, dec.stick, sd, r)
-    active = (state.status == ACTIVE) & ~never
+    active = (state.status == Status.ACTIVE) & ~never
     fl = flight(th0, wall.astype(jnp.float64), v0, sigma, alpha, beta, gamma, opts, active=active)
-    th1, cyc1 = reduce_phase(th0 + jnp.where(fl.status == HIT, fl.t, 0.0), cyc0)
+    th1, cyc1 = reduce_phase(th0 + jnp.where(fl.status == FlightOutcome.HIT, fl.t, 0.0), cyc0)
     status = jnp.where(
-        state.status != ACTIVE, state.status,
-        jnp.where(never, STUCK_FOREVER,
-                  jnp.where(fl.status == HIT, ACTIVE, fl.status)),
+        state.status != Status.ACTIVE, state.status,
+        jnp.where(never, Status.STUCK_FOREVER,
+                  jnp.where(fl.status == FlightOutcome.HIT, Status.ACTIVE, fl.status)),
     ).astype(jnp.int32)
-    advance = status == ACTIVE
+    advance = status == Status.ACTIVE
     new = MapState(theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
                    sdot=jnp.where(advance, fl.v, sd), wall=jnp.where(advance, fl.wall, wall), status=status)
     tau_n = state.tau
-    info = StepInfo(stuck=dec.stick & (state.status == ACTIVE),
+    info = StepInfo(stuck=dec.stick & (state.status == Status.ACTIVE),
                     stick_tau=jnp.where(dec.stick, tau_n + dec.t_acc, jnp.nan),
                     release_tau=jnp.where(dec.stick & ~never, tau_n + delay, jnp.nan), segments=fl.segments)
     return new, info
@@ -274,9 +269,9 @@ def _free_start(theta0, s0, v0, p: ParamArrays, opts: Options) -> MapState:
     alpha, beta, gamma, _ = p
     a0 = -alpha * jnp.sin(theta0) + alpha * beta * jnp.cos(theta0) + gamma
     fl = flight(theta0, s0, v0, ev.initial_direction(s0, v0, a0), alpha, beta, gamma, opts)
-    hit = fl.status == HIT
+    hit = fl.status == FlightOutcome.HIT
     th1, cyc1 = reduce_phase(theta0 + jnp.where(hit, fl.t, 0.0), jnp.asarray(0, jnp.int64))
-    status = jnp.where(hit, ACTIVE, fl.status).astype(jnp.int32)
+    status = jnp.where(hit, Status.ACTIVE, fl.status).astype(jnp.int32)
     return MapState(th1, cyc1, jnp.where(hit, fl.v, v0), jnp.where(hit, fl.wall, 0).astype(jnp.int32), status)
 
 
@@ -337,7 +332,7 @@ def _step_and_jac(x, wall, p, opts: Options):
     return out, w, status, jac
 
 
-_FLIGHT_FAILURE = {NO_IMPACT: STATUS_NO_IMPACT, STEP_CAP: STATUS_STEP_CAP}
+_FLIGHT_FAILURE = {FlightOutcome.NO_IMPACT: Status.NO_IMPACT.label, FlightOutcome.STEP_CAP: Status.STEP_CAP.label}
 
 
 def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, **opt) -> StepJacobian:
@@ -352,23 +347,23 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     dec = decide_stick(theta, wall, float(sdot_n), *p)
     if bool(dec.stick):
         if not np.isfinite(float(dec.delay)):
-            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, STATUS_STUCK_FOREVER)
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, Status.STUCK_FOREVER.label)
         new = jax.tree.map(lambda a: a[0], iterate(make_state(tau_n, sdot_n, wall), p, 1, opts).states)
         status = int(new.status)
-        if status != ACTIVE:
-            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, ORBIT_STATUS_NAMES[status])
-        return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.zeros((2, 2)), True, STATUS_ACTIVE)
+        if status != Status.ACTIVE:
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, Status(status).label)
+        return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.zeros((2, 2)), True, Status.ACTIVE.label)
     out, w, fstat, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]),
                                        jnp.asarray(int(wall), jnp.int32), p, opts)
-    if int(fstat) != HIT:
+    if int(fstat) != FlightOutcome.HIT:
         return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[int(fstat)])
     tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
-    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, STATUS_ACTIVE)
+    return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, Status.ACTIVE.label)
 
 
-#: This track as a :class:`mapimpl.results.Track` (``orbit`` and ``step_jacobian`` take the options
+#: This track as a :class:`core.results.Track` (``orbit`` and ``step_jacobian`` take the options
 #: ``rtol``, ``atol``, ``dtmax``, ``t_max``, ``max_steps``).
 TRACK = TrackFunctions("diffrax", orbit, step_jacobian)
 
 __all__ = ["Options", "options", "flight", "FlightResult", "StepInfo", "step", "iterate", "batch_iterate", "orbit",
-           "batch_orbit", "step_jacobian", "TRACK", "RTOL", "ATOL", "DTMAX", "HIT", "NO_IMPACT", "STEP_CAP"]
+           "batch_orbit", "step_jacobian", "TRACK", "RTOL", "ATOL", "DTMAX"]

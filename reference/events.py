@@ -37,8 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mapimpl import _jax  # noqa: F401  (float64)
-from ..mapimpl.status import Flight
+from ..core import _jax  # noqa: F401  (float64)
 import jax.numpy as jnp
 
 #: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
@@ -60,11 +59,6 @@ TERMINAL = True
 #: How a monotone segment ends (:func:`segment_end`).
 WALL_REACHED, REVERSAL, MISSED_CROSSING, OPEN_END = 0, 1, 2, 3
 
-#: Outcome of one flight: codes (diffrax, in arrays) and their names (scipy's ``Flight.status``).
-#: ``"no_impact"`` and ``"step_cap"`` become the orbit statuses of the same names.
-#: (The codes of :class:`gear_rattle.mapimpl.status.Flight`, one vocabulary for every track.)
-FLIGHT_HIT, FLIGHT_NO_IMPACT, FLIGHT_STEP_CAP = int(Flight.HIT), int(Flight.NO_IMPACT), int(Flight.STEP_CAP)
-FLIGHT_STATUS_NAMES = {c: Flight(c).name.lower() for c in (FLIGHT_HIT, FLIGHT_NO_IMPACT, FLIGHT_STEP_CAP)}
 
 
 def select(cond, a, b):
@@ -208,7 +202,7 @@ def start_wall(wall: int | None, sdot: float) -> int:
 
 
 __all__ = ["T_MAX", "MAX_SEGMENTS", "START_SPEED", "UPPER_WALL", "LOWER_WALL", "DIRECTION", "TERMINAL",
-           "WALL_REACHED", "REVERSAL", "MISSED_CROSSING", "OPEN_END", "FLIGHT_HIT", "FLIGHT_NO_IMPACT",
-           "FLIGHT_STEP_CAP", "FLIGHT_STATUS_NAMES", "select", "wall_ahead", "wall_condition", "reversal_condition",
+           "WALL_REACHED", "REVERSAL", "MISSED_CROSSING", "OPEN_END",
+           "select", "wall_ahead", "wall_condition", "reversal_condition",
            "wall_rate", "reversal_rate", "condition", "condition_rate", "newton_step", "beyond_wall", "segment_end",
            "initial_direction", "restart_direction", "start_velocity", "pre_impact_wall", "start_wall"]

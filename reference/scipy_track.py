@@ -64,10 +64,9 @@ from typing import Callable, NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..mapimpl.impact_map import ACTIVE, STUCK_FOREVER
-from ..mapimpl.status import Orbit
-from ..mapimpl.params import Params
-from ..mapimpl.results import STATUS_ACTIVE, STATUS_STUCK_FOREVER, ImpactSequence, StepJacobian, TrackFunctions
+from ..core.params import Params
+from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
+from ..core.status import FlightOutcome, Status
 from . import events as ev
 from ._common import (
     TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
@@ -75,10 +74,9 @@ from ._common import (
 )
 from .events import MAX_SEGMENTS, T_MAX
 
-# flight outcomes (:data:`reference.events.FLIGHT_STATUS_NAMES`) and the orbit status code after a miss
-_HIT, _NO_IMPACT, _STEP_CAP = (ev.FLIGHT_STATUS_NAMES[c]
-                                for c in (ev.FLIGHT_HIT, ev.FLIGHT_NO_IMPACT, ev.FLIGHT_STEP_CAP))
-_FLIGHT_FAILURE = {_NO_IMPACT: int(Orbit.NO_IMPACT), _STEP_CAP: int(Orbit.STEP_CAP)}
+# flight outcomes by label (``Flight.status``) and the orbit status code after a miss
+_HIT, _NO_IMPACT, _STEP_CAP = (f.label for f in (FlightOutcome.HIT, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP))
+_FLIGHT_FAILURE = {_NO_IMPACT: int(Status.NO_IMPACT), _STEP_CAP: int(Status.STEP_CAP)}
 
 #: Default integrator tolerances and step bound of this track.
 RTOL, ATOL, MAX_STEP = 1e-12, 1e-13, 0.25
@@ -310,7 +308,7 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
                 return rec.sequence(params, "scipy", meta), dense
             theta, cycles = reduce_phase(theta + fl.t, cycles)
             sdot, wall = fl.v, fl.wall
-    rec = TrajectoryRecorder(theta, cycles, sdot, wall, ACTIVE)
+    rec = TrajectoryRecorder(theta, cycles, sdot, wall, Status.ACTIVE)
     for _ in range(n):
         tau_n = cycles * TWO_PI + theta
         stick, t_acc, delay, phase = stick_decision(theta, wall, sdot, p)
@@ -318,7 +316,7 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
         if stick:
             stick_tau = tau_n + t_acc
             if not math.isfinite(delay):
-                rec.step(theta, cycles, sdot, wall, STUCK_FOREVER, True, stick_tau)
+                rec.step(theta, cycles, sdot, wall, Status.STUCK_FOREVER, True, stick_tau)
                 if points_per_unit:
                     dense.append((np.array([stick_tau]), np.array([float(wall)]), np.zeros(1), np.full(1, flights)))
                 break
@@ -345,7 +343,7 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
             break
         theta, cycles = reduce_phase(th0 + fl.t, cyc0)
         sdot, wall = fl.v, fl.wall
-        rec.step(theta, cycles, sdot, wall, ACTIVE, stick, stick_tau, release_tau, fl.segments)
+        rec.step(theta, cycles, sdot, wall, Status.ACTIVE, stick, stick_tau, release_tau, fl.segments)
     return rec.sequence(params, "scipy", meta), dense
 
 
@@ -396,7 +394,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     stick, _, delay, phase = stick_decision(theta, wall, sdot_n, p)
     if stick:
         if not math.isfinite(delay):
-            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, STATUS_STUCK_FOREVER)
+            return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, Status.STUCK_FOREVER.label)
         th0, cyc0 = release_start(theta, cycles, delay, phase)
         v0 = 0.0
     else:
@@ -408,7 +406,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     th1, cyc1 = reduce_phase(th0 + fl.t, cyc0)
     tau1 = float(cyc1 * TWO_PI + th1)
     if stick:
-        return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, STATUS_ACTIVE)
+        return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, Status.ACTIVE.label)
     f_n = forcing_rhs(theta, p.alpha, p.beta, p.gamma)
     a_pre = f_n - p.beta * sdot_n          # acceleration just before impact n
     a_post = f_n - p.beta * v0             # ... just after it
@@ -424,10 +422,10 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     a1 = forcing_rhs(th1, p.alpha, p.beta, p.gamma) - p.beta * v1
     P = np.array([[-1.0 / v1, 0.0], [-a1 / v1, 1.0]])
     J = P @ fl.phi @ S @ E
-    return StepJacobian(tau1, v1, fl.wall, J, False, STATUS_ACTIVE)
+    return StepJacobian(tau1, v1, fl.wall, J, False, Status.ACTIVE.label)
 
 
-#: This track as a :class:`mapimpl.results.Track` (``orbit`` and ``step_jacobian`` take the options
+#: This track as a :class:`core.results.Track` (``orbit`` and ``step_jacobian`` take the options
 #: ``rtol``, ``atol``, ``max_step``, ``t_max``).
 TRACK = TrackFunctions("scipy", orbit, step_jacobian)
 

@@ -12,12 +12,13 @@ import math
 import numpy as np
 from hypothesis import strategies as st
 
-from gear_rattle.mapimpl import _jax  # noqa: F401
+from gear_rattle.core import _jax  # noqa: F401
 import jax
 
 from gear_rattle.mapimpl.finder import first_impact
-from gear_rattle.mapimpl.impact_map import make_state, step
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.mapimpl.impact_map import step
+from gear_rattle.core.state import make_state
+from gear_rattle.core.params import Params
 
 #: One-step agreement with the map: |dtau| <= TAU_TOL + DS_TOL / |sdot_{n+1}| (a displacement error
 #: DS_TOL turns into a time error DS_TOL/|v| at the wall), |dsdot| <= TAU_TOL (1 + |sdot|) + |a| DS_TOL / |v|.

@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.validation.cli import build_parser, main
 
 COMMANDS_WITH_TAU0 = ("simulate", "bifurcation", "lyapunov", "timeseries", "orbit find")

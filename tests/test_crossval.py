@@ -24,14 +24,16 @@ import pytest
 from hypothesis import example, given, seed, settings
 from scipy.optimize import minimize_scalar
 
-from gear_rattle.mapimpl import _jax  # noqa: F401
+from gear_rattle.core import _jax  # noqa: F401
 import jax
 
 from gear_rattle.mapimpl.flight import flight as closed_flight
-from gear_rattle.mapimpl.impact_map import ACTIVE, Trajectory, jacobian, make_state
-from gear_rattle.mapimpl.orbit import sequence_from_states
-from gear_rattle.mapimpl.params import Params
-from gear_rattle.mapimpl.results import ImpactSequence
+from gear_rattle.core.status import Status
+from gear_rattle.mapimpl.impact_map import jacobian
+from gear_rattle.core.state import Trajectory, make_state
+from gear_rattle.core.state import sequence_from_states
+from gear_rattle.core.params import Params
+from gear_rattle.core.results import ImpactSequence
 from gear_rattle.reference import diffrax_track as D
 from gear_rattle.reference import scipy_track as S
 from refhelpers import (DS_TOL, GRAZE_DEPTH, JAC_TOL, TAU_TOL, accel, forcing, map_first_impact, map_one, map_step,
@@ -440,7 +442,7 @@ def _check_jac(tally: Tally, p: Params, tau: float, sd: float) -> None:
     kappa.  The determinant identity holds exactly for the formula at any impact; a route's
     determinant errs by <= sum_ij |J_ij| times its entrywise error (first order)."""
     m, mi = map_one(p, tau, sd)
-    tally.exclude_if(int(m.status) != ACTIVE or bool(mi.stuck), "no impact or sticking step (J = 0)")
+    tally.exclude_if(int(m.status) != Status.ACTIVE or bool(mi.stuck), "no impact or sticking step (J = 0)")
     v0, wall0 = -p.r * sd, (0.0 if sd > 0 else -1.0)
     tally.exclude_if(near_graze(float(m.theta), float(m.sdot), int(m.wall), p)
                      or near_miss(p, tau, wall0, v0, float(mi.dt)), "near-grazing impact or near miss")

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.validation.dynamics.bifurcation import bifurcation_diagram
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.dynamics.timeseries import time_series

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.periodic import find_periodic
 from gear_rattle.validation.dynamics.crises import attractor_point
 from gear_rattle.validation.dynamics.lyapunov import lyapunov, raw_product_overflow

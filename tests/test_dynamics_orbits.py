@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.periodic import find_periodic
 from gear_rattle.validation.dynamics.continuation import closed_form_det, continue_orbit, locate, orbit_states
 from gear_rattle.validation.dynamics.crises import attractor_point, goy_exponent, fit_crisis_fixed

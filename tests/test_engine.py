@@ -15,9 +15,11 @@ from gear_rattle.mapimpl.engine import kernel as K
 from gear_rattle.mapimpl.engine.driver import run
 from gear_rattle.mapimpl.engine.observers import (BandEscape, Capture, Impact, Laminar, Sample, Tangent,
                                                   _givens_qr, orbit_distance)
-from gear_rattle.mapimpl.engine.transients import PAPER_PARAMS, grid, periodic_target, transient_times
-from gear_rattle.mapimpl.impact_map import iterate, make_state
-from gear_rattle.mapimpl.status import Orbit
+from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
+from gear_rattle.core.paper import PAPER_PARAMS
+from gear_rattle.mapimpl.impact_map import iterate
+from gear_rattle.core.state import make_state
+from gear_rattle.core.status import Status
 
 P = PAPER_PARAMS
 LANES = 64  # one kernel shape for most engine tests (one compilation)
@@ -70,7 +72,7 @@ def test_engine_states_and_turns_equal_the_map_orbit():
     assert dth[:11].max() < 1e-13 and dsd[:11].max() < 1e-13
     assert dth.max() < 1e-6 and dsd.max() < 1e-6
     assert np.array_equal(s["wall"][0], w) and np.array_equal(s["cycles"][0], cyc)
-    assert int(r.n[0]) == 40 and int(r.cycles[0]) == int(cyc[-1]) and int(r.status[0]) == Orbit.STOPPED
+    assert int(r.n[0]) == 40 and int(r.cycles[0]) == int(cyc[-1]) and int(r.status[0]) == Status.STOPPED
 
 
 def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, monkeypatch):
@@ -92,7 +94,7 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
     for r in runs:
         for name in ("hit", "n", "status", "nstick", "first_stick"):
             assert np.array_equal(getattr(r, name), getattr(ref, name)), name
-    assert (ref.status == Orbit.CAPPED).any() and (ref.status == Orbit.STOPPED).any()  # censored and finished
+    assert (ref.status == Status.CAPPED).any() and (ref.status == Status.STOPPED).any()  # censored and finished
 
 
 def test_single_orbit_equals_batch(target):
@@ -136,8 +138,8 @@ def test_early_exit_and_refill():
     assert int(nxt) == m and bool(jnp.all(lanes["mode"] == K.MODE_IDLE))
     assert 1 <= int(nb) < 64  # 40 orbits of 5 impacts on 8 lanes: a few blocks
     st = np.asarray(res["status"])
-    assert np.all(np.asarray(res["n"])[:m] == 5) and np.all(st[:m] == Orbit.CAPPED)
-    assert np.all(st[m:] == Orbit.NOT_RUN)
+    assert np.all(np.asarray(res["n"])[:m] == 5) and np.all(st[:m] == Status.CAPPED)
+    assert np.all(st[m:] == Status.NOT_RUN)
 
 
 def test_compact_keeps_busy_lanes_in_order():
@@ -328,7 +330,7 @@ def test_bad_inputs_name_the_argument(target):
 def test_engine_xla_options_only_on_tested_jaxlib_and_can_be_turned_off(monkeypatch):
     """use_cpu_devices adds ENGINE_XLA_FLAGS only on the jaxlib versions they were tested with (XLA aborts
     on a flag it does not know) and not with GEAR_RATTLE_XLA_TUNING=0."""
-    from gear_rattle.mapimpl import _jax as J
+    from gear_rattle.core import _jax as J
 
     monkeypatch.delenv(J.XLA_TUNING_ENV, raising=False)
     monkeypatch.setattr(J, "_jaxlib_version", lambda: J.ENGINE_XLA_TESTED[0])
@@ -351,12 +353,12 @@ def test_durations_without_the_xla_options_agree(target):
     import subprocess
     import sys
 
-    from gear_rattle.mapimpl._jax import xla_tuning_active
+    from gear_rattle.core._jax import xla_tuning_active
 
     rng = np.random.default_rng(5)
     tau0, sdot0 = rng.uniform(0, 2 * np.pi, 800), rng.uniform(1e-3, 0.5, 800)
     code = ("import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
-            "from gear_rattle.mapimpl._jax import xla_tuning_active; "
+            "from gear_rattle.core._jax import xla_tuning_active; "
             "from gear_rattle.mapimpl.engine.transients import transient_times; "
             "t, s = (np.array(x) for x in json.loads(sys.stdin.read())); "
             "r = transient_times(t, s, cap=200, progress=False); "

@@ -10,7 +10,8 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.finder import GRAZE, HIT, NO_IMPACT, first_impact, safe_time
+from gear_rattle.core.status import FlightOutcome
+from gear_rattle.mapimpl.finder import first_impact, safe_time
 from mpref import first_root, s_and_v
 
 A, B, G = 3.0, 0.1, 0.1
@@ -62,7 +63,7 @@ def test_near_grazing_crossing_found_at_known_time(eps, T):
     t_peak, height = _true_peak(tau0, s0, v0, T)
     if height > 1e-15:
         ref = first_root(tau0, s0, v0, A, B, G, t_lo=float(t_peak) - 0.3, t_hi=float(t_peak), n=3000)
-        assert int(h.wall) == 0 and int(h.status) in (HIT, GRAZE)
+        assert int(h.wall) == 0 and int(h.status) in (FlightOutcome.HIT, FlightOutcome.GRAZE)
         # a graze is ill-conditioned like 1/v: the gap -s0 - ds of an interior start is resolved to
         # about eps (1 + |s0|) absolutely, which moves the contact by that over the velocity; plus a
         # few ulp of t < 1 for the root itself (docs/model.md: ~1e-15 relative for transversal
@@ -103,7 +104,7 @@ def test_return_to_the_wall_it_left(v_away):
     tau0 = 3.0  # f(3.0) = -3 sin 3 + 0.3 cos 3 + 0.1 ~ -0.62 < 0 ... choose a pressing phase instead
     tau0 = 4.0  # f(4.0) ~ 2.17 > 0 presses into s = 0
     h = fi(tau0, 0.0, -v_away, A, B, G)
-    assert int(h.wall) == 0 and int(h.status) == HIT
+    assert int(h.wall) == 0 and int(h.status) == FlightOutcome.HIT
     # reference: bisection at 50 digits inside a bracket around the predicted return time
     t_guess = 2 * v_away / 2.17
     ref = first_root(tau0, 0.0, -v_away, A, B, G, t_lo=t_guess * 1e-3, t_hi=min(5.0, 4 * t_guess), n=2000)
@@ -136,13 +137,13 @@ def test_start_at_rest_on_wall_pulled_away():
     """Release from sticking: sdot0 = 0 on the wall, forcing pulling away (or zero and turning)."""
     # f(1.5) < 0: pulls away from s = 0
     h = fi(1.5, 0.0, 0.0, A, B, G)
-    assert float(h.t) > 0.1 and int(h.status) == HIT
+    assert float(h.t) > 0.1 and int(h.status) == FlightOutcome.HIT
 
 
 def test_no_impact_terminates():
     """alpha = gamma = 0: the tooth coasts to rest inside the gap; the search stops with NO_IMPACT."""
     h = fi(0.0, -0.5, 0.01, 0.0, 0.1, 0.0)
-    assert int(h.status) == NO_IMPACT and not np.isfinite(float(h.t))
+    assert int(h.status) == FlightOutcome.NO_IMPACT and not np.isfinite(float(h.t))
 
 
 def test_safe_time_is_a_lower_bound():
@@ -203,7 +204,7 @@ def test_tiny_acceleration_coasts_to_rest_without_a_false_graze():
     graze at t = 1415.5 with gap 0.25 (found by the long Hypothesis profile of the cross-track tests).
     The underflow branch gives the lower bound sqrt(2 d / A) instead; elsewhere safe_time is unchanged."""
     h = fi(0.0, 0.0, -0.375, 2.2250738585072014e-308, 0.5, 0.0)
-    assert int(h.status) == NO_IMPACT and not np.isfinite(float(h.t))
+    assert int(h.status) == FlightOutcome.NO_IMPACT and not np.isfinite(float(h.t))
     for d, u, A in [(0.25, 0.0, 1e-300), (0.25, -1e-160, 1e-300), (0.25, 1e-160, 1e-300)]:
         h = float(safe_time(d, u, A))
         root = float((mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d)) - mp.mpf(u)) / mp.mpf(A)) if u <= 0 else \

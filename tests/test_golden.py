@@ -283,7 +283,7 @@ def test_certified_first_impact_agrees_with_50_digit_bisection():
     pytest.importorskip("flint")
     from flint import arb
 
-    from gear_rattle.mapimpl.params import Params
+    from gear_rattle.core.params import Params
     from mpref import first_root
     from gear_rattle.mapimpl import certified as C
 
@@ -303,7 +303,7 @@ def test_certification_refuses_what_it_cannot_prove():
     pytest.importorskip("flint")
     from flint import arb
 
-    from gear_rattle.mapimpl.params import Params
+    from gear_rattle.core.params import Params
     from gear_rattle.mapimpl import certified as C
 
     p = Params(0.5, 0.1, 0.1, 0.9)

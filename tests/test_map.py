@@ -9,7 +9,9 @@ from hypothesis import given, settings, strategies as st
 from gear_rattle.mapimpl import Params
 from gear_rattle.mapimpl.batch import batch_iterate, states
 from gear_rattle.mapimpl.flight import forcing, forcing_rate
-from gear_rattle.mapimpl.impact_map import ACTIVE, NO_IMPACT, STUCK_FOREVER, make_state, step
+from gear_rattle.core.status import Status
+from gear_rattle.mapimpl.impact_map import step
+from gear_rattle.core.state import make_state
 from gear_rattle.mapimpl.orbit import map_orbit
 from gear_rattle.mapimpl.sticking import STICK_TIME, release_delay
 from mpref import first_root
@@ -55,7 +57,7 @@ def test_jacobian_analytic_vs_autodiff_and_det_identity():
         x = jnp.array([tau, sign * sdot])
         ns, info = step_jit(make_state(x[0], x[1]), p)
         tally.exclude_if(bool(info.stuck), "sticking step (J = 0)")
-        tally.exclude_if(int(ns.status) != ACTIVE, "orbit ended")
+        tally.exclude_if(int(ns.status) != Status.ACTIVE, "orbit ended")
         tally.exclude_if(abs(float(ns.sdot)) < 1e-3, "near-grazing impact")
         J = np.asarray(info.jac)
         Jad = np.asarray(jac_autodiff(x, p))
@@ -164,8 +166,8 @@ def test_terminal_states_do_not_loop():
     assert o.status == "stuck_forever"
     # alpha = gamma = 0: coasts to rest inside the gap -> no further impact
     s, _ = step_jit(make_state(0.0, 0.01), Params(0.0, 0.1, 0.0, 0.9).arrays())
-    assert int(s.status) == NO_IMPACT
-    assert int(step_jit(s, Params(0.0, 0.1, 0.0, 0.9).arrays())[0].status) == NO_IMPACT
+    assert int(s.status) == Status.NO_IMPACT
+    assert int(step_jit(s, Params(0.0, 0.1, 0.0, 0.9).arrays())[0].status) == Status.NO_IMPACT
 
 
 def test_release_delay_closed_form():

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl import _jax  # noqa: F401
+from gear_rattle.core import _jax  # noqa: F401
 import jax
 
-from gear_rattle.mapimpl.finder import HIT
+from gear_rattle.core.status import FlightOutcome
 from gear_rattle.mapimpl.orbit import map_orbit
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.reference import diffrax_track as D
 from refhelpers import GRAZE_DS, N_ORBIT, SLOW_DEPARTURES, map_first_impact, v0_for_apex
 from mpref import first_root
@@ -31,7 +31,7 @@ def test_double_crossing_and_near_miss(depth):
     v0 = v0_for_apex(depth)
     fl = _fl(0.0, -1.0, v0, 1.0, p)
     st, t, wall, v = map_first_impact(0.0, -1.0, v0, p)
-    assert st == HIT and int(fl.status) == D.HIT and int(fl.wall) == wall == (0 if depth > 0 else -1)
+    assert st == FlightOutcome.HIT and int(fl.status) == FlightOutcome.HIT and int(fl.wall) == wall == (0 if depth > 0 else -1)
     vex = abs(v)
     assert abs(float(fl.t) - t) <= GRAZE_DS / vex + 1e-14 and abs(float(fl.v) - v) <= 0.5 * GRAZE_DS / vex
 
@@ -43,7 +43,7 @@ def test_restart_on_wall_returns_to_same_wall(v0):
     p = Params(0.5, 0.1, 0.9, 0.5)
     fl = _fl(0.3, 0.0, v0, -1.0, p)
     st, t, wall, v = map_first_impact(0.3, 0.0, v0, p)
-    assert int(fl.status) == D.HIT and int(fl.wall) == wall == 0 and int(fl.segments) == 2
+    assert int(fl.status) == FlightOutcome.HIT and int(fl.wall) == wall == 0 and int(fl.segments) == 2
     assert abs(float(fl.t) - t) <= 4e-15 * t and float(fl.t) > abs(v0)
     assert abs(float(fl.v) - v) <= 4e-15 * abs(v)
 
@@ -57,8 +57,8 @@ def test_slow_departure_returns_to_start_wall(case):
     fl = _fl(theta, s0, v0, 1.0 if v0 > 0 else -1.0, p)
     st, t, wall, v = map_first_impact(theta, s0, v0, p)
     ref = first_root(theta, s0, v0, p.alpha, p.beta, p.gamma, t_lo=1e-6, t_hi=0.2, n=400)
-    assert st == HIT and wall == ref[1] == int(s0) and abs(t - float(ref[0])) < 1e-14
-    assert int(fl.status) == D.HIT and int(fl.wall) == wall and abs(float(fl.t) - t) < 1e-13
+    assert st == FlightOutcome.HIT and wall == ref[1] == int(s0) and abs(t - float(ref[0])) < 1e-14
+    assert int(fl.status) == FlightOutcome.HIT and int(fl.wall) == wall and abs(float(fl.t) - t) < 1e-13
 
 
 def test_chatter_sticks_forever_like_the_map():

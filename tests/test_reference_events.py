@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl import _jax  # noqa: F401
+from gear_rattle.core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 

@@ -10,9 +10,9 @@ import pytest
 from hypothesis import example, given, settings
 from scipy.integrate import solve_ivp
 
-from gear_rattle.mapimpl.finder import GRAZE, HIT
+from gear_rattle.core.status import FlightOutcome
 from gear_rattle.mapimpl.orbit import map_orbit
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.sticking import release_delay
 from gear_rattle.reference import scipy_track as S
 from refhelpers import (GRAZE_DS, N_ORBIT, SLOW_DEPARTURES, map_first_impact, map_one, params_st, state_st,
@@ -59,7 +59,7 @@ def test_release_from_wall_with_zero_velocity():
     th = float(release_delay(0.0, 0, p.alpha, p.beta, p.gamma))
     fl = S.flight(th, 0.0, 0.0, p, sigma=-1)
     st, t, wall, v = map_first_impact(th, 0.0, 0.0, p)
-    assert fl.status == "hit" and st == HIT and fl.wall == wall
+    assert fl.status == "hit" and st == FlightOutcome.HIT and fl.wall == wall
     assert fl.t > 0.1
     assert abs(fl.t - t) < 1e-13 and abs(fl.v - v) < 1e-13
 
@@ -82,7 +82,7 @@ def test_double_crossing_inside_one_step_is_caught(depth):
     assert len(plain.t_events[0]) == 0  # the plain event check misses the excursion (the trap is real)
     fl = S.flight(0.0, -1.0, v0, p)
     st, t, wall, v = map_first_impact(0.0, -1.0, v0, p)
-    assert st == HIT and fl.status == "hit" and fl.wall == wall == 0
+    assert st == FlightOutcome.HIT and fl.status == "hit" and fl.wall == wall == 0
     vex = math.sqrt(2 * 0.5 * depth)  # impact speed of a parabolic apex
     assert abs(fl.v - v) <= 0.5 * GRAZE_DS / vex and abs(fl.v / vex - 1) < 0.1 * vex
     assert abs(fl.t - t) <= GRAZE_DS / vex + 1e-14  # grazing: dt ~ ds / v (+ a few ulp of t ~ 2)
@@ -96,7 +96,7 @@ def test_near_miss_grazing_stays_inside(depth):
     v0 = v0_for_apex(depth)
     fl = S.flight(0.0, -1.0, v0, p)
     st, t, wall, v = map_first_impact(0.0, -1.0, v0, p)
-    assert st == HIT and fl.status == "hit" and fl.wall == wall == -1  # turned back, fell to s = -1
+    assert st == FlightOutcome.HIT and fl.status == "hit" and fl.wall == wall == -1  # turned back, fell to s = -1
     assert fl.segments == 2
     assert abs(fl.t - t) < 1e-14 and abs(fl.v - v) < 1e-14
 
@@ -111,7 +111,7 @@ def test_exact_tangency_is_hit_or_miss_consistently():
     v0 = v0_for_apex(0.0)
     fl = S.flight(0.0, -1.0, v0, p)
     st, t, wall, v = map_first_impact(0.0, -1.0, v0, p)
-    assert st in (HIT, GRAZE) and fl.status == "hit"
+    assert st in (FlightOutcome.HIT, FlightOutcome.GRAZE) and fl.status == "hit"
     t_apex = math.log((v0 + 5.0) / 5.0) / 0.1
     if fl.wall == 0:
         assert abs(fl.t - t_apex) < 1e-6 and abs(fl.v) < 1e-6
@@ -290,7 +290,7 @@ def test_release_at_a_rounding_level_forcing_leaves_the_wall():
     assert stick and abs(forcing_rhs(phase, p.alpha, p.beta, p.gamma)) < 1e-15
     fl = S.flight(phase, -1.0, 0.0, p, sigma=ev.restart_direction(-1, 0.0))
     st, t, wall, v = map_first_impact(phase, -1.0, 0.0, p)
-    assert st == HIT and fl.status == "hit" and fl.segments == 1 and fl.wall == wall == 0
+    assert st == FlightOutcome.HIT and fl.status == "hit" and fl.segments == 1 and fl.wall == wall == 0
     assert abs(fl.t - t) <= tau_tol(v) and abs(fl.v - v) <= tau_tol(v)
 
 
@@ -315,7 +315,7 @@ def test_release_that_turns_back_inside_the_first_step():
     assert stick and abs(phase - 1.5 * math.pi) < 1e-12
     fl = S.flight(phase, -1.0, 0.0, p, sigma=1)
     st, t, wall, v = map_first_impact(phase, -1.0, 0.0, p)
-    assert st == HIT and fl.status == "hit" and fl.segments == 2 and fl.wall == wall == -1
+    assert st == FlightOutcome.HIT and fl.status == "hit" and fl.segments == 2 and fl.wall == wall == -1
     assert abs(fl.t - t) <= tau_tol(v) and abs(fl.v - v) <= tau_tol(v)
 
 
@@ -328,7 +328,7 @@ def test_slow_departure_returns_to_start_wall(case):
     p, theta, s0, v0 = SLOW_DEPARTURES[case]
     fl = S.flight(theta, s0, v0, p)
     st, t, wall, v = map_first_impact(theta, s0, v0, p)
-    assert st == HIT and wall == int(s0)
+    assert st == FlightOutcome.HIT and wall == int(s0)
     assert fl.status == "hit" and fl.wall == wall and abs(fl.t - t) <= tau_tol(v)
 
 

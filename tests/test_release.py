@@ -14,14 +14,16 @@ import jax
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.impact_map import make_state, step
-from gear_rattle.mapimpl.params import Params
+from gear_rattle.mapimpl.impact_map import step
+from gear_rattle.core.state import make_state
+from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.sticking import STICK_TIME, decide_stick, release_phase
 from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case
 
 flint = pytest.importorskip("flint")
 from flint import arb  # noqa: E402
 
+from gear_rattle.core.paper import DELTA, PAPER_DECIMAL  # noqa: E402
 from gear_rattle.mapimpl import certified as C  # noqa: E402
 from gear_rattle.mapimpl.certified import duration as D  # noqa: E402
 from gear_rattle.validation.commands import release as CLI  # noqa: E402
@@ -96,10 +98,10 @@ def test_release_phase_reduces_the_closed_form():
 
 def test_decimal_parameters_are_exact_decimal_balls():
     with C.precision(256):
-        m = C.Model(C.PAPER_DECIMAL)
+        m = C.Model(PAPER_DECIMAL)
         assert m.alpha.contains(arb("1.245")) and float(m.alpha.rad()) < 1e-70
         assert not m.alpha.contains(arb(1.245))  # the float64 rounding is another number
-        m64 = C.Model(C.model_params(C.PAPER_DECIMAL, "float64"))
+        m64 = C.Model(C.model_params(PAPER_DECIMAL, "float64"))
         assert m64.alpha == arb(1.245) and m64.alpha.is_exact()
     for bad, needle in (({"alpha": "x", "beta": "0.1", "gamma": "0.1", "r": "0.9"}, "alpha"),
                         ({"alpha": "1", "beta": "-0.1", "gamma": "0.1", "r": "0.9"}, "beta"),
@@ -124,7 +126,7 @@ def test_certified_prefix_contains_the_float64_orbit(target):
     over the first 15 post-release impacts (its error then grows at the Lyapunov rate)."""
     from gear_rattle.mapimpl.orbit import map_orbit
 
-    a = C.certify_post_release(C.model_params(C.PAPER_DECIMAL, "float64"), 0, prec=256, target=target,
+    a = C.certify_post_release(C.model_params(PAPER_DECIMAL, "float64"), 0, prec=256, target=target,
                                max_impacts=40, record=True)
     assert a.status == "no_capture" and a.impacts == 40 and float(a.radius) < 1e-50
     assert 0.8 < a.growth < 1.1  # bits lost per impact (chaos), cf. the transient Lyapunov exponent
@@ -151,7 +153,7 @@ def test_capture_is_decided_at_the_first_impact_within_delta(target):
             if wl[n] == wl[7] else math.inf for n in range(1, 8)]
     expect = 1 + next(i for i, d in enumerate(dist) if d < delta)
     assert all(abs(d - delta) > 1e-6 for d in dist[:expect])
-    res = C.certified_release_duration(C.PAPER_DECIMAL, 0, delta, rounding="float64", precisions=(128, 256),
+    res = C.certified_release_duration(PAPER_DECIMAL, 0, delta, rounding="float64", precisions=(128, 256),
                                        target=tg, max_impacts=20)
     assert res.status == "captured" and res.value == expect and res.confirmed
     assert res.precision == 128 and [a.prec for a in res.attempts] == [128, 256]
@@ -174,7 +176,7 @@ def _straddle_setting():
     """A target that puts the certified distance at post-release impact 30 within a 64-bit ball of
     ``D = 2^-20`` (the orbit's sdot shifted by D), so that at 64 bits ``D`` is undecided there while
     ``D / 2`` is decided; 0.5 is captured at once."""
-    p = C.model_params(C.PAPER_DECIMAL, "float64")
+    p = C.model_params(PAPER_DECIMAL, "float64")
     ref = C.certify_post_release(p, 0, prec=64, target=C.Target((), (), ()), max_impacts=30, record=True,
                                  radius_limit=1e-3)
     th, sd, w = ref.orbit[-1]
@@ -204,19 +206,19 @@ def test_schedule_for_several_deltas_is_the_schedule_for_each_alone():
     confirmed at twice the last precision)."""
     p, tg, deltas = _straddle_setting()
     kw = dict(rounding="float64", precisions=(64, 128), target=tg, max_impacts=40, radius_limit=1e-3)
-    res = C.certified_release_durations(C.PAPER_DECIMAL, 0, deltas, **kw)
+    res = C.certified_release_durations(PAPER_DECIMAL, 0, deltas, **kw)
     assert [a.prec for a in res[deltas[1]].attempts] == [64, 128, 256]
     assert all(r.confirmed and r.status != "undecided" for r in res.values())
     for d in deltas:
-        alone = C.certified_release_duration(C.PAPER_DECIMAL, 0, d, **kw)
+        alone = C.certified_release_duration(PAPER_DECIMAL, 0, d, **kw)
         a, b = res[d].to_dict(), alone.to_dict()
         assert [_same_attempt(x, y) for x, y in zip(res[d].attempts, alone.attempts)] == [True] * len(b["attempts"])
         for k in ("status", "value", "precision", "confirmed", "lower_bound", "delta", "target", "release_phase"):
             assert a[k] == b[k], (d, k)
     with pytest.raises(ValueError, match="deltas is empty"):
-        C.certified_release_durations(C.PAPER_DECIMAL, 0, (), **kw)
+        C.certified_release_durations(PAPER_DECIMAL, 0, (), **kw)
     with pytest.raises(ValueError, match="delta"):
-        C.certified_release_durations(C.PAPER_DECIMAL, 0, (1e-3, -1.0), **kw)
+        C.certified_release_durations(PAPER_DECIMAL, 0, (1e-3, -1.0), **kw)
 
 
 def test_sticking_again_is_certified_periodic():
@@ -237,7 +239,7 @@ def test_sticking_again_is_certified_periodic():
 def test_undecided_schedule_keeps_a_certified_lower_bound(target):
     """A radius limit too tight for the schedule: every attempt fails, the result is 'undecided' and
     reports how many impacts were certified not captured."""
-    res = C.certified_release_duration(C.PAPER_DECIMAL, 0, precisions=(128,), radius_limit=1e-30, target=target,
+    res = C.certified_release_duration(PAPER_DECIMAL, 0, precisions=(128,), radius_limit=1e-30, target=target,
                                        max_impacts=200)
     assert res.status == "undecided" and res.value is None and res.precision is None and not res.confirmed
     assert 0 < res.lower_bound < 200 and res.attempts[0].status == "failed"
@@ -249,9 +251,9 @@ def test_bad_arguments_raise_value_errors(target):
     with pytest.raises(ValueError, match="max_impacts"):
         C.certify_post_release(FIG11, 0, prec=128, target=target, max_impacts=0)
     with pytest.raises(ValueError, match="precisions"):
-        C.certified_release_duration(C.PAPER_DECIMAL, precisions=(512, 256), target=target)
+        C.certified_release_duration(PAPER_DECIMAL, precisions=(512, 256), target=target)
     with pytest.raises(ValueError, match="rounding"):
-        C.certified_release_duration(C.PAPER_DECIMAL, rounding="float32", target=target)
+        C.certified_release_duration(PAPER_DECIMAL, rounding="float32", target=target)
     with pytest.raises(ValueError, match="never presses"):
         C.certify_post_release(Params(0.5, 0.1, 0.9, 0.5), -1, prec=128, target=target)
     with pytest.raises(ValueError, match="lam"):
@@ -313,7 +315,7 @@ def test_release_golden_case_is_well_formed():
     for v in tp.values():
         assert isinstance(v["T_post"], int) and v["T_post"] > s["n_impacts"]
         assert v["confirmed_at_bits"] > v["precision_bits"] >= 256
-    assert notes["capture_delta"] == C.DELTA
+    assert notes["capture_delta"] == DELTA
     tg = notes["capture_target"]
     assert len(tg["theta"]) == len(tg["sdot"]) == len(tg["wall"]) == 4 and sorted(tg["wall"]) == [-1, -1, 0, 0]
 
@@ -335,7 +337,7 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
     value the golden case carries."""
     all_notes = load_case(DEFAULT_SUITE / CASE).settings["notes"]
     notes = all_notes["T_post_certified"][rounding]
-    res = C.certified_release_duration(C.PAPER_DECIMAL, 0, rounding=rounding)
+    res = C.certified_release_duration(PAPER_DECIMAL, 0, rounding=rounding)
     assert res.status == "captured" and res.confirmed
     assert res.value == notes["T_post"] and res.precision == notes["precision_bits"]
     # the recorded target is the engine's float64 4-impact orbit: its Newton solution is determined to

@@ -320,7 +320,8 @@ def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeyp
     is first_stick + the certified T_post."""
     import numpy as np
 
-    from gear_rattle.mapimpl.certified import PAPER_DECIMAL, certified_release_duration
+    from gear_rattle.core.paper import PAPER_DECIMAL
+    from gear_rattle.mapimpl.certified import certified_release_duration
     from gear_rattle.validation.report import sec_transients
     from gear_rattle.validation.transient import experiments as E
 

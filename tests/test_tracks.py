@@ -1,5 +1,5 @@
 """The Track protocol and the registry (validation/tracks.py), and the shared result types
-(mapimpl/results.py): every track -- the closed-form map (Eqs. 12-13) and Eq. (3) integrated by
+(core/results.py): every track -- the closed-form map (Eqs. 12-13) and Eq. (3) integrated by
 scipy and by diffrax -- offers ``orbit`` and ``step_jacobian`` with the same signatures, result
 types and conventions."""
 
@@ -11,13 +11,15 @@ import sys
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl import _jax  # noqa: F401
+from gear_rattle.core import _jax  # noqa: F401
 import jax
 
-from gear_rattle.mapimpl.impact_map import ORBIT_STATUS_NAMES, make_state, step
+from gear_rattle.mapimpl.impact_map import step
+from gear_rattle.core.state import make_state
 from gear_rattle.mapimpl.orbit import map_orbit
-from gear_rattle.mapimpl.params import Params
-from gear_rattle.mapimpl.results import COLUMNS, KINDS, ORBIT_STATUSES, ImpactSequence, StepJacobian, Track
+from gear_rattle.core.params import Params
+from gear_rattle.core.results import COLUMNS, KINDS, ImpactSequence, StepJacobian, Track
+from gear_rattle.core.status import TRACK_STATUSES
 from gear_rattle.validation import tracks as T
 from refhelpers import JAC_TOL
 
@@ -58,7 +60,7 @@ def test_the_registry_imports_diffrax_lazily():
 @pytest.mark.parametrize("name", ["map", "scipy"])
 def test_orbit_through_the_registry_is_the_track_orbit(name):
     seq = T.orbit(name, PAPER, 0.0, 0.5, 6)
-    assert isinstance(seq, ImpactSequence) and seq.track == name and seq.status in ORBIT_STATUSES
+    assert isinstance(seq, ImpactSequence) and seq.track == name and seq.status in TRACK_STATUSES
     if name == "map":
         assert seq.to_csv() == map_orbit(PAPER, 0.0, 0.5, 6).to_csv()
     assert seq.to_csv().splitlines()[0] == ",".join(COLUMNS)
@@ -114,11 +116,18 @@ def test_a_flight_without_impact_ends_the_step_on_every_track(name):
 
 
 def test_status_names_come_from_one_place():
-    """Every track's status names are the names of the one status enum (mapimpl.status.Orbit)."""
-    from gear_rattle.mapimpl.status import Orbit
+    """Every track's status names are the labels of the one status enum (core.status.Status), each
+    code has a message, and a label maps back to its code (the names in files are unchanged)."""
+    from gear_rattle.core.status import FlightOutcome, Status
 
-    assert set(ORBIT_STATUSES) <= set(ORBIT_STATUS_NAMES.values())
-    assert all(ORBIT_STATUS_NAMES[int(Orbit[s.upper()])] == s for s in ORBIT_STATUSES)
+    assert TRACK_STATUSES == ("active", "stuck_forever", "no_impact", "step_cap")
+    assert all(Status.from_label(s).label == s for s in TRACK_STATUSES)
+    assert [int(Status[s.upper()]) for s in TRACK_STATUSES] == [0, 1, 2, 3]
+    for enum in (Status, FlightOutcome):
+        assert all(isinstance(m.message, str) and len(m.message) > 10 for m in enum)
+    assert int(FlightOutcome.NO_IMPACT) == int(Status.NO_IMPACT) and int(FlightOutcome.STEP_CAP) == int(Status.STEP_CAP)
+    with pytest.raises(ValueError, match="hit"):
+        Status.from_label("hit")
 
 
 def test_the_golden_suite_file_format_is_the_result_type_layout():

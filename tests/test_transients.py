@@ -8,9 +8,11 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from gear_rattle.mapimpl.impact_map import iterate, make_state
+from gear_rattle.mapimpl.impact_map import iterate
+from gear_rattle.core.state import make_state
 from gear_rattle.validation.transient import analysis as A
-from gear_rattle.mapimpl.engine.transients import (PAPER_PARAMS, grid, periodic_target, transient_times)
+from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
+from gear_rattle.core.paper import PAPER_PARAMS
 
 P = PAPER_PARAMS
 LANES = 64  # one kernel shape for every engine test (one compilation)
@@ -76,7 +78,8 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     in ball arithmetic for the decimal parameters (certified_release_duration), the float64 roundings'
     certified value and the engine's float64 sample are kept beside; orbits that never stick keep the
     engine's duration."""
-    from gear_rattle.mapimpl.certified import PAPER_DECIMAL, certified_release_duration
+    from gear_rattle.core.paper import PAPER_DECIMAL
+    from gear_rattle.mapimpl.certified import certified_release_duration
     from gear_rattle.validation.transient.experiments import transients
 
     s = transients(outdir=tmp_path, profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)

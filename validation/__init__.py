@@ -1,4 +1,4 @@
 """Validation harness: cross-track agreement, reproduction of the paper's figures and numbers,
 the CLI (``gear-rattle``) and the generated validation report."""
 
-from ..mapimpl import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401

@@ -12,7 +12,7 @@ import os
 import re
 import sys
 
-from ..mapimpl._jax import use_cpu_devices
+from ..core._jax import use_cpu_devices
 from .cliutil import CliError
 from .extras import MissingExtra
 

@@ -16,8 +16,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from ..mapimpl.orbit import TAU0_MAX
-from ..mapimpl.params import Params
+from ..core.checks import TAU0_MAX
+from ..core.params import Params
 
 
 class CliError(Exception):

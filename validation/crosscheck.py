@@ -4,7 +4,7 @@
   sdot) on each track; near-grazing impacts (within ``graze_depth`` of a tangency, where hit-or-miss
   itself is ill-conditioned) are counted and left out of the error statistics.
 * :func:`jacobian_agreement`: the one-step Jacobian by three routes, each track's
-  ``step_jacobian`` (:class:`mapimpl.results.Track`) -- analytic (implicit differentiation,
+  ``step_jacobian`` (:class:`core.results.Track`) -- analytic (implicit differentiation,
   :mod:`mapimpl.impact_map`), variational flow x saltation matrix (scipy) and ``jax.jacfwd``
   through the diffrax event solve.
 
@@ -19,7 +19,7 @@ import numpy as np
 
 from ..mapimpl import Params
 from ..mapimpl.flight import forcing
-from ..mapimpl.results import STATUS_ACTIVE
+from ..core.status import Status
 
 #: The declared cross-validation domain (issue 3).
 DOMAIN = {"alpha": (0.0, 5.0), "beta": (0.01, 1.0), "gamma": (-0.5, 0.5), "r": (0.3, 1.0), "sdot": (0.05, 3.0)}
@@ -67,7 +67,7 @@ def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
     res = {t: {"tau": [], "sdot": [], "mis": 0, "graze": 0} for t in tracks}
     for p, tau, sd in cases:
         m = orbit("map", p, tau, sd, 1)
-        graze = m.status == STATUS_ACTIVE and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]),
+        graze = m.status == Status.ACTIVE.label and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]),
                                                           p, graze_depth)
         for t in tracks:
             if graze:
@@ -102,7 +102,7 @@ class JacobianCheck:
 
 def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> JacobianCheck:
     """The step Jacobian by three routes at ``n`` random states (sticking and near-grazing steps
-    skipped): each track's :meth:`~mapimpl.results.Track.step_jacobian` -- the map's analytic one
+    skipped): each track's :meth:`~core.results.Track.step_jacobian` -- the map's analytic one
     (implicit differentiation of Eqs. 12-13), scipy's variational flow x saltation matrix and
     ``jax.jacfwd`` through the diffrax event solve."""
     from .tracks import get
@@ -112,7 +112,7 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
     skipped = 0
     for p, tau, sd in random_cases(n, seed):
         m = ref.step_jacobian(p, tau, sd)
-        if (m.stuck or m.status != STATUS_ACTIVE
+        if (m.stuck or m.status != Status.ACTIVE.label
                 or _near_graze(float(np.mod(m.tau, 2 * np.pi)), m.sdot, m.wall, p, graze_depth)):
             skipped += 1
             continue

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..mapimpl.dense import dense
-from ..mapimpl.results import ImpactSequence
+from ..core.results import ImpactSequence
 from .figures import subplots
 
 

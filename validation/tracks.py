@@ -1,4 +1,4 @@
-"""The registry of tracks: every track is a :class:`mapimpl.results.Track` with a name, ``orbit`` and
+"""The registry of tracks: every track is a :class:`core.results.Track` with a name, ``orbit`` and
 ``step_jacobian``.
 
 * ``map`` -- the closed form (:mod:`mapimpl`): :func:`mapimpl.orbit.map_orbit`, and the analytic
@@ -6,7 +6,7 @@
 * ``scipy`` and ``diffrax`` -- Eq. (3) integrated numerically (:mod:`reference`), imported on first
   use (diffrax is heavy; a missing integrator shows up as ``ImportError`` from :func:`get`).
 
-All return :class:`mapimpl.results.ImpactSequence` and :class:`mapimpl.results.StepJacobian`.
+All return :class:`core.results.ImpactSequence` and :class:`core.results.StepJacobian`.
 """
 
 from __future__ import annotations
@@ -16,13 +16,15 @@ import math
 
 import numpy as np
 
-from ..mapimpl import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 
-from ..mapimpl.impact_map import ACTIVE, ORBIT_STATUS_NAMES, make_state, step
+from ..core.status import Status
+from ..mapimpl.impact_map import step
+from ..core.state import make_state
 from ..mapimpl.orbit import initial_state, map_orbit
-from ..mapimpl.params import Params
-from ..mapimpl.results import ImpactSequence, StepJacobian, Track, TrackFunctions
+from ..core.params import Params
+from ..core.results import ImpactSequence, StepJacobian, Track, TrackFunctions
 from ..reference.events import start_wall
 
 #: The track names, the closed form first.
@@ -52,16 +54,16 @@ def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None
     impact condition; 0 if the step sticks)."""
     _no_options(options)
     if not isinstance(params, Params):
-        raise ValueError(f"params={params!r} is out of range: allowed a mapimpl.params.Params")
+        raise ValueError(f"params={params!r} is out of range: allowed a core.params.Params")
     initial_state(params, tau, sdot)  # validates tau and sdot
     wall = start_wall(wall, sdot)
     new, info = _step_jit(make_state(tau, sdot, wall), params.arrays())
     stuck, status = bool(info.stuck), int(new.status)
-    if status != ACTIVE:
+    if status != Status.ACTIVE:
         jac = np.zeros((2, 2)) if stuck else np.full((2, 2), np.nan)
-        return StepJacobian(math.nan, math.nan, wall, jac, stuck, ORBIT_STATUS_NAMES[status])
+        return StepJacobian(math.nan, math.nan, wall, jac, stuck, Status(status).label)
     return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.asarray(info.jac), stuck,
-                        ORBIT_STATUS_NAMES[status])
+                        Status(status).label)
 
 
 #: The closed-form track.
@@ -69,7 +71,7 @@ MAP = TrackFunctions("map", _map_orbit, _map_step_jacobian)
 
 
 def get(track: str) -> Track:
-    """The :class:`~mapimpl.results.Track` named ``track`` (one of :data:`TRACKS`); ``ValueError``
+    """The :class:`~core.results.Track` named ``track`` (one of :data:`TRACKS`); ``ValueError``
     for an unknown name, ``ImportError`` when its integrator is not installed."""
     if track not in TRACKS:
         raise ValueError(f"track={track!r} is out of range: allowed one of {', '.join(TRACKS)}")

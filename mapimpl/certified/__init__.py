@@ -23,9 +23,9 @@ built on :mod:`.model`, :mod:`.contact` and :mod:`.orbit`.
 """
 
 from .balls import MAX_PREC, PREC, CertificationError, exact, mod_two_pi, nearest_float, precision, span, upper_float
-from .capture import DELTA, Target, capture_decision, certified_distance, float64_target
+from .capture import Target, capture_decision, certified_distance, float64_target
 from .contact import MAX_EVALS, T_MAX, FlightCertificate, certified_flight, mean_value_impact
-from .duration import (PAPER_DECIMAL, PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
+from .duration import (PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
                        certified_release_durations, model_params)
 from .model import PARAM_NAMES, Flight, Model, parameter_ball
 from .orbit import CertifiedOrbit, CertifiedStep, Event, certified_step, certify_orbit
@@ -34,8 +34,8 @@ from .sticking import certify_release, certify_zero, release_delay, release_phas
 
 __all__ = [
     "MAX_PREC", "PREC", "CertificationError", "exact", "mod_two_pi", "nearest_float", "precision", "span",
-    "upper_float", "DELTA", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
-    "T_MAX", "FlightCertificate", "certified_flight", "mean_value_impact", "PAPER_DECIMAL", "PRECISIONS",
+    "upper_float", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
+    "T_MAX", "FlightCertificate", "certified_flight", "mean_value_impact", "PRECISIONS",
     "ROUNDINGS", "ReleaseDuration", "certified_release_duration", "certified_release_durations", "model_params",
     "PARAM_NAMES", "Flight", "Model", "parameter_ball", "CertifiedOrbit", "CertifiedStep", "Event",
     "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",

@@ -15,12 +15,8 @@ from dataclasses import dataclass
 
 from flint import arb
 
-from ..engine.transients import DELTA as ENGINE_DELTA
-from ..params import Params
+from ...core.params import Params
 from .balls import CertificationError, exact
-
-#: Capture distance: the engine's default.
-DELTA = ENGINE_DELTA
 
 
 @dataclass(frozen=True)

@@ -13,16 +13,15 @@ import numbers
 import time
 from dataclasses import asdict, dataclass
 
-from ..params import Params
+from ...core.paper import DELTA, PAPER_DECIMAL
+from ...core.params import Params
 from ..sticking import STICK_TIME
 from .balls import MAX_PREC, CertificationError, precision
-from .capture import DELTA, Target, float64_target
+from .capture import Target, float64_target
 from .model import PARAM_NAMES, Model
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, check_deltas, certify_post_release_deltas
 from .sticking import release_phase
 
-#: The printed parameters of the paper's Figs. 9-11 (exact decimals).
-PAPER_DECIMAL = {"alpha": "1.245", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
 #: Precision schedule (bits) of :func:`certified_release_duration`.
 PRECISIONS = (256, 512, 1024, 2048, 4096, 8192)
 #: How the printed decimals enter the model: as exact decimals (balls) or as their float64 roundings (exact).
@@ -81,7 +80,7 @@ def model_params(params_decimal: dict, rounding: str):
     missing = [k for k in PARAM_NAMES if k not in params_decimal]
     if missing or len(params_decimal) != len(PARAM_NAMES):
         raise ValueError(f"params_decimal={params_decimal!r}: allowed exactly the keys {', '.join(PARAM_NAMES)}")
-    from ...mapimpl.params import check_value
+    from ...core.params import check_value
 
     text = {k: str(params_decimal[k]).strip() for k in PARAM_NAMES}
     floats = Params(**{k: check_value(k, v) for k, v in text.items()})  # ValueError names the parameter

@@ -18,18 +18,18 @@ from __future__ import annotations
 
 from flint import arb
 
-from ..params import Params
+from ...core.params import Params
 from .balls import exact, span
 
-#: Parameter names of the model, in the order of :class:`mapimpl.params.Params`.
+#: Parameter names of the model, in the order of :class:`core.params.Params`.
 PARAM_NAMES = ("alpha", "beta", "gamma", "r")
 
 
 def parameter_ball(name: str, value) -> arb:
     """A parameter as a ball at the current precision: a float is the exact binary number it holds,
     a string is the exact *decimal* it spells (``"1.245"``: a ball of radius ~2^-prec around
-    1.245, which no float holds).  Validated with the ranges of :mod:`mapimpl.params`."""
-    from ..params import check_value
+    1.245, which no float holds).  Validated with the ranges of :mod:`core.params`."""
+    from ...core.params import check_value
 
     if isinstance(value, str):
         text = value.strip()

@@ -2,7 +2,7 @@
 
 :func:`certified_step` is one map step (reset or sticking, then the certified flight of
 :mod:`.contact`); :func:`certify_orbit` chains steps into an impact sequence with the layout of
-:class:`mapimpl.results.ImpactSequence` (the golden suite's cases).  The inputs of each step are
+:class:`core.results.ImpactSequence` (the golden suite's cases).  The inputs of each step are
 the enclosures of the previous impact, so the error bounds propagate from impact to impact.
 """
 
@@ -87,7 +87,7 @@ def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, s
 def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
                   prec: int = PREC, stick_time: float = STICK_TIME, radius_limit: float | None = None,
                   t_max: float = T_MAX) -> CertifiedOrbit:
-    """Certified impact sequence with the layout of :class:`mapimpl.results.ImpactSequence`.
+    """Certified impact sequence with the layout of :class:`core.results.ImpactSequence`.
 
     ``params``: a :class:`Params` or a mapping of decimal strings (see :class:`Model`).  Impact 0
     is the pre-impact initial state (``s0`` None; exact) or the first impact of the flight leaving

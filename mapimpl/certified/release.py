@@ -45,9 +45,10 @@ from dataclasses import dataclass, field
 
 from flint import arb
 
+from ...core.paper import DELTA
 from ..sticking import STICK_TIME
 from .balls import CertificationError, mod_two_pi, nearest_float, precision, span
-from .capture import DELTA, Target, capture_decision, certified_distance
+from .capture import Target, capture_decision, certified_distance
 from .contact import certified_flight
 from .model import Model
 from .orbit import certified_step

@@ -3,7 +3,7 @@
 :func:`run` takes initial conditions (pre-impact states ``(theta, sdot, wall)``), parameters (one
 set for all, or one per initial condition), observers (:mod:`gear_rattle.mapimpl.engine.observers`)
 and a cap on the impacts per orbit, and returns per initial condition the impacts done, how the
-orbit ended (:class:`gear_rattle.mapimpl.status.Orbit`), its sticking episodes, its final state and
+orbit ended (:class:`gear_rattle.core.status.Orbit`), its sticking episodes, its final state and
 the observers' outputs (:class:`EngineResult`).
 
 How: the initial conditions are split over the devices of JAX's default backend (on the CPU one
@@ -30,16 +30,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .._jax import xla_tuning_active
+from ...core._jax import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
-from ..orbit import TAU0_MAX, TAU0_RANGE
-from ..params import Params, validate_arrays
+from ...core.checks import TAU0_MAX, TAU0_RANGE, check_int
+from ...core.params import Params, validate_arrays
 from ..progress import Progress
-from ..status import ORBIT_NAMES
+from ...core.status import Status
 from ..sticking import STICK_TIME
 from . import kernel as K
 from .observers import Observer
@@ -58,7 +58,7 @@ class EngineResult:
     """Per-initial-condition results (flat arrays in input order) of :func:`run`.
 
     ``n``: impacts done (the index of the last pre-impact state reached); ``status``: how the orbit
-    ended (:class:`~gear_rattle.mapimpl.status.Orbit` codes); ``nstick``: sticking episodes;
+    ended (:class:`~gear_rattle.core.status.Orbit` codes); ``nstick``: sticking episodes;
     ``first_stick``: index of the impact whose step first stuck (-1: never); ``theta, sdot, wall,
     cycles``: the last pre-impact state (tau = 2 pi cycles + theta, counted from the start);
     ``obs``: one dict of output arrays per observer.
@@ -83,7 +83,7 @@ class EngineResult:
 
     def status_counts(self) -> dict[str, int]:
         """``{status name: count}``."""
-        return {ORBIT_NAMES[int(s)]: int(np.sum(self.status == s)) for s in np.unique(self.status)}
+        return {Status(int(s)).label: int(np.sum(self.status == s)) for s in np.unique(self.status)}
 
 
 def engine_devices(devices=None) -> list:
@@ -114,21 +114,11 @@ def default_lanes(n_per_device: int) -> int:
 
 def cpu_lanes() -> int:
     """The widest CPU block: where the working set of a device's micro-step stays in its core's cache.
-    With the engine's XLA options (:func:`gear_rattle.mapimpl._jax.xla_tuning_active`) 256 lanes: Fig. 11's
+    With the engine's XLA options (:func:`gear_rattle.core._jax.xla_tuning_active`) 256 lanes: Fig. 11's
     200 x 200 grid on 2 cores did 4.3e6, 5.4e6 and 4.6e6 impacts/s at 512, 256 and 128 lanes
     (2026-11-24); without them the kernel keeps more intermediate arrays and 512 lanes was best
     (Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048, 2026-11-22)."""
     return 256 if xla_tuning_active() else 512
-
-
-def _check_int(name, v, lo, hi):
-    try:
-        iv = int(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={v!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
-    if iv != v or not lo <= iv <= hi:
-        raise ValueError(f"{name}={v!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
-    return iv
 
 
 def _params_arrays(params, n: int) -> dict:
@@ -188,7 +178,7 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     ``cap`` impacts, or it ends (stuck forever, no impact, step cap); see the module docstring.
 
     ``theta, sdot, wall``: pre-impact states (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1);
-    ``params``: a :class:`~gear_rattle.mapimpl.params.Params` or per-orbit arrays ``(alpha, beta, gamma,
+    ``params``: a :class:`~gear_rattle.core.params.Params` or per-orbit arrays ``(alpha, beta, gamma,
     r)``; ``stop_at_stick``: stop an orbit at its first sticking episode (status ``STUCK``: every
     orbit that sticks continues on one post-release orbit, which the caller runs once);
     ``lanes``: orbits advanced together per device (default :func:`default_lanes`, padded to a
@@ -214,16 +204,16 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     if not np.all(np.isin(w, (0, -1))):
         raise ValueError("wall is out of range: allowed 0 (s = 0) or -1 (s = -1)")
     w = w.astype(np.int32)
-    cap = _check_int("cap", cap, 1, MAX_CAP)
-    block = _check_int("block", block, 1, 1 << 16)
+    cap = check_int("cap", cap, 1, MAX_CAP)
+    block = check_int("block", block, 1, 1 << 16)
     if lanes is not None:
-        lanes = _check_int("lanes", lanes, 1, 1 << 22)
+        lanes = check_int("lanes", lanes, 1, 1 << 22)
     if chunk is not None:
-        chunk = _check_int("chunk", chunk, 1, 1 << 26)
+        chunk = check_int("chunk", chunk, 1, 1 << 26)
     if not (math.isfinite(stick_time) and stick_time >= 0):
         raise ValueError(f"stick_time={stick_time!r} is out of range: allowed finite stick_time >= 0")
     pa = _params_arrays(params, th.size)
-    from ..flight import reduce_phase
+    from ...core.phase import reduce_phase
 
     thr = np.asarray(reduce_phase(jnp.asarray(th), jnp.zeros(th.size, jnp.int32))[0])
     cyc_start = np.floor_divide(th - thr + np.pi, 2 * np.pi).astype(np.int64)  # turns removed by the reduction

@@ -47,7 +47,7 @@ their order, the block, the chunk, the number of devices of one backend, or on w
 is processed.  One exception was found and is designed out: XLA compiles a one-lane block into scalar
 code whose floating-point contraction differs from the vectorised code of wider blocks, so lane
 blocks are always a multiple of :data:`LANE_QUANTUM` lanes (padded with idle lanes; tested).  The
-compiler and its options (:data:`gear_rattle.mapimpl._jax.ENGINE_XLA_FLAGS`) decide where
+compiler and its options (:data:`gear_rattle.core._jax.ENGINE_XLA_FLAGS`) decide where
 multiply-adds are fused, so float64 samples of chaotic orbits depend on them.
 """
 
@@ -55,15 +55,16 @@ from __future__ import annotations
 
 from functools import partial
 
-from .. import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
 from ..finder import (_H0, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
                       safe_step)
-from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_rate_sc, forcing_sc, phi12, reduce_phase
+from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_rate_sc, forcing_sc, phi12
+from ...core.phase import reduce_phase
 from ..impact_map import jacobian_sc
-from ..status import Orbit
+from ...core.status import Status
 from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
 from .observers import Impact, Observer
@@ -79,7 +80,7 @@ LANE_QUANTUM = 8
 
 def _barrier(x, pred):
     """Materialise ``x`` once, where that pays: on the CPU without the engine's XLA options
-    (:data:`gear_rattle.mapimpl._jax.ENGINE_XLA_FLAGS`).  There XLA:CPU fuses a value that several
+    (:data:`gear_rattle.core._jax.ENGINE_XLA_FLAGS`).  There XLA:CPU fuses a value that several
     results need (the flight evaluation: cheap multiply-adds) into each result's loop -- 2.6x the work
     of the search step -- and ``optimization_barrier`` is removed before fusion, but the operands and
     results of a ``lax.cond`` on a run-time predicate (always true here) are real buffers.  With the
@@ -97,7 +98,7 @@ _BARRIERS = None
 def _decide_barriers() -> None:
     global _BARRIERS
     if _BARRIERS is None:
-        from .._jax import xla_tuning_active
+        from ...core._jax import xla_tuning_active
 
         _BARRIERS = jax.default_backend() == "cpu" and not xla_tuning_active()
 
@@ -203,7 +204,7 @@ def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> dict:
 def empty_results(m: int, observers: tuple[Observer, ...]) -> dict:
     """Result arrays for ``m`` initial conditions (status NOT_RUN until written)."""
     res = {name: jnp.zeros((m,), dt) for name, dt in RESULT_FIELDS.items()}
-    res["status"] = jnp.full((m,), int(Orbit.NOT_RUN), _I32)
+    res["status"] = jnp.full((m,), int(Status.NOT_RUN), _I32)
     res["nstk"] = jnp.full((m,), -1, _I32)
     res["obs"] = tuple({name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0])
                         for name in o.outputs()} for o in observers)
@@ -323,8 +324,8 @@ def search_step(s, k):
                          jnp.where(root, jnp.where(r_done, MODE_H, MODE_N),
                                    jnp.where(inB, jnp.where(stalled, MODE_H, MODE_A), mode)))
     ns["mode"] = jnp.where(escaped | failed, MODE_IDLE, new_mode).astype(_I32)
-    ns["ostat"] = jnp.where(escaped, int(Orbit.NO_IMPACT),
-                            jnp.where(failed, int(Orbit.STEP_CAP), s["ostat"])).astype(_I32)
+    ns["ostat"] = jnp.where(escaped, int(Status.NO_IMPACT),
+                            jnp.where(failed, int(Status.STEP_CAP), s["ostat"])).astype(_I32)
     ns["te"] = jnp.where(inA, jnp.where(A.move, A.t_next, A.t_b),
                          jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te)))
     half_dx2 = 0.5 * dx * dx
@@ -412,9 +413,9 @@ def arrival(s, k, observers: tuple[Observer, ...]):
     ns = dict(s)
     ns["mode"] = jnp.where(arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE,
                                              jnp.where(A.move, MODE_A, MODE_B)), mode).astype(_I32)
-    ostat = jnp.where(stop, int(Orbit.STOPPED), jnp.where(arrive & stuck_forever, int(Orbit.STUCK_FOREVER),
-                      jnp.where(stick_stop, int(Orbit.STUCK), jnp.where(capped, int(Orbit.CAPPED), s["ostat"]))))
-    ns["ostat"] = jnp.where(escaped, int(Orbit.NO_IMPACT), jnp.where(failed, int(Orbit.STEP_CAP), ostat)).astype(_I32)
+    ostat = jnp.where(stop, int(Status.STOPPED), jnp.where(arrive & stuck_forever, int(Status.STUCK_FOREVER),
+                      jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s["ostat"]))))
+    ns["ostat"] = jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), ostat)).astype(_I32)
     # the search of the new flight: mode A from its first safe step, or B (t_a = 0)
     ns["te"] = jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), s["te"])
     ns["p1"] = jnp.where(go_on, 0.0, s["p1"])
@@ -461,7 +462,7 @@ def _load(lanes, queue, next_ic, n_ic, observers):
     new["ic"] = jnp.where(take, idx, jnp.where(idle, -1, lanes["ic"]))
     for name in QUEUE_FIELDS:
         new[name] = jnp.where(take, queue[name][j], lanes[name])
-    for name, val in (("n", 0), ("cyc", 0), ("nst", 0), ("nstk", -1), ("ostat", int(Orbit.CAPPED))):
+    for name, val in (("n", 0), ("cyc", 0), ("nst", 0), ("nstk", -1), ("ostat", int(Status.CAPPED))):
         new[name] = jnp.where(take, val, lanes[name])
 
     def reset(o, fields):
@@ -553,7 +554,7 @@ def trace(queue1, k, n_impacts: int, observers=()):
     lane = jax.tree_util.tree_map(lambda x: x[0], idle_lanes(1, observers))
     for name in QUEUE_FIELDS:
         lane[name] = queue1[name][0]
-    lane.update(mode=jnp.int32(MODE_L), ic=jnp.int32(0), nstk=jnp.int32(-1), ostat=jnp.int32(int(Orbit.CAPPED)))
+    lane.update(mode=jnp.int32(MODE_L), ic=jnp.int32(0), nstk=jnp.int32(-1), ostat=jnp.int32(int(Status.CAPPED)))
     hist = jnp.full((n_impacts + 1, 3), jnp.nan)
 
     def cond(c):

@@ -29,10 +29,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .. import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from ..flight import TWO_PI
+from ...core.phase import TWO_PI
 
 _I32, _F64, _BOOL = jnp.int32, jnp.float64, jnp.bool_
 

@@ -40,25 +40,19 @@ from functools import lru_cache
 
 import numpy as np
 
-from .. import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ..impact_map import ACTIVE, free_flight_start
-from ..orbit import TAU0_MAX, TAU0_RANGE
-from ..params import Params
-from ..status import ORBIT_NAMES, Orbit
+from ..impact_map import free_flight_start
+from ...core.checks import TAU0_MAX, TAU0_RANGE
+from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
+from ...core.params import Params
+from ...core.status import Status
 from ..sticking import STICK_TIME
 from .driver import engine_devices, run
 from .observers import Capture
 
-#: The setting of the paper's Figs. 9-11.
-PAPER_PARAMS = Params(alpha=1.245, beta=0.1, gamma=0.1, r=0.9)
-#: The paper's box (Figs. 10 and 11): 3.0 < tau0 < 3.5, 0 < sdot0 < 0.5.
-PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
-#: Default capture distance and the distances recorded alongside it.
-DELTA = 1e-3
-DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
 IC_MODES = ("pre-impact", "free")
 #: How orbits that stick are followed (see the module docstring).
 RELEASE_MODES = ("compose", "follow")
@@ -115,7 +109,7 @@ class TransientResult:
     ``hit[:, j]``: first iteration within ``deltas[j]`` (-1: never, within the cap); for orbits that
     stuck, composed with the post-release orbit (see the module docstring);
     ``n``: iterations the engine performed for the orbit; ``status``: orbit status codes
-    (:class:`~gear_rattle.mapimpl.status.Orbit`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...);
+    (:class:`~gear_rattle.core.status.Orbit`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...);
     ``nstick``: sticking episodes computed; ``first_stick``: impact index at which the orbit first
     stuck (-1: never); ``stick_wall``: its wall (``release="compose"``; 1 = not recorded when followed).  ``release``: per wall that was stuck to, the
     post-release orbit: ``{"wall", "ic", "first_stick", "T_post" (one per delta, -1: beyond the cap)}``.
@@ -188,7 +182,7 @@ class TransientResult:
             "orbits_with_sticking": self.n_stuck_orbits, "sticking_episodes": int(self.nstick.sum()),
             "release": [{k: (v if not isinstance(v, np.ndarray) else v.tolist()) for k, v in r.items()}
                         for r in self.release],
-            "status_counts": {ORBIT_NAMES[int(s)]: int(np.sum(self.status == s)) for s in np.unique(self.status)},
+            "status_counts": {Status(int(s)).label: int(np.sum(self.status == s)) for s in np.unique(self.status)},
             "impacts": self.impacts, "elapsed_s": self.elapsed,
             "impacts_per_s": self.impacts / self.elapsed if self.elapsed > 0 else math.nan,
         }
@@ -226,7 +220,7 @@ def initial_states(params: Params, tau0, sdot0, ic_mode="pre-impact", s0=None):
     if ic_mode == "pre-impact":
         return tau0.copy(), sdot0.copy(), np.where(sdot0 > 0, 0, -1).astype(np.int32), np.ones(tau0.size, bool)
     st = _free_start_v(jnp.asarray(tau0), jnp.asarray(float(s0)), jnp.asarray(sdot0), params.arrays())
-    ok = np.asarray(st.status) == ACTIVE
+    ok = np.asarray(st.status) == Status.ACTIVE
     return (np.asarray(st.theta), np.asarray(st.sdot), np.asarray(st.wall, dtype=np.int32), ok)
 
 
@@ -268,11 +262,11 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     cap_obs = Capture(target.theta, target.sdot, target.wall, d)
     hit = np.full((n_ic, d.size), -1, np.int32)
     nn = np.zeros(n_ic, np.int32)
-    status = np.full(n_ic, int(Orbit.NOT_RUN), np.int32)
+    status = np.full(n_ic, int(Status.NOT_RUN), np.int32)
     nstick = np.zeros(n_ic, np.int32)
     first = np.full(n_ic, -1, np.int32)
     swall = np.zeros(n_ic, np.int32)
-    status[~ok] = int(Orbit.NO_IMPACT)  # free-flight starts that never reach a wall are not run
+    status[~ok] = int(Status.NO_IMPACT)  # free-flight starts that never reach a wall are not run
     idx = np.flatnonzero(ok)
     kw = dict(lanes=lanes, block=block, chunk=chunk, devices=devices, stick_time=stick_time)
     t0 = time.perf_counter()
@@ -284,7 +278,7 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     swall[idx] = res.wall if release == "compose" else 1
     hit_before_stick = hit.copy()
     releases = []
-    stuck = status == int(Orbit.STUCK)
+    stuck = status == int(Status.STUCK)
     for w in (0, -1):
         sel = np.flatnonzero(stuck & (swall == w))
         if sel.size == 0:
@@ -305,7 +299,7 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
         comp = np.where((t_post[None, :] >= 0) & (comp <= cap), comp, -1)
         hs = hit[sel]
         hit[sel] = np.where(hs >= 0, hs, comp).astype(np.int32)
-        status[sel] = np.where(hit[sel][:, -1] >= 0, int(Orbit.STOPPED), int(Orbit.CAPPED))
+        status[sel] = np.where(hit[sel][:, -1] >= 0, int(Status.STOPPED), int(Status.CAPPED))
     elapsed = time.perf_counter() - t0
     meta = dict(res.meta, release_mode=release, hit_before_stick=hit_before_stick)
     return TransientResult(tau0a, sdot0a, hit, nn, status, nstick, first, swall, d, float(delta), cap, params,

@@ -48,13 +48,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...mapimpl import _jax  # noqa: F401  (float64)
+from ...core import _jax  # noqa: F401  (float64)
 
 from ...mapimpl.engine.driver import run
 from ...mapimpl.engine.observers import Sample, Tangent
-from ...mapimpl.flight import TWO_PI
-from ...mapimpl.params import validate_arrays
-from ...mapimpl.status import Orbit
+from ...core.phase import TWO_PI
+from ...core.params import validate_arrays
+from ...core.status import Status
 from .spec import AtlasSpec
 
 #: Name and version of the compute path; stored in the atlas and compared on resume.
@@ -114,13 +114,13 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
               {"alpha": a, "beta": spec.beta, "gamma": spec.gamma, "r": rr}, obs, cap=lyap_end + W,
               progress=False, label="atlas")
     tg, sm = res.obs
-    ended = ~np.isin(res.status, (int(Orbit.STOPPED), int(Orbit.CAPPED)))
+    ended = ~np.isin(res.status, (int(Status.STOPPED), int(Status.CAPPED)))
     lam = tg["log_r"] / np.maximum(tg["n_free"], 1)[:, None]
     lam = np.where((tg["n_stuck"] > 0)[:, None], -np.inf, lam)
     lam = np.where(ended[:, None], np.nan, lam)
     p, m = period(sm["theta"], sm["sdot"], sm["wall"], sm["cycles"], spec.period_max, spec.period_tol)
     p = np.where(ended, 0, p)
     m = np.where(ended, 0, m)
-    status = np.where(ended, res.status, int(Orbit.ACTIVE)).astype(np.int8)
+    status = np.where(ended, res.status, int(Status.ACTIVE)).astype(np.int8)
     out = {"lambda1": lam[:, 0], "lambda2": lam[:, 1], "period_p": p, "period_m": m, "status": status}
     return {k: np.asarray(v).astype(FIELDS[k][0]).reshape(shape) for k, v in out.items()}

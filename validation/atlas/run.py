@@ -94,7 +94,7 @@ def _timed(compute: ComputeFn, alpha, r, spec):
 
 def _worker_task(compute: ComputeFn, alpha, r, spec):
     """Runs on a Dask worker: float64 JAX on one XLA CPU device per worker process, then the tile."""
-    from ...mapimpl._jax import use_cpu_devices  # importing gear_rattle enables float64
+    from ...core._jax import use_cpu_devices  # importing gear_rattle enables float64
 
     use_cpu_devices(1)  # a no-op once JAX has started in this worker
     return _timed(compute, alpha, r, spec)

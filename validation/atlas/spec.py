@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ...mapimpl.params import check_value
+from ...core.params import check_value
 
 #: Bounds that keep an atlas finite.
 MAX_GRID = 100_000_000

@@ -31,7 +31,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ...mapimpl.orbit import TAU0_MAX, TAU0_RANGE
+    from ...core.checks import TAU0_MAX, TAU0_RANGE
     from ..cliutil import params_from
     from ..transient.experiments import basins
 

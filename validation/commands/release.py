@@ -14,8 +14,8 @@ import math
 import sys
 
 from ...mapimpl.certified.balls import MAX_PREC, CertificationError, precision
-from ...mapimpl.certified.capture import DELTA
-from ...mapimpl.certified.duration import PAPER_DECIMAL, PRECISIONS, ROUNDINGS, certified_release_duration, \
+from ...core.paper import DELTA, PAPER_DECIMAL
+from ...mapimpl.certified.duration import PRECISIONS, ROUNDINGS, certified_release_duration, \
     model_params
 from ...mapimpl.certified.model import PARAM_NAMES, parameter_ball
 from ...mapimpl.certified.release import MAX_IMPACTS

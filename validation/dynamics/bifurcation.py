@@ -22,32 +22,23 @@ from functools import partial
 
 import numpy as np
 
-from ...mapimpl import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
 from ...mapimpl.engine.driver import run
 from ...mapimpl.engine.observers import Sample
-from ...mapimpl.impact_map import ACTIVE, MapState, make_state, step
-from ...mapimpl.orbit import check_tau0
-from ...mapimpl.params import ParamArrays, Params, validate_arrays
+from ...core.status import Status
+from ...mapimpl.impact_map import step
+from ...core.state import MapState, make_state
+from ...core.checks import check_int, check_tau0
+from ...core.params import ParamArrays, Params, validate_arrays
 
 #: Parameters a diagram can vary.
 DIAGRAM_PARAMS = ("r", "alpha")
 #: Hard caps that keep a run bounded.
 MAX_POINTS = 20000
 MAX_IMPACTS = 50_000_000
-
-
-def check_int(name: str, value, lo: int, hi: int) -> int:
-    """``value`` as an int in ``[lo, hi]`` or ValueError naming ``name`` and the range."""
-    try:
-        v = int(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
-    if v != value or not lo <= v <= hi:
-        raise ValueError(f"{name}={value!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
-    return v
 
 
 def param_arrays(base: Params, name: str, values) -> ParamArrays:
@@ -68,7 +59,7 @@ def _sweep(st0: MapState, p: ParamArrays, transient: int, keep: int):
 
         def body(x, _):
             x1, _info = step(x, pp)
-            return x1, (x1.sdot, x1.theta, x1.status == ACTIVE)
+            return x1, (x1.sdot, x1.theta, x1.status == Status.ACTIVE)
 
         s, rec = jax.lax.scan(body, s, None, length=keep)
         return s, rec

@@ -32,13 +32,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...mapimpl import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ...mapimpl.flight import TWO_PI
-from ...mapimpl.impact_map import make_state, step
-from ...mapimpl.params import ParamArrays, Params, check_value
+from ...core.phase import TWO_PI
+from ...mapimpl.impact_map import step
+from ...core.state import make_state
+from ...core.params import ParamArrays, Params, check_value
 from ...mapimpl.periodic import find_periodic, pfold
 
 #: Parameters that can be continued.

@@ -29,17 +29,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...mapimpl import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
 from ...mapimpl.engine.driver import run
 from ...mapimpl.engine.observers import Tangent
-from ...mapimpl.impact_map import make_state, step
-from ...mapimpl.orbit import check_tau0
-from ...mapimpl.status import Orbit
-from ...mapimpl.params import Params
-from .bifurcation import check_int, param_arrays
+from ...mapimpl.impact_map import step
+from ...core.state import make_state
+from ...core.checks import check_tau0
+from ...core.status import Status
+from ...core.params import Params
+from .bifurcation import param_arrays
+from ...core.checks import check_int
 
 
 @dataclass
@@ -94,7 +96,7 @@ def lyapunov(base: Params, param: str, values, n: int = 20000, transient: int = 
     res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
               tuple(p), Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
     t = res.obs[0]
-    active = np.isin(res.status, (int(Orbit.STOPPED), int(Orbit.CAPPED)))
+    active = np.isin(res.status, (int(Status.STOPPED), int(Status.CAPPED)))
     n_st, n_ok = t["n_stuck"].astype(int), t["n_free"].astype(int)
     lam_free = t["log_r"] / np.maximum(n_ok, 1)[:, None]
     lam = np.where(n_st[:, None] > 0, -np.inf, lam_free)

@@ -16,13 +16,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...mapimpl import _jax  # noqa: F401
+from ...core import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from ...mapimpl.flight import TWO_PI, flight
+from ...mapimpl.flight import flight
+from ...core.phase import TWO_PI
 from ...mapimpl.orbit import map_orbit
-from ...mapimpl.results import ImpactSequence
-from ...mapimpl.params import Params
+from ...core.results import ImpactSequence
+from ...core.params import Params
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
 FIGURE_R = {"fig5": 0.82144, "fig6": 0.82145, "fig7": 0.74001}

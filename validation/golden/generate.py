@@ -25,7 +25,7 @@ from typing import Callable
 
 from flint import arb
 
-from ...mapimpl.params import Params
+from ...core.params import Params
 from ...mapimpl.sticking import STICK_TIME
 from ...mapimpl import certified as cert
 from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
@@ -142,6 +142,7 @@ def finish_release_case(spec: Spec) -> Spec:
     certified post-release duration ``T_post`` for the decimal parameters and for their float64
     roundings (:func:`release.certified_release_duration`, several minutes), the float64 engine's
     own ``T_post``, ``delta`` and the capture target."""
+    from ...core.paper import DELTA, PAPER_DECIMAL
     from ...mapimpl import certified as rel
     from ..transient import float64_release as fl64
 
@@ -152,7 +153,7 @@ def finish_release_case(spec: Spec) -> Spec:
     n = horizon(lam)
     cert_notes = {}
     for rounding in rel.ROUNDINGS:
-        d = rel.certified_release_duration(rel.PAPER_DECIMAL, 0, rounding=rounding)
+        d = rel.certified_release_duration(PAPER_DECIMAL, 0, rounding=rounding)
         if d.status != "captured" or not d.confirmed:
             raise cert.CertificationError(f"release case: T_post ({rounding}) not certified: {d.summary()}")
         cert_notes[rounding] = {
@@ -178,8 +179,8 @@ def finish_release_case(spec: Spec) -> Spec:
         "T_post_certified": cert_notes,
         "T_post_float64_engine": {"value": f64["value"], "meaning": "the float64 engine's own T_post: a sample of "
                                   "a chaotic orbit, not a value (the float64 orbit leaves the true one after "
-                                  f"~{fl64.float64_horizon(lam, rel.DELTA):.0f} impacts at this lambda1)"},
-        "capture_delta": rel.DELTA,
+                                  f"~{fl64.float64_horizon(lam, DELTA):.0f} impacts at this lambda1)"},
+        "capture_delta": DELTA,
         "capture_target": target.as_dict() | {"source": "float64 4-impact period-1 orbit of "
                                                "mapimpl.engine.transients.periodic_target, taken as exact numbers"},
     })
@@ -316,7 +317,7 @@ def _versions() -> dict:
     import scipy
     import jax
 
-    from ...mapimpl._jax import xla_tuning_active
+    from ...core._jax import xla_tuning_active
 
     return {"python": ".".join(platform.python_version_tuple()[:2]), "python-flint": flint.__version__,
             "numpy": numpy.__version__, "scipy": scipy.__version__, "jax": jax.__version__,
@@ -468,7 +469,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--recertify", action="store_true",
                     help="re-certify the committed cases with their committed settings (no searches)")
     args = ap.parse_args(argv)
-    from ...mapimpl._jax import use_cpu_devices
+    from ...core._jax import use_cpu_devices
 
     use_cpu_devices()  # as the command line does: the engine's float64 samples in the notes are the CLI's
     t0 = time.time()

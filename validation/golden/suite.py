@@ -7,7 +7,7 @@ Layout (one folder per case, as in the SBML test suite)::
     validation/golden/cases/<case-id>/provenance.json  how every number was obtained
 
 An implementation under test writes one ``<case-id>.csv`` per case with the header
-``n,tau,tau_mod_2pi,wall,sdot,kind`` (the :class:`mapimpl.results.ImpactSequence` layout; extra
+``n,tau,tau_mod_2pi,wall,sdot,kind`` (the :class:`core.results.ImpactSequence` layout; extra
 trailing columns are ignored).  :func:`score_case` compares it with ``expected.csv`` column by column.
 This module needs only numpy (no interval library), so ``gear-rattle check`` runs anywhere.
 """
@@ -24,7 +24,7 @@ import numpy as np
 
 #: Where the committed cases live.
 DEFAULT_SUITE = Path(__file__).resolve().parent / "cases"
-#: Columns of an impact-sequence CSV, in order (``mapimpl.results.COLUMNS``, restated: numpy only here).
+#: Columns of an impact-sequence CSV, in order (``core.results.COLUMNS``, restated: numpy only here).
 COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
 #: Extra columns of ``expected.csv``: a proven bound on |printed value - true value|.
 RADIUS_COLUMNS = ("tau_radius", "tau_mod_2pi_radius", "sdot_radius")
@@ -307,7 +307,7 @@ def summary_table(scores: list[CaseScore]) -> str:
 
 
 def sequence_from_impacts(seq, path: str = "<memory>") -> Sequence:
-    """A :class:`Sequence` from a :class:`mapimpl.results.ImpactSequence` (any track)."""
+    """A :class:`Sequence` from a :class:`core.results.ImpactSequence` (any track)."""
     return Sequence(path, np.asarray(seq.n, dtype=np.int64), np.asarray(seq.tau, dtype=float),
                     np.asarray(seq.theta, dtype=float), np.asarray(seq.wall, dtype=np.int64),
                     np.asarray(seq.sdot, dtype=float), np.asarray(seq.kind, dtype=object))
@@ -315,7 +315,7 @@ def sequence_from_impacts(seq, path: str = "<memory>") -> Sequence:
 
 def run_case(case: Case, track: str = "map"):
     """Run one of our tracks on a case's settings; returns the :class:`ImpactSequence`."""
-    from ...mapimpl.params import Params
+    from ...core.params import Params
     from ..tracks import orbit
 
     s = case.settings

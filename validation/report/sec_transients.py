@@ -27,7 +27,7 @@ def _ordinal(k: int) -> str:
 
 
 def build(ctx) -> Section:
-    from ...mapimpl.engine.transients import PAPER_BOX, PAPER_PARAMS
+    from ...core.paper import PAPER_BOX, PAPER_PARAMS
     from ..transient.experiments import basins, float64_horizon, stick_time_sensitivity, transients, uncertainty
 
     sec = Section(KEY, TITLE)

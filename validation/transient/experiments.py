@@ -17,10 +17,11 @@ import numpy as np
 
 from matplotlib.patches import Rectangle
 
-from ...mapimpl.params import Params
+from ...core.params import Params
 from ..figures import subplots
 from . import analysis as A
-from ...mapimpl.engine.transients import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS, grid, transient_times
+from ...mapimpl.engine.transients import grid, transient_times
+from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
 from ...mapimpl.sticking import STICK_TIME
 
 PROFILES = ("quick", "paper")

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import math
 
-from ...mapimpl.certified.capture import DELTA, Target
+from ...core.paper import DELTA
+from ...mapimpl.certified.capture import Target
 from ...mapimpl.certified.release import certify_post_release
-from ...mapimpl.params import Params
+from ...core.params import Params
 from ...mapimpl.sticking import STICK_TIME
 
 
@@ -42,12 +43,12 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
     iteration is ``T_post``).  Returns ``{"value", "status", "tau0", "sdot0", "nstick"}`` (``value``
     None when the orbit is not captured within ``cap``)."""
     from ...mapimpl.engine.transients import transient_times
-    from ...mapimpl.status import ORBIT_NAMES
+    from ...core.status import Status
 
     tau0, sdot0 = stick_at_once_state(params, wall)
     res = transient_times([tau0], [sdot0], params, delta=delta, cap=cap, lanes=1, devices=1, progress=False)
     hit = int(res.hit[0, res.column(delta)])
-    return {"value": hit if hit >= 0 else None, "status": ORBIT_NAMES[int(res.status[0])],
+    return {"value": hit if hit >= 0 else None, "status": Status(int(res.status[0])).label,
             "tau0": tau0, "sdot0": sdot0, "nstick": int(res.nstick[0]), "cap": int(cap)}
 
 
@@ -97,13 +98,16 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
     Returns ``{"lambda1", "impacts_used", "orbits", "orbits_reaching_target"}``."""
     import numpy as np
 
-    from ...mapimpl import _jax  # noqa: F401
+    from ...core import _jax  # noqa: F401
     import jax
     import jax.numpy as jnp
 
     from ...mapimpl.engine.observers import orbit_distance
-    from ...mapimpl.engine.transients import PAPER_BOX, grid, periodic_target
-    from ...mapimpl.impact_map import ACTIVE, make_state, step
+    from ...mapimpl.engine.transients import grid, periodic_target
+    from ...core.paper import PAPER_BOX
+    from ...core.status import Status
+    from ...mapimpl.impact_map import step
+    from ...core.state import make_state
 
     tg = periodic_target(params)
     po_th, po_v, po_w = jnp.asarray(tg.theta), jnp.asarray(tg.sdot), jnp.asarray(tg.wall)
@@ -119,7 +123,7 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
             Qn, R = jnp.linalg.qr(J @ Q)
             dg = jnp.diagonal(R)
             far = orbit_distance(s1.theta, s1.sdot, s1.wall, po_th, po_v, po_w) >= delta_far
-            live1 = live & (s1.status == ACTIVE) & far
+            live1 = live & (s1.status == Status.ACTIVE) & far
             use = live1 & ~info.stuck
             acc = acc + jnp.where(use, jnp.log(jnp.abs(dg[0])), 0.0)
             Qn = jnp.where(use, Qn * jnp.sign(dg)[None, :], jnp.eye(2))

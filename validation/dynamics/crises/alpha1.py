@@ -36,10 +36,10 @@ import math
 
 import numpy as np
 
-from ....mapimpl import _jax  # noqa: F401
+from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import Capture
-from ....mapimpl.params import Params
-from ....mapimpl.status import Orbit
+from ....core.params import Params
+from ....core.status import Status
 from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
                      orbit_points, per_orbit)
 from .profiles import get_profile
@@ -80,9 +80,9 @@ def attractor_ics(branch, alpha_ref: float, n: int, settle: int, seed: int = 0, 
         t0, s0, w0 = box_ics(m, seed + 1000 * attempt)
         r = engine_run(cost, "alpha1: settle on the attractor", t0, s0, w0, base.replace(alpha=alpha_ref), obs,
                        cap=settle)
-        ok = r.status == Orbit.CAPPED
+        ok = r.status == Status.CAPPED
         drawn += m
-        captured += int(np.sum(r.status == Orbit.STOPPED))
+        captured += int(np.sum(r.status == Status.STOPPED))
         out_th += list(r.theta[ok]); out_sd += list(r.sdot[ok]); out_w += list(r.wall[ok])
         if len(out_th) >= n:
             break
@@ -117,7 +117,7 @@ def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | No
         sl = slice(i * m, (i + 1) * m)
         h = hit[sl]
         captured = h[:, 1] >= 0
-        ended = (r.status[sl] != Orbit.CAPPED) & ~captured  # stuck forever / no impact: censored where they ended
+        ended = (r.status[sl] != Status.CAPPED) & ~captured  # stuck forever / no impact: censored where they ended
         rate, dropped = censored_lifetimes(h[:, 1], r.n[sl], n0, level)
         lag = int(np.max(h[captured, 1] - h[captured, 0])) if captured.any() else 0
         out.append({"alpha": float(a), "rate": rate, "dropped": dropped, "approach_lag_max": lag,

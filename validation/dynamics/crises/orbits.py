@@ -17,12 +17,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ....mapimpl import _jax  # noqa: F401
+from ....core import _jax  # noqa: F401
 import jax
 from ....mapimpl.engine.driver import EngineResult, run
-from ....mapimpl.params import Params
+from ....core.params import Params
 from ....mapimpl.periodic import PeriodicOrbit, find_periodic
-from ..bifurcation import check_int
+from ....core.checks import check_int
 from ..continuation import Branch, continue_orbit
 
 #: Starting guesses on the attractors of the paper (any nearby guess works).

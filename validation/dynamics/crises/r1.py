@@ -31,9 +31,9 @@ import math
 
 import numpy as np
 
-from ....mapimpl import _jax  # noqa: F401
+from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
-from ....mapimpl.params import Params
+from ....core.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
 from .profiles import get_profile
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ....mapimpl import _jax  # noqa: F401
+from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import Laminar
-from ....mapimpl.params import Params
+from ....core.params import Params
 from ..continuation import orbit_states
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
 from .profiles import get_profile

@@ -97,9 +97,6 @@ class Params:
         return Params(**d)
 
 
-#: The parameters of the paper's Figs. 3-7 (alpha = 3, beta = gamma = 0.1, r = 0.9).
-PAPER_FIG3 = Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
-
 
 def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:
     """Validate (broadcastable) arrays of parameters; raise ``ValueError`` naming the first bad one."""

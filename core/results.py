@@ -6,12 +6,12 @@ and by diffrax (:mod:`reference`).  They all speak the types defined here:
 
 * :class:`ImpactSequence` -- the events of one orbit (impacts, and the ``"stick"`` / ``"release"``
   rows of the sticking policy) with its CSV and JSON writers (columns :data:`COLUMNS`, kinds
-  :data:`KINDS`, final status one of :data:`ORBIT_STATUSES`);
+  :data:`KINDS`, final status one of :data:`gear_rattle.core.status.TRACK_STATUSES`);
 * :class:`StepJacobian` -- one impact-to-impact step with ``d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)``;
 * :class:`Track` -- what a track offers: ``name``, ``orbit(...)`` and ``step_jacobian(...)``;
   :class:`TrackFunctions` makes one from two functions.
 
-This module depends on nothing but numpy and :class:`mapimpl.params.Params`, so every track (and
+This module depends on nothing but numpy and :class:`core.params.Params`, so every track (and
 the golden suite's file format) can import it.
 """
 
@@ -26,21 +26,13 @@ from typing import Callable, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from .params import Params
-from .status import Orbit, orbit_name
+from .status import Status
 
 #: Event kinds of an :class:`ImpactSequence` row.
 KINDS = ("impact", "stick", "release")
 #: Columns of the CSV form of an :class:`ImpactSequence` (and of the golden suite's files).
 COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
 
-#: Orbit status names (an orbit is ``"active"`` unless it ended).  ``"stuck_forever"``: the tooth
-#: sticks to a wall and the forcing never releases it; ``"no_impact"``: no wall is reached within the
-#: longest flight ``T_MAX``; ``"step_cap"``: a flight needed more solver steps / monotone segments
-#: than allowed.  (The kernels carry integer codes; these are their names in every result.)
-#: These are the lower-case names of the :class:`gear_rattle.mapimpl.status.Orbit` codes.
-STATUS_ACTIVE, STATUS_STUCK_FOREVER, STATUS_NO_IMPACT, STATUS_STEP_CAP = (
-    orbit_name(c) for c in (Orbit.ACTIVE, Orbit.STUCK_FOREVER, Orbit.NO_IMPACT, Orbit.STEP_CAP))
-ORBIT_STATUSES = (STATUS_ACTIVE, STATUS_STUCK_FOREVER, STATUS_NO_IMPACT, STATUS_STEP_CAP)
 
 
 @dataclass
@@ -53,7 +45,7 @@ class ImpactSequence:
 
     ``n``: impact index; ``tau``: elapsed time; ``theta``: tau mod 2 pi; ``wall``: 0 or -1;
     ``sdot``: velocity just before the impact (NaN for stick/release rows); ``kind``: event kind
-    (:data:`KINDS`).  ``status``: final orbit status (:data:`ORBIT_STATUSES`); ``track``: which
+    (:data:`KINDS`).  ``status``: final orbit status (:data:`~gear_rattle.core.status.TRACK_STATUSES`); ``track``: which
     track produced it; ``meta``: the call's arguments and solver options.
     """
 
@@ -64,7 +56,7 @@ class ImpactSequence:
     wall: np.ndarray
     sdot: np.ndarray
     kind: np.ndarray
-    status: str = STATUS_ACTIVE
+    status: str = Status.ACTIVE.label
     track: str = "map"
     meta: dict = field(default_factory=dict)
 
@@ -117,7 +109,7 @@ class StepJacobian(NamedTuple):
     ``tau``, ``sdot``, ``wall``: the next pre-impact state (NaN when the orbit ended in this step);
     ``jac = d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` (2x2; 0 if the step sticks: a sticking step
     forgets its input, NaN if the flight failed); ``stuck``: the step stuck to the wall; ``status``:
-    the orbit status after the step (:data:`ORBIT_STATUSES`).
+    the orbit status after the step (:data:`~gear_rattle.core.status.TRACK_STATUSES`).
     """
 
     tau: float
@@ -157,6 +149,5 @@ class TrackFunctions:
     step_jacobian: Callable[..., StepJacobian]
 
 
-__all__ = ["KINDS", "COLUMNS", "ORBIT_STATUSES", "STATUS_ACTIVE", "STATUS_STUCK_FOREVER",
-           "STATUS_NO_IMPACT", "STATUS_STEP_CAP",
+__all__ = ["KINDS", "COLUMNS",
            "ImpactSequence", "StepJacobian", "Track", "TrackFunctions"]

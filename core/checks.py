@@ -1,0 +1,38 @@
+"""Checks of the inputs every layer validates the same way: a ``ValueError`` naming the argument and
+its allowed range."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def check_int(name: str, value, lo: int, hi: int) -> int:
+    """``value`` as an int in ``[lo, hi]`` or ValueError naming ``name`` and the range."""
+    try:
+        v = int(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
+    if v != value or not lo <= v <= hi:
+        raise ValueError(f"{name}={value!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
+    return v
+
+
+#: Largest |tau0| accepted for an initial state (the transient engine's range too).  The phase
+#: reduction (:func:`mapimpl.flight.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
+#: moderate arguments: at |tau0| = 1e6 its error is below an ulp of tau0 (~1e-10); at 1e19 the
+#: phase is garbage and at ~6e19 the whole-turn counter overflows.
+TAU0_MAX = 1e6
+
+#: The allowed range of tau0 in words (for messages).
+TAU0_RANGE = "|tau0| <= " + f"{TAU0_MAX:.0e}".replace("e+0", "e")
+
+
+def check_tau0(tau0: float) -> float:
+    """``tau0`` as a float, or ValueError naming tau0 and the range ``|tau0| <= TAU0_MAX``."""
+    try:
+        t = float(tau0)
+    except (TypeError, ValueError):
+        t = float("nan")
+    if not (np.isfinite(t) and abs(t) <= TAU0_MAX):
+        raise ValueError(f"initial tau0={tau0!r} is out of range: allowed a finite real with {TAU0_RANGE}")
+    return t

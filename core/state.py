@@ -1,0 +1,104 @@
+"""The map state every track steps (a pre-impact state) and how a run of states becomes the result type.
+
+:class:`MapState` is the state just before impact n: phase ``theta`` in ``[0, 2 pi)``, whole turns
+``cycles``, velocity ``sdot`` and the wall being hit (0: ``s = 0``; -1: ``s = -1``), with its orbit
+status (:class:`~.status.Status`).  :class:`StepInfo` is what happened in one step, a
+:class:`Trajectory` the stacked states and infos of many steps, and :func:`sequence_from_states`
+turns one into an :class:`~.results.ImpactSequence`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _jax  # noqa: F401  (float64)
+import jax.numpy as jnp
+
+from .params import Params
+from .phase import TWO_PI, reduce_phase
+from .results import ImpactSequence
+from .status import Status
+
+
+class MapState(NamedTuple):
+    """Pre-impact state of the map (see module docstring); ``status`` is an orbit status code."""
+
+    theta: jnp.ndarray
+    cycles: jnp.ndarray
+    sdot: jnp.ndarray
+    wall: jnp.ndarray
+    status: jnp.ndarray
+
+    @property
+    def tau(self):
+        """Elapsed time ``2 pi cycles + theta`` (float64; loses digits for very long orbits)."""
+        return self.cycles * TWO_PI + self.theta
+
+
+class StepInfo(NamedTuple):
+    """What happened during one map step.
+
+    ``stuck``: the step stuck to the wall (a sticking episode); ``stick_tau`` / ``release_tau``:
+    elapsed times of sticking and release (NaN if none); ``dt``: time from impact n to impact n+1;
+    ``graze``: the new impact touches the wall at zero velocity to within rounding;
+    ``steps``: safe steps of the first-impact search; ``jac``: 2x2 Jacobian (0 if stuck).
+    """
+
+    stuck: jnp.ndarray
+    stick_tau: jnp.ndarray
+    release_tau: jnp.ndarray
+    dt: jnp.ndarray
+    graze: jnp.ndarray
+    steps: jnp.ndarray
+    jac: jnp.ndarray
+
+
+def make_state(tau, sdot, wall=None, status=Status.ACTIVE) -> MapState:
+    """Map state from an elapsed time and pre-impact velocity; the wall follows the sign of ``sdot``
+    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1) unless given."""
+    tau = jnp.asarray(tau, jnp.float64)
+    sdot = jnp.asarray(sdot, jnp.float64)
+    if wall is None:
+        wall = jnp.where(sdot > 0.0, 0, -1)
+    theta, cycles = reduce_phase(tau, jnp.zeros(jnp.shape(tau), jnp.int64))
+    return MapState(theta, cycles, sdot, jnp.asarray(wall, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
+                    jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32))
+
+
+class Trajectory(NamedTuple):
+    """Stacked pre-impact states (leading axis: impact index 1..n) and step infos."""
+
+    states: MapState
+    infos: StepInfo
+
+
+def sequence_from_states(params: Params, first: MapState, traj, track: str = "map", meta=None) -> ImpactSequence:
+    """Build the event table from an initial state and an :func:`mapimpl.impact_map.iterate` result."""
+    st, info = traj.states, traj.infos
+    status = np.asarray(st.status)
+    taus = np.concatenate([[float(first.tau)], np.asarray(st.tau)])
+    sdots = np.concatenate([[float(first.sdot)], np.asarray(st.sdot)])
+    walls = np.concatenate([[int(first.wall)], np.asarray(st.wall)])
+    alive = np.concatenate([[int(first.status) == Status.ACTIVE], status == Status.ACTIVE])
+    stuck = np.asarray(info.stuck)
+    stick_tau, rel_tau = np.asarray(info.stick_tau), np.asarray(info.release_tau)
+    rows_n, rows_t, rows_w, rows_v, rows_k = [], [], [], [], []
+    for i in range(len(taus)):
+        if not alive[i]:
+            break
+        rows_n.append(i); rows_t.append(taus[i]); rows_w.append(walls[i]); rows_v.append(sdots[i]); rows_k.append("impact")
+        if i < len(stuck) and stuck[i]:
+            rows_n.append(i); rows_t.append(stick_tau[i]); rows_w.append(walls[i]); rows_v.append(np.nan)
+            rows_k.append("stick")
+            if np.isfinite(rel_tau[i]):
+                rows_n.append(i); rows_t.append(rel_tau[i]); rows_w.append(walls[i]); rows_v.append(np.nan)
+                rows_k.append("release")
+    final = int(first.status) if int(first.status) != Status.ACTIVE else (int(status[-1]) if len(status) else Status.ACTIVE)
+    t = np.asarray(rows_t, dtype=np.float64)
+    return ImpactSequence(
+        params=params, n=np.asarray(rows_n, dtype=np.int64), tau=t, theta=np.mod(t, TWO_PI),
+        wall=np.asarray(rows_w, dtype=np.int64), sdot=np.asarray(rows_v, dtype=np.float64),
+        kind=np.asarray(rows_k), status=Status(final).label, track=track, meta=dict(meta or {}),
+    )
