@@ -36,3 +36,14 @@ def check_tau0(tau0: float) -> float:
     if not (np.isfinite(t) and abs(t) <= TAU0_MAX):
         raise ValueError(f"initial tau0={tau0!r} is out of range: allowed a finite real with {TAU0_RANGE}")
     return t
+
+
+def start_wall(wall: int | None, sdot: float) -> int:
+    """The wall of the pre-impact state ``(tau, sdot)`` a step starts from (``step_jacobian`` of every
+    track): ``wall`` (0 or -1) or, if None, the one ``sdot`` points to (``sdot > 0``: 0, else -1).
+    ``ValueError`` for another value."""
+    if wall is None:
+        return 0 if sdot > 0 else -1
+    if isinstance(wall, bool) or wall not in (0, -1):
+        raise ValueError(f"wall={wall!r} is out of range: allowed 0 (s = 0) or -1 (s = -1)")
+    return int(wall)

@@ -115,3 +115,17 @@ def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:
             _check(name, False, float(first))
         out.append(jnp.asarray(a))
     return ParamArrays(*out)
+
+
+#: Parameters a diagram or an exponent scan can vary (:func:`param_arrays`).
+DIAGRAM_PARAMS = ("r", "alpha")
+
+
+def param_arrays(base: Params, name: str, values) -> ParamArrays:
+    """ParamArrays with ``name`` set to the array ``values`` (validated) and the others from ``base``."""
+    if name not in DIAGRAM_PARAMS:
+        raise ValueError(f"parameter {name!r} is out of range: allowed one of {DIAGRAM_PARAMS}")
+    v = np.atleast_1d(np.asarray(values, dtype=np.float64))
+    d = {k: np.full(v.shape, getattr(base, k)) for k in ("alpha", "beta", "gamma", "r")}
+    d[name] = v
+    return validate_arrays(d["alpha"], d["beta"], d["gamma"], d["r"])

@@ -28,6 +28,9 @@ import numpy as np
 from .params import Params
 from .status import Status
 
+#: The tracks that compute an orbit: the closed-form map (:mod:`gear_rattle.mapimpl`) and two numerical
+#: integrations of Eq. (3) (:mod:`gear_rattle.reference`); :func:`gear_rattle.mapimpl.tracks.get` returns one.
+TRACKS = ("map", "scipy", "diffrax")
 #: Event kinds of an :class:`ImpactSequence` row.
 KINDS = ("impact", "stick", "release")
 #: Columns of the CSV form of an :class:`ImpactSequence` (and of the golden suite's files).
@@ -149,5 +152,5 @@ class TrackFunctions:
     step_jacobian: Callable[..., StepJacobian]
 
 
-__all__ = ["KINDS", "COLUMNS",
+__all__ = ["TRACKS", "KINDS", "COLUMNS",
            "ImpactSequence", "StepJacobian", "Track", "TrackFunctions"]

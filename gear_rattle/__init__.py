@@ -3,10 +3,15 @@ Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-772.
 
 The installed namespace has three parts (the repository's top-level folders):
 
+* :mod:`gear_rattle.core` -- the vocabulary every layer shares: parameters, status codes, result types,
+  the paper's settings;
 * :mod:`gear_rattle.mapimpl` -- the closed-form flight (Eqs. 7-8), the certified impact finder, the
-  impact map (Eqs. 12-13) with its Jacobian, periodic orbits and the many-orbit engine (JAX, float64);
+  impact map (Eqs. 12-13) with its Jacobian, periodic orbits, Lyapunov exponents, the many-orbit
+  engine (JAX, float64), the certified track in ball arithmetic and the registry of tracks;
 * :mod:`gear_rattle.reference` -- Eq. (3) integrated numerically (scipy and diffrax tracks);
 * :mod:`gear_rattle.validation` -- cross-checks, the reproduction of the paper, the CLI and the report.
+
+The layers and who may import whom: docs/architecture.md.
 
 This module is a small facade over the most used entry points::
 
@@ -24,6 +29,7 @@ from importlib import metadata as _metadata
 
 from .core._jax import use_cpu_devices
 from .core.params import Params
+from .core.results import TRACKS
 
 try:
     #: The installed distribution's version (``gear-rattle --version``).
@@ -33,8 +39,6 @@ except _metadata.PackageNotFoundError:  # a source tree on sys.path without an i
 
 __all__ = ["__version__", "Params", "orbit", "find_periodic", "lyapunov", "transient_times", "use_cpu_devices", "TRACKS"]
 
-#: The tracks that compute an orbit: the closed-form map and two numerical integrations of Eq. (3).
-TRACKS = ("map", "scipy", "diffrax")
 
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: str = "map",
@@ -42,7 +46,7 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: s
     """Impact sequence of one orbit (:class:`gear_rattle.core.results.ImpactSequence`) on ``track``:
     impact 0 is the pre-impact state ``(tau0, sdot0)`` (or, with ``s0``, the first impact of the
     free flight from ``(tau0, s0, sdot0)``), then ``n_impacts`` further impacts."""
-    from .validation.tracks import orbit as _orbit
+    from .mapimpl.tracks import orbit as _orbit
 
     return _orbit(track, params, tau0, sdot0, n_impacts, s0=s0, **options)
 
@@ -57,11 +61,9 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
 
 def lyapunov(params: Params, param: str = "r", values=None, **options):
     """Lyapunov exponents of the impact map (QR method) at ``values`` of ``param`` (default: the
-    value in ``params``); see :func:`gear_rattle.validation.dynamics.lyapunov.lyapunov`."""
-    from .validation.dynamics.lyapunov import lyapunov as _lyap
+    value in ``params``); see :func:`gear_rattle.mapimpl.lyapunov.lyapunov`."""
+    from .mapimpl.lyapunov import lyapunov as _lyap
 
-    if values is None:
-        values = [getattr(params, param)]
     return _lyap(params, param, values, **options)
 
 

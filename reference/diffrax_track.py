@@ -44,6 +44,7 @@ import optimistix as optx
 from ..core.phase import reduce_phase
 from ..core.state import MapState, make_state
 from ..core.state import sequence_from_states
+from ..core.checks import start_wall
 from ..core.params import ParamArrays, Params
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
@@ -341,7 +342,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     is the impact after the release, NaN if stuck forever); a flight without impact gives NaN."""
     validate_start(params, tau_n, sdot_n, 1, None)
     opts = options(**opt)
-    wall = ev.start_wall(wall, sdot_n)
+    wall = start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(jnp.asarray(float(tau_n)), jnp.asarray(0, jnp.int64))
     p = params.arrays()
     dec = decide_stick(theta, wall, float(sdot_n), *p)

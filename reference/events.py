@@ -190,19 +190,8 @@ def pre_impact_wall(s0: float, sdot0: float, a0: float) -> int | None:
     return None
 
 
-def start_wall(wall: int | None, sdot: float) -> int:
-    """The wall of the pre-impact state ``(tau, sdot)`` a step starts from (``step_jacobian`` of every
-    track): ``wall`` (0 or -1) or, if None, the one ``sdot`` points to (``sdot > 0``: 0, else -1).
-    ``ValueError`` for another value."""
-    if wall is None:
-        return UPPER_WALL if sdot > 0 else LOWER_WALL
-    if isinstance(wall, bool) or wall not in (UPPER_WALL, LOWER_WALL):
-        raise ValueError(f"wall={wall!r} is out of range: allowed 0 (s = 0) or -1 (s = -1)")
-    return int(wall)
-
-
 __all__ = ["T_MAX", "MAX_SEGMENTS", "START_SPEED", "UPPER_WALL", "LOWER_WALL", "DIRECTION", "TERMINAL",
            "WALL_REACHED", "REVERSAL", "MISSED_CROSSING", "OPEN_END",
            "select", "wall_ahead", "wall_condition", "reversal_condition",
            "wall_rate", "reversal_rate", "condition", "condition_rate", "newton_step", "beyond_wall", "segment_end",
-           "initial_direction", "restart_direction", "start_velocity", "pre_impact_wall", "start_wall"]
+           "initial_direction", "restart_direction", "start_velocity", "pre_impact_wall"]

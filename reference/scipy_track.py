@@ -64,6 +64,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from ..core.checks import start_wall
 from ..core.params import Params
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
@@ -388,7 +389,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     opts = Options(rtol, atol, max_step, t_max)
     validate_start(params, tau_n, sdot_n, 1, None)
     p = params
-    wall = ev.start_wall(wall, sdot_n)
+    wall = start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(float(tau_n), 0)
     sdot_n = float(sdot_n)
     stick, _, delay, phase = stick_decision(theta, wall, sdot_n, p)

@@ -246,10 +246,10 @@ def test_cli_bad_integer_exit_2(capsys):
 @pytest.mark.slow
 def test_paper_scans_agree_with_the_1d_lyapunov_code():
     """The atlas along Fig. 4 (alpha = 3, r-scan) and Fig. 8 (r = 0.9, alpha-scan) against
-    ``validation.dynamics.lyapunov`` (the code of ``gear-rattle lyapunov``) from the same initial condition,
+    ``mapimpl.lyapunov`` (the code of ``gear-rattle lyapunov``) from the same initial condition,
     transient and length, and against the paper's description of both figures."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.dynamics.lyapunov import lyapunov
+    from gear_rattle.mapimpl.lyapunov import lyapunov
 
     n, tr = 4000, 2000
     scans = {}

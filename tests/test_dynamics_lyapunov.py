@@ -6,7 +6,7 @@ import pytest
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.periodic import find_periodic
 from gear_rattle.validation.dynamics.crises import attractor_point
-from gear_rattle.validation.dynamics.lyapunov import lyapunov, raw_product_overflow
+from gear_rattle.mapimpl.lyapunov import lyapunov, raw_product_overflow
 
 #: ln of the largest float64, 1.8e308
 LN_DBL_MAX = float(np.log(np.finfo(np.float64).max))

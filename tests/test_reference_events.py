@@ -130,10 +130,12 @@ def test_pre_impact_wall(s0, sdot0, a0, wall):
 
 
 def test_start_wall():
-    assert ev.start_wall(None, 0.4) == 0 and ev.start_wall(None, -0.4) == -1 and ev.start_wall(-1, 0.4) == -1
+    from gear_rattle.core.checks import start_wall
+
+    assert start_wall(None, 0.4) == 0 and start_wall(None, -0.4) == -1 and start_wall(-1, 0.4) == -1
     for bad in (1, -2, True, 0.5):
         with pytest.raises(ValueError, match="wall=.* is out of range: allowed 0"):
-            ev.start_wall(bad, 0.4)
+            start_wall(bad, 0.4)
 
 
 @pytest.mark.parametrize("sigma", [UP, DOWN])

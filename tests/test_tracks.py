@@ -1,4 +1,4 @@
-"""The Track protocol and the registry (validation/tracks.py), and the shared result types
+"""The Track protocol and the registry (mapimpl/tracks.py), and the shared result types
 (core/results.py): every track -- the closed-form map (Eqs. 12-13) and Eq. (3) integrated by
 scipy and by diffrax -- offers ``orbit`` and ``step_jacobian`` with the same signatures, result
 types and conventions."""
@@ -20,7 +20,7 @@ from gear_rattle.mapimpl.orbit import map_orbit
 from gear_rattle.core.params import Params
 from gear_rattle.core.results import COLUMNS, KINDS, ImpactSequence, StepJacobian, Track
 from gear_rattle.core.status import TRACK_STATUSES
-from gear_rattle.validation import tracks as T
+from gear_rattle.mapimpl import tracks as T
 from refhelpers import JAC_TOL
 
 PAPER = Params(3.0, 0.1, 0.1, 0.9)          # Fig. 3's chaotic attractor
@@ -51,7 +51,7 @@ def test_registry_errors():
 
 
 def test_the_registry_imports_diffrax_lazily():
-    code = ("import sys, gear_rattle.validation.tracks as T; T.get('map'); T.get('scipy'); "
+    code = ("import sys, gear_rattle.mapimpl.tracks as T; T.get('map'); T.get('scipy'); "
             "print('diffrax' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

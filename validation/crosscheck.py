@@ -61,7 +61,7 @@ class OneStep:
 def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
                        tracks=("scipy", "diffrax")) -> list[OneStep]:
     """Next impact from ``n`` random pre-impact states on the map and on the numerical tracks."""
-    from .tracks import orbit
+    from ..mapimpl.tracks import orbit
 
     cases = random_cases(n, seed)
     res = {t: {"tau": [], "sdot": [], "mis": 0, "graze": 0} for t in tracks}
@@ -105,7 +105,7 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
     skipped): each track's :meth:`~core.results.Track.step_jacobian` -- the map's analytic one
     (implicit differentiation of Eqs. 12-13), scipy's variational flow x saltation matrix and
     ``jax.jacfwd`` through the diffrax event solve."""
-    from .tracks import get
+    from ..mapimpl.tracks import get
 
     ref, routes = get("map"), {t: get(t) for t in ("scipy", "diffrax")}
     err = {t: [] for t in routes}

@@ -20,7 +20,7 @@ key             dtype      meaning
 ==============  =========  ===========================================================================
 
 Conventions: an orbit that *ends* (status != 0 at the end of the run) has ``lambda1 = lambda2 = NaN``
-and ``p = m = 0``; an orbit with a sticking step (``J = 0``, :mod:`validation.dynamics.lyapunov`) in the
+and ``p = m = 0``; an orbit with a sticking step (``J = 0``, :mod:`mapimpl.lyapunov`) in the
 Lyapunov window has ``lambda1 = lambda2 = -inf`` (the formal value: the product of Jacobians vanishes),
 and its period is still looked for.  The result of a point depends only on that point and the spec, not
 on the other points of the batch, their number or order (this is what makes the atlas independent of

@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
                             args.tau0, args.sdot0, args.reverse, progress=Progress("bifurcation", not args.quiet))
     lyap = None
     if args.lyapunov:
-        from ..dynamics.lyapunov import lyapunov
+        from ...mapimpl.lyapunov import lyapunov
 
         res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))

@@ -41,7 +41,7 @@ def _self_outputs(cases, track: str, write: str | None):
         if track != "map":
             import importlib
 
-            from ..tracks import _MODULES
+            from ...mapimpl.tracks import _MODULES
 
             importlib.import_module(_MODULES[track])
     except ImportError as e:

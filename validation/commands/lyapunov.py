@@ -35,7 +35,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..dynamics.lyapunov import lyapunov
+    from ...mapimpl.lyapunov import lyapunov
     from ...mapimpl.progress import Progress
 
     base = params_from(args)

@@ -35,7 +35,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..tracks import orbit
+    from ...mapimpl.tracks import orbit
 
     params = params_from(args)
     check_output_file(args.output, "--output")

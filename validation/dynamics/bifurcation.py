@@ -32,23 +32,11 @@ from ...core.status import Status
 from ...mapimpl.impact_map import step
 from ...core.state import MapState, make_state
 from ...core.checks import check_int, check_tau0
-from ...core.params import ParamArrays, Params, validate_arrays
+from ...core.params import ParamArrays, Params, param_arrays
 
-#: Parameters a diagram can vary.
-DIAGRAM_PARAMS = ("r", "alpha")
 #: Hard caps that keep a run bounded.
 MAX_POINTS = 20000
 MAX_IMPACTS = 50_000_000
-
-
-def param_arrays(base: Params, name: str, values) -> ParamArrays:
-    """ParamArrays with ``name`` set to the array ``values`` (validated) and the others from ``base``."""
-    if name not in DIAGRAM_PARAMS:
-        raise ValueError(f"parameter {name!r} is out of range: allowed one of {DIAGRAM_PARAMS}")
-    v = np.atleast_1d(np.asarray(values, dtype=np.float64))
-    d = {k: np.full(v.shape, getattr(base, k)) for k in ("alpha", "beta", "gamma", "r")}
-    d[name] = v
-    return validate_arrays(d["alpha"], d["beta"], d["gamma"], d["r"])
 
 
 @partial(jax.jit, static_argnums=(2, 3))

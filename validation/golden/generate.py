@@ -78,7 +78,7 @@ class Spec:
 
 
 def _first_impact(params: Params, tau0: float, sdot0: float):
-    from ..tracks import orbit
+    from ...mapimpl.tracks import orbit
 
     seq = orbit("map", params, tau0, sdot0, 1)
     return int(seq.wall[1]), float(seq.sdot[1])
@@ -117,7 +117,7 @@ def near_miss_sdot0(params: Params, tau0: float, lo: float, hi: float, offset: f
 def chaos_horizon(params: Params) -> tuple[int, float]:
     """Impacts ``n`` with ``CHAOS_ERR0 * exp(lambda1 n) * CHAOS_SAFETY <= CHAOS_TOL`` (lambda1 per impact,
     QR method over 5000 impacts after 500, rounded to 3 decimals)."""
-    from ..dynamics.lyapunov import lyapunov
+    from ...mapimpl.lyapunov import lyapunov
 
     lam = float(lyapunov(params, "r", [params.r], n=5000, transient=500).lam[0, 0])
     lam = round(lam, 3)

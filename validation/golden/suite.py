@@ -316,7 +316,7 @@ def sequence_from_impacts(seq, path: str = "<memory>") -> Sequence:
 def run_case(case: Case, track: str = "map"):
     """Run one of our tracks on a case's settings; returns the :class:`ImpactSequence`."""
     from ...core.params import Params
-    from ..tracks import orbit
+    from ...mapimpl.tracks import orbit
 
     s = case.settings
     p = Params(**s["params"])

@@ -44,7 +44,7 @@ TS_TRANSIENT = {"fig5": 0, "fig6": 2000, "fig7": 2000}
 
 def _diagram_with_lyapunov(ctx, sec, fig, param, lo, hi, base, settings, marks):
     from ..dynamics.bifurcation import bifurcation_diagram
-    from ..dynamics.lyapunov import lyapunov
+    from ...mapimpl.lyapunov import lyapunov
 
     n_values = settings["fig4_values" if param == "r" else "fig8_values"]
     d = bifurcation_diagram(base, param, lo, hi, n_values=n_values, transient=settings["transient"],

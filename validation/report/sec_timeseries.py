@@ -27,7 +27,7 @@ def _period(sd: np.ndarray, max_p: int = MAX_PERIOD, atol: float = PERIOD_ATOL) 
 
 
 def build(ctx) -> Section:
-    from ..dynamics.lyapunov import lyapunov
+    from ...mapimpl.lyapunov import lyapunov
     from ..plots import plot_time_series
 
     sec = Section(KEY, TITLE)

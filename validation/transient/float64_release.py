@@ -91,7 +91,7 @@ def float64_departure(params: Params, wall: int = 0, n: int = 300, prec: int = 1
 def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, delta_far: float = 1e-2,
                        box=None) -> dict:
     """Largest Lyapunov exponent of the *transient* (the chaotic saddle), per impact: QR method
-    (:mod:`validation.dynamics.lyapunov`) along the orbits of an ``n_side`` x ``n_side`` cell-centred
+    (:mod:`mapimpl.lyapunov`) along the orbits of an ``n_side`` x ``n_side`` cell-centred
     grid of the Fig. 11 box, counting only the impacts before the orbit first comes within
     ``delta_far`` of the 4-impact target and no sticking step (Q restarts there).
 

@@ -20,15 +20,13 @@ from ..core import _jax  # noqa: F401
 import jax
 
 from ..core.status import Status
-from ..mapimpl.impact_map import step
+from .impact_map import step
 from ..core.state import make_state
-from ..mapimpl.orbit import initial_state, map_orbit
+from .orbit import initial_state, map_orbit
+from ..core.checks import start_wall
 from ..core.params import Params
-from ..core.results import ImpactSequence, StepJacobian, Track, TrackFunctions
-from ..reference.events import start_wall
+from ..core.results import TRACKS, ImpactSequence, StepJacobian, Track, TrackFunctions
 
-#: The track names, the closed form first.
-TRACKS = ("map", "scipy", "diffrax")
 #: Where the numerical tracks live (each module defines ``TRACK``).
 _MODULES = {"scipy": "gear_rattle.reference.scipy_track", "diffrax": "gear_rattle.reference.diffrax_track"}
 

@@ -29,19 +29,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ...mapimpl.engine.driver import run
-from ...mapimpl.engine.observers import Tangent
-from ...mapimpl.impact_map import step
-from ...core.state import make_state
-from ...core.checks import check_tau0
-from ...core.status import Status
-from ...core.params import Params
-from .bifurcation import param_arrays
-from ...core.checks import check_int
+from ..core.checks import check_int, check_tau0
+from ..core.params import DIAGRAM_PARAMS, Params, param_arrays
+from ..core.state import make_state
+from ..core.status import Status
+from .engine.driver import run
+from .engine.observers import Tangent
+from .impact_map import step
 
 
 @dataclass
@@ -80,18 +78,21 @@ class LyapunovResult:
         return "\n".join(rows) + "\n"
 
 
-def lyapunov(base: Params, param: str, values, n: int = 20000, transient: int = 1000, tau0: float = 0.0,
+def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transient: int = 1000, tau0: float = 0.0,
              sdot0: float = 0.5, progress=None) -> LyapunovResult:
     """Lyapunov exponents (QR method) of the orbit from ``(tau0, sdot0)`` at each value of ``param``
     (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts: one orbit per value on the
-    many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer)."""
+    many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer).  ``values``:
+    default the value of ``param`` in ``base`` (one orbit)."""
     n = check_int("n", n, 1, 50_000_000)
     transient = check_int("transient", transient, 0, 50_000_000)
     if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):
         raise ValueError(f"sdot0={sdot0!r} is out of range: allowed finite sdot0 != 0 (and finite tau0)")
     check_tau0(tau0)
+    if values is None and param in DIAGRAM_PARAMS:
+        values = [getattr(base, param)]
+    p = param_arrays(base, param, values)  # ValueError for another param
     values = np.atleast_1d(np.asarray(values, dtype=np.float64))
-    p = param_arrays(base, param, values)
     m = values.size
     res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
               tuple(p), Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
