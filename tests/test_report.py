@@ -19,7 +19,7 @@ import pytest
 
 from gear_rattle.validation.report import builder
 from gear_rattle.validation.report.document import Section, check_keys, md_slug, render_html, render_markdown
-from gear_rattle.validation.report.paper import KINDS, PAPER, PaperValue
+from gear_rattle.validation.paper import KINDS, PAPER, PaperValue
 from gear_rattle.validation.report.verdict import (AGREES, DISAGREES, NOT_COMPARED, Z_AGREE, compare, compare_bound,
                                                    compare_value, internal_check, row)
 
@@ -76,7 +76,7 @@ def test_paper_bounds_and_values_as_the_paper_states_them():
 
 
 def test_sections_take_the_paper_numbers_from_paper_py():
-    """No section types a number the paper states (they read validation/report/paper.py)."""
+    """No section types a number the paper states (they read validation/paper.py)."""
     import gear_rattle.validation.report as rep
 
     folder = Path(rep.__file__).parent

@@ -231,9 +231,9 @@ def fig11_paper(tmp_path_factory):
 
 
 def _z(computed, error, key):
-    """z-score of our value against the paper's (Eq. 14 values of validation/report/paper.py), with
+    """z-score of our value against the paper's (Eq. 14 values of validation/paper.py), with
     our error bar and the paper's (stated error, or the rounding of its last printed digit)."""
-    from gear_rattle.validation.report.paper import PAPER
+    from gear_rattle.validation.paper import PAPER
 
     pv = PAPER[key]
     return (computed - pv.value) / np.hypot(error, pv.sigma)

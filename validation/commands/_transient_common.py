@@ -6,13 +6,14 @@ import argparse
 import json
 
 from ..cliutil import add_param_args, check_output_dir, positive_int, real
+from ...core.paper import PAPER_PARAMS
 
 #: Most orbits advanced together per device.
 MAX_LANES = 65536
 
 
 def add_common(p: argparse.ArgumentParser) -> None:
-    add_param_args(p, alpha=1.245, beta=0.1, gamma=0.1, r=0.9)
+    add_param_args(p, **{k: getattr(PAPER_PARAMS, k) for k in ("alpha", "beta", "gamma", "r")})
     p.add_argument("--profile", choices=("quick", "paper"), default="quick",
                    help="quick: small (< 1 min); paper: the paper's scale (default quick)")
     p.add_argument("--delta", type=real("--delta", lo=0.0, lo_open=True, hi=1.0), default=1e-3,

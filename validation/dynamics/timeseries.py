@@ -24,9 +24,10 @@ from ...core.phase import TWO_PI
 from ...mapimpl.orbit import map_orbit
 from ...core.results import ImpactSequence
 from ...core.params import Params
+from ..paper import PAPER
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
-FIGURE_R = {"fig5": 0.82144, "fig6": 0.82145, "fig7": 0.74001}
+FIGURE_R = {"fig5": PAPER["r2"].value, "fig6": PAPER["r2_fig6"].value, "fig7": PAPER["r1"].value}
 _TP = float(TWO_PI)
 
 

@@ -25,6 +25,7 @@ from typing import Callable
 
 from flint import arb
 
+from ...core.paper import PAPER_PARAMS
 from ...core.params import Params
 from ...mapimpl.sticking import STICK_TIME
 from ...mapimpl import certified as cert
@@ -34,7 +35,7 @@ from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, 
 FIG2 = Params(0.5, 0.1, 0.1, 0.9)
 FIG3 = Params(3.0, 0.1, 0.1, 0.9)
 #: The transient setting of Figs. 9-11 (float64 values of the printed decimals).
-FIG11 = Params(1.245, 0.1, 0.1, 0.9)
+FIG11 = PAPER_PARAMS
 #: Phase of the release case's initial state: the centre of the Fig. 11 box in tau (3.0 < tau0 < 3.5).
 RELEASE_TAU0 = 3.25
 

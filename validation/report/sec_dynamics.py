@@ -17,7 +17,7 @@ import numpy as np
 from ...mapimpl import Params
 from ..figures import subplots
 from .document import Section
-from .paper import PAPER
+from ..paper import PAPER
 from .verdict import row
 
 KEY = "dynamics"

@@ -6,11 +6,12 @@ from __future__ import annotations
 import math
 
 from .document import Section
-from .paper import PAPER
+from ..paper import PAPER
 from .verdict import row
+from ...core.paper import PAPER_PARAMS
 
 KEY = "transients"
-TITLE = "Figs. 9-11: transient basins, uncertainty exponents, transient-time statistics (alpha = 1.245)"
+TITLE = f"Figs. 9-11: transient basins, uncertainty exponents, transient-time statistics (alpha = {PAPER_PARAMS.alpha!r})"
 
 #: Uncertainty thresholds n of Fig. 10 and the paper values they are compared with.
 PHI_KEYS = {500: "phi_500", 1000: "phi_1000"}

@@ -24,7 +24,7 @@ import math
 from dataclasses import dataclass
 from numbers import Real
 
-from .paper import PAPER, PaperValue
+from ..paper import PAPER, PaperValue
 
 AGREES, DISAGREES, NOT_COMPARED = "agrees", "disagrees", "not compared"
 VERDICTS = (AGREES, DISAGREES, NOT_COMPARED)

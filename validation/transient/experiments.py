@@ -23,6 +23,7 @@ from . import analysis as A
 from ...mapimpl.engine.transients import grid, transient_times
 from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
 from ...mapimpl.sticking import STICK_TIME
+from ..paper import PAPER
 
 PROFILES = ("quick", "paper")
 BASIN_NS = (90, 500, 1000, 2000)
@@ -344,7 +345,7 @@ def transients(outdir="out/transients", profile="quick", nx=None, ny=None, cap=N
     ax.set_xlabel("n")
     ax.set_ylabel("N(n): orbits still transient")
     ax.set_title(f"Fig. 11: {nx}x{ny} mesh, cap {cap}, IC {ic_mode}, T_post {release} "
-                 "(paper: <n>=2272, kappa=0.893)", fontsize=9)
+                 f"(paper: <n>={PAPER['mean_n'].printed}, kappa={PAPER['kappa'].printed})", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "fig11_survival.png", dpi=110)
@@ -355,7 +356,7 @@ def transients(outdir="out/transients", profile="quick", nx=None, ny=None, cap=N
                "fits_float64_sample": fit_sample.as_dict() if fit_sample is not None else None,
                "stick_counts": stick_counts(res, delta), "n_composed": int(composed.sum()),
                "release": release_info,
-               "paper": {"mean_n": 2272, "kappa": [0.893, 0.001]}, "engine": res.summary()}
+               "paper": {"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]}, "engine": res.summary()}
     (out / "transients.json").write_text(json.dumps(summary, indent=1))
     return summary
 

@@ -44,11 +44,13 @@ from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact
                      orbit_points, per_orbit)
 from .profiles import get_profile
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
+from ....core.paper import DELTA, PAPER_PARAMS
+from ...paper import PAPER
 
 #: The paper's value (Section 4): "alpha1 ~ 1.24370".
-PAPER_ALPHA1 = 1.24370
-#: Capture distance (sup norm, as in Figs. 9-11) and the wider approach distance recorded beside it.
-DELTA, APPROACH = 1e-3, 2e-2
+PAPER_ALPHA1 = PAPER["alpha1"].value
+#: The wider approach distance recorded beside the capture distance (core.paper.DELTA, as in Figs. 9-11).
+APPROACH = 2e-2
 #: Counting starts at this impact (left truncation).
 N0 = 100
 #: Length (transient + recorded impacts) of a bifurcation diagram like Fig. 8's in this project's
@@ -216,7 +218,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         a, k, E = _arrays(rows)
         brk = bracket(a, k, E, "above", min_exposure=strong)
         margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
-        node = orbit_on_branch(br, 1.245, "node")
+        node = orbit_on_branch(br, PAPER_PARAMS.alpha, "node")
     stat = goy.err
     total = math.hypot(stat, syst_goy)
     where = locate(goy.mu_c, total, brk, margin if np.isfinite(margin) else 0.0)

@@ -38,9 +38,10 @@ from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch,
 from .profiles import get_profile
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
                     range_systematic)
+from ...paper import PAPER
 
 #: The paper's Fig. 7: r = 0.74001 "<~ r1".
-PAPER_R1_FIG7 = 0.74001
+PAPER_R1_FIG7 = PAPER["r1"].value
 #: Band-hop criterion (BandEscape): 6 bands once per period, threshold on the return time, impacts in.
 BANDS, THRESHOLD, MIN_INSIDE = 6, 0.6, 60
 #: Counting starts at this impact.

@@ -29,9 +29,10 @@ from ..continuation import orbit_states
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
 from .profiles import get_profile
 from .stats import fit_power_law
+from ...paper import PAPER
 
 #: The paper's Fig. 5: r = 0.82144 ">~ r2".
-PAPER_R2_FIG5 = 0.82144
+PAPER_R2_FIG5 = PAPER["r2"].value
 #: Laminar criterion: distance to the fold orbit and the shortest run counted.
 EPS, MIN_LENGTH = 0.05, 12
 
