@@ -22,9 +22,10 @@ def test_suite_covers_the_required_situations():
     tags = set()
     for cid in CASES:
         tags |= set(load_case(DEFAULT_SUITE / cid).settings["tags"])
-    assert 8 <= len(CASES) <= 12
+    assert len(CASES) >= 25
     for t in ("regular", "chaotic", "grazing", "chatter", "sticking", "stuck-forever", "small-beta",
-              "return-to-start-wall", "negative-gamma", "free-flight"):
+              "return-to-start-wall", "negative-gamma", "free-flight", "lower-wall", "no-impact", "elastic",
+              "release-delay", "threshold", "near-miss"):
         assert t in tags, t
 
 
@@ -94,19 +95,24 @@ def test_map_track_passes_every_case(map_outputs, capsys):
 #: the certified enclosure widened by this.  Measured: 6.2e-13 on 0004-grazing-impact (a graze with
 #: pre-impact speed ~1e-3 makes the impact time ill-conditioned, dt ~ ds / v), <= 1.5e-13 elsewhere.
 MAP_SLACK = 2e-12
+#: The same on the graze cases 0020-0023 (an "excursion" in the notes): normal speeds ~5e-5 at the graze
+#: make the impact time ~20x worse conditioned than on 0004, and Fig. 3's chaos amplifies it over the
+#: impacts after: measured 1.1e-10 (0020), 4.4e-12 ... 9.8e-12 (0021-0023).
+MAP_SLACK_GRAZE = 1e-9
 
 
 def test_certified_enclosures_contain_the_map_values(map_outputs):
     """The map's impact times and velocities lie in the certified enclosures widened by MAP_SLACK."""
     _, out = map_outputs
     for case in load_suite():
+        slack = MAP_SLACK_GRAZE if "excursion" in case.settings["notes"] else MAP_SLACK
         got = read_sequence(out / f"{case.id}.csv", expected_rows=len(case.expected))
         e = case.expected
         assert list(got.kind) == list(e.kind) and np.array_equal(got.wall, e.wall) and np.array_equal(got.n, e.n)
         for c, rc in (("tau", "tau_radius"), ("sdot", "sdot_radius")):
             a, b, r = getattr(got, c), getattr(e, c), e.extra[rc]
             m = ~np.isnan(b)
-            assert np.all(np.abs(a[m] - b[m]) <= r[m] + MAP_SLACK * (1 + np.abs(b[m]))), (case.id, c)
+            assert np.all(np.abs(a[m] - b[m]) <= r[m] + slack * (1 + np.abs(b[m]))), (case.id, c)
 
 
 # ---------------------------------------------------------------------------------------------

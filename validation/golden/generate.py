@@ -29,6 +29,7 @@ from ...core.paper import PAPER_PARAMS
 from ...core.params import Params
 from ...mapimpl.sticking import STICK_TIME
 from ...mapimpl import certified as cert
+from . import contacts
 from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
     sequence_from_impacts
 
@@ -72,6 +73,16 @@ class Spec:
     prec: int = cert.PREC
     #: computes the settings that are expensive to find (run only when the case is built)
     finish: Callable | None = field(default=None, repr=False, compare=False)
+    #: 1 impact map, 2 sticking policy, 3 hard contacts and endings (:data:`catalog.LEVELS`)
+    level: int = 1
+    #: bug classes the case exists to catch (:data:`catalog.BUG_CLASSES`)
+    catches: tuple = ()
+    #: how the orbit ends: ``"active"`` or ``"stuck_forever"`` (:func:`certify.certify_orbit`), or
+    #: ``"no_impact"`` (:func:`noimpact.certify_orbit_to_no_impact`)
+    ending: str = "active"
+    #: certified extras recorded in the notes before the settings are written: ``"excursion"`` (a
+    #: graze), ``"policy"`` (the sticking decision at impact 0)
+    extras: tuple = ()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -203,44 +214,52 @@ def specs() -> list[Spec]:
     return [
         Spec("0001-regular-fig2", "Paper Fig. 2 parameters (alpha=0.5): regular rattling, transient into the "
              "periodic motion; pre-impact start (tau0, sdot0) = (0, 0.5) on the upper wall.",
-             FIG2, 0.0, 0.5, 20, tags=("regular", "paper")),
+             FIG2, 0.0, 0.5, 20, tags=("regular", "paper"), catches=("flight-or-impact-law",)),
         Spec("0002-chaotic-fig3", "Paper Fig. 3 parameters (alpha=3): chaotic rattling, short horizon set by the "
              "largest Lyapunov exponent so that a float64 implementation's error stays below the tolerance.",
              FIG3, 0.0, 0.5, n_chaos, tolerances=tol(CHAOS_TOL), tags=("chaotic", "paper"),
-             notes={"lyapunov_lambda1_per_impact": lam, "horizon_rule": _horizon_rule_text()}),
+             notes={"lyapunov_lambda1_per_impact": lam, "horizon_rule": _horizon_rule_text()},
+             catches=("float64-drift", "flight-or-impact-law")),
         Spec("0003-free-flight-start", "Start in free flight (tau0, s0, sdot0) = (1, -0.3, 0.2), Fig. 2 parameters: "
-             "impact 0 is the first wall reached.", FIG2, 1.0, 0.2, 20, s0=-0.3, tags=("regular", "free-flight")),
+             "impact 0 is the first wall reached.", FIG2, 1.0, 0.2, 20, s0=-0.3, tags=("regular", "free-flight"),
+             catches=("free-flight-start",)),
         Spec("0004-grazing-impact", f"Near-tangential impact: from the upper wall at tau0=2 the flight reaches the "
              f"lower wall with pre-impact speed ~{GRAZE_SPEED:g} (impact 1). Impact times near a graze are "
              "ill-conditioned (dtau ~ gap error / speed), hence the looser tolerance.",
              FIG2, 2.0, graze_v, 10, tolerances=tol(1e-7), tags=("grazing",),
              notes={"sdot0_rule": f"bisection on sdot0 in [0.40, 0.41] for a first impact on the lower wall "
-                                  f"with |sdot| >= {GRAZE_SPEED:g}, rounded to 12 significant digits"}),
+                                  f"with |sdot| >= {GRAZE_SPEED:g}, rounded to 12 significant digits"},
+             level=3, catches=("skipped-graze",)),
         Spec("0005-near-miss-return", "Near miss: the flight from the upper wall approaches the lower wall "
              "tangentially without touching it and returns to the wall it left (impact 1 on s=0). Tests that no "
              "spurious contact is reported.", FIG2, 2.0, miss_v, 10, tolerances=tol(1e-7),
              tags=("grazing", "return-to-start-wall"),
              notes={"sdot0_rule": f"{NEAR_MISS_OFFSET:g} below the bisected threshold sdot0 at which the first "
-                                  "impact switches to the lower wall, rounded to 12 significant digits"}),
+                                  "impact switches to the lower wall, rounded to 12 significant digits"},
+             level=3, catches=("contact-tolerance", "return-to-start-wall")),
         Spec("0006-return-to-start-wall", "A full flight returning to the wall it left (impact 1 on s=0 after "
              "leaving s=0 with speed 0.36), then regular rattling (Fig. 2 parameters).",
-             FIG2, 2.0, 0.4, 20, tags=("return-to-start-wall",)),
+             FIG2, 2.0, 0.4, 20, tags=("return-to-start-wall",), catches=("return-to-start-wall",)),
         Spec("0007-chatter-sticking", "Chatter to sticking: alpha=2, beta=0.1, gamma=1, r=0.5. Bounces on the upper "
              "wall accumulate; the tooth sticks (policy: accumulation time <= STICK_TIME) and is released where the "
              "contact force changes sign (closed form); then flies on.",
-             Params(2.0, 0.1, 1.0, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking")),
+             Params(2.0, 0.1, 1.0, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking"), level=2,
+             catches=("release-departure",)),
         Spec("0008-stuck-forever", "Chatter ending stuck forever: alpha=0.5, gamma=0.9 > R = alpha sqrt(1+beta^2), "
              "r=0.5; the contact force never changes sign, the orbit ends with status stuck_forever.",
-             Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking", "stuck-forever")),
+             Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking", "stuck-forever"), level=2,
+             catches=("stuck-forever",)),
         Spec("0009-small-beta", "Very small damping beta=1e-8 (alpha=1, gamma=0.1, r=0.9): the printed Eq. (7) "
              "cancels like gamma/beta^2; implementations must evaluate the flight without that loss.",
-             Params(1.0, 1e-8, 0.1, 0.9), 0.0, 0.5, 20, tags=("small-beta",)),
+             Params(1.0, 1e-8, 0.1, 0.9), 0.0, 0.5, 20, tags=("small-beta",), catches=("cancellation",)),
         Spec("0010-negative-gamma", "Negative constant torque gamma=-0.2 (alpha=1, beta=0.1, r=0.8), start on the "
-             "lower wall (sdot0 < 0).", Params(1.0, 0.1, -0.2, 0.8), 0.0, -0.5, 20, tags=("negative-gamma",)),
+             "lower wall (sdot0 < 0).", Params(1.0, 0.1, -0.2, 0.8), 0.0, -0.5, 20, tags=("negative-gamma",),
+             catches=("lower-wall-conventions",)),
         Spec("0011-small-beta-negative-gamma", "beta=1e-6 with gamma=-0.05 (alpha=0.8, r=0.95), free-flight start "
              "at rest in the middle of the backlash. The orbit is irregular (errors grow ~10x per 3 impacts), hence "
              "the short horizon.", Params(0.8, 1e-6, -0.05, 0.95), 0.5, 0.0, 10, s0=-0.5,
-             tags=("small-beta", "negative-gamma", "free-flight")),
+             tags=("small-beta", "negative-gamma", "free-flight"),
+             catches=("cancellation", "free-flight-start", "float64-drift")),
         Spec("0012-release-orbit-fig11", "Paper Figs. 9-11 setting (alpha=1.245, beta=gamma=0.1, r=0.9): a pre-impact "
              "state in the Fig. 11 box that sticks at once to the upper wall; the tooth is released at the exact zero "
              "of the contact force (the canonical release phase, a function of the parameters alone) and flies on the "
@@ -251,7 +270,199 @@ def specs() -> list[Spec]:
              notes={"sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
                                   "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
                                   "to 3 significant digits (release.stick_at_once_state)"},
-             finish=finish_release_case),
+             finish=finish_release_case, level=2, catches=("release-departure", "float64-drift")),
+    ] + new_specs()
+
+
+# ---------------------------------------------------------------------------------------------
+# cases 0013-0025 (issue 21): the bug classes cases 0001-0012 let through
+
+
+#: Chatter parameters of case 0007 (upper wall) and their mirror gamma -> -gamma (lower wall).
+CHATTER_UP, CHATTER_DOWN = Params(2.0, 0.1, 1.0, 0.5), Params(2.0, 0.1, -1.0, 0.5)
+#: t_acc / STICK_TIME of the two threshold cases: within 0.5 % below and above the threshold.
+STICK_RATIO_BELOW, STICK_RATIO_ABOVE = 0.995, 1.005
+#: Release-delay case: the impact lies RELEASE_LEAD before the zero of the contact force, with
+#: t_acc = RELEASE_DELAY_TACC (t_acc <= STICK_TIME, but longer than the release delay).
+RELEASE_LEAD, RELEASE_DELAY_TACC = 2e-7, 9e-7
+#: Graze cases (Fig. 3 parameters): (id suffix, tau0, sdot0 bracket, wall grazed).
+GRAZES = (("lower-wall-a", 2.5, (0.2, 0.4), -1), ("lower-wall-b", 3.5, (2.0, 2.2), -1),
+          ("upper-wall-a", 0.0, (-1.4, -1.6), 0), ("upper-wall-b", 0.5, (-2.1, -2.3), 0))
+#: Near-miss distances of cases 0024 and 0025.
+NEAR_MISS_1E9, NEAR_MISS_1E11 = 1e-9, 1e-11
+
+
+def forcing_in(params: Params, tau: float, wall: int) -> float:
+    """The contact force pressing into ``wall`` at ``tau`` (float64): ``f`` on wall 0, ``-f`` on wall -1."""
+    f = -params.alpha * math.sin(tau) + params.alpha * params.beta * math.cos(tau) + params.gamma
+    return f if wall == 0 else -f
+
+
+def stick_ratio_sdot0(params: Params, tau0: float, wall: int, ratio: float) -> float:
+    """Pre-impact velocity on ``wall`` (6 significant digits) whose impact has t_acc = ratio * STICK_TIME:
+    ``|sdot0| = ratio STICK_TIME (1 - r) f_in(tau0) / (2 r)``."""
+    v = ratio * STICK_TIME * (1 - params.r) * forcing_in(params, tau0, wall) / (2 * params.r)
+    if not v > 0:
+        raise RuntimeError(f"the forcing does not press into wall {wall} at tau0={tau0}")
+    v = float(f"{v:.6g}")
+    return v if wall == 0 else -v
+
+
+def release_lead_state(params: Params, wall: int, lead: float, t_acc: float) -> tuple[float, float]:
+    """``(tau0, sdot0)``: a pre-impact state on ``wall`` ``lead`` before the canonical release phase
+    (float64 nearest to the certified phase minus ``lead``) whose impact has accumulation time
+    ``t_acc`` (``sdot0`` to 3 significant digits)."""
+    with cert.precision(cert.PREC):
+        phase = cert.release_phase(cert.Model(params), wall)
+        tau0 = cert.nearest_float(phase - cert.exact(lead))
+    v = t_acc * (1 - params.r) * forcing_in(params, tau0, wall) / (2 * params.r)
+    v = float(f"{v:.3g}")
+    return tau0, (v if wall == 0 else -v)
+
+
+def certified_policy(spec: Spec) -> dict:
+    """The sticking decision at impact 0 (a pre-impact state), in balls: ``t_acc / STICK_TIME`` and
+    the release delay, as 6-digit decimals of the certified enclosures."""
+    wall = 0 if spec.sdot0 > 0 else -1
+    with cert.precision(spec.prec):
+        m = cert.Model(spec.params)
+        tau, d = cert.exact(spec.tau0), (1 if wall == 0 else -1)
+        f_in = d * m.forcing(tau)
+        t_acc = 2 * m.r * abs(cert.exact(spec.sdot0)) / ((1 - m.r) * f_in)
+        delay = cert.release_delay(m, tau, wall)
+        ratio = t_acc / cert.exact(STICK_TIME)
+        return {"wall": wall, "pressing": bool(f_in > 0), "t_acc_over_stick_time": f"{float(ratio.mid()):.6g}",
+                "release_delay": "never" if delay is None else f"{float(delay.mid()):.6g}",
+                "t_acc": f"{float(t_acc.mid()):.6g}",
+                "meaning": "the policy's quantities at impact 0, certified (ball radii < 1e-80)"}
+
+
+def _graze_tol(params: Params, tau0: float, sdot0: float) -> dict:
+    """Tolerance of a graze case: :data:`contacts.GAP_BUDGET` / (normal speed), rounded up to one digit."""
+    _, _, v = contacts.first_contact(params, tau0, sdot0)
+    x = contacts.GAP_BUDGET / abs(v)
+    m = 10.0 ** math.floor(math.log10(x))
+    return tol(float(f"{math.ceil(x / m - 1e-9) * m:.1g}"))
+
+
+def graze_specs() -> list[Spec]:
+    """Cases 0020-0023: four grazes (Fig. 3 parameters) with excursions of GRAZE_EXCURSION beyond the
+    wall, at four phases, chosen so that every fixed-step sign-change finder with a step in
+    contacts.STEP_RANGE misses at least one of them (checked here on float64 estimates, and by the
+    test suite on the certified excursions)."""
+    out, exc = [], []
+    for k, (name, tau0, (lo, hi), wall) in enumerate(GRAZES):
+        sd = contacts.graze_sdot0(FIG3, tau0, lo, hi, wall)
+        w, a, b = contacts.float_excursion(FIG3, tau0, sd)
+        exc.append((a, b))
+        where = "lower wall s=-1 from the upper wall" if wall == -1 else "upper wall s=0 from the lower wall"
+        out.append(Spec(
+            f"{20 + k:04d}-graze-{name}", f"Graze: Fig. 3 parameters (alpha=3), the first flight reaches the {where} "
+            f"with a normal speed ~{abs(contacts.first_contact(FIG3, tau0, sd)[2]):.1e}; the un-reset flight would "
+            f"stay beyond the wall for only ~{contacts.GRAZE_EXCURSION:g} time units. One of four grazes at different "
+            "phases that together defeat every fixed-step sign-change finder with a step from 1e-3 to 1.",
+            FIG3, tau0, sd, 4, tolerances=_graze_tol(FIG3, tau0, sd), tags=("grazing",), level=3,
+            catches=("skipped-graze",), extras=("excursion",),
+            notes={"sdot0_rule": f"threshold sdot0 at which the first impact switches to wall {wall} (bisection in "
+                                 f"[{lo}, {hi}]), moved beyond it until the excursion beyond the wall is "
+                                 f"{contacts.GRAZE_EXCURSION:g} (bisection), 15 significant digits",
+                   "tolerance_rule": f"{contacts.GAP_BUDGET:g} / (normal speed at the graze), rounded up to one "
+                                     "digit: the impact time error is about (gap error) / (speed)",
+                   "purpose": "catches a finder that samples the flight at fixed steps and looks for a sign change "
+                              "of the gap: the sample must fall inside the excursion; for every step h in [1e-3, 1] "
+                              "at least one of cases 0020-0023 has no sample k h inside its excursion "
+                              "(validation/golden/contacts.py, tests/test_golden_mutants.py)"}))
+    if contacts.steps_catching_all(exc):
+        raise RuntimeError("the grazes do not defeat every fixed-step finder in the step range")
+    return out
+
+
+def new_specs() -> list[Spec]:
+    """Cases 0013-0025, each for a bug class that cases 0001-0012 let through (issue 21)."""
+    below_v = stick_ratio_sdot0(CHATTER_UP, 4.0, 0, STICK_RATIO_BELOW)
+    above_v = stick_ratio_sdot0(CHATTER_DOWN, 1.0, -1, STICK_RATIO_ABOVE)
+    lead_tau0, lead_v = release_lead_state(CHATTER_UP, 0, RELEASE_LEAD, RELEASE_DELAY_TACC)
+    miss9 = contacts.near_miss_sdot0(FIG2, 3.0, 0.93, 0.95, -1, NEAR_MISS_1E9)
+    miss11 = contacts.near_miss_sdot0(FIG3, 6.0, -0.9, -1.0, 0, NEAR_MISS_1E11)
+    return [
+        Spec("0013-lower-wall-sticking", "Chatter to sticking on the lower wall s=-1: case 0007 mirrored (alpha=2, "
+             "beta=0.1, gamma=-1, r=0.5), start on the lower wall. The tooth sticks to s=-1 after impact 24, is "
+             "released where the contact force -f stops pressing (f rises through zero: phase phi + pi - "
+             "asin(gamma/R)), flies on, and chatters again; the case ends with impact 47, whose own sticking "
+             "(rows after the last counted impact) is not written.",
+             CHATTER_DOWN, 3.0, -0.5, 47, tags=("chatter", "sticking", "lower-wall"), level=2,
+             catches=("lower-wall-sticking", "trailing-rows", "release-departure"),
+             notes={"purpose": "catches no sticking on s=-1, the wrong pressing sign on s=-1 (f > 0 instead of "
+                               "-f > 0), the wall-0 release branch used on s=-1, and stick/release rows written for "
+                               "the impact after the last counted one (impact 47 sticks)"}),
+        Spec("0014-lower-wall-stuck-forever", "Chatter ending stuck forever on the lower wall: case 0008 mirrored "
+             "(alpha=0.5, beta=0.1, gamma=-0.9, r=0.5): gamma <= -R, the force -f presses into s=-1 for ever.",
+             Params(0.5, 0.1, -0.9, 0.5), 0.0, -0.5, 40, tags=("chatter", "sticking", "stuck-forever", "lower-wall"),
+             level=2, catches=("stuck-forever", "lower-wall-sticking"),
+             notes={"purpose": "catches the never-release test gamma >= R applied on s=-1 (the pressing side there "
+                               "is gamma <= -R), and missing sticking on s=-1"}),
+        Spec("0015-no-impact-after-release", "An orbit that ends with no_impact: alpha=0.1, beta=0.3, gamma=0, "
+             "r=0.6. The tooth chatters on the upper wall, sticks after impact 29 and is released; the release flight "
+             "oscillates inside the backlash for ever (gamma=0: no drift; certified for all t > 0). The file ends "
+             "with the stick and release rows: no row for the flight that never lands.",
+             Params(0.1, 0.3, 0.0, 0.6), 4.5, 0.05, 40, tags=("chatter", "sticking", "no-impact"), level=3,
+             catches=("no-impact-ending",), ending="no_impact",
+             notes={"purpose": "catches an invented row after the last event (an impact at the search horizon "
+                               "T_MAX, a NaN placeholder) and the stick/release rows of the last step dropped "
+                               "because its flight never lands"}),
+        Spec("0016-elastic-r1", "Elastic impacts r=1 (Fig. 2 parameters otherwise): nothing accumulates, nothing "
+             "sticks, although most impacts happen while the forcing presses into the wall.",
+             Params(0.5, 0.1, 0.1, 1.0), 0.0, 0.5, 20, tags=("regular", "elastic"), catches=("elastic-r1",),
+             notes={"purpose": "catches t_acc = 2 u / ((1 - r) f_in) evaluated with a 'safe' division that "
+                               "returns 0 where (1 - r) f_in = 0 (every pressing impact would stick), or any "
+                               "sticking at r = 1"}),
+        Spec("0017-release-before-accumulation", "A chatter impact that must not stick: case 0007's parameters, an "
+             f"impact {RELEASE_LEAD:g} before the contact force stops pressing, with t_acc = "
+             f"{RELEASE_DELAY_TACC:g} <= STICK_TIME but longer than the release delay: the tooth bounces, the "
+             "force turns before it can come back, and it flies to the lower wall.",
+             CHATTER_UP, lead_tau0, lead_v, 12, tags=("chatter", "release-delay"), level=2,
+             catches=("release-delay",), extras=("policy",),
+             notes={"sdot0_rule": f"tau0 = the float64 nearest to (certified release phase - {RELEASE_LEAD:g}); "
+                                  f"sdot0 = t_acc (1 - r) f(tau0) / (2 r) with t_acc = {RELEASE_DELAY_TACC:g}, "
+                                  "3 significant digits",
+                    "purpose": "catches a policy that ignores the condition 'release delay > t_acc' (it would "
+                               "stick at impact 0 and release before the stick row)"}),
+        Spec("0018-stick-threshold-below", f"Sticking with t_acc = {STICK_RATIO_BELOW:g} STICK_TIME (upper wall, "
+             "case 0007's parameters): the tooth sticks at impact 0, is released at the zero of the contact force "
+             "and flies on.", CHATTER_UP, 4.0, below_v, 10, tags=("sticking", "threshold"), level=2,
+             catches=("sticking-threshold",), extras=("policy",),
+             notes={"sdot0_rule": f"sdot0 = {STICK_RATIO_BELOW:g} STICK_TIME (1 - r) f(tau0) / (2 r), 6 significant "
+                                  "digits",
+                    "purpose": "catches a sticking threshold scaled by 0.99 or less (or t_acc overestimated by "
+                               "0.5 % or more)"}),
+        Spec("0019-stick-threshold-above-lower-wall", f"No sticking with t_acc = {STICK_RATIO_ABOVE:g} STICK_TIME "
+             "on the lower wall (case 0013's parameters): impact 0 bounces, the tooth comes back after ~5e-7 and "
+             "sticks at impact 1, is released at the lower wall's release phase and flies on.",
+             CHATTER_DOWN, 1.0, above_v, 10, tags=("sticking", "threshold", "lower-wall"), level=2,
+             catches=("sticking-threshold", "lower-wall-sticking"), extras=("policy",),
+             notes={"sdot0_rule": f"sdot0 = -{STICK_RATIO_ABOVE:g} STICK_TIME (1 - r) (-f(tau0)) / (2 r), 6 "
+                                  "significant digits",
+                    "purpose": "catches a sticking threshold scaled by 1.01 .. 1.5 (or t_acc underestimated by "
+                               "0.5 % or more), and sticking missing on s=-1"}),
+    ] + graze_specs() + [
+        Spec("0024-near-miss-1e-9", "Near miss at ~1e-9: Fig. 2 parameters, the flight from the upper wall at "
+             "tau0=3 turns back ~1e-9 above the lower wall and returns to the wall it left (impact 1 on s=0).",
+             FIG2, 3.0, miss9, 10, tags=("grazing", "return-to-start-wall", "near-miss"), level=3,
+             catches=("contact-tolerance", "return-to-start-wall"),
+             notes={"sdot0_rule": f"the threshold sdot0 at which the first impact switches to the lower wall "
+                                  f"(bisection in [0.93, 0.95]), moved to the missing side so that the closest "
+                                  f"approach is ~{NEAR_MISS_1E9:g}, 15 significant digits",
+                    "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-9 or more "
+                               "(e.g. 1e-8)"}),
+        Spec("0025-near-miss-1e-11-upper-wall", "Near miss at ~1e-11 on the upper wall: Fig. 3 parameters, the "
+             "flight from the lower wall at tau0=6 turns back ~1e-11 below s=0 and returns to the lower wall.",
+             FIG3, 6.0, miss11, 4, tags=("grazing", "return-to-start-wall", "near-miss"), level=3,
+             catches=("contact-tolerance", "return-to-start-wall"),
+             notes={"sdot0_rule": f"the threshold sdot0 at which the first impact switches to the upper wall "
+                                  f"(bisection in [-1.0, -0.9]), moved to the missing side so that the closest "
+                                  f"approach is ~{NEAR_MISS_1E11:g}, 15 significant digits",
+                    "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-11 or "
+                               "more (e.g. 1e-10)"}),
     ]
 
 
@@ -260,7 +471,9 @@ def spec_from_settings(settings: dict, prec: int = cert.PREC) -> Spec:
     ini = settings["initial_state"]
     return Spec(settings["id"], settings["description"], Params(**settings["params"]), ini["tau0"], ini["sdot0"],
                 int(settings["n_impacts"]), s0=ini.get("s0"), tolerances=settings["tolerances"],
-                tags=tuple(settings.get("tags", ())), notes=dict(settings.get("notes", {})), prec=prec)
+                tags=tuple(settings.get("tags", ())), notes=dict(settings.get("notes", {})), prec=prec,
+                level=int(settings.get("level", 1)), catches=tuple(settings.get("catches", ())),
+                ending="no_impact" if settings["expected_status"] == "no_impact" else "active")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -303,6 +516,7 @@ def settings_json(spec: Spec, orb: cert.CertifiedOrbit) -> dict:
         {"kind": "free-flight", "tau0": spec.tau0, "s0": spec.s0, "sdot0": spec.sdot0}
     return {
         "id": spec.id, "description": spec.description, "tags": list(spec.tags),
+        "level": spec.level, "catches": list(spec.catches),
         "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
         "initial_state": ini, "n_impacts": spec.n_impacts, "stick_time": STICK_TIME,
         "expected_rows": len(orb.events), "expected_status": orb.status,
@@ -386,39 +600,37 @@ def provenance_json(spec: Spec, orb: cert.CertifiedOrbit, radii: dict, agreement
     }
 
 
-def closest_approach(spec: Spec) -> str:
-    """Certified enclosure of the smallest distance to the lower wall during the first flight
-    (the lowest point, where ``s' = 0``), for the near-miss case."""
-    with cert.precision(spec.prec):
-        m = cert.Model(spec.params)
-        fl = cert.Flight(m, cert.exact(spec.tau0), arb(0), -m.r * cert.exact(spec.sdot0))
-        # the lowest point: first zero of s' (s' < 0 after leaving the upper wall), bracketed on a grid
-        t_prev, t = arb(0), arb(0)
-        for k in range(1, 4001):
-            t = arb(k) / 400
-            if fl.v(t) > 0:
-                break
-            t_prev = t
-        else:  # pragma: no cover
-            raise cert.CertificationError("no lowest point found")
-        lo, hi = t_prev, t
-        for _ in range(200):
-            mid = (lo + hi) / 2
-            if fl.v(mid) > 0:
-                hi = mid
-            else:
-                lo = mid
-        gap = fl.gap(-1, cert.span(lo, hi))  # the minimum of s + 1 lies in [lo, hi]
-        return f"{float(gap.mid()):.6e} (certified enclosure radius {float(gap.rad()):.1e})"
+def closest_approach(spec: Spec) -> tuple[str, str]:
+    """``(note key, text)``: certified enclosure of the smallest distance to the wall the first flight
+    turns back from (where ``s' = 0``), for the near-miss cases (:func:`contacts.certified_closest_approach`)."""
+    wall, gap = contacts.certified_closest_approach(spec.params, spec.tau0, spec.sdot0, spec.prec)
+    key = f"closest_approach_to_{'lower' if wall == -1 else 'upper'}_wall"
+    return key, f"{float(gap.mid()):.6e} (certified enclosure radius {float(gap.rad()):.1e})"
+
+
+def certify_spec(spec: Spec, radius_limit: float) -> cert.CertifiedOrbit:
+    """The certified orbit of a case, with the certifier of its kind of ending."""
+    if spec.ending == "no_impact":
+        from .noimpact import certify_orbit_to_no_impact
+
+        return certify_orbit_to_no_impact(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0,
+                                          prec=spec.prec, radius_limit=radius_limit)
+    return cert.certify_orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, prec=spec.prec,
+                              radius_limit=radius_limit)
 
 
 def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
     """Certify one case; returns ``(settings, expected_csv_text, provenance)``."""
     tol_min = min(min(v["abs"] for v in spec.tolerances.values()), 1.0)
-    orb = cert.certify_orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, prec=spec.prec,
-                             radius_limit=RADIUS_FRACTION * tol_min)
+    orb = certify_spec(spec, RADIUS_FRACTION * tol_min)
     if orb.stop_reason.startswith("radius"):
         raise cert.CertificationError(f"{spec.id}: {orb.stop_reason}: lower n_impacts or raise prec")
+    if orb.status != spec.ending and not (spec.ending == "active" and orb.status == "stuck_forever"):
+        raise cert.CertificationError(f"{spec.id}: certified status {orb.status!r}, expected {spec.ending!r}")
+    if "excursion" in spec.extras:
+        spec.notes["excursion"] = contacts.certified_excursion(spec.params, spec.tau0, spec.sdot0, spec.prec)
+    if "policy" in spec.extras:
+        spec.notes["policy_at_impact_0"] = certified_policy(spec)
     text = expected_csv(orb)
     settings = settings_json(spec, orb)
     # radii as printed (bounds on |printed - true|)
@@ -443,7 +655,8 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
         spec.notes["certified_radius_growth_per_impact"] = (
             f"{slope:.2f} (least-squares slope of ln(tau ball radius) over the impacts; compare lambda1)")
     if "near-miss" in spec.id:
-        spec.notes["closest_approach_to_lower_wall"] = closest_approach(spec)
+        key, approach = closest_approach(spec)
+        spec.notes[key] = approach
     agreement = None
     if tracks:
         import tempfile
@@ -499,6 +712,9 @@ def main(argv: list[str] | None = None) -> int:
         ok = ", ".join(f"{k}: {'agrees' if v.get('agrees') else 'DISAGREES'}" for k, v in agree.items())
         print(f"{spec.id}: {settings['expected_rows']} rows, status {settings['expected_status']}, "
               f"max tau radius {prov['radius']['tau_radius'].get('max')}, {ok} ({time.time() - t:.1f} s)")
+    from .catalog import write_index
+
+    print(f"{write_index(Path(args.out))}: index of the cases in {args.out}")
     print(f"done in {time.time() - t0:.1f} s")
     return 0
 
