@@ -172,9 +172,13 @@ def test_corrupted_output_fails(map_outputs, tmp_path, capsys):
     o = capsys.readouterr().out
     assert "0001-regular-fig2" in o and "FAIL" in o and "line 6" in o
     assert o.count("FAIL") == 1
-    # a wrong event kind fails the exact columns
+    # a wrong event kind fails the exact columns (a well-formed stick row: sdot empty)
     g = bad / "0002-chaotic-fig3.csv"
-    g.write_text(g.read_text().replace("impact\n", "stick\n", 1))
+    lines = g.read_text().splitlines()
+    fields = lines[3].split(",")
+    fields[4], fields[5] = "", "stick"
+    lines[3] = ",".join(fields)
+    g.write_text("\n".join(lines) + "\n")
     assert main(["check", str(bad), "--cases", "0002-chaotic-fig3"]) == 1
     assert "MISMATCH" in capsys.readouterr().out
 

@@ -17,6 +17,8 @@ from __future__ import annotations
 import csv
 import json
 import math
+import re
+from fractions import Fraction
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -72,16 +74,33 @@ class Case:
         return self.settings["tolerances"]
 
 
+#: The number forms accepted (docs/golden.md, "An implementation's output"): ASCII decimal
+#: literals, optional sign, optional exponent; no underscores, no hexadecimal, no inf.
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: Integral columns (n, wall): an optional sign, ASCII digits, optionally a decimal point and zeros.
+_INTEGRAL = re.compile(r"[+-]?[0-9]{1,18}(?:\.0*)?")
+#: "not a number" on stick/release rows (any case, optional sign, as C's printf writes it).
+_NAN = re.compile(r"[+-]?nan", re.IGNORECASE)
+#: Characters stripped around a field.
+_BLANKS = " \t"
+
+
 def _num(text: str, path, line: int, col: str, *, integer: bool = False, allow_empty: bool = False) -> float:
-    t = text.strip()
-    if t == "" and allow_empty:
+    """One field as a number, strictly (:data:`_DECIMAL`, :data:`_INTEGRAL`); ``allow_empty``: the
+    field may be empty or ``nan`` (returned as NaN)."""
+    t = text.strip(_BLANKS)
+    if allow_empty and (t == "" or _NAN.fullmatch(t)):
         return math.nan
-    try:
-        v = int(t) if integer else float(t)
-    except ValueError:
-        what = "an integer" if integer else "a number"
-        raise MalformedFile(f"{path}: line {line}: column {col!r}: {text!r} is not {what}") from None
-    if not integer and not math.isfinite(v) and not (allow_empty and math.isnan(v)):
+    if integer:
+        if not _INTEGRAL.fullmatch(t):
+            raise MalformedFile(f"{path}: line {line}: column {col!r}: {text!r} is not an integer "
+                                "(allowed: digits with an optional sign, optionally followed by '.' and zeros)")
+        return int(t.split(".")[0])
+    if not _DECIMAL.fullmatch(t):
+        raise MalformedFile(f"{path}: line {line}: column {col!r}: {text!r} is not a number "
+                            "(allowed: a decimal literal such as -1.25e-3)")
+    v = float(t)
+    if not math.isfinite(v):
         raise MalformedFile(f"{path}: line {line}: column {col!r}: {text!r} is not finite")
     return v
 
@@ -90,7 +109,7 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
     """Parse an impact-sequence CSV strictly; raise :class:`MalformedFile` with a one-line message."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8-sig")  # a UTF-8 byte-order mark is accepted (and dropped)
     except FileNotFoundError:
         raise MalformedFile(f"{path}: missing file") from None
     except (OSError, UnicodeDecodeError) as e:
@@ -98,7 +117,7 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
     rows = list(csv.reader(text.splitlines()))
     if not rows:
         raise MalformedFile(f"{path}: line 1: empty file (expected header {','.join(COLUMNS)})")
-    header = [h.strip() for h in rows[0]]
+    header = [h.strip(_BLANKS) for h in rows[0]]
     for k, col in enumerate(COLUMNS):
         if col not in header:
             raise MalformedFile(f"{path}: line 1: missing column {col!r} (header must start with {','.join(COLUMNS)})")
@@ -108,7 +127,7 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
         if col not in header:
             raise MalformedFile(f"{path}: line 1: missing column {col!r}")
     idx = {h: i for i, h in enumerate(header)}
-    data = [(i + 2, r) for i, r in enumerate(rows[1:]) if any(c.strip() for c in r)]
+    data = [(i + 2, r) for i, r in enumerate(rows[1:]) if any(c.strip(_BLANKS) for c in r)]
     if expected_rows is not None and len(data) != expected_rows:
         last = data[-1][0] if data else 1
         raise MalformedFile(f"{path}: line {last}: wrong row count: {len(data)} data rows, expected {expected_rows}")
@@ -116,7 +135,7 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
     for line, r in data:
         if len(r) < len(header):
             raise MalformedFile(f"{path}: line {line}: {len(r)} fields, expected {len(header)}")
-        kind = r[idx["kind"]].strip()
+        kind = r[idx["kind"]].strip(_BLANKS)
         if kind not in KINDS:
             raise MalformedFile(f"{path}: line {line}: column 'kind': {kind!r} is not one of {', '.join(KINDS)}")
         cols["kind"].append(kind)
@@ -128,6 +147,9 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
         for c in ("tau", "tau_mod_2pi"):
             cols[c].append(_num(r[idx[c]], path, line, c))
         sd = _num(r[idx["sdot"]], path, line, "sdot", allow_empty=(kind != "impact"))
+        if kind != "impact" and not math.isnan(sd):
+            raise MalformedFile(f"{path}: line {line}: column 'sdot': {r[idx['sdot']]!r} on a {kind} row "
+                                "(must be empty or nan: a stick/release row has no pre-impact velocity)")
         cols["sdot"].append(sd)
         for c in required_extra:
             cols[c].append(_num(r[idx[c]], path, line, c, allow_empty=True))
@@ -195,6 +217,8 @@ class ColumnScore:
     max_error: float          # largest |x - e| (circular_distance for tau_mod_2pi; mismatch count for exact columns)
     worst_row: int            # 0-based data row of the largest violation ratio (or first mismatch), -1 if none
     digits: float             # min over rows of -log10(relative error), capped at DIGITS_CAP
+    first_row: int = -1       # 0-based data row of the first failure, -1 if none
+    worst_ratio: float = 0.0  # |error| / tolerance on worst_row (inf for a missing value, 0 for exact columns)
 
 
 @dataclass
@@ -212,25 +236,66 @@ class CaseScore:
 
 
 def _digits(err: np.ndarray, scale: np.ndarray) -> float:
+    """``min(DIGITS_CAP, -log10(max(err / |scale|)))``; where the scale (the golden value) is 0 it is 1
+    (the absolute error); no error at all gives DIGITS_CAP."""
     if err.size == 0:
         return DIGITS_CAP
-    rel = err / np.maximum(np.abs(scale), 1e-300)
+    sc = np.abs(scale)
+    rel = err / np.where(sc > 0, sc, 1.0)
     worst = float(np.max(rel))
     if worst <= 0.0:
         return DIGITS_CAP
     return float(min(DIGITS_CAP, -math.log10(worst)))
 
 
-def circular_distance(a, b) -> np.ndarray:
-    """Distance between phases on the circle of length 2 pi, in [0, pi], for any real inputs.
+def _pi_fixed(bits: int) -> int:
+    """``pi 2^bits`` rounded down, to within one unit, by Machin's formula in integers (32 guard bits)."""
+    guard = 32
+    one = 1 << (bits + guard)
 
-    Values outside [0, 2 pi) are reduced first (a phase printed as 2 pi, -0.0 or unreduced denotes
-    the phase it is congruent to), so a wrong value can never come out closer than it is: the naive
-    ``min(|a - b|, 2 pi - |a - b|)`` goes negative, and passes, once ``|a - b| > 2 pi``.  Exact for
-    ``|a - b| < pi``; NaN stays NaN.
+    def atan_inv(x: int) -> int:  # atan(1/x) * one
+        total = term = one // x
+        k, x2 = 1, x * x
+        while term:
+            term //= x2
+            total += (-1) ** k * (term // (2 * k + 1))
+            k += 1
+        return total
+
+    return (4 * (4 * atan_inv(5) - atan_inv(239))) >> guard
+
+
+#: 2 pi as an integer multiple of 2^-TWO_PI_BITS (error < 2^-1199): the reduction of any float64
+#: difference (|d| < 2^1025) is then exact to 2^-170, far below any distance a float64 can show.
+TWO_PI_BITS = 1200
+_TWO_PI_FIXED = 2 * _pi_fixed(TWO_PI_BITS)
+
+
+def _circular_distance_1(x: float, g: float) -> float:
+    """``|d - 2 pi round(d / 2 pi)|`` with ``d = x - g`` exactly (rationals), correctly rounded."""
+    if not (math.isfinite(x) and math.isfinite(g)):
+        return math.nan
+    d = Fraction(x) - Fraction(g)  # exact: a dyadic rational
+    num, den = d.numerator << TWO_PI_BITS, d.denominator * _TWO_PI_FIXED  # d / 2 pi = num / den
+    k = (2 * num + den) // (2 * den)  # nearest integer
+    r = Fraction((d.numerator << TWO_PI_BITS) - k * _TWO_PI_FIXED * d.denominator,
+                 d.denominator << TWO_PI_BITS)
+    return float(abs(r))
+
+
+def circular_distance(a, b) -> np.ndarray:
+    """Distance between phases on the circle of length 2 pi, in [0, pi], for any finite inputs.
+
+    The difference ``d = a - b`` is reduced **exactly** (rational arithmetic with 2 pi to 1200 bits),
+    so the distance is the true one, correctly rounded, however large ``a`` is: a phase printed as
+    2 pi (rounding just below it), -0.0 or unreduced denotes the phase it is congruent to, and a wrong
+    value (1e17, 1e300, the largest double) is compared as the phase it really denotes, never closer.
+    In float64, ``|d - 2 pi round(d / 2 pi)|`` is 0 for every ``|d|`` above ~1e16.  NaN and inf
+    give NaN.
     """
-    raw = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
-    return np.abs(raw - TWO_PI * np.round(raw / TWO_PI))
+    x, y = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    out = [_circular_distance_1(float(u), float(v)) for u, v in zip(x.ravel(), y.ravel())]
+    return np.asarray(out, dtype=float).reshape(x.shape)
 
 
 def score_sequence(case: Case, got: Sequence) -> CaseScore:
@@ -249,40 +314,60 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
     for c in EXACT_COLUMNS:
         a, e = getattr(got, c), getattr(exp, c)
         bad = np.nonzero(a != e)[0]
-        cols[c] = ColumnScore(c, bad.size == 0, float(bad.size), int(bad[0]) if bad.size else -1,
-                              DIGITS_CAP if bad.size == 0 else 0.0)
+        first = int(bad[0]) if bad.size else -1
+        cols[c] = ColumnScore(c, bad.size == 0, float(bad.size), first, DIGITS_CAP if bad.size == 0 else 0.0, first)
     for c in TOLERANCE_COLUMNS:
-        tol = case.tolerances[c]
-        a, e = getattr(got, c), getattr(exp, c)
-        if c == "sdot":
-            e_nan, a_nan = np.isnan(e), np.isnan(a)
-            mask = ~e_nan
-            # a value where the golden has none (stick/release rows) is ignored; a missing one fails
-            missing = np.nonzero(mask & a_nan)[0]
-        else:
-            mask = np.ones(e.shape, dtype=bool)
-            missing = np.empty(0, dtype=np.int64)
-        diff = circular_distance(a, e) if c == "tau_mod_2pi" else np.abs(a - e)
-        diff = np.where(mask, diff, 0.0)
-        diff = np.where(np.isnan(diff), np.inf, diff)
-        allowed = tol["abs"] + tol["rel"] * np.abs(np.where(mask, e, 0.0))
-        ratio = np.where(mask, diff / np.maximum(allowed, 1e-300), 0.0)
-        ok = bool(np.all(diff[mask] <= allowed[mask])) and missing.size == 0
-        worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if ratio.size and not ok else -1)
-        # relative error; the scale is 2 pi for the phase and at least 1 for the elapsed time
-        scale = np.full(e.shape, TWO_PI) if c == "tau_mod_2pi" else (np.maximum(np.abs(e), 1.0) if c == "tau" else e)
-        cols[c] = ColumnScore(c, ok, float(np.max(diff[mask])) if mask.any() else 0.0, worst,
-                              _digits(diff[mask], scale[mask]))
+        cols[c] = _score_column(c, case.tolerances[c], getattr(got, c), getattr(exp, c))
     passed = all(s.passed for s in cols.values())
-    msg = ""
-    if not passed:
-        bad = [s for s in cols.values() if not s.passed]
-        s = bad[0]
-        line = s.worst_row + 2  # header is line 1
-        msg = f"{s.column} differs at line {line} of {got.path}"
-        if s.column in TOLERANCE_COLUMNS:
-            msg += f" (|error| {s.max_error:.3g} > tolerance)"
-    return CaseScore(case.id, passed, cols, msg)
+    return CaseScore(case.id, passed, cols, "" if passed else _failure_note(cols, got, exp, case.tolerances))
+
+
+def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScore:
+    """One tolerance column: pass/fail, largest error, first and worst failing rows, digits."""
+    if c == "sdot":
+        mask = ~np.isnan(e)  # stick/release rows have no velocity
+        missing = np.nonzero(mask & np.isnan(a))[0]  # (files cannot have one: the parser refuses NaN on impacts)
+    else:
+        mask = np.ones(e.shape, dtype=bool)
+        missing = np.empty(0, dtype=np.int64)
+    diff = circular_distance(a, e) if c == "tau_mod_2pi" else np.abs(a - e)
+    diff = np.where(mask, diff, 0.0)
+    diff = np.where(np.isnan(diff), np.inf, diff)
+    allowed = tol["abs"] + tol["rel"] * np.abs(np.where(mask, e, 0.0))
+    ratio = np.where(mask, diff / np.maximum(allowed, 1e-300), 0.0)
+    failing = np.nonzero(mask & (diff > allowed))[0]
+    ok = failing.size == 0
+    worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if not ok else -1)
+    # relative error; the scale is 2 pi for the phase and at least 1 for the elapsed time
+    scale = np.full(e.shape, TWO_PI) if c == "tau_mod_2pi" else (np.maximum(np.abs(e), 1.0) if c == "tau" else e)
+    return ColumnScore(c, ok, float(np.max(diff[mask])) if mask.any() else 0.0, worst,
+                       _digits(diff[mask], scale[mask]), int(failing[0]) if failing.size else -1,
+                       float(ratio[worst]) if worst >= 0 else 0.0)
+
+
+def _row_note(column: str, row: int, got: Sequence, exp: Sequence, tolerances: dict) -> str:
+    """``column at line L (what is wrong there)``."""
+    line = row + 2  # header is line 1
+    a, e = getattr(got, column)[row], getattr(exp, column)[row]
+    if column in EXACT_COLUMNS:
+        return f"{column} at line {line} ({a} instead of {e})"
+    err = float(circular_distance(a, e)) if column == "tau_mod_2pi" else abs(float(a) - float(e))
+    tol = tolerances[column]
+    allowed = tol["abs"] + tol["rel"] * abs(float(e))
+    return f"{column} at line {line} (|error| {err:.3g}, {err / max(allowed, 1e-300):.3g} x tolerance)"
+
+
+def _failure_note(cols: dict, got: Sequence, exp: Sequence, tolerances: dict) -> str:
+    """The first failing row (smallest line, first column in file order) and the worst one (largest
+    |error| / tolerance; an exact-column mismatch if no tolerance column fails)."""
+    bad = [s for s in cols.values() if not s.passed]
+    first = min(bad, key=lambda s: (s.first_row, COLUMNS.index(s.column)))
+    tol_bad = [s for s in bad if s.column in TOLERANCE_COLUMNS]
+    worst = max(tol_bad, key=lambda s: s.worst_ratio) if tol_bad else first
+    note = f"{first.column} differs first at {_row_note(first.column, first.first_row, got, exp, tolerances)}"
+    if (worst.column, worst.worst_row) != (first.column, first.first_row):
+        note += f"; worst: {_row_note(worst.column, worst.worst_row, got, exp, tolerances)}"
+    return f"{note} of {got.path}"
 
 
 def score_file(case: Case, path: str | Path) -> CaseScore:
