@@ -1,0 +1,234 @@
+"""Deliberately wrong implementations of the golden suite's model ("mutants"), for
+tests/test_golden_mutants.py: each has one bug an outside implementer could make, and
+``gear-rattle check`` must fail it.
+
+:func:`run` is a small implementation written from docs/golden.md alone (the impact law Eq. 11, the
+sticking policy in Python floats, the row conventions) around a flight finder: the correct one is the
+map track's certified :func:`mapimpl.finder.first_impact` (Eqs. 7-8); :func:`fixed_step_contact` samples
+the flight at ``t = k h`` and looks for a sign change of the gap.  A mutant is a :class:`Mutant`: the
+base with one decision changed, each field a few lines of :func:`run` and :func:`policy`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from gear_rattle.mapimpl import _jax  # noqa: F401  (float64)
+import jax
+import jax.numpy as jnp
+
+from gear_rattle.mapimpl.finder import T_MAX, first_impact
+from gear_rattle.mapimpl.flight import flight
+
+TWO_PI = 2 * math.pi
+_first_impact = jax.jit(first_impact)
+#: Samples per evaluation of the fixed-step and extremum scans (one compiled shape).
+CHUNK = 4096
+_flight = jax.jit(lambda t, th, v0, a, b, g: flight(t, th, v0, a, b, g))
+
+
+@dataclass(frozen=True)
+class Mutant:
+    """The base implementation (all defaults) or one of its mutants (one field changed)."""
+
+    name: str = "base"
+    bug_class: str = ""
+    #: fixed-step sign-change finder with this step (0: the certified finder)
+    step: float = 0.0
+    #: accept a contact where the gap has a local minimum below this tolerance
+    contact_tol: float = 0.0
+    #: sticking threshold: t_acc <= stick_scale * STICK_TIME
+    stick_scale: float = 1.0
+    lower_wall_sticks: bool = True
+    #: f_in = lower_sign * f on the lower wall (the force presses into s = -1 where f < 0)
+    lower_sign: float = -1.0
+    #: the lower wall's release phase phi + pi - asin(gamma/R); False: the upper wall's phi + asin(gamma/R)
+    lower_branch: bool = True
+    #: never released where gamma/R >= 1 on the pressing side (d gamma/R >= 1); False: gamma/R >= 1 on every wall
+    never_on_pressing_side: bool = True
+    #: stick only if the release delay exceeds t_acc
+    delay_check: bool = True
+    #: t_acc where (1 - r) f_in = 0: +inf (correct) or 0 (a 'safe division')
+    t_acc_if_no_loss: float = math.inf
+    #: the finder re-detects the wall it leaves after a release (the t^3 trap): an impact row at the release
+    redetect_after_release: bool = False
+    #: a flight that never lands gets an impact row at the search horizon T_MAX
+    row_at_horizon: bool = False
+    #: the stick/release rows of a step whose flight never lands are dropped
+    drop_rows_if_no_landing: bool = False
+    #: the policy of the last counted impact is applied and its stick/release rows written
+    trailing_rows: bool = False
+    #: tau_mod_2pi written as this constant (None: tau mod 2 pi)
+    phase_value: float | None = None
+
+
+BASE = Mutant()
+
+
+# ---------------------------------------------------------------------------------------------
+# finders: (theta0, s0, v0, params, release) -> (t, wall, v) or None (no wall within T_MAX)
+
+
+def certified_contact(th, s0, v0, p, release, m: Mutant):
+    h = _first_impact(th, s0, v0, p["alpha"], p["beta"], p["gamma"])
+    if int(h.status) not in (0, 1):  # HIT, GRAZE
+        return None
+    return float(h.t), int(h.wall), float(h.v)
+
+
+def _s(t, th, s0, v0, p):
+    """``s`` at the flight times ``t`` (an array of CHUNK, or a scalar)."""
+    return s0 + np.asarray(_flight(t, th, v0, p["alpha"], p["beta"], p["gamma"]).ds)
+
+
+def _v(t, th, v0, p) -> float:
+    return float(_flight(t, th, v0, p["alpha"], p["beta"], p["gamma"]).v)
+
+
+def _bisect(fun, lo, hi, n=200):
+    """Root of ``fun`` (``fun(lo) > 0 >= fun(hi)``) in ``[lo, hi]`` by bisection to float resolution."""
+    for _ in range(n):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        if fun(mid) > 0:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+def fixed_step_contact(th, s0, v0, p, release, m: Mutant):
+    """Samples at ``t = k h`` (``k >= 1``); the first one beyond a wall brackets the contact, which is
+    then bisected.  Misses every excursion that falls between two samples."""
+    h = m.step
+    for k0 in range(1, int(T_MAX / h) + 1, CHUNK):
+        t = h * np.arange(k0, k0 + CHUNK, dtype=float)
+        s = _s(t, th, s0, v0, p)
+        out = np.nonzero((s > 0.0) | (s < -1.0))[0]
+        if out.size:
+            i = int(out[0])
+            wall = 0 if s[i] > 0.0 else -1
+            side = -1.0 if wall == 0 else 1.0  # gap = side * s + (wall == -1)
+            lo = t[i - 1] if i > 0 else h * (k0 - 1)
+            tr = _bisect(lambda x: side * _s(x, th, s0, v0, p) - wall, lo, t[i])
+            return float(tr), wall, _v(tr, th, v0, p)
+    return None
+
+
+def tolerant_contact(th, s0, v0, p, release, m: Mutant):
+    """The certified contact, or earlier a local extremum of ``s`` within ``contact_tol`` of a wall
+    (found as a sign change of ``s'`` on a grid of 0.01, then bisected), taken as a contact with
+    ``sdot = 0``."""
+    hit = certified_contact(th, s0, v0, p, release, m)
+    t_end = hit[0] if hit else T_MAX
+    dt = 0.01
+    for k0 in range(1, int(t_end / dt) + 2, CHUNK):
+        t = dt * np.arange(k0, k0 + CHUNK, dtype=float)
+        fp = _flight(t, th, v0, p["alpha"], p["beta"], p["gamma"])
+        v = np.asarray(fp.v)
+        for i in np.nonzero(np.sign(v[1:]) != np.sign(v[:-1]))[0]:
+            if t[i + 1] > t_end:
+                break
+            sgn = 1.0 if v[i] > 0 else -1.0
+            te = _bisect(lambda x: sgn * _v(x, th, v0, p), t[i], t[i + 1])
+            s = float(_s(te, th, s0, v0, p))
+            if sgn > 0 and -s < m.contact_tol:
+                return float(te), 0, 0.0
+            if sgn < 0 and s + 1.0 < m.contact_tol:
+                return float(te), -1, 0.0
+    return hit
+
+
+def contact(th, s0, v0, p, release, m: Mutant):
+    if release and m.redetect_after_release:
+        return 0.0, int(s0), 0.0
+    finder = fixed_step_contact if m.step else (tolerant_contact if m.contact_tol else certified_contact)
+    return finder(th, s0, v0, p, release, m)
+
+
+# ---------------------------------------------------------------------------------------------
+# the sticking policy (docs/golden.md)
+
+
+def policy(tau, wall, sdot, p, stick_time, m: Mutant):
+    """``None`` (bounce), ``(t_acc, None)`` (stuck forever) or ``(t_acc, (release_tau, release_phase))``."""
+    a, b, g, r = p["alpha"], p["beta"], p["gamma"], p["r"]
+    if wall == -1 and not m.lower_wall_sticks:
+        return None
+    d = 1.0 if wall == 0 else m.lower_sign
+    f_in = d * (-a * math.sin(tau) + a * b * math.cos(tau) + g)
+    if not f_in > 0:
+        return None
+    u, denom = r * abs(sdot), (1 - r) * f_in
+    t_acc = 2 * u / denom if denom > 0 else m.t_acc_if_no_loss
+    if not t_acc <= m.stick_scale * stick_time:
+        return None
+    R, phi = a * math.sqrt(1 + b * b), math.atan(b)
+    c = g / R if R > 0 else math.copysign(math.inf, g)
+    if R == 0 or (c if wall == 0 else (-c if m.never_on_pressing_side else c)) >= 1:
+        return t_acc, None
+    c = max(-1.0, min(1.0, c))
+    phase = phi + (math.asin(c) if wall == 0 or not m.lower_branch else math.pi - math.asin(c))
+    delay = (phase - tau) % TWO_PI
+    if m.delay_check and not delay > t_acc:
+        return None
+    return t_acc, (tau + delay, phase % TWO_PI)
+
+
+# ---------------------------------------------------------------------------------------------
+# the orbit and its rows
+
+
+def run(settings: dict, m: Mutant = BASE) -> list[tuple]:
+    """Rows ``(n, tau, wall, sdot, kind)`` of a case (``settings.json`` as a dict)."""
+    p, ini, st = settings["params"], settings["initial_state"], settings["stick_time"]
+    rows: list[tuple] = []
+    if ini["kind"] == "pre-impact":
+        tau, sdot = ini["tau0"], ini["sdot0"]
+        wall = 0 if sdot > 0 else -1
+    else:
+        hit = contact(ini["tau0"] % TWO_PI, ini["s0"], ini["sdot0"], p, False, m)
+        if hit is None:
+            return rows
+        tau, wall, sdot = ini["tau0"] + hit[0], hit[1], hit[2]
+    rows.append((0, tau, wall, sdot, "impact"))
+    for n in range(1, int(settings["n_impacts"]) + 1):
+        dec = policy(tau, wall, sdot, p, st, m)
+        step_rows = []
+        if dec is None:
+            start, th, v0, release = tau, tau % TWO_PI, -p["r"] * sdot, False
+        else:
+            step_rows.append((n - 1, tau + dec[0], wall, math.nan, "stick"))
+            if dec[1] is None:
+                return rows + step_rows
+            (start, th), v0, release = dec[1], 0.0, True
+            step_rows.append((n - 1, start, wall, math.nan, "release"))
+        hit = contact(th, float(wall), v0, p, release, m)
+        if hit is None:
+            if m.row_at_horizon:
+                step_rows.append((n, start + T_MAX, wall, 0.0, "impact"))
+            return rows + ([] if m.drop_rows_if_no_landing else step_rows)
+        tau, wall, sdot = start + hit[0], hit[1], hit[2]
+        rows += step_rows + [(n, tau, wall, sdot, "impact")]
+    if m.trailing_rows:
+        dec = policy(tau, wall, sdot, p, st, m)
+        if dec is not None:
+            n = int(settings["n_impacts"])
+            rows.append((n, tau + dec[0], wall, math.nan, "stick"))
+            if dec[1] is not None:
+                rows.append((n, dec[1][0], wall, math.nan, "release"))
+    return rows
+
+
+def write_csv(rows: list[tuple], path: Path, m: Mutant = BASE) -> None:
+    """The documented output layout ``n,tau,tau_mod_2pi,wall,sdot,kind`` (repr of every float)."""
+    lines = ["n,tau,tau_mod_2pi,wall,sdot,kind"]
+    for n, tau, wall, sdot, kind in rows:
+        phase = tau % TWO_PI if m.phase_value is None else m.phase_value
+        lines.append(f"{n},{tau!r},{phase!r},{wall},{'' if math.isnan(sdot) else repr(sdot)},{kind}")
+    Path(path).write_text("\n".join(lines) + "\n")
