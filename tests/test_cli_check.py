@@ -59,7 +59,7 @@ def test_check_fails_a_phase_more_than_2pi_off(tmp_path, capsys):
     assert main(["check", str(d)]) == 1
     out = capsys.readouterr().out
     assert out.splitlines()[-1].startswith(f"0/{len(ids)} cases pass")
-    assert "tau_mod_2pi differs" in out
+    assert "first failing: tau_mod_2pi at line 2" in out
 
 
 def test_check_reduces_out_of_range_phases(tmp_path, capsys):
@@ -125,7 +125,7 @@ def test_note_names_the_first_and_the_worst_failing_line(tmp_path, capsys):
         csv.writer(fh, lineterminator="\n").writerows(rows)
     assert main(["check", str(d), "--cases", cid]) == 1
     note = capsys.readouterr().out.splitlines()[2]
-    assert "tau differs first at tau at line 4 (|error| 3e-09, 3 x tolerance)" in note
+    assert "first failing: tau at line 4 (|error| 3e-09, 3 x tolerance)" in note
     assert "worst: tau at line 9 (|error| 5e-07, 500 x tolerance)" in note
 
 

@@ -364,7 +364,7 @@ def _failure_note(cols: dict, got: Sequence, exp: Sequence, tolerances: dict) ->
     first = min(bad, key=lambda s: (s.first_row, COLUMNS.index(s.column)))
     tol_bad = [s for s in bad if s.column in TOLERANCE_COLUMNS]
     worst = max(tol_bad, key=lambda s: s.worst_ratio) if tol_bad else first
-    note = f"{first.column} differs first at {_row_note(first.column, first.first_row, got, exp, tolerances)}"
+    note = f"first failing: {_row_note(first.column, first.first_row, got, exp, tolerances)}"
     if (worst.column, worst.worst_row) != (first.column, first.first_row):
         note += f"; worst: {_row_note(worst.column, worst.worst_row, got, exp, tolerances)}"
     return f"{note} of {got.path}"
