@@ -48,22 +48,45 @@ def first_contact(params: Params, tau0: float, sdot0: float) -> tuple[int, float
     return int(seq.wall[1]), float(seq.tau[1] - seq.tau[0]), float(seq.sdot[1])
 
 
+def bisect(pred, lo: float, hi: float, iters: int = 60) -> tuple[float, float]:
+    """``pred(lo)`` false, ``pred(hi)`` true; returns the final ``(lo, hi)`` after ``iters`` halvings."""
+    if pred(lo) or not pred(hi):
+        raise RuntimeError("bisection bracket does not bracket the predicate change")
+    for _ in range(iters):
+        m = 0.5 * (lo + hi)
+        if pred(m):
+            hi = m
+        else:
+            lo = m
+    return lo, hi
+
+
 def contact_threshold(params: Params, tau0: float, lo: float, hi: float, wall: int,
                       iters: int = 80) -> tuple[float, float]:
     """``(miss, reach)``: adjacent initial velocities (bisection in ``[lo, hi]``) at which the first
     flight from ``(tau0, sdot0)`` does not reach ``wall`` and does reach it first."""
     reach = lambda s: first_contact(params, tau0, s)[0] == wall  # noqa: E731
-    r_lo, r_hi = reach(lo), reach(hi)
-    if r_lo == r_hi:
+    if reach(lo) == reach(hi):
         raise RuntimeError(f"[{lo}, {hi}] does not bracket the first contact switching to wall {wall}")
-    miss, hit = (lo, hi) if r_hi else (hi, lo)
-    for _ in range(iters):
-        m = 0.5 * (miss + hit)
-        if reach(m):
-            hit = m
-        else:
-            miss = m
-    return miss, hit
+    return bisect(reach, lo, hi, iters) if reach(hi) else bisect(reach, hi, lo, iters)
+
+
+def grazing_speed_sdot0(params: Params, tau0: float, lo: float, hi: float, speed: float) -> float:
+    """The rule of case 0004: the initial pre-impact velocity (12 significant digits) whose flight
+    reaches the lower wall with pre-impact speed about ``speed`` (bisection on the first impact)."""
+    def pred(s):
+        w, _, v = first_contact(params, tau0, s)
+        return w == -1 and abs(v) >= speed
+    _, h = bisect(pred, lo, hi)
+    return float(f"{h:.12g}")
+
+
+def near_miss_offset_sdot0(params: Params, tau0: float, lo: float, hi: float, offset: float) -> float:
+    """The rule of case 0005: the initial velocity ``offset`` below the threshold at which the flight
+    first reaches the lower wall (12 significant digits): it approaches it tangentially, misses, and
+    returns to the wall it left."""
+    lo, _ = bisect(lambda s: first_contact(params, tau0, s)[0] == -1, lo, hi)
+    return float(f"{lo - offset:.12g}")
 
 
 def _float_flight(params: Params, tau0: float, sdot0: float):

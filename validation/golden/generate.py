@@ -89,43 +89,6 @@ class Spec:
 # settings found by rules
 
 
-def _first_impact(params: Params, tau0: float, sdot0: float):
-    from ...mapimpl.tracks import orbit
-
-    seq = orbit("map", params, tau0, sdot0, 1)
-    return int(seq.wall[1]), float(seq.sdot[1])
-
-
-def _bisect(pred, lo: float, hi: float, iters: int = 60) -> tuple[float, float]:
-    """``pred(lo)`` false, ``pred(hi)`` true; returns the final (lo, hi)."""
-    if pred(lo) or not pred(hi):
-        raise RuntimeError("bisection bracket does not bracket the predicate change")
-    for _ in range(iters):
-        m = 0.5 * (lo + hi)
-        if pred(m):
-            hi = m
-        else:
-            lo = m
-    return lo, hi
-
-
-def grazing_sdot0(params: Params, tau0: float, lo: float, hi: float, speed: float) -> float:
-    """Initial pre-impact velocity (12 significant digits) whose flight reaches the lower wall with
-    pre-impact speed about ``speed`` (bisection on the map's first impact)."""
-    def pred(s):
-        w, v = _first_impact(params, tau0, s)
-        return w == -1 and abs(v) >= speed
-    _, h = _bisect(pred, lo, hi)
-    return float(f"{h:.12g}")
-
-
-def near_miss_sdot0(params: Params, tau0: float, lo: float, hi: float, offset: float) -> float:
-    """Initial velocity ``offset`` below the threshold at which the flight first reaches the lower
-    wall: the flight approaches it tangentially, misses, and returns to the wall it left."""
-    lo, _ = _bisect(lambda s: _first_impact(params, tau0, s)[0] == -1, lo, hi)
-    return float(f"{lo - offset:.12g}")
-
-
 def chaos_horizon(params: Params) -> tuple[int, float]:
     """Impacts ``n`` with ``CHAOS_ERR0 * exp(lambda1 n) * CHAOS_SAFETY <= CHAOS_TOL`` (lambda1 per impact,
     QR method over 5000 impacts after 500, rounded to 3 decimals)."""
@@ -205,8 +168,8 @@ RELEASE_LYAP_SIDE, RELEASE_LYAP_IMPACTS = 8, 1500
 
 def specs() -> list[Spec]:
     """The cases, in order (ids are folder names)."""
-    graze_v = grazing_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
-    miss_v = near_miss_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
+    graze_v = contacts.grazing_speed_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
+    miss_v = contacts.near_miss_offset_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
     n_chaos, lam = chaos_horizon(FIG3)
     from ..transient.float64_release import stick_at_once_state
 
