@@ -409,3 +409,22 @@ def test_case_index_matches_the_case_folders():
 
     pyproject = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
     assert "cases/index.json" in pyproject["tool"]["setuptools"]["package-data"]["gear_rattle.validation.golden"]
+
+
+def test_no_impact_certification_refuses_what_it_cannot_prove():
+    """certify_never_lands (case 0015's ending) proves nothing for a flight that lands, for gamma != 0
+    (the drift gamma t / beta reaches a wall), or for an orbit that does not end where it is told."""
+    pytest.importorskip("flint")
+    from flint import arb
+
+    from gear_rattle.core.params import Params
+    from gear_rattle.mapimpl import certified as C
+
+    with C.precision(128):
+        m = C.Model(Params(0.1, 0.3, 0.0, 0.6))
+        with pytest.raises(C.CertificationError, match="lands"):  # fast towards the lower wall: it lands
+            C.certify_never_lands(m, arb(0.0), 0.0, arb(-1.0), prec=128)
+        with pytest.raises(C.CertificationError, match="gamma"):
+            C.certify_never_lands(C.Model(Params(0.1, 0.3, 0.01, 0.6)), arb(0.0), 0.0, arb(-0.01), prec=128)
+    with pytest.raises(C.CertificationError, match="lands"):  # Fig. 2 with gamma = 0: impact 4 follows impact 3
+        C.certify_no_impact_orbit(Params(0.5, 0.1, 0.0, 0.9), 0.0, 0.5, 3, prec=128)

@@ -13,6 +13,7 @@ Modules, bottom up:
 :mod:`.contact`    the first wall contact of a flight, certified (:func:`certified_flight`)
 :mod:`.sticking`   the sticking policy in balls: stick or bounce, the release time
 :mod:`.orbit`      one certified map step (Eqs. 11-13) and certified impact sequences
+:mod:`.noimpact`   orbits that end with a flight proven never to land (``no_impact``, ``gamma = 0``)
 :mod:`.capture`    the capture target of Figs. 9-11 and the certified capture decision
 :mod:`.release`    one certified run of the canonical release orbit at one precision
 :mod:`.duration`   the certified ``T_post``: a schedule of precisions, confirmed
@@ -28,6 +29,7 @@ from .contact import MAX_EVALS, T_MAX, FlightCertificate, certified_flight, mean
 from .duration import (PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
                        certified_release_durations, model_params)
 from .model import PARAM_NAMES, Flight, Model, parameter_ball
+from .noimpact import certify_never_lands, certify_no_impact_orbit
 from .orbit import CertifiedOrbit, CertifiedStep, Event, certified_step, certify_orbit
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, certify_post_release, certify_post_release_deltas
 from .sticking import certify_release, certify_zero, release_delay, release_phase, release_time, stick_decision
@@ -37,7 +39,8 @@ __all__ = [
     "upper_float", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
     "T_MAX", "FlightCertificate", "certified_flight", "mean_value_impact", "PRECISIONS",
     "ROUNDINGS", "ReleaseDuration", "certified_release_duration", "certified_release_durations", "model_params",
-    "PARAM_NAMES", "Flight", "Model", "parameter_ball", "CertifiedOrbit", "CertifiedStep", "Event",
+    "PARAM_NAMES", "Flight", "Model", "parameter_ball", "certify_never_lands", "certify_no_impact_orbit",
+    "CertifiedOrbit", "CertifiedStep", "Event",
     "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",
     "certify_post_release_deltas", "certify_release", "certify_zero", "release_delay", "release_phase",
     "release_time", "stick_decision",

@@ -6,7 +6,7 @@ un-reset flight would stay beyond the wall only for a short *excursion* ``[t_ent
 back at a small distance from it without touching.  Both are found by bisection on the initial
 velocity ``sdot0`` of a pre-impact state (the first impact switches wall at a threshold), with the
 map track's first impact as the oracle; the certified numbers that matter (the excursion, the
-closest approach) are then computed in ball arithmetic (:mod:`validation.golden.certify`).
+closest approach) are then computed in ball arithmetic (the certified track, :mod:`mapimpl.certified`).
 
 What a **fixed-step sign-change finder** sees of a graze: sampling the flight at ``t = k h``
 (``k = 1, 2, ...`` from the start of the flight) it finds the crossing only if some sample falls

@@ -78,7 +78,7 @@ class Spec:
     #: bug classes the case exists to catch (:data:`catalog.BUG_CLASSES`)
     catches: tuple = ()
     #: how the orbit ends: ``"active"`` or ``"stuck_forever"`` (:func:`certify.certify_orbit`), or
-    #: ``"no_impact"`` (:func:`noimpact.certify_orbit_to_no_impact`)
+    #: ``"no_impact"`` (:func:`mapimpl.certified.certify_no_impact_orbit`)
     ending: str = "active"
     #: certified extras recorded in the notes before the settings are written: ``"excursion"`` (a
     #: graze), ``"policy"`` (the sticking decision at impact 0)
@@ -574,10 +574,15 @@ def closest_approach(spec: Spec) -> tuple[str, str]:
 def certify_spec(spec: Spec, radius_limit: float) -> cert.CertifiedOrbit:
     """The certified orbit of a case, with the certifier of its kind of ending."""
     if spec.ending == "no_impact":
-        from .noimpact import certify_orbit_to_no_impact
+        # the map track says after which impact the orbit ends (a search hint); the certification proves it
+        from ...mapimpl.tracks import orbit
 
-        return certify_orbit_to_no_impact(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0,
-                                          prec=spec.prec, radius_limit=radius_limit)
+        hint = orbit("map", spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0)
+        if hint.status != "no_impact":
+            raise cert.CertificationError(f"{spec.id}: the map track ends with status {hint.status!r}, not 'no_impact'")
+        last = int(hint.n[hint.kind == "impact"][-1])
+        return cert.certify_no_impact_orbit(spec.params, spec.tau0, spec.sdot0, last, s0=spec.s0, prec=spec.prec,
+                                            radius_limit=radius_limit)
     return cert.certify_orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, prec=spec.prec,
                               radius_limit=radius_limit)
 
