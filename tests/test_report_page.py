@@ -2,7 +2,8 @@
 page has no horizontal scroll, the verdict table comes first and fits the width, its rows are a few
 lines tall, and disagreements are marked by more than colour (a cross and capitals).
 
-Built from the small fake report of tests/reportfake.py (seconds).  Needs Debian's ``chromium`` (``.ci/run`` installs it where apt is
+Built from the small fake report of tests/reportfake.py (seconds), and run once on the published
+docs/report/report.html.  Needs Debian's ``chromium`` (``.ci/run`` installs it where apt is
 available); skips with the reason where it is absent.  No network: the page is a local file with
 everything embedded, and Chromium runs with its background networking off.
 """
@@ -19,6 +20,8 @@ from pathlib import Path
 import pytest
 from reportfake import build_fake_report
 
+REPO = Path(__file__).resolve().parents[1]
+PUBLISHED = REPO / "docs" / "report" / "report.html"
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 needs_chromium = pytest.mark.skipif(
     CHROMIUM is None, reason="chromium is not installed (Debian: apt-get install -y chromium; .ci/run installs it "
@@ -110,3 +113,13 @@ def test_fake_report_page_in_chromium(fake_page, width, tmp_path):
     assert all(r["verdict"].startswith(("✓", "–")) for r in m["rows"] if r["cls"] != "bad")
     # the explanations are folded: each closed details element is one or two lines
     assert m["details"] and all(not d["open"] and d["h"] <= 2.6 * m["line"] for d in m["details"])
+
+
+@needs_chromium
+@pytest.mark.skipif(not PUBLISHED.is_file(), reason=f"no published report at {PUBLISHED}")
+def test_published_report_page_has_no_horizontal_scroll_at_1024(tmp_path):
+    """docs/report/report.html, as published: no horizontal scroll at 1024 px, the verdict table first."""
+    m = measure(PUBLISHED, 1024, tmp_path)
+    assert m["sw"] <= m["vw"] and not m["wide"], m["wide"]
+    assert m["table"][2] <= m["vw"] and m["table"][3] < m["first_section"][1]
+    assert max(r["h"] for r in m["rows"]) <= 5.5 * m["line"]
