@@ -11,15 +11,19 @@ import json
 import math
 import os
 import re
+import subprocess
 import sys
-import types
+from fractions import Fraction
+from html import escape as html_escape
 from pathlib import Path
 
 import pytest
+from reportfake import LONG, build_fake_report
 
 from gear_rattle.validation.report import builder
-from gear_rattle.validation.report.document import Section, check_keys, md_slug, render_html, render_markdown
 from gear_rattle.validation.paper import KINDS, PAPER, PaperValue
+from gear_rattle.validation.report.document import (Document, Section, check_keys, md_slug, render_html,
+                                                    render_markdown)
 from gear_rattle.validation.report.verdict import (AGREES, DISAGREES, NOT_COMPARED, Z_AGREE, compare, compare_bound,
                                                    compare_value, internal_check, row)
 
@@ -124,24 +128,80 @@ def test_intermittency_slope_six_sigma_from_minus_half_disagrees():
 
 
 def test_upper_bound_checked_strictly_against_the_printed_parameter():
-    """Fig. 5: r = 0.82144 >~ r2.  An r2 4.5e-7 above 0.82144 disagrees; Fig. 6's 0.82145 agrees."""
+    """Fig. 5: r = 0.82144 >~ r2.  An r2 4.5e-7 above 0.82144 violates it; Fig. 6's 0.82145 is satisfied."""
     r2 = 0.8214404475801397
     v = compare(r2, None, PAPER["r2"])
-    assert v.verdict == DISAGREES and v.deviation == pytest.approx(4.475801397e-7, rel=1e-6)
+    assert v.verdict == DISAGREES and v.bound == "violated" and not v.proven
+    assert v.deviation == pytest.approx(4.475801397e-7, rel=1e-6)
     assert "above 0.82144" in v.text and "<=" in v.text
     assert compare(r2, None, PAPER["r2_fig6"]).verdict == AGREES
+    assert compare(r2, None, PAPER["r2_fig6"]).bound == "satisfied"
     assert compare(0.82144, None, PAPER["r2"]).verdict == AGREES  # equality is allowed by ">~"
-    # our error bar does not soften the direction, but its size is printed
+    # our error bar does not soften the direction; a margin within it is said to be undecided by our accuracy
     w = compare_bound(1.24501, 1e-4, PAPER["alpha1_fig9"])
-    assert w.verdict == DISAGREES and "0.1 sigma" in w.text
+    assert w.verdict == DISAGREES and "not decided by our accuracy" in w.text
     assert compare_bound(1.2436, 5e-4, PAPER["alpha1_fig9"]).verdict == AGREES
+    assert "not decided" not in compare_bound(1.2436, 1e-6, PAPER["alpha1_fig9"]).text
+
+
+def test_bound_reports_its_margin_in_the_papers_last_digit_not_a_z_score():
+    """Issue 23 item 13: the r2 row printed "24924395.9 sigma" (margin 4.5e-7 over a Newton residual of
+    2e-14).  A bound prints its margin in absolute terms and in units of the paper's last printed digit
+    (1e-05 for 0.82144), and has no z."""
+    v = compare_bound(0.8214404475801397, 2e-14, PAPER["r2"])
+    assert v.z is None and v.sigma is None and "sigma" not in v.text
+    assert v.unit == 1e-05 == PAPER["r2"].printed_unit
+    assert "4.48e-07 above 0.82144 (0.0448 × its last digit, 1e-05)" in v.text
+    r1 = compare_bound(0.7414346, 2e-6, PAPER["r1"])
+    assert r1.bound == "satisfied" and "0.00142 above 0.74001 (142 × its last digit, 1e-05); must be >= it" in r1.text
+    assert PAPER["alpha1_fig9"].printed_unit == 1e-05 and PAPER["kappa"].printed_unit == 1e-03
+    for key in ("decay_time", "fig2_motion", "r2_impacts_per_period", "intermittency_slope"):
+        assert PAPER[key].printed_unit is None, key  # derived, a word, a count, a theory value
+
+
+def test_bound_decided_by_an_enclosure_is_proven():
+    """Issue 22 item 5 will pass a proven enclosure of r2: the whole enclosure on the bound's side of the
+    printed decimal (compared exactly) proves it; wholly on the other side proves the violation; an
+    enclosure that contains the printed value decides nothing (the point verdict stands, "not proven")."""
+    r2 = 0.8214404475801397
+    ok = compare(r2, 2e-14, PAPER["r2_fig6"], enclosure=(r2 - 1e-13, r2 + 1e-13))
+    assert (ok.verdict, ok.bound, ok.proven) == (AGREES, "satisfied (proven)", True)
+    assert "proven: our enclosure" in ok.text and "lies wholly below 0.82145" in ok.text
+    bad = compare(r2, 2e-14, PAPER["r2"], enclosure=(r2 - 1e-13, r2 + 1e-13))
+    assert (bad.verdict, bad.bound) == (DISAGREES, "violated (proven)") and "wholly above 0.82144" in bad.text
+    # r1 is a lower bound: the enclosure must lie above 0.74001
+    assert compare(0.7414, None, PAPER["r1"], enclosure=(0.7413, 0.7415)).bound == "satisfied (proven)"
+    assert compare(0.7399, None, PAPER["r1"], enclosure=(0.7398, 0.74)).bound == "violated (proven)"
+    # an enclosure containing the printed value: not proven, the point value decides
+    und = compare(0.82143, None, PAPER["r2"], enclosure=(0.82142, 0.82146))
+    assert (und.verdict, und.bound, und.proven) == (AGREES, "satisfied", False) and "not proven" in und.text
+    # compared exactly with the printed decimal: the double nearest 0.82144 lies below it, the next one above
+    x = float("0.82144")
+    y = math.nextafter(x, 1.0)
+    assert Fraction(x) < Fraction("0.82144") < Fraction(y)
+    assert compare(x, None, PAPER["r2"], enclosure=(x, x)).bound == "satisfied (proven)"
+    assert compare(y, None, PAPER["r2"], enclosure=(y, y)).bound == "violated (proven)"
+
+
+@pytest.mark.parametrize("enc, match", [((0.9, 0.8), "lo <= hi"), ((0.1, 0.2), "contain the computed value"),
+                                        ((float("nan"), 1.0), "finite"), ((1.0,), "pair"), ("ab", "real")])
+def test_bad_enclosure_is_refused(enc, match):
+    with pytest.raises(ValueError, match=match):
+        compare(0.8214404475801397, None, PAPER["r2"], enclosure=enc)
+
+
+def test_enclosure_only_for_bounds():
+    with pytest.raises(ValueError, match="enclosure"):
+        compare(0.9, 0.01, PAPER["kappa"], enclosure=(0.8, 1.0))
+    with pytest.raises(ValueError, match="enclosure"):
+        row("track_agreement", "t", 1e-13, paper=None, tolerance=1e-10, enclosure=(0, 1))
 
 
 def test_lower_bound_checked_in_its_direction():
     """Fig. 7: r = 0.74001 <~ r1, so r1 must be above 0.74001."""
     assert compare(0.7414, 1e-5, PAPER["r1"]).verdict == AGREES
     v = compare(0.7399, 1e-5, PAPER["r1"])
-    assert v.verdict == DISAGREES and "below 0.74001" in v.text and v.z == pytest.approx(-11.0)
+    assert v.verdict == DISAGREES and v.bound == "violated" and "below 0.74001" in v.text and v.z is None
     with pytest.raises(ValueError, match="kind"):
         compare_bound(1.0, None, PAPER["kappa"])
 
@@ -158,10 +218,12 @@ def test_counts_and_categories_must_be_equal():
 
 def test_internal_checks_are_not_compared_but_pass_or_fail():
     v = internal_check(3e-13, 1e-10)
-    assert (v.verdict, v.check) == (NOT_COMPARED, "pass")
-    assert internal_check(2e-10, 1e-10).check == "fail"
+    assert (v.verdict, v.check, v.text) == (NOT_COMPARED, "pass", "3e-13 <= tolerance 1e-10")
+    f = internal_check(2e-10, 1e-10)
+    assert (f.check, f.text) == ("fail", "2e-10 > tolerance 1e-10")
     assert internal_check(float("nan"), 1e-10).check == "fail"
-    assert internal_check(1e-13, 1e-10, ok=False).check == "fail"
+    w = internal_check(1e-13, 1e-10, ok=False)
+    assert w.check == "fail" and "further condition failed" in w.text
     assert compare(1.0, None, None).verdict == NOT_COMPARED and compare(1.0, None, None).check is None
     assert compare(None, None, None, tolerance=1e-10).check == "fail"
     # a paper value that was not computed is a disagreement, never a silent agreement
@@ -180,39 +242,9 @@ def test_row_builds_a_judged_number():
 
 # ---------------------------------------------------------------------------------------- the report
 
-def _fake_section(ctx) -> Section:
-    sec = Section("fake", "Fake section (test)")
-    sec.p("a paragraph")
-    sec.table(["a", "b"], [[1, 2.5]])
-    png = ctx.fig_dir / "fake.png"
-    png.write_bytes(b"\x89PNG\r\n\x1a\nnot really")
-    sec.fig(png, "a figure")
-    sec.numbers += [
-        row("r2", "r2", 0.8214404475801397, paper="r2"),
-        row("r1", "r1", 0.74139, 2e-5, paper="r1"),
-        row("alpha1", "alpha1", 1.24363, 0.00053, paper="alpha1"),
-        row("mean_n", "<n>", 2461.0, 30.0, paper="mean_n"),
-        row("kappa", "kappa", 0.95, 0.01, paper="kappa"),
-        row("decay_time", "decay time", 2590.0, 40.0, paper="decay_time"),
-        row("phi_500", "phi", 0.011, 0.002, paper="phi_500"),
-        row("phi_1000", "phi", None, paper="phi_1000", computed_text="fit failed"),
-        row("fig2_motion", "motion", -0.2, paper="fig2_motion", category="regular"),
-        row("track_agreement", "tracks", 4e-13, paper=None, tolerance=1e-10),
-        row("release_T_post", "a row added later", 1234, 0, paper=None),
-    ]
-    return sec
-
-
 @pytest.fixture
 def fake_report(tmp_path, monkeypatch):
-    mod = types.ModuleType("gear_rattle_test_fake_section")
-    mod.KEY, mod.TITLE, mod.build = "fake", "Fake section (test)", _fake_section
-    monkeypatch.setitem(sys.modules, mod.__name__, mod)
-    monkeypatch.setattr(builder, "SECTIONS", [mod.__name__])
-    monkeypatch.setattr(builder, "environment", lambda: {"python": "test"})
-    html_path, ok = builder.build_report("quick", tmp_path / "rep", progress=False, argv=["gear-rattle", "report"])
-    assert ok
-    return tmp_path / "rep"
+    return build_fake_report(tmp_path / "rep", monkeypatch)
 
 
 def test_summary_json_has_stable_keys_with_numeric_value_and_error(fake_report):
@@ -221,13 +253,20 @@ def test_summary_json_has_stable_keys_with_numeric_value_and_error(fake_report):
     assert set(REQUIRED_KEYS) <= set(nums)
     for n in data["numbers"]:
         for f in ("key", "value", "error", "paper_value", "paper_error", "paper_kind", "verdict", "check", "z",
-                  "quantity", "paper", "computed", "error_bar", "deviation", "explanation", "section"):
+                  "quantity", "paper", "computed", "error_bar", "deviation", "explanation", "section",
+                  "paper_digit", "bound", "margin_digits", "enclosure"):
             assert f in n, (n["key"], f)
-        for f in ("value", "error", "paper_error", "z", "deviation_value"):
+        for f in ("value", "error", "paper_error", "z", "deviation_value", "paper_digit", "margin_digits"):
             assert n[f] is None or (isinstance(n[f], (int, float)) and math.isfinite(n[f])), (n["key"], f)
     assert nums["r1"]["value"] == 0.74139 and nums["r1"]["error"] == 2e-5
-    assert nums["r2"]["error"] is None and nums["r2"]["verdict"] == DISAGREES
+    assert nums["r2"]["error"] == 2e-14 and nums["r2"]["verdict"] == DISAGREES
     assert nums["r2"]["paper_kind"] == "upper_bound" and nums["r2"]["paper_value"] == 0.82144
+    # a bound: no z-score; its outcome, the margin in the paper's last digit and that digit
+    assert (nums["r2"]["z"], nums["r2"]["bound"], nums["r2"]["paper_digit"]) == (None, "violated", 1e-05)
+    assert nums["r2"]["margin_digits"] == pytest.approx(0.04475801397, rel=1e-6) and nums["r2"]["enclosure"] is None
+    assert nums["r2_fig6"]["bound"] == "satisfied (proven)" and nums["r2_fig6"]["enclosure"] == [0.8214404475801,
+                                                                                                 0.8214404475802]
+    assert nums["kappa"]["bound"] is None and nums["kappa"]["paper_digit"] == 0.001
     assert nums["kappa"]["paper_error"] == 0.001 and nums["kappa"]["verdict"] == DISAGREES
     assert nums["phi_1000"]["value"] is None and nums["phi_1000"]["verdict"] == DISAGREES
     assert nums["fig2_motion"]["paper_value"] == "regular"
@@ -237,32 +276,106 @@ def test_summary_json_has_stable_keys_with_numeric_value_and_error(fake_report):
     assert data["profile"] == "quick" and "environment" in data and data["sections"][0]["ok"]
 
 
-def test_page_starts_with_counts_and_a_linked_table_of_contents(fake_report):
+def test_page_starts_with_counts_naming_disagreements_then_the_verdict_table(fake_report):
+    """Issue 23 item 11: the counts (naming the rows that disagree), then a compact verdict table (key,
+    paper, ours +- error, verdict, one-line reason), disagreements marked by a cross and capitals (not
+    by colour alone), explanations in folded details below; the Markdown twin in the same order."""
     data = json.loads((fake_report / "summary.json").read_text())
     c = data["counts"]
-    line = f"Verdicts: {c['agrees']} agree, {c['disagrees']} disagree, {c['not compared']} not compared"
+    assert (c["agrees"], c["disagrees"], c["not compared"], c["check pass"]) == (7, 4, 2, 1)
+    line = ("Verdicts: 7 agree, 4 disagree (r2, mean_n, kappa, phi_1000), 2 not compared "
+            "(internal checks: 1 pass, 0 fail).")
     html = (fake_report / "report.html").read_text()
     md = (fake_report / "report.md").read_text()
-    assert c["agrees"] == 5 and c["disagrees"] == 4 and c["not compared"] == 2 and c["check pass"] == 1
-    # the counts come before the summary table, and every contents link has its target
-    assert line in html and html.index(line) < html.index("<table")
+    # HTML: counts, then the verdict table before anything else of substance (provenance, sections)
+    assert line in html
+    table = re.search(r"<table class='verdicts'.*?</table>", html, flags=re.S).group(0)
+    assert html.index(line) < html.index(table) < html.index("About this run") < html.index("Fake section (test)</h2>")
+    assert html.index(table) < html.index("Environment:")
+    head = re.findall(r"<th>(.*?)</th>", table)
+    assert head == ["key", "paper", "ours ± error", "verdict", "reason"]
+    rows = re.findall(r"<tr class='(\w+)'>(.*?)</tr>", table)
+    assert len(rows) == len(data["numbers"])
+    by_key = {re.search(r"#row-(\w+)", r).group(1): (cls, r) for cls, r in rows}
+    for key in ("r2", "mean_n", "kappa", "phi_1000"):
+        cls, r = by_key[key]
+        assert cls == "bad" and ("✗ DISAGREES" in r or "✗ VIOLATED" in r), key
+    assert "✓ satisfied (proven)" in by_key["r2_fig6"][1] and "✓ agrees" in by_key["alpha1"][1]
+    assert "✓ check passes" in by_key["track_agreement"][1] and "– not compared" in by_key["release_T_post"][1]
+    assert "0.8214404476 ± 2e-14<" in by_key["r2"][1] and "Newton residual" not in by_key["r2"][1]
+    assert "0.0448 × its last digit" in by_key["r2"][1] and "sigma" not in table
+    assert "1234 ± 0 (certified)" in by_key["release_T_post"][1]
+    # the long explanations are not in the table but in the folded details, one per row, linked from the key
+    assert "GOY law" not in table
+    details = re.findall(r"<details id='row-(\w+)' class='(\w+)'>", html)
+    assert [k for k, _ in details] == [n["key"] for n in data["numbers"]]
+    assert html.count(html_escape(LONG)) == 2 and "<details open" not in html
     for href in re.findall(r"href='#([^']+)'", html):
         assert f"id='{href}'" in html
-    assert html.count("href='#") == 2
-    assert line in md and md.index(line) < md.index("| key |")
-    headings = {md_slug(h) for h in re.findall(r"^## (.+)$", md, flags=re.M)}
-    links = re.findall(r"^\* \[[^\]]+\]\(#([^)]+)\)$", md, flags=re.M)
-    assert len(links) == 2 and set(links) <= headings
-    assert "![a figure](figures/fake.png)" in md
+    # Markdown: the same order and the same columns, disagreements in bold with the cross
+    assert line in md and md.index(line) < md.index("| key | paper | ours ± error | verdict | reason |")
+    assert md.index("| key | paper") < md.index("## Details of each row") < md.index("## About this run")
+    assert "| **✗ VIOLATED** |" in md and "| **✗ DISAGREES** |" in md and "| ✓ agrees |" in md
+    headings = {md_slug(h) for h in re.findall(r"^#{2,3} (.+)$", md, flags=re.M)}
+    links = re.findall(r"\]\(#([^)]+)\)", md)
+    assert len(links) >= len(data["numbers"]) + 4 and set(links) <= headings
+    assert "![a figure wider than the page](figures/fake.png)" in md
+    assert md.count(LONG.strip()) == 2
+    # a proven bound shows its enclosure in the details
+    enc = "proven enclosure [0.8214404475801, 0.8214404475802]"
+    assert enc in html and enc in md and enc not in table
 
 
 def test_failed_section_is_counted_and_linked(tmp_path):
     ok = Section("a", "A: fine")
     bad = Section("b", "B: broken", ok=False, error="RuntimeError: x")
-    html = render_html("t", [], [ok, bad])
-    md = render_markdown("t", [], [ok, bad], tmp_path)
+    doc = Document("t", [], [], [ok, bad])
+    html = render_html(doc)
+    md = render_markdown(doc, tmp_path)
     assert "1 section(s) FAILED" in html and "href='#sec-b'" in html and "id='sec-b'" in html
     assert f"(#{md_slug('B: broken — FAILED')})" in md and "## B: broken — FAILED" in md
+
+
+def test_rerender_draws_the_same_report_from_document_json(fake_report):
+    """document.json holds the model: rerender() from it rewrites report.html, report.md and summary.json
+    byte for byte, without computing; a change of the rules applies on rerender."""
+    files = {f: (fake_report / f).read_bytes() for f in ("report.html", "report.md", "summary.json", "document.json")}
+    doc = json.loads(files["document.json"])
+    assert doc["format"] == "gear-rattle report document 1" and doc["header"]["profile"] == "quick"
+    spec = {r["key"]: r for r in doc["sections"][0]["rows"]}
+    assert spec["r2_fig6"]["enclosure"] == [0.8214404475801, 0.8214404475802] and spec["r2"]["paper"] == "r2"
+    assert doc["sections"][0]["blocks"][-1] == ["fig", "figures/fake.png", "a figure wider than the page"]
+    builder.rerender(fake_report)
+    # the same page, but for the note that it was drawn again (by which commit)
+    commit = builder.git_commit()
+    note = f"This page was drawn again from document.json by commit {commit}"
+    for f in ("report.html", "report.md"):
+        new = (fake_report / f).read_text(encoding="utf-8")
+        assert note in new and note not in files[f].decode()
+        assert re.sub(r"(<p>)?This page was drawn again[^\n]*\n(\n)?", "", new) == files[f].decode(), f
+    s0, s1 = json.loads(files["summary.json"]), json.loads((fake_report / "summary.json").read_text())
+    assert s1.pop("rerendered") == {"git_commit": commit} and s1 == s0
+    # drawing again what was drawn again changes nothing
+    files = {f: (fake_report / f).read_bytes() for f in files}
+    builder.rerender(fake_report)
+    for f, b in files.items():
+        assert (fake_report / f).read_bytes() == b, f
+    # a NaN value survives the JSON (as "nan") and is judged again as a NaN
+    doc["sections"][0]["rows"][2]["value"] = "nan"
+    (fake_report / "document.json").write_text(json.dumps(doc))
+    builder.rerender(fake_report)
+    r1 = {n["key"]: n for n in json.loads((fake_report / "summary.json").read_text())["numbers"]}["r1"]
+    assert r1["verdict"] == DISAGREES and r1["deviation"] == "computed value is nan"
+
+
+def test_rerender_command_refuses_bad_input_in_one_line(tmp_path):
+    run = lambda *a: subprocess.run([sys.executable, "-m", "gear_rattle.validation.report", *a],  # noqa: E731
+                                    capture_output=True, text=True, timeout=120)
+    r = run("rerender", str(tmp_path))
+    assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1 and "document.json" in r.stderr
+    (tmp_path / "document.json").write_text('{"format": "something else"}')
+    r = run("rerender", str(tmp_path))
+    assert r.returncode == 2 and "format" in r.stderr and "Traceback" not in r.stderr
 
 
 def test_md_slug_follows_github():

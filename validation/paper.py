@@ -66,15 +66,23 @@ class PaperValue:
         return float(self.printed) if self.numeric else self.printed
 
     @property
-    def resolution(self) -> float | None:
-        """One unit of the last printed digit (``None`` where the printed value is exact: a bound is the
-        parameter the paper ran, a count an integer, a theory value exact; and for qualitative ones)."""
-        if self.kind in ("theory", "qualitative", "derived", "count", "upper_bound", "lower_bound"):
+    def printed_unit(self) -> float | None:
+        """One unit of the last digit the paper printed (``1e-05`` for ``0.82144``): the precision of a
+        printed value or bound (``None`` for the kinds whose printed digits carry no precision: a count,
+        a theory value, a derived value, a word)."""
+        if self.kind not in ("value", "approx", "upper_bound", "lower_bound"):
             return None
         s = self.printed.lower().split("e")[0]
         decimals = len(s.split(".")[1]) if "." in s else 0
         exp = int(self.printed.lower().split("e")[1]) if "e" in self.printed.lower() else 0
         return 10.0 ** (exp - decimals)
+
+    @property
+    def resolution(self) -> float | None:
+        """The rounding unit of a printed *result*: :attr:`printed_unit`, or ``None`` where the printed
+        value is exact (a bound is the parameter the paper ran, a count an integer, a theory value exact;
+        and for derived and qualitative ones)."""
+        return None if self.kind in ("upper_bound", "lower_bound") else self.printed_unit
 
     @property
     def rounding_sd(self) -> float:

@@ -1,4 +1,6 @@
-"""Run the report's sections and write ``report.md`` and a self-contained ``report.html``.
+"""Run the report's sections and write ``report.md``, a self-contained ``report.html``, ``summary.json``
+and ``document.json`` (the document model, from which :func:`rerender` draws the report again
+without computing: ``python -m gear_rattle.validation.report rerender DIR``).
 
 Sections are modules listed in :data:`SECTIONS`; each defines ``KEY``, ``TITLE`` and
 ``build(ctx) -> Section``.  A section that raises is kept in the report, marked FAILED with its
@@ -18,7 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .verdict import Z_AGREE
-from .document import Section, check_keys, render_html, render_markdown, verdict_counts
+from .document import (Document, Section, check_keys, document_json, render_html, render_markdown,
+                       sections_from_json, verdict_counts)
 
 #: Section modules, in report order.
 SECTIONS = [
@@ -87,19 +90,24 @@ def environment() -> dict:
         except Exception:  # pragma: no cover - optional
             env[mod] = "not installed"
     env["speed_reference_s"] = speed_reference()
+    env["git_commit"] = git_commit()
+    return env
+
+
+def git_commit() -> str:
+    """The commit of this code, with " (with uncommitted changes)" when the tree is dirty; "unknown"
+    outside a git checkout."""
     try:
         import subprocess
 
         root = Path(__file__).resolve().parents[2]
-        env["git_commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                                           cwd=root, timeout=5).stdout.strip() or "unknown"
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                                cwd=root, timeout=5).stdout.strip() or "unknown"
         dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], capture_output=True,
                                text=True, cwd=root, timeout=5).stdout.strip()
-        if dirty and env["git_commit"] != "unknown":
-            env["git_commit"] += " (with uncommitted changes)"
+        return commit + (" (with uncommitted changes)" if dirty and commit != "unknown" else "")
     except Exception:  # pragma: no cover
-        env["git_commit"] = "unknown"
-    return env
+        return "unknown"
 
 
 def summary_json(sections: list[Section], **header) -> dict:
@@ -141,26 +149,59 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
         ctx.say(f"{m.TITLE}: {'ok' if sec.ok else 'FAILED'} in {sec.seconds:.1f} s")
         done.append(sec)
     total = time.perf_counter() - t_all
-    check_keys(done)
     cmd = " ".join(argv) if argv is not None else " ".join(sys.argv)
-    preamble = [
-        "Reproduction of de Souza, Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-772, "
-        "by the gear-rattle reference implementation. Every computed number and figure below was produced "
-        "by the run that wrote this page; the paper's values are quoted from the paper's text.",
-        f"Profile: {profile}. Seed: {seed}. Total run time: {total:.1f} s. Command: {cmd}",
-        "Environment: " + "; ".join(f"{k} {v}" for k, v in env.items()),
-        "Run times per section: " + "; ".join(f"{s.title} {s.seconds:.1f} s" for s in done),
+    header = {"profile": profile, "seed": seed, "seconds": total, "environment": env, "command": cmd}
+    return write_report(out, header, done), all(s.ok for s in done)
+
+
+def compose(header: dict, sections: list[Section]) -> Document:
+    """The page's text around the sections, from the run's header (profile, seed, seconds, environment,
+    command): the title, the introduction, and the run's provenance with how verdicts are reached."""
+    profile = header["profile"]
+    intro = ["Reproduction of de Souza, Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-772, "
+             "by the gear-rattle reference implementation. Every computed number and figure below was produced "
+             "by the run that wrote this page; the paper's values are quoted from the paper's text."]
+    about = [
+        f"Profile: {profile}. Seed: {header['seed']}. Total run time: {header['seconds']:.1f} s. "
+        f"Command: {header['command']}",
+        "Environment: " + "; ".join(f"{k} {v}" for k, v in header["environment"].items()),
+        "Run times per section: " + "; ".join(f"{s.title} {s.seconds:.1f} s" for s in sections),
         f"How the verdicts are reached (validation/report/verdict.py, docs/report.md): a value is compared by "
         f"z = (ours - paper) / sqrt(our error^2 + paper error^2), the paper error being the one it states or else "
         f"the rounding of its last printed digit; it agrees when |z| <= {Z_AGREE:g}. A bound the paper states "
         f"(the r or alpha it ran, '>~' or '<~' a critical value) is checked strictly in its direction against the "
-        f"printed value. Checks of this implementation that the paper does not state are 'not compared' and carry "
-        f"a separate pass/fail against their stated tolerance.",
+        f"printed value: satisfied or violated, with the margin (ours - paper) in absolute terms and in units of "
+        f"the paper's last printed digit, no z-score; 'satisfied (proven)' where a proven enclosure of our value "
+        f"lies wholly on the bound's side. Checks of this implementation that the paper does not state are 'not "
+        f"compared' and carry a separate pass/fail against their stated tolerance.",
     ]
-    title = f"gear-rattle validation report ({profile} profile)"
-    (out / "report.md").write_text(render_markdown(title, preamble, done, out))
+    if header.get("rerendered"):
+        about.append(f"This page was drawn again from document.json by commit {header['rerendered']['git_commit']}, "
+                     "with that commit's verdict rules and layout; the numbers, texts and figures are those of the "
+                     "run above (nothing was recomputed).")
+    return Document(f"gear-rattle validation report ({profile} profile)", intro, about, sections)
+
+
+def write_report(out: Path, header: dict, sections: list[Section]) -> Path:
+    """Write report.md, report.html, summary.json and document.json in ``out``; return report.html's path."""
+    check_keys(sections)
+    doc = compose(header, sections)
+    (out / "report.md").write_text(render_markdown(doc, out))
     html_path = out / "report.html"
-    html_path.write_text(render_html(title, preamble, done))
-    (out / "summary.json").write_text(json.dumps(summary_json(done, profile=profile, seed=seed, seconds=total,
-                                                              environment=env, command=cmd), indent=1))
-    return html_path, all(s.ok for s in done)
+    html_path.write_text(render_html(doc))
+    (out / "summary.json").write_text(json.dumps(summary_json(sections, **header), indent=1))
+    (out / "document.json").write_text(json.dumps(document_json(header, sections, out), indent=1, ensure_ascii=False))
+    return html_path
+
+
+def rerender(out_dir: str | Path) -> Path:
+    """Draw a written report again from its ``document.json`` (no computation): every row is judged again
+    by today's :mod:`.verdict` and the page laid out by today's :mod:`.document`; the figures are
+    the files already in ``out_dir``.  The header gains ``rerendered`` (the commit that drew it), and
+    the page says so.  Returns report.html's path."""
+    out = Path(out_dir)
+    src = out / "document.json"
+    if not src.is_file():
+        raise ValueError(f"out_dir={str(out)!r} has no document.json: allowed a folder written by gear-rattle report")
+    header, sections = sections_from_json(json.loads(src.read_text()), out)
+    return write_report(out, {**header, "rerendered": {"git_commit": git_commit()}}, sections)
