@@ -17,25 +17,33 @@ Modules, bottom up:
 :mod:`.capture`    the capture target of Figs. 9-11 and the certified capture decision
 :mod:`.release`    one certified run of the canonical release orbit at one precision
 :mod:`.duration`   the certified ``T_post``: a schedule of precisions, confirmed
+:mod:`.jets`       forward-mode differentiation over balls (the Jacobian enclosed over a box)
+:mod:`.krawczyk`   the Krawczyk operator: a box proven to hold exactly one zero
+:mod:`.shooting`   periodic orbits as zeros of the multiple-shooting system; monodromy matrix
+:mod:`.periodic`   certified periodic orbits, Floquet multipliers, folds and period doublings
 =================  =============================================================================
 
-A new certified computation (e.g. periodic orbits by a Krawczyk operator) is a new module here,
-built on :mod:`.model`, :mod:`.contact` and :mod:`.orbit`.
+A new certified computation is a new module here, built on :mod:`.model`, :mod:`.contact` and
+:mod:`.orbit` (or :mod:`.krawczyk` for a zero of an analytic system).
 """
 
-from .balls import MAX_PREC, PREC, CertificationError, exact, mod_two_pi, nearest_float, precision, span, upper_float
+from .balls import (MAX_PREC, PREC, CertificationError, decimal_interval, exact, mod_two_pi, nearest_float, precision,
+                    span, upper_float)
 from .capture import Target, capture_decision, certified_distance, float64_target
 from .contact import MAX_EVALS, T_MAX, FlightCertificate, certified_flight, mean_value_impact
 from .duration import (PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
                        certified_release_durations, model_params)
+from .krawczyk import KrawczykResult, krawczyk, refine, verify_box
 from .model import PARAM_NAMES, Flight, Model, parameter_ball
 from .noimpact import certify_never_lands, certify_no_impact_orbit
 from .orbit import CertifiedOrbit, CertifiedStep, Event, certified_step, certify_orbit
+from .periodic import (CertifiedBifurcation, CertifiedPeriodicOrbit, certify_bifurcation, certify_periodic_orbit,
+                       floquet, prove_flights)
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, certify_post_release, certify_post_release_deltas
 from .sticking import certify_release, certify_zero, release_delay, release_phase, release_time, stick_decision
 
 __all__ = [
-    "MAX_PREC", "PREC", "CertificationError", "exact", "mod_two_pi", "nearest_float", "precision", "span",
+    "MAX_PREC", "PREC", "CertificationError", "decimal_interval", "exact", "mod_two_pi", "nearest_float", "precision", "span",
     "upper_float", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
     "T_MAX", "FlightCertificate", "certified_flight", "mean_value_impact", "PRECISIONS",
     "ROUNDINGS", "ReleaseDuration", "certified_release_duration", "certified_release_durations", "model_params",
@@ -43,5 +51,6 @@ __all__ = [
     "CertifiedOrbit", "CertifiedStep", "Event",
     "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",
     "certify_post_release_deltas", "certify_release", "certify_zero", "release_delay", "release_phase",
-    "release_time", "stick_decision",
+    "release_time", "stick_decision", "KrawczykResult", "krawczyk", "refine", "verify_box", "CertifiedBifurcation",
+    "CertifiedPeriodicOrbit", "certify_bifurcation", "certify_periodic_orbit", "floquet", "prove_flights",
 ]

@@ -64,3 +64,30 @@ def mod_two_pi(tau: arb) -> arb:
         raise CertificationError("tau mod 2 pi: the ball straddles a multiple of 2 pi")
     return tau - k * two_pi
 
+
+
+def _decimal(x: arb, digits: int, rounding: str) -> str:
+    """The exact number ``x`` (an exact ball) rounded to ``digits`` significant decimal digits in the
+    direction ``rounding`` (``decimal.ROUND_FLOOR`` or ``ROUND_CEILING``)."""
+    import decimal
+
+    man, exp = x.man_exp()
+    man, exp = int(man), int(exp)
+    with decimal.localcontext() as c:
+        c.prec = max(50, abs(exp) + len(str(abs(man))) + 10)  # exact: man * 2^exp has that many digits
+        c.Emax, c.Emin = decimal.MAX_EMAX, decimal.MIN_EMIN
+        exact_value = decimal.Decimal(man) * decimal.Decimal(2) ** exp
+        c.prec, c.rounding = digits, rounding
+        return str(+exact_value)
+
+
+def decimal_interval(x: arb, digits: int = 20) -> tuple[str, str]:
+    """Decimal strings ``(lo, hi)`` with ``digits`` significant digits such that the decimal interval
+    ``[lo, hi]`` contains the ball ``x`` (the ball's ends rounded outward, exactly)."""
+    import decimal
+
+    if not (isinstance(digits, int) and 1 <= digits <= 1000):
+        raise ValueError(f"digits={digits!r} is out of range: allowed an integer 1 <= digits <= 1000")
+    if not x.is_finite():
+        raise ValueError(f"x={x!r} is out of range: allowed a finite ball")
+    return _decimal(x.lower(), digits, decimal.ROUND_FLOOR), _decimal(x.upper(), digits, decimal.ROUND_CEILING)

@@ -69,6 +69,16 @@ class Model:
         self.params = params if isinstance(params, Params) else Params(**{k: float(values[k]) for k in PARAM_NAMES})
         self.alpha, self.beta, self.gamma, self.r = (balls[k] for k in PARAM_NAMES)
 
+    @classmethod
+    def from_balls(cls, alpha: arb, beta: arb, gamma: arb, r: arb) -> "Model":
+        """A model whose parameters are the given balls (e.g. the enclosure of a bifurcation
+        parameter: every statement proven with it holds for every parameter value in the balls);
+        ``self.params`` holds the float64 values nearest to their midpoints."""
+        self = cls.__new__(cls)
+        self.alpha, self.beta, self.gamma, self.r = (arb(b) for b in (alpha, beta, gamma, r))
+        self.params = Params(**{k: float(getattr(self, k).mid()) for k in PARAM_NAMES})
+        return self
+
     def forcing(self, tau: arb) -> arb:
         """f(tau) = -alpha sin tau + alpha beta cos tau + gamma."""
         s, c = tau.sin_cos()

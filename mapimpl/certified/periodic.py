@@ -1,0 +1,208 @@
+"""Certified periodic orbits, Floquet multipliers and bifurcation points of the impact map.
+
+**An orbit** (:func:`certify_periodic_orbit`) is proven in two parts:
+
+1. *the equations*: the Krawczyk operator (:mod:`.krawczyk`) on the multiple-shooting system of
+   :mod:`.shooting` (the pre-impact states of one period, Eqs. 7-8 and 11 in closed form) proves a
+   box ``X`` that holds exactly one zero, enclosed by ``K(X)``;
+2. *the dynamics*: for **every** state in the enclosure, each flight of the orbit is certified as
+   the golden impact sequences are (:func:`.contact.certified_flight` on the box of initial states:
+   both gaps positive on ``[0, t_lo]``, the gap to the next wall strictly monotone on
+   ``[t_lo, t_hi]``, the other gap positive there), and the enclosed duration ``t_i`` lies in
+   ``(0, t_hi]``: so the zero of the equations is the *first* wall contact of the flight, on the
+   right wall, transversal -- an orbit of the map, with no impact skipped.  The sticking policy is
+   proven to bounce at every impact (:func:`.sticking.stick_decision`).
+
+The Floquet multipliers are the eigenvalues of the monodromy matrix enclosed over the box,
+``tr/2 +- sqrt(tr^2/4 - det)``: a real pair where the discriminant is proven positive, a complex
+pair (``acb``) where it is proven negative.  The determinant is checked against its closed form
+``r^(2p) exp(-2 pi m beta)`` (:func:`closed_form_det`).
+
+**A bifurcation point** (:func:`certify_bifurcation`): the same operator on the extended system
+(orbit equations plus ``det(M - I) = 0`` for a fold, ``det(M + I) = 0`` for a period doubling),
+the parameter (``r`` or ``alpha``) the last unknown.  At a fold the orbit equations alone are
+singular; the extended system is regular at a quadratic, transversal fold (and at a period
+doubling whose multiplier crosses -1 with nonzero speed), and the Krawczyk inclusion *proves* that
+regularity (every matrix of ``DF(X)`` is invertible) together with existence and uniqueness of the
+point in the box.  The flights are then proven with the parameter as a ball (the enclosure).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from flint import acb, arb
+
+from ...core.params import check_value
+from ..sticking import STICK_TIME
+from .balls import PREC, CertificationError, mod_two_pi, precision
+from .contact import FlightCertificate, certified_flight
+from .krawczyk import KrawczykResult, krawczyk
+from .model import Model
+from .shooting import MU_NAMES, SIGMA, Numbers, Shape, extended_residual, monodromy, orbit_residual
+from .sticking import stick_decision
+
+
+@dataclass
+class CertifiedPeriodicOrbit:
+    """A proven periodic orbit: ``tau`` (unwrapped pre-impact times) and ``sdot`` (pre-impact
+    velocities), ``durations`` of the flights, ``monodromy`` (2x2 balls), ``multipliers`` (``acb``),
+    the Krawczyk result and the flight certificates; ``model`` holds the parameter balls (a
+    bifurcation parameter enclosed)."""
+
+    model: Model
+    shape: Shape
+    tau: list
+    sdot: list
+    durations: list
+    monodromy: list
+    multipliers: list
+    krawczyk: KrawczykResult
+    flights: list = field(repr=False)
+
+    @property
+    def theta(self) -> list:
+        """The phases ``tau mod 2 pi`` (balls)."""
+        return [mod_two_pi(t) for t in self.tau]
+
+    @property
+    def walls(self) -> tuple:
+        return self.shape.walls
+
+    @property
+    def max_radius(self) -> float:
+        return max(float(b.rad()) for b in self.tau + self.sdot)
+
+
+@dataclass
+class CertifiedBifurcation:
+    """A proven fold or period-doubling point: the parameter ``name`` and its enclosure ``value``,
+    and the orbit at it (its multipliers include ``+1`` or ``-1``)."""
+
+    kind: str
+    name: str
+    value: arb
+    orbit: CertifiedPeriodicOrbit
+
+
+def unwrap(tau, turns: int = 1) -> list[float]:
+    """Unwrapped times from phases (each flight shorter than ``2 pi``); increasing input is kept."""
+    tau = [float(t) for t in tau]
+    two_pi = 2 * math.pi
+    out = [tau[0]]
+    for t in tau[1:]:
+        out.append(t if t > out[-1] else out[-1] + ((t - out[-1]) % two_pi))
+    if not out[-1] < out[0] + two_pi * turns:
+        raise ValueError(f"tau={tau!r}: the times do not fit in {turns} driving period(s) after tau[0]")
+    return out
+
+
+def closed_form_det(model_or_numbers, shape: Shape) -> arb:
+    """``det M = r^(2p) exp(-2 pi m beta)`` on a periodic orbit (the velocities telescope)."""
+    m = model_or_numbers
+    return m.r ** (2 * shape.impacts) * (-2 * shape.turns * arb.pi() * m.beta).exp()
+
+
+def floquet(M) -> list:
+    """The eigenvalues of the 2x2 ball matrix ``M`` as ``acb``: a real pair (ascending) or a complex
+    pair (negative imaginary part first); raises where the discriminant's sign is not proven."""
+    half = (M[0][0] + M[1][1]) / 2
+    det = M[0][0] * M[1][1] - M[0][1] * M[1][0]
+    disc = half * half - det
+    if disc > 0:
+        q = disc.sqrt()
+        return [acb(half - q), acb(half + q)]
+    if disc < 0:
+        q = (-disc).sqrt()
+        return [acb(half, -q), acb(half, q)]
+    raise CertificationError("Floquet multipliers: real or complex not decided (a double multiplier?)")
+
+
+def prove_flights(model: Model, shape: Shape, tau: list, sdot: list, prec: int) -> list[FlightCertificate]:
+    """For every state in the balls ``(tau_i, sdot_i)``: the impact bounces (sticking policy), the
+    flight's first wall contact is the next wall, and the enclosed duration is that contact (module
+    docstring).  Returns the flight certificates; raises :class:`CertificationError` otherwise."""
+    p = shape.impacts
+    two_pi_m = 2 * shape.turns * arb.pi()
+    certs = []
+    for i in range(p):
+        j = (i + 1) % p
+        w, v = shape.walls[i], sdot[i]
+        if not ((w == 0 and v > 0) or (w == -1 and v < 0)):
+            raise CertificationError(f"impact {i}: the velocity's sign does not match wall {w}")
+        if stick_decision(model, tau[i], w, v, STICK_TIME) is not None:
+            raise CertificationError(f"impact {i}: the sticking policy does not provably bounce")
+        c = certified_flight(model, tau[i], float(w), -model.r * v, prec=prec)
+        t = (tau[j] + two_pi_m if j == 0 else tau[j]) - tau[i]
+        if c.wall != shape.walls[j]:
+            raise CertificationError(f"flight {i}: the first contact is wall {c.wall}, not {shape.walls[j]}")
+        if not (t > 0 and t <= c.root_bracket[1]):
+            raise CertificationError(f"flight {i}: the duration is not proven to be the first contact")
+        certs.append(c)
+    return certs
+
+
+def _orbit(model: Model, P: Numbers, shape: Shape, x: list, res: KrawczykResult, prec: int) -> CertifiedPeriodicOrbit:
+    tau, sdot = x[0::2], x[1::2]
+    flights = prove_flights(model, shape, tau, sdot, prec)
+    p = shape.impacts
+    dur = [(tau[(i + 1) % p] + (2 * shape.turns * arb.pi() if i == p - 1 else 0)) - tau[i] for i in range(p)]
+    M = monodromy(x, P, shape)
+    det = M[0][0] * M[1][1] - M[0][1] * M[1][0]
+    if not det.overlaps(closed_form_det(P, shape)):  # pragma: no cover - would be a bug
+        raise CertificationError("det of the monodromy disagrees with its closed form")
+    return CertifiedPeriodicOrbit(model, shape, tau, sdot, dur, M, floquet(M), res, flights)
+
+
+def _start(tau, sdot, turns: int):
+    tau, sdot = list(tau), list(sdot)
+    if len(tau) != len(sdot) or not tau:
+        raise ValueError(f"tau and sdot must be non-empty and of equal length (got {len(tau)}, {len(sdot)})")
+    if any(not (math.isfinite(float(v)) and float(v) != 0.0) for v in sdot):
+        raise ValueError(f"sdot={list(sdot)!r} is out of range: allowed finite, nonzero pre-impact velocities")
+    shape = Shape(tuple(0 if float(v) > 0 else -1 for v in sdot), int(turns))
+    x0 = []
+    for t, v in zip(unwrap(tau, shape.turns), sdot):
+        x0 += [t, float(v)]
+    return shape, x0
+
+
+def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PREC) -> CertifiedPeriodicOrbit:
+    """Prove the periodic orbit near the guess (``tau``, ``sdot``: the p pre-impact phases and
+    velocities of one period, floats, e.g. from the float64 :func:`mapimpl.periodic.find_periodic`)
+    at ``params`` (a :class:`Params` or a mapping of decimal strings, see :class:`.model.Model`)."""
+    shape, x0 = _start(tau, sdot, turns)
+    with precision(prec):
+        model = Model(params)
+        P = Numbers(model)
+        res = krawczyk(lambda x: orbit_residual(x, P, shape), x0)
+        return _orbit(model, P, shape, res.box, res, prec)
+
+
+def certify_bifurcation(kind: str, params, name: str, tau, sdot, mu: float, turns: int = 1, *,
+                        prec: int = PREC) -> CertifiedBifurcation:
+    """Prove the fold (``kind="fold"``) or period doubling (``"period-doubling"``) near the guess
+    (orbit ``tau``, ``sdot`` at parameter ``name = mu``); the other parameters from ``params``."""
+    if kind not in SIGMA:
+        raise ValueError(f"kind={kind!r} is out of range: allowed one of {tuple(SIGMA)}")
+    if name not in MU_NAMES:
+        raise ValueError(f"parameter {name!r} is out of range: allowed one of {MU_NAMES}")
+    shape, x0 = _start(tau, sdot, turns)
+    with precision(prec):
+        base = Model(params)
+        res = krawczyk(lambda y: extended_residual(y, base, shape, name, kind), x0 + [float(mu)])
+        value = res.box[-1]
+        try:
+            for end in (value.lower(), value.upper()):
+                check_value(name, float(end))
+        except ValueError as e:
+            raise CertificationError(f"the {kind} found from the guess is outside the parameter range: {e}") from None
+        balls = {k: getattr(base, k) for k in ("alpha", "beta", "gamma", "r")}
+        balls[name] = value
+        model = Model.from_balls(**balls)
+        orbit = _orbit(model, Numbers(model), shape, res.box[:-1], res, prec)
+        sigma = SIGMA[kind]
+        if not any(z.contains(acb(sigma)) for z in orbit.multipliers):  # pragma: no cover - would be a bug
+            raise CertificationError(f"no multiplier encloses {sigma:+d} at the {kind}")
+        return CertifiedBifurcation(kind, name, value, orbit)
