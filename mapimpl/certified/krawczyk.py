@@ -64,10 +64,28 @@ def _mid_inverse(rows) -> arb_mat:
         raise CertificationError("the Jacobian is singular at the Newton point") from None
 
 
+#: Bits below the working precision dropped from the Newton point (:func:`canonical`).
+CANONICAL_DROP = 48
+
+
+def canonical(x: arb, bits: int) -> arb:
+    """The exact ``x`` rounded to ``bits`` significant bits (nearest): Newton runs from different
+    guesses end within ~2^-(prec - 16) of the zero and of each other, so their rounded points agree
+    (unless the zero lies that close to a rounding boundary, a chance of ~2^-32), and so does all that
+    is computed from them."""
+    man, exp = (int(v) for v in x.man_exp())
+    k = abs(man).bit_length() - bits
+    if k > 0:
+        mag = (abs(man) + (1 << (k - 1))) >> k
+        man, exp = (mag if man > 0 else -mag), exp + k
+    return arb(man) * arb(2) ** exp
+
+
 def newton(fun, x0, max_iter: int = MAX_NEWTON) -> list:
     """Newton's method at the working precision on exact midpoints, from the guess ``x0`` (floats or
-    balls); stops when the step is below ``2^-(prec - 16)`` of the scale.  Returns exact balls.
-    The result is only a candidate: :func:`krawczyk` proves it."""
+    balls); stops when the step is below ``2^-(prec - 16)`` of the scale.  Returns exact balls,
+    rounded to ``prec -`` :data:`CANONICAL_DROP` bits (:func:`canonical`).  The result is only a
+    candidate: :func:`krawczyk` proves it."""
     x = [arb(arb(v).mid()) for v in x0]
     tiny = arb(2) ** (-(ctx.prec - 16))
     for _ in range(max_iter):
@@ -75,7 +93,7 @@ def newton(fun, x0, max_iter: int = MAX_NEWTON) -> list:
         step = _mid_inverse(rows) * _col([v.mid() for v in vals])
         x = [(xi - step[i, 0]).mid() for i, xi in enumerate(x)]
         if all(abs(step[i, 0]) < tiny * (abs(xi) + 1) for i, xi in enumerate(x)):
-            return [arb(v) for v in x]
+            return [canonical(arb(v), ctx.prec - CANONICAL_DROP) for v in x]
     raise CertificationError(f"Newton did not converge in {max_iter} iterations from the guess")
 
 

@@ -6,7 +6,11 @@ every row matches: n, wall and kind exactly, tau, tau_mod_2pi (circular) and sdo
 absolute/relative tolerances. Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
 input (missing file or column, wrong header, non-numeric value).
 
-With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead."""
+With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead.
+
+With --orbits, PATH holds one <id>.json per certified periodic orbit or bifurcation point of
+validation/golden/orbits (points, multipliers, value; docs/golden.md), scored against the records'
+enclosures; --orbits --self scores our float64 Newton solvers."""
 
 from __future__ import annotations
 
@@ -23,7 +27,8 @@ HELP = "score another implementation's output against the golden conformance sui
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", nargs="?", default=None,
                    help="directory with one <case-id>.csv per case (default: none; omit with --self)")
-    p.add_argument("--suite", default=None, help="suite directory (default: validation/golden/cases)")
+    p.add_argument("--suite", default=None,
+                   help="suite directory (default: validation/golden/cases, with --orbits validation/golden/orbits)")
     p.add_argument("--cases", nargs="+", default=None, metavar="ID", help="only these case ids (default: all)")
     p.add_argument("--self", dest="self_check", action="store_true",
                    help="run our own track on every case and score it")
@@ -31,6 +36,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="track used by --self (default map)")
     p.add_argument("--write", default=None, metavar="DIR",
                    help="with --self: also write the track's <case-id>.csv files to DIR (default: none written)")
+    p.add_argument("--orbits", action="store_true",
+                   help="score periodic orbits and bifurcation points (one <id>.json per record of "
+                        "validation/golden/orbits, or --self) instead of impact sequences")
     p.add_argument("--quiet", action="store_true", help="print only the summary line")
 
 
@@ -74,6 +82,10 @@ def run(args: argparse.Namespace) -> int:
         raise CliError("--write needs --self")
     if args.write:
         check_output_dir(args.write, "--write")
+    if args.orbits:
+        from ._check_orbits import run_orbits
+
+        return run_orbits(args)
     suite = Path(args.suite) if args.suite else DEFAULT_SUITE
     try:
         cases = load_suite(suite, args.cases)

@@ -1,0 +1,69 @@
+"""``gear-rattle check --orbits``: score periodic orbits and bifurcation points against the certified
+records of ``validation/golden/orbits`` (docs/golden.md, "Periodic orbits and bifurcation points").
+
+PATH holds one ``<id>.json`` per record (:mod:`validation.golden.orbit_suite` gives the layout);
+with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scored instead, and
+``--write DIR`` keeps their files (an example of the layout).  Exit status as for the impact cases:
+0 all pass, 1 some fail, 2 usage error or malformed input (one line per file on stderr)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from ..cliutil import CliError
+
+
+def _self_values(records, write: str | None) -> dict:
+    from ..golden.orbit_float64 import float64_values
+
+    out = {}
+    for rec in records:
+        d, values = float64_values(rec)
+        if write:
+            path = Path(write) / f"{rec.id}.json"
+            try:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(json.dumps(d, indent=1, allow_nan=False) + "\n")
+            except OSError as e:
+                raise CliError(f"--write: cannot write {str(path)!r}: {e.strerror}") from None
+            values.path = str(path)
+        out[rec.id] = values
+    return out
+
+
+def run_orbits(args: argparse.Namespace) -> int:
+    """The ``--orbits`` mode of ``check`` (arguments validated by ``check.run`` first)."""
+    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, load_records, read_values, score, summary_table
+
+    if args.self_check and args.track != "map":
+        raise CliError("--orbits --self scores the map track's float64 solvers: --track must be map")
+    folder = Path(args.suite) if args.suite else DEFAULT_ORBITS
+    try:
+        records = load_records(folder, args.cases)
+    except MalformedFile as e:
+        raise CliError(f"orbit suite: {e}") from None
+    if not records:
+        raise CliError(f"orbit suite {str(folder)!r} has no records")
+    if args.self_check:
+        values = _self_values(records, args.write)
+    else:
+        root = Path(args.path)
+        if not root.is_dir():
+            raise CliError(f"{str(root)!r} is not a directory (expected one <id>.json per orbit record)")
+        values, errors = {}, []
+        for rec in records:
+            try:
+                values[rec.id] = read_values(root / f"{rec.id}.json", rec)
+            except MalformedFile as e:
+                errors.append(str(e))
+        if errors:
+            for e in errors:
+                print(f"gear-rattle check: error: {e}", file=sys.stderr)
+            return 2
+    scores = [score(rec, values[rec.id]) for rec in records]
+    table = summary_table(scores)
+    print(table if not args.quiet else table.splitlines()[-1])
+    return 0 if all(s.passed for s in scores) else 1

@@ -1,0 +1,57 @@
+"""Our own float64 solvers on the golden orbits and bifurcation points (``gear-rattle check --orbits --self``).
+
+For each record: a *guess* printed with a few digits (:data:`GUESS_DIGITS`: the record's first point
+and, for a bifurcation point, its parameter), then our float64 Newton solvers --
+:func:`mapimpl.periodic.find_periodic` for an orbit, :func:`validation.dynamics.continuation.locate`
+on the extended system for a fold or period doubling -- and the result in the layout of
+:mod:`.orbit_suite`.  This scores the accuracy of the converged float64 answers, not how the
+orbits are found (the generator's seeds, :func:`.orbit_generate.float64_seeds`, do that).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...core.params import Params
+from .orbit_suite import Record, Values
+
+#: Significant digits of the guesses (the first point, the parameter of a bifurcation point).
+GUESS_DIGITS = 4
+_LOCATE_KIND = {"fold": "fold", "period-doubling": "flip"}
+
+
+def _guess(x: float) -> float:
+    return float(f"{x:.{GUESS_DIGITS}g}")
+
+
+def float64_values(rec: Record) -> tuple[dict, Values]:
+    """``(values as a JSON-ready dict, Values)`` of our float64 solvers for one record."""
+    from ...mapimpl.periodic import find_periodic
+    from ..dynamics.continuation import locate, orbit_states
+
+    params = Params(**{k: float(v) for k, v in rec.data["params"].items()})
+    impacts, turns = int(rec.data["impacts_per_period"]), int(rec.data["turns"])
+    tau0 = _guess(float(np.mean(rec.points[0, :2])))
+    sdot0 = _guess(float(np.mean(rec.points[0, 2:])))
+    d: dict = {}
+    if rec.kind == "periodic-orbit":
+        o = find_periodic(params, tau0, sdot0, impacts, turns)
+        th, sd, walls, mult = o.tau, o.sdot, o.walls, o.multipliers
+        if not o.converged:
+            d["note"] = f"find_periodic did not converge (residual {o.residual:.2g})"
+    else:
+        name = rec.data["parameter"]
+        mu0 = _guess(float(np.mean(rec.value)))
+        f = locate(params.replace(**{name: mu0}), name, _LOCATE_KIND[rec.kind], tau0, sdot0, mu0, impacts, turns)
+        th, sd = orbit_states(params.replace(**{name: f.mu}), f.tau, f.sdot, impacts)
+        walls = np.where(np.asarray(sd) > 0, 0, -1)
+        mult = f.multipliers
+        d["value"] = float(f.mu)
+        if not f.converged:
+            d["note"] = f"locate did not converge (residual {f.residual:.2g})"
+    d["points"] = [{"tau_mod_2pi": float(t) % (2 * np.pi), "sdot": float(v), "wall": int(w)}
+                   for t, v, w in zip(th, sd, walls)]
+    d["multipliers"] = [{"re": float(complex(z).real), "im": float(complex(z).imag)} for z in mult]
+    from .orbit_suite import values_from_dict
+
+    return d, values_from_dict(d, f"<map track, {rec.id}>")
