@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
+from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError
+from .check import read_outputs, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -23,13 +24,7 @@ def _self_values(records, write: str | None) -> dict:
     for rec in records:
         d, values = float64_values(rec)
         if write:
-            path = Path(write) / f"{rec.id}.json"
-            try:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_text(json.dumps(d, indent=1, allow_nan=False) + "\n")
-            except OSError as e:
-                raise CliError(f"--write: cannot write {str(path)!r}: {e.strerror}") from None
-            values.path = str(path)
+            values.path = write_output(Path(write) / f"{rec.id}.json", json.dumps(d, indent=1, allow_nan=False) + "\n")
         out[rec.id] = values
     return out
 
@@ -53,15 +48,9 @@ def run_orbits(args: argparse.Namespace) -> int:
         root = Path(args.path)
         if not root.is_dir():
             raise CliError(f"{str(root)!r} is not a directory (expected one <id>.json per orbit record)")
-        values, errors = {}, []
-        for rec in records:
-            try:
-                values[rec.id] = read_values(root / f"{rec.id}.json", rec)
-            except MalformedFile as e:
-                errors.append(str(e))
-        if errors:
-            for e in errors:
-                print(f"gear-rattle check: error: {e}", file=sys.stderr)
+        values = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
+                              MalformedFile)
+        if values is None:
             return 2
     scores = [score(rec, values[rec.id]) for rec in records]
     table = summary_table(scores)

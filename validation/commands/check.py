@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_output_dir
@@ -42,6 +43,31 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="print only the summary line")
 
 
+def write_output(path: Path, text: str) -> str:
+    """Write one ``--write`` file (an OS error is a one-line usage error); returns its path."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    except OSError as e:
+        raise CliError(f"--write: cannot write {str(path)!r}: {e.strerror}") from None
+    return str(path)
+
+
+def read_outputs(reads: dict, malformed) -> dict | None:
+    """``{id: read()}`` for ``reads = {id: read}`` (each reads one file); where files are malformed
+    (``malformed``: the exception class), each is reported on one line of stderr and ``None`` is
+    returned (exit status 2)."""
+    out, errors = {}, []
+    for key, read in reads.items():
+        try:
+            out[key] = read()
+        except malformed as e:
+            errors.append(str(e))
+    for e in errors:
+        print(f"gear-rattle check: error: {e}", file=sys.stderr)
+    return None if errors else out
+
+
 def _self_outputs(cases, track: str, write: str | None):
     from ..golden.suite import run_case, sequence_from_impacts
 
@@ -59,13 +85,7 @@ def _self_outputs(cases, track: str, write: str | None):
         seq = run_case(case, track)
         label = f"<{track} track, case {case.id}>"
         if write:
-            path = Path(write) / f"{case.id}.csv"
-            try:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_text(seq.to_csv())
-            except OSError as e:
-                raise CliError(f"--write: cannot write {str(path)!r}: {e.strerror}") from None
-            label = str(path)
+            label = write_output(Path(write) / f"{case.id}.csv", seq.to_csv())
         out[case.id] = sequence_from_impacts(seq, label)
     return out
 
@@ -99,16 +119,9 @@ def run(args: argparse.Namespace) -> int:
         root = Path(args.path)
         if not root.is_dir():
             raise CliError(f"{str(root)!r} is not a directory (expected one <case-id>.csv per case)")
-        outputs = {}
-        errors = []
-        for case in cases:
-            try:
-                outputs[case.id] = read_sequence(root / f"{case.id}.csv")
-            except MalformedFile as e:
-                errors.append(str(e))
-        if errors:
-            for e in errors:
-                print(f"gear-rattle check: error: {e}", file=sys.stderr)
+        outputs = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
+                               MalformedFile)
+        if outputs is None:
             return 2
     scores = []
     for case in cases:

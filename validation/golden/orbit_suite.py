@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .suite import DIGITS_CAP, MalformedFile, circular_distance
+from .suite import DIGITS_CAP, MalformedFile, circular_distance, select_ids
 
 #: Where the committed records live.
 DEFAULT_ORBITS = Path(__file__).resolve().parent / "orbits"
@@ -116,13 +116,7 @@ def record_ids(folder: str | Path = DEFAULT_ORBITS) -> list[str]:
 
 def load_records(folder: str | Path = DEFAULT_ORBITS, ids: list[str] | None = None) -> list[Record]:
     """Every record of a folder (or the listed ids)."""
-    known = record_ids(folder)
-    if ids:
-        unknown = [i for i in ids if i not in known]
-        if unknown:
-            raise MalformedFile(f"{folder}: unknown orbit id(s): {', '.join(unknown)} (known: {', '.join(known)})")
-        known = [i for i in known if i in ids]
-    return [load_record(Path(folder) / f"{i}.json") for i in known]
+    return [load_record(Path(folder) / f"{i}.json") for i in select_ids(record_ids(folder), ids, folder, "orbit")]
 
 
 # ------------------------------------------------------------------------------------------------

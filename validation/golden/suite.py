@@ -195,15 +195,20 @@ def case_ids(suite: str | Path = DEFAULT_SUITE) -> list[str]:
     return sorted(p.name for p in suite.iterdir() if (p / "settings.json").is_file())
 
 
+def select_ids(known: list[str], wanted: list[str] | None, where, what: str = "case") -> list[str]:
+    """The ``known`` ids that are ``wanted`` (all when ``wanted`` is empty); an unknown wanted id is a
+    :class:`MalformedFile` naming ``where`` and the known ids."""
+    if not wanted:
+        return known
+    unknown = [c for c in wanted if c not in known]
+    if unknown:
+        raise MalformedFile(f"{where}: unknown {what} id(s): {', '.join(unknown)} (known: {', '.join(known)})")
+    return [c for c in known if c in wanted]
+
+
 def load_suite(suite: str | Path = DEFAULT_SUITE, cases: list[str] | None = None) -> list[Case]:
     """Load every case (or the listed ids) of a suite directory."""
-    ids = case_ids(suite)
-    if cases:
-        unknown = [c for c in cases if c not in ids]
-        if unknown:
-            raise MalformedFile(f"{suite}: unknown case id(s): {', '.join(unknown)} (known: {', '.join(ids)})")
-        ids = [c for c in ids if c in cases]
-    return [load_case(Path(suite) / i) for i in ids]
+    return [load_case(Path(suite) / i) for i in select_ids(case_ids(suite), cases, suite)]
 
 
 # ---------------------------------------------------------------------------------------------
