@@ -14,8 +14,11 @@ from .params import Params
 PAPER_DECIMAL = {"alpha": "1.245", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
 #: The setting of Figs. 9-11 (the float64 values of :data:`PAPER_DECIMAL`): just past the crisis alpha_1.
 PAPER_PARAMS = Params(**{k: float(v) for k, v in PAPER_DECIMAL.items()})
-#: The parameters of Figs. 3-7 (alpha = 3, beta = gamma = 0.1, r = 0.9).
-PAPER_FIG3 = Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
+#: The parameters of Figs. 3-7 as printed (exact decimals: the certified r2 encloses the fold of these).
+PAPER_FIG3_DECIMAL = {"alpha": "3.0", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
+#: The parameters of Figs. 3-7 (alpha = 3, beta = gamma = 0.1, r = 0.9): the float64 values of
+#: :data:`PAPER_FIG3_DECIMAL`.
+PAPER_FIG3 = Params(**{k: float(v) for k, v in PAPER_FIG3_DECIMAL.items()})
 #: The paper's box (Figs. 10 and 11): 3.0 < tau0 < 3.5, 0 < sdot0 < 0.5.
 PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
 #: Capture distance: an orbit is captured by the stable periodic orbit at the first pre-impact state
@@ -25,4 +28,4 @@ DELTA = 1e-3
 #: The capture distances recorded alongside :data:`DELTA` (Fig. 11's sensitivity to the rule).
 DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
 
-__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS"]
+__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG3_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS"]

@@ -70,7 +70,7 @@ PAPER_MODULES = {"core/paper.py", "validation/paper.py"}
 PAPER_NUMBERS = (1.245, 2272.0, 0.893, 0.82144, 0.82145, 0.74001, 1.2437)
 PAPER_TEXTS = ("1.245", "2272", "0.893", "0.82144", "0.74001")
 #: Names that only PAPER_MODULES may assign at module level.
-PAPER_NAMES = ("PAPER_PARAMS", "PAPER_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS", "PAPER")
+PAPER_NAMES = ("PAPER_PARAMS", "PAPER_DECIMAL", "PAPER_FIG3_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS", "PAPER")
 
 
 #: Where the paper's words may be quoted in text written to files (the golden cases' descriptions).

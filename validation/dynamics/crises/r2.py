@@ -116,3 +116,39 @@ def locate_r2(profile: str = "quick", branch=None, progress=None) -> dict:
             "slope_err": math.hypot(stat, syst), "slope_stat": stat, "slope_syst": syst, "chi2_red": chi2,
             "subranges": subs, "paper_fig5": {"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu},
             "cost": cost.as_dict(), "profile": profile}
+
+
+@dataclass(frozen=True)
+class CertifiedR2:
+    """r2 proven: the fold of the 6-impact orbit for the paper's *printed* parameters (exact decimals
+    alpha = 3.0, beta = gamma = 0.1; :data:`core.paper.PAPER_FIG3_DECIMAL`), by the Krawczyk operator on
+    the extended system (:func:`mapimpl.certified.periodic.certify_bifurcation`).  ``lo``, ``hi``:
+    float64 bounds of the enclosure, rounded outward; ``mid``: the float64 nearest its midpoint;
+    ``decimal``: its :data:`DIGITS`-digit decimal interval (outward); ``width``: the enclosure's width."""
+
+    lo: float
+    hi: float
+    mid: float
+    width: float
+    decimal: tuple
+
+
+#: Significant digits of :attr:`CertifiedR2.decimal`.
+DIGITS = 20
+
+
+def certified_r2(fold) -> CertifiedR2:
+    """r2 proven from the float64 fold ``fold`` (a :class:`~..continuation.BifurcationPoint`, the guess
+    only: any guess Newton takes to the fold gives the same enclosure)."""
+    from ....core.paper import PAPER_FIG3_DECIMAL
+    from ....mapimpl.certified.balls import decimal_interval, precision
+    from ....mapimpl.certified.periodic import certify_bifurcation
+
+    th, sd = orbit_states(R2_START.replace(r=fold.mu), fold.tau, fold.sdot, 6)
+    b = certify_bifurcation("fold", PAPER_FIG3_DECIMAL, "r", th, sd, fold.mu)
+    with precision(320):
+        lo, hi = b.value.lower(), b.value.upper()
+        lo_f, hi_f = float(lo), float(hi)
+        lo_f = lo_f if lo_f <= lo else math.nextafter(lo_f, -math.inf)
+        hi_f = hi_f if hi_f >= hi else math.nextafter(hi_f, math.inf)
+        return CertifiedR2(lo_f, hi_f, float(b.value.mid()), float(hi - lo), decimal_interval(b.value, DIGITS))
