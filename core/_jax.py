@@ -15,6 +15,12 @@ benchmarks) before JAX starts:
 
 A library user who wants the same calls it before the first JAX computation.  Results are correct
 either way; float64 samples of chaotic orbits (docs/release.md) depend on the compiler and its options.
+
+**Subnormal numbers.**  XLA on the CPU computes with subnormals flushed to zero (inputs and results,
+whatever the flags): inside jitted code ``1e-320 > 0`` is false.  Where the *sign* of a number that
+may be a subnormal input decides a branch (the wall a pre-impact velocity points to), the decision is
+taken on its bits with :func:`positive`; everywhere else a subnormal acts as the zero it is within
+rounding (the tracks agree on subnormal inputs: tests/test_extremes.py).
 """
 
 from __future__ import annotations
@@ -24,6 +30,14 @@ import os
 import jax
 
 jax.config.update("jax_enable_x64", True)
+
+
+def positive(x):
+    """``x > 0`` for float64 ``x``, decided on its bits: true for a positive subnormal too, which XLA on
+    the CPU compares as zero (see the module docstring).  Works on host values and inside jit."""
+    import jax.numpy as jnp
+
+    return jax.lax.bitcast_convert_type(jnp.asarray(x, jnp.float64), jnp.int64) > 0
 
 #: Environment variable that sets the number of XLA CPU devices chosen by :func:`use_cpu_devices`.
 CPU_DEVICES_ENV = "GEAR_RATTLE_CPU_DEVICES"

@@ -4,12 +4,25 @@ The nondimensional parameters are defined in Eqs. (4)-(6) of the paper:
 ``alpha`` (driving amplitude), ``beta`` (damping), ``gamma`` (constant torque term) and the
 restitution coefficient ``r`` of Eq. (11).  The allowed ranges are
 
-=========  ==========================
-alpha      finite, ``alpha >= 0``
-beta       finite, ``beta > 0``
-gamma      finite (any sign)
-r          finite, ``0 < r <= 1``
-=========  ==========================
+=========  ===================================
+alpha      ``0 <= alpha <= PARAM_MAX`` (1e10)
+beta       ``0 < beta <= PARAM_MAX``
+gamma      ``|gamma| <= PARAM_MAX`` (any sign)
+r          ``0 < r <= 1``
+=========  ===================================
+
+Why a bound (:data:`PARAM_MAX`): the map keeps the phase ``theta`` in float64, whose rounding near
+``2 pi`` is ``delta ~ 4.4e-16``.  With a forcing of size ``M = alpha sqrt(1 + beta^2) + |gamma|`` the
+forcing at a rounded phase is off by ``M delta``: the release from a wall (where the contact force is
+zero) is decided to that level, and a tooth pressed back by a rounding-level force ``M delta`` sinks
+``~ M delta^3`` into the wall before the force turns (about ``1e-47 M``), and crosses the whole gap in
+``sqrt(2 / M)``.  Both stay far below the resolution of ``s`` and of the phase only while ``M`` is far
+below ``1e30``; above that the float64 map misses impacts (``alpha = 1e150`` flew through the gap with
+``sdot ~ 1e119``) and above ``~1e154`` squares of velocities overflow.  ``PARAM_MAX = 1e10`` keeps
+``M <= ~1e20``, ten orders inside, and every kernel of the project has been run at the corners of
+this box (tests/test_extremes.py).  Values near zero (down to the smallest subnormal) are allowed:
+XLA on the CPU computes with subnormals flushed to zero, which changes no decision of the model
+(tested against the scipy track, which keeps them).
 
 ``Params`` is the immutable, validated object used by the library and the CLI.  Kernels that are
 vectorised over parameter values take :class:`ParamArrays` (a JAX pytree of float64 arrays);
@@ -27,11 +40,14 @@ import numpy as np
 from . import _jax  # noqa: F401  (enables float64)
 import jax.numpy as jnp
 
+#: Largest magnitude of alpha, beta and gamma (see the module docstring: where the float64 map is valid).
+PARAM_MAX = 1e10
+
 #: Human-readable allowed range of each parameter, used in error messages.
 RANGES: dict[str, str] = {
-    "alpha": "alpha >= 0",
-    "beta": "beta > 0",
-    "gamma": "any finite real",
+    "alpha": "0 <= alpha <= 1e10",
+    "beta": "0 < beta <= 1e10",
+    "gamma": "|gamma| <= 1e10",
     "r": "0 < r <= 1",
 }
 
@@ -52,11 +68,11 @@ def check_value(name: str, value: float) -> float:
         raise ValueError(f"parameter {name}={value!r} is not a number: allowed {RANGES[name]} (finite)") from None
     finite = math.isfinite(x)
     if name == "alpha":
-        _check(name, finite and x >= 0.0, value)
+        _check(name, finite and 0.0 <= x <= PARAM_MAX, value)
     elif name == "beta":
-        _check(name, finite and x > 0.0, value)
+        _check(name, finite and 0.0 < x <= PARAM_MAX, value)
     elif name == "gamma":
-        _check(name, finite, value)
+        _check(name, finite and abs(x) <= PARAM_MAX, value)
     elif name == "r":
         _check(name, finite and 0.0 < x <= 1.0, value)
     else:  # pragma: no cover - programming error
@@ -103,7 +119,9 @@ def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:
     out = []
     for name, v in (("alpha", alpha), ("beta", beta), ("gamma", gamma), ("r", r)):
         a = np.asarray(v, dtype=np.float64)
-        bad = ~np.isfinite(a)
+        with np.errstate(invalid="ignore"):
+            bad = ~np.isfinite(a)
+            bad |= np.abs(np.where(bad, 0.0, a)) > (1.0 if name == "r" else PARAM_MAX)
         if name == "alpha":
             bad |= a < 0
         elif name == "beta":

@@ -16,6 +16,7 @@ import numpy as np
 from . import _jax  # noqa: F401  (float64)
 import jax.numpy as jnp
 
+from ._jax import positive
 from .params import Params
 from .phase import TWO_PI, reduce_phase
 from .results import ImpactSequence
@@ -57,11 +58,12 @@ class StepInfo(NamedTuple):
 
 def make_state(tau, sdot, wall=None, status=Status.ACTIVE) -> MapState:
     """Map state from an elapsed time and pre-impact velocity; the wall follows the sign of ``sdot``
-    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1) unless given."""
+    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1; a subnormal ``sdot`` too, :func:`._jax.positive`)
+    unless given."""
     tau = jnp.asarray(tau, jnp.float64)
     sdot = jnp.asarray(sdot, jnp.float64)
     if wall is None:
-        wall = jnp.where(sdot > 0.0, 0, -1)
+        wall = jnp.where(positive(sdot), 0, -1)
     theta, cycles = reduce_phase(tau, jnp.zeros(jnp.shape(tau), jnp.int64))
     return MapState(theta, cycles, sdot, jnp.asarray(wall, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
                     jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32))

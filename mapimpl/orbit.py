@@ -54,6 +54,10 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
         raise ValueError(f"initial s0={s0!r} is out of range: allowed -1 <= s0 <= 0")
     if not np.isfinite(sdot0):
         raise ValueError(f"initial sdot0={sdot0!r} is out of range: allowed a finite real")
+    if (s0 == 0.0 and sdot0 > 0.0) or (s0 == -1.0 and sdot0 < 0.0):
+        # on a wall moving into it: the pre-impact state itself (the flight from it hits at t = 0), decided
+        # here on the host, where a subnormal sdot0 keeps its sign (XLA would see 0: _jax.positive)
+        return make_state(tau0, sdot0, wall=0 if s0 == 0.0 else -1)
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
 

@@ -37,9 +37,9 @@ MAX_SEED = 2**32 - 1            # numpy's seed range
 def add_param_args(p: argparse.ArgumentParser, alpha=3.0, beta=0.1, gamma=0.1, r=0.9) -> None:
     """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults."""
     g = p.add_argument_group("model parameters (Eqs. 4-6, 11)")
-    g.add_argument("--alpha", type=float, default=alpha, help=f"driving amplitude, >= 0 (default {alpha})")
-    g.add_argument("--beta", type=float, default=beta, help=f"damping, > 0 (default {beta})")
-    g.add_argument("--gamma", type=float, default=gamma, help=f"constant torque term, finite (default {gamma})")
+    g.add_argument("--alpha", type=float, default=alpha, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {alpha})")
+    g.add_argument("--beta", type=float, default=beta, help=f"damping, 0 < beta <= 1e10 (default {beta})")
+    g.add_argument("--gamma", type=float, default=gamma, help=f"constant torque term, |gamma| <= 1e10 (default {gamma})")
     g.add_argument("--r", type=float, default=r, help=f"restitution coefficient, 0 < r <= 1 (default {r})")
 
 

@@ -146,12 +146,22 @@ def _pow2(m: int) -> int:
     return 1 << max(0, int(m - 1).bit_length())
 
 
+def max_kernel_calls(m: int, cap: int, block: int, max_steps: int, every: int = K.ARRIVE_EVERY) -> int:
+    """An upper bound on the :func:`kernel.run_blocks` calls (64 blocks each) that a queue of ``m``
+    orbits can need, from the engine's own caps: an orbit makes at most ``cap + 1`` arrivals, each
+    followed by one flight search of at most :func:`kernel.flight_micro_steps` micro-steps; while the
+    queue is not done at least one lane is busy in every micro-step, and an orbit that ends waits at
+    most one block for its lane to be refilled.  :func:`_drive` stops with an error past it: an engine
+    bug then ends the run instead of hanging it (no valid run comes near the bound)."""
+    per_orbit = (int(cap) + 1) * (K.flight_micro_steps(int(max_steps), int(every)) + 1) + int(block)
+    return 2 + -(-int(m) * per_orbit // (int(block) * 64))
+
+
 def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, observers) -> None:
     """Run one device's queue to the end: blocks of micro-steps, progress, and the tail compaction."""
-    # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded; the
-    # guard only turns an engine bug into an error instead of a hang
-    size = jb["carry"][0]["mode"].shape[0]
-    max_calls = 1 + (cap + 1) * 200 * (jb["m"] // size + 2) // (block * 64)
+    # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded
+    # (max_kernel_calls); the guard only turns an engine bug into an error instead of a hang
+    max_calls = max_kernel_calls(jb["m"], cap, block, int(jb["k"]["max_steps"]))
     for _call in range(max_calls):
         if stop_event.is_set():
             return

@@ -59,7 +59,7 @@ from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ..finder import (_H0, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
+from ..finder import (_H0, _NEWTON_ITERS, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
                       safe_step)
 from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_rate_sc, forcing_sc, phi12
 from ...core.phase import reduce_phase
@@ -556,10 +556,12 @@ def trace(queue1, k, n_impacts: int, observers=()):
         lane[name] = queue1[name][0]
     lane.update(mode=jnp.int32(MODE_L), ic=jnp.int32(0), nstk=jnp.int32(-1), ostat=jnp.int32(int(Status.CAPPED)))
     hist = jnp.full((n_impacts + 1, 3), jnp.nan)
+    # every flight ends within its micro-step bound (a guard against an engine bug, never reached)
+    bound = (n_impacts + 1) * (flight_micro_steps(k["max_steps"], every=1) + 1)
 
     def cond(c):
         l, h, it = c
-        return (l["mode"] != MODE_IDLE) & (l["n"] < n_impacts) & (it < 200 * (n_impacts + 1))
+        return (l["mode"] != MODE_IDLE) & (l["n"] < n_impacts) & (it < bound)
 
     one_micro_step = _with_run_params(lambda s: arrival(search_step(s, k), k, observers), k)
 
@@ -575,6 +577,14 @@ def trace(queue1, k, n_impacts: int, observers=()):
     return hist
 
 
+def flight_micro_steps(max_steps: int = MAX_STEPS, every: int = ARRIVE_EVERY) -> int:
+    """An upper bound on the search micro-steps of one flight, from the finder's caps: at most
+    ``max_steps`` safe steps (mode ``A``), each followed by at most one bracket test (``B``), then at
+    most :data:`mapimpl.finder._NEWTON_ITERS` root iterations (``N``) and a wait of at most ``every``
+    micro-steps for the arrival pass (``H``).  (Python integers, or a traced ``max_steps``.)"""
+    return 2 * max_steps + _NEWTON_ITERS + every + 2
+
+
 def padded_lanes(lanes: int) -> int:
     """``lanes`` rounded up to a multiple of :data:`LANE_QUANTUM` (at least one quantum)."""
     q = LANE_QUANTUM
@@ -583,4 +593,5 @@ def padded_lanes(lanes: int) -> int:
 
 __all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "MODE_H", "ARRIVE_EVERY", "LANE_QUANTUM",
            "SEARCH_FIELDS", "PARAM_FIELDS", "flight_sc", "make_consts", "param_consts", "idle_lanes", "empty_results",
-           "prepare_queue", "search_step", "arrival", "compact", "run_blocks", "trace", "padded_lanes"]
+           "prepare_queue", "search_step", "arrival", "compact", "run_blocks", "trace", "flight_micro_steps",
+           "padded_lanes"]

@@ -32,7 +32,7 @@ from ...core.status import Status
 from ...mapimpl.impact_map import step
 from ...core.state import MapState, make_state
 from ...core.checks import check_int, check_tau0
-from ...core.params import ParamArrays, Params, param_arrays
+from ...core.params import DIAGRAM_PARAMS, ParamArrays, Params, check_value, param_arrays
 
 #: Hard caps that keep a run bounded.
 MAX_POINTS = 20000
@@ -109,6 +109,8 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
     keep = check_int("keep", keep, 1, 100000)
     if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
         raise ValueError(f"range lo={lo!r}, hi={hi!r} is out of range: allowed finite lo <= hi")
+    if param in DIAGRAM_PARAMS:  # the ends as given (the values between them are checked below)
+        check_value(param, lo), check_value(param, hi)
     check_tau0(tau0)
     if not (np.isfinite(sdot0) and sdot0 != 0.0):
         raise ValueError(f"sdot0={sdot0!r} is out of range: allowed a finite sdot0 != 0")
