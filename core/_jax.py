@@ -26,8 +26,53 @@ rounding (the tracks agree on subnormal inputs: tests/test_extremes.py).
 from __future__ import annotations
 
 import os
+import signal
+import sys
 
-import jax
+
+def command_line_process() -> bool:
+    """Whether this process is the ``gear-rattle`` command line (the console script or ``python -m
+    gear_rattle``), as opposed to a program importing the library."""
+    if os.path.basename(sys.argv[0] if sys.argv else "") in ("gear-rattle", "gear-rattle.exe"):
+        return True
+    argv = list(getattr(sys, "orig_argv", ()))
+    return "-m" in argv[:-1] and argv[argv.index("-m") + 1] == "gear_rattle"
+
+
+#: The line a Ctrl-C prints in the command line (the CLI adds the command's name once it is known).
+INTERRUPTED = ["gear-rattle: interrupted"]
+
+
+def exit_interrupted(signum=None, frame=None) -> None:
+    """The command line's SIGINT handler: :data:`INTERRUPTED` on stderr and exit status 130 at once.
+    Outputs are written after the computation (or, for the atlas, tile by tile, each tile marked done
+    after its data), so there is nothing to finish; ending the process from the signal handler, rather
+    than with an exception, is what makes Ctrl-C act while the main thread is not running Python (JAX
+    loading its extension, XLA compiling) and what keeps an exception from being swallowed by a library
+    (a KeyboardInterrupt inside JAX's garbage-collection callback is printed and ignored)."""
+    try:
+        sys.stdout.flush()
+    except Exception:  # noqa: BLE001 - a closed or broken stdout: nothing to keep
+        pass
+    try:
+        os.write(2, (INTERRUPTED[0] + "\n").encode())
+    finally:
+        os._exit(130)
+
+
+def _guard_command_line_start() -> None:
+    """In the command line only: a Ctrl-C while the libraries load (JAX takes ~1 s to import) exits at
+    once with the one line, instead of a traceback from inside an import."""
+    if command_line_process() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        try:
+            signal.signal(signal.SIGINT, exit_interrupted)
+        except ValueError:  # not the main thread: leave signals alone
+            pass
+
+
+_guard_command_line_start()
+
+import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)
 

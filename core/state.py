@@ -14,6 +14,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _jax  # noqa: F401  (float64)
+import jax
 import jax.numpy as jnp
 
 from ._jax import positive
@@ -104,3 +105,49 @@ def sequence_from_states(params: Params, first: MapState, traj, track: str = "ma
         wall=np.asarray(rows_w, dtype=np.int64), sdot=np.asarray(rows_v, dtype=np.float64),
         kind=np.asarray(rows_k), status=Status(final).label, track=track, meta=dict(meta or {}),
     )
+
+
+#: Scan length of runs of at most this many impacts (a short run does not pay for a long scan).
+SHORT = 32
+
+
+def chunk_length(n: int, chunk: int) -> int:
+    """Scan length of every chunk of an ``n``-impact run: :data:`SHORT` for short runs, else ``chunk``.
+
+    Two lengths only, so two compilations serve every orbit length (a compilation costs seconds,
+    a wasted step ~0.1 ms)."""
+    return min(int(chunk), SHORT) if int(n) <= SHORT else int(chunk)
+
+
+def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int):
+    """``run(first, params.arrays(), n)`` -- ``n`` steps of a track's map, a jitted ``lax.scan`` of
+    ``length`` (static) steps returning a pytree whose ``states`` field is the stacked
+    :class:`MapState` -- as a sequence of fixed-length scans (the map track,
+    :func:`mapimpl.orbit.iterate_chunked`, and the diffrax track, :mod:`reference.diffrax_track`).
+
+    Every chunk is one XLA call of a fixed length (the last one truncated), synchronised before the
+    next starts, so a KeyboardInterrupt (Ctrl-C) acts between chunks, within a fraction of a second.
+    The steps are the same as in one long scan (the carry is the state), so the result is bitwise the
+    same.  The run stops early once the orbit has ended (terminal states are frozen by the map, and
+    :func:`sequence_from_states` stops at the first one).
+    """
+    n = int(n)
+    if int(chunk) < 1:
+        raise ValueError(f"chunk={chunk!r} is out of range: allowed chunk >= 1")
+    pa = params.arrays()
+    length = chunk_length(n, chunk)
+    parts = []
+    state, done = first, 0
+    while done < n:
+        traj = run(state, pa, length)
+        take = min(length, n - done)
+        part = jax.tree_util.tree_map(lambda x: np.asarray(x)[:take], traj)  # blocks: Ctrl-C acts here
+        parts.append(part)
+        done += take
+        state = MapState(*(jnp.asarray(x[-1]) for x in part.states))  # host copies: bitwise the carry
+        if int(state.status) != Status.ACTIVE:
+            break
+    if not parts:  # n = 0: empty arrays of the right shapes and types (traced, not compiled)
+        shapes = jax.eval_shape(lambda s: run(s, pa, 0), first)
+        return jax.tree_util.tree_map(lambda a: np.zeros(a.shape, a.dtype), shapes)
+    return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs), *parts)

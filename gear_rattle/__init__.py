@@ -25,11 +25,12 @@ backend): :func:`use_cpu_devices` opts in to one XLA CPU device per core before 
 
 from __future__ import annotations
 
-from importlib import metadata as _metadata
-
+# first: in the command line, core._jax takes over Ctrl-C before anything slow is imported
 from .core._jax import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS
+
+from importlib import metadata as _metadata  # noqa: E402
 
 try:
     #: The installed distribution's version (``gear-rattle --version``).

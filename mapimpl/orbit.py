@@ -20,7 +20,7 @@ import jax.numpy as jnp
 from ..core.status import Status
 from .impact_map import free_flight_start, iterate
 from ..core.checks import check_tau0
-from ..core.state import MapState, Trajectory, make_state, sequence_from_states
+from ..core.state import MapState, Trajectory, make_state, run_in_chunks, sequence_from_states
 from ..core.params import Params
 from ..core.results import ImpactSequence
 
@@ -61,47 +61,11 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
 
-#: Scan length of runs of at most this many impacts (a short run does not pay for a long scan).
-SHORT = 32
-
-
-def _chunk_length(n: int, chunk: int) -> int:
-    """Scan length of every chunk of an ``n``-impact run: ``SHORT`` for short runs, else ``chunk``.
-
-    Two lengths only, so two compilations serve every orbit length (a compilation costs seconds,
-    a wasted step ~0.1 ms)."""
-    return min(int(chunk), SHORT) if int(n) <= SHORT else int(chunk)
-
-
-def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK) -> Trajectory:
-    """:func:`mapimpl.impact_map.iterate` for ``n`` steps, run as a sequence of fixed-length scans.
-
-    Every chunk is one XLA call of a fixed length (the last one truncated), synchronised before the
-    next starts, so a KeyboardInterrupt (Ctrl-C) acts between chunks, within a fraction of a second.
-    The steps are the same as in one long scan (the carry is the state), so the result is bitwise the
-    same.  The run stops early once the orbit has ended (terminal states are frozen by the map, and
-    :func:`sequence_from_states` stops at the first one).
-    """
-    n = int(n)
-    if int(chunk) < 1:
-        raise ValueError(f"chunk={chunk!r} is out of range: allowed chunk >= 1")
-    pa = params.arrays()
-    length = _chunk_length(n, chunk)
-    parts = []
-    state, done = first, 0
-    while done < n:
-        traj = _iterate_jit(state, pa, length)
-        take = min(length, n - done)
-        part = jax.tree_util.tree_map(lambda x: np.asarray(x)[:take], traj)  # blocks: Ctrl-C acts here
-        parts.append(part)
-        done += take
-        state = MapState(*(jnp.asarray(x[-1]) for x in part.states))  # host copies: bitwise the carry
-        if int(state.status) != Status.ACTIVE:
-            break
-    if not parts:  # n = 0: empty arrays of the right shapes and types (traced, not compiled)
-        shapes = jax.eval_shape(lambda s: iterate(s, pa, 0), first)
-        return jax.tree_util.tree_map(lambda a: np.zeros(a.shape, a.dtype), shapes)
-    return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs), *parts)
+def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK):
+    """:func:`mapimpl.impact_map.iterate` for ``n`` steps, run as a sequence of fixed-length scans
+    (:func:`core.state.run_in_chunks`): Ctrl-C acts between chunks, and the result is bitwise the one
+    of a single scan."""
+    return run_in_chunks(_iterate_jit, first, params, n, chunk)
 
 
 def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,

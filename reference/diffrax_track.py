@@ -43,7 +43,7 @@ import optimistix as optx
 
 from ..core.phase import reduce_phase
 from ..core.state import MapState, make_state
-from ..core.state import sequence_from_states
+from ..core.state import run_in_chunks, sequence_from_states
 from ..core.checks import start_wall
 from ..core.params import ParamArrays, Params
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
@@ -59,6 +59,11 @@ MAX_STEPS = 16384
 #: Tolerances of the bisection root find locating an event on the step's dense interpolant (a bracket
 #: is always available; Newton started at the step end fails when that end is an extremum of s).
 ROOT_RTOL, ROOT_ATOL = 1e-14, 1e-13
+
+#: Impacts per XLA call of :func:`orbit` (:func:`core.state.run_in_chunks`, the map track's mechanism):
+#: Ctrl-C acts between chunks.  An integrated step costs 0.02-0.3 ms on a CPU core, so a chunk takes
+#: 0.005-0.08 s (docs/reference_track.md).
+CHUNK = 256
 
 
 class Options(NamedTuple):
@@ -292,12 +297,14 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float |
           max_steps: int = MAX_STEPS) -> ImpactSequence:
     """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
 
-    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`.
+    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`; runs in chunks of
+    :data:`CHUNK` impacts like it (interruptible with Ctrl-C, the same result as one scan).
     """
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     opts = options(rtol, atol, dtmax, t_max, max_steps)
     first = _initial(params, tau0, sdot0, s0, opts)
-    traj = iterate(first, params.arrays(), n, opts)
+    # in chunks of CHUNK impacts (Ctrl-C acts between them), bitwise the same as one scan of n steps
+    traj = run_in_chunks(lambda s, p, length: iterate(s, p, length, opts), first, params, n, CHUNK)
     meta = {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": n, "method": "Dopri8", "rtol": opts.rtol,
             "atol": opts.atol, "dtmax": opts.dtmax, "t_max": opts.t_max}
     return sequence_from_states(params, first, traj, track="diffrax", meta=meta)

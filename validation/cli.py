@@ -10,8 +10,11 @@ import argparse
 import importlib
 import os
 import re
+import signal
 import sys
+import threading
 
+from ..core import _jax
 from ..core._jax import use_cpu_devices
 from .cliutil import CliError
 from .extras import MissingExtra
@@ -67,28 +70,55 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script; returns the exit status (a usage error found while parsing
-    raises SystemExit(2) after its one-line message, as argparse does)."""
+    raises SystemExit(2) after its one-line message, as argparse does).
+
+    The console script (``argv`` None) runs the command in a worker thread with SIGINT blocked and
+    keeps the main thread waiting, so that Ctrl-C is taken by the main thread at once, whatever the
+    command is doing -- loading JAX, compiling (XLA holds the thread for seconds), computing -- and ends
+    the process with one line and status 130 (:func:`core._jax.exit_interrupted`).  Threads and
+    processes the command starts inherit the blocked signal: the atlas's Dask workers do not see the
+    terminal's Ctrl-C (they exit with this process).  Called with ``argv`` (tests, other programs), the
+    command runs in the calling thread and a KeyboardInterrupt returns 130."""
+    if argv is None and threading.current_thread() is threading.main_thread():
+        return _main_in_worker()
+    return _run(argv)
+
+
+def _main_in_worker() -> int:
+    outcome: dict = {}
+
+    def work():
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            outcome["rc"] = _run(None)
+        except BaseException as e:  # noqa: BLE001 - re-raised in the main thread (SystemExit included)
+            outcome["exc"] = e
+
+    signal.signal(signal.SIGINT, _jax.exit_interrupted)
+    worker = threading.Thread(target=work, name="gear-rattle-command", daemon=True)
+    worker.start()
+    while worker.is_alive():
+        worker.join(0.1)  # the main thread wakes for signals
+    if "exc" in outcome:
+        raise outcome["exc"]
+    return outcome["rc"]
+
+
+def _run(argv: list[str] | None) -> int:
     command = None
     try:
         parser = build_parser()
         args = parser.parse_args(argv)
         command = args.command
+        _jax.INTERRUPTED[0] = f"gear-rattle {command}: interrupted"
         # the command line (not the library) spreads the engine over one XLA CPU device per core
         use_cpu_devices()
         return int(args._run(args) or 0)
     except (ValueError, CliError, MissingExtra) as e:
         print(f"gear-rattle {command}: error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:  # Ctrl-C: one line, the shell's status for SIGINT
+    except KeyboardInterrupt:  # Ctrl-C in a command run from Python (the console script exits at once)
         print(f"gear-rattle{' ' + command if command else ''}: interrupted", file=sys.stderr)
-        if argv is None:
-            # the console script: end the process now.  A Ctrl-C that lands while XLA starts its
-            # CPU client or compiles can leave native work behind that crashes the interpreter's
-            # teardown (a segfault after the message); outputs are written only after the
-            # computation, so there is nothing to finish.
-            sys.stdout.flush()
-            sys.stderr.flush()
-            os._exit(130)
         return 130
     except BrokenPipeError:  # e.g. `gear-rattle simulate | head`: stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
