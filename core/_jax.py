@@ -84,6 +84,11 @@ def positive(x):
 
     return jax.lax.bitcast_convert_type(jnp.asarray(x, jnp.float64), jnp.int64) > 0
 
+#: Environment variable of the command line's persistent compilation cache (:func:`use_compilation_cache`):
+#: ``0`` turns it off, a path puts it there.
+JAX_CACHE_ENV = "GEAR_RATTLE_JAX_CACHE"
+#: Compilations shorter than this are not cached (JAX's own default is 1 s; see :func:`use_compilation_cache`).
+CACHE_MIN_COMPILE_S = 0.2
 #: Environment variable that sets the number of XLA CPU devices chosen by :func:`use_cpu_devices`.
 CPU_DEVICES_ENV = "GEAR_RATTLE_CPU_DEVICES"
 #: Environment variable: ``0`` keeps :func:`use_cpu_devices` from adding :data:`ENGINE_XLA_FLAGS`.
@@ -179,3 +184,48 @@ def use_cpu_devices(n: int | None = None) -> int:
     except (RuntimeError, AttributeError):  # JAX already started: keep its device count
         pass
     return len(jax.devices("cpu"))
+
+
+def compilation_cache_dir() -> str | None:
+    """Where :func:`use_compilation_cache` keeps compiled kernels: ``$GEAR_RATTLE_JAX_CACHE`` if set (``0``,
+    ``off`` or empty: nowhere, None), else ``$XDG_CACHE_HOME/gear-rattle/jax``, else
+    ``~/.cache/gear-rattle/jax``."""
+    raw = os.environ.get(JAX_CACHE_ENV)
+    if raw is not None:
+        raw = raw.strip()
+        return None if raw.lower() in ("", "0", "off", "false", "no") else os.path.expanduser(raw)
+    base = os.environ.get("XDG_CACHE_HOME", "").strip() or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "gear-rattle", "jax")
+
+
+def use_compilation_cache(path: str | None = None, note=None) -> str | None:
+    """Turn on JAX's persistent compilation cache in ``path`` (default :func:`compilation_cache_dir`)
+    and return the directory used, or None (turned off, or not writable).
+
+    The command line calls it at start-up (never the library): every command compiles the engine and
+    the map anew otherwise, ~10 s of XLA per block width and device.  Compilations shorter than
+    :data:`CACHE_MIN_COMPILE_S` are not stored (small eager operations: not worth a file).  The cache
+    can never break a command: a directory that cannot be created or written leaves the cache off with
+    one ``note(message)`` (default: a line on stderr); an unreadable or corrupt entry is a miss that JAX
+    recompiles, reported as a warning (one line through the command line's warning boundary).  A cached
+    kernel is the compiled one: results are bitwise the same (docs/engine.md)."""
+    import tempfile
+
+    path = compilation_cache_dir() if path is None else path
+    if path is None:
+        return None
+    try:
+        os.makedirs(path, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path, prefix=".gear-rattle-probe-"):
+            pass
+    except OSError as e:
+        msg = (f"JAX compilation cache off: cannot write {path!r} ({e.strerror or e}); set {JAX_CACHE_ENV}=0 "
+               "to silence this, or to a writable directory")
+        if note is None:
+            print(f"gear-rattle: note: {msg}", file=sys.stderr)
+        else:
+            note(msg)
+        return None
+    jax.config.update("jax_compilation_cache_dir", path)
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
+    return path

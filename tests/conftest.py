@@ -1,6 +1,9 @@
 import os
+import tempfile
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# commands run as subprocesses keep their compiled kernels in this session's own cache, not the user's
+os.environ.setdefault("GEAR_RATTLE_JAX_CACHE", os.path.join(tempfile.mkdtemp(prefix="gear-rattle-test-"), "jax"))
 
 from hypothesis import settings  # noqa: E402
 

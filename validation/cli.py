@@ -13,9 +13,10 @@ import re
 import signal
 import sys
 import threading
+import warnings
 
 from ..core import _jax
-from ..core._jax import use_cpu_devices
+from ..core._jax import use_compilation_cache, use_cpu_devices
 from .cliutil import CliError
 from .extras import MissingExtra
 
@@ -77,8 +78,11 @@ def main(argv: list[str] | None = None) -> int:
     command is doing -- loading JAX, compiling (XLA holds the thread for seconds), computing -- and ends
     the process with one line and status 130 (:func:`core._jax.exit_interrupted`).  Threads and
     processes the command starts inherit the blocked signal: the atlas's Dask workers do not see the
-    terminal's Ctrl-C (they exit with this process).  Called with ``argv`` (tests, other programs), the
-    command runs in the calling thread and a KeyboardInterrupt returns 130."""
+    terminal's Ctrl-C (they exit with this process).  The console script also turns on the persistent
+    compilation cache (:func:`core._jax.use_compilation_cache`).  Called with ``argv`` (tests, other
+    programs), the command runs in the calling thread, a KeyboardInterrupt returns 130, and JAX's
+    configuration is left as the caller has it (no cache).  Python warnings become one-line notes on
+    stderr in both (:class:`_WarningNotes`)."""
     if argv is None and threading.current_thread() is threading.main_thread():
         return _main_in_worker()
     return _run(argv)
@@ -90,7 +94,7 @@ def _main_in_worker() -> int:
     def work():
         signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         try:
-            outcome["rc"] = _run(None)
+            outcome["rc"] = _run(None, console=True)
         except BaseException as e:  # noqa: BLE001 - re-raised in the main thread (SystemExit included)
             outcome["exc"] = e
 
@@ -104,15 +108,47 @@ def _main_in_worker() -> int:
     return outcome["rc"]
 
 
-def _run(argv: list[str] | None) -> int:
+def _run(argv: list[str] | None, console: bool = False) -> int:
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = _WarningNotes()
+        return _run_command(argv, console)
+
+
+class _WarningNotes:
+    """The command line's one boundary for Python warnings: a warning that reaches it (a numpy
+    RuntimeWarning, JAX reporting an unreadable compilation-cache entry, ...) becomes one line on
+    stderr, ``gear-rattle COMMAND: note: Category: message``, once per place in the code that warns,
+    instead of a two-line warning with a source line; stdout is never touched."""
+
+    def __init__(self):
+        self.seen: set = set()
+
+    def __call__(self, message, category, filename, lineno, file=None, line=None):
+        key = (category, filename, lineno)
+        if key in self.seen:
+            return
+        self.seen.add(key)
+        label = _jax.INTERRUPTED[0].rsplit(":", 1)[0]  # "gear-rattle COMMAND"
+        text = " ".join(str(message).split())
+        if "persistent compilation cache" in text:  # JAX recompiled: say where the cache is
+            text += (f" (recompiled; the cache is {_jax.compilation_cache_dir()!r}: delete it to rebuild it, or "
+                     f"set {_jax.JAX_CACHE_ENV}=0)")
+        print(f"{label}: note: {category.__name__}: {text}", file=sys.stderr)
+
+
+def _run_command(argv: list[str] | None, console: bool) -> int:
     command = None
     try:
         parser = build_parser()
         args = parser.parse_args(argv)
         command = args.command
         _jax.INTERRUPTED[0] = f"gear-rattle {command}: interrupted"
-        # the command line (not the library) spreads the engine over one XLA CPU device per core
+        # the command line (not the library) spreads the engine over one XLA CPU device per core and, as a
+        # process of its own, keeps compiled kernels in a per-user cache ($GEAR_RATTLE_JAX_CACHE=0: off)
         use_cpu_devices()
+        if console:
+            use_compilation_cache()
         return int(args._run(args) or 0)
     except (ValueError, CliError, MissingExtra) as e:
         print(f"gear-rattle {command}: error: {e}", file=sys.stderr)
