@@ -33,10 +33,12 @@ import sys
 def command_line_process() -> bool:
     """Whether this process is the ``gear-rattle`` command line (the console script or ``python -m
     gear_rattle``), as opposed to a program importing the library."""
-    if os.path.basename(sys.argv[0] if sys.argv else "") in ("gear-rattle", "gear-rattle.exe"):
+    orig = list(getattr(sys, "orig_argv", ()))
+    # the console script is on the interpreter's own command line (a multiprocessing child of the command
+    # line inherits its sys.argv, not its orig_argv)
+    if sys.argv and os.path.basename(sys.argv[0]) in ("gear-rattle", "gear-rattle.exe") and sys.argv[0] in orig:
         return True
-    argv = list(getattr(sys, "orig_argv", ()))
-    return "-m" in argv[:-1] and argv[argv.index("-m") + 1] == "gear_rattle"
+    return "-m" in orig[:-1] and orig[orig.index("-m") + 1] == "gear_rattle"
 
 
 #: The line a Ctrl-C prints in the command line (the CLI adds the command's name once it is known).
@@ -228,4 +230,7 @@ def use_compilation_cache(path: str | None = None, note=None) -> str | None:
         return None
     jax.config.update("jax_compilation_cache_dir", path)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
+    # worker processes this one starts (the atlas's Dask workers) read JAX's own variables
+    os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", path)
+    os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", str(CACHE_MIN_COMPILE_S))
     return path

@@ -215,7 +215,7 @@ def test_cli_serial_run_resume_and_mismatch(tmp_path, capsys):
     assert fig4["grid_line"] == {"alpha": 3.0} and fig4["points"] == 3
     assert (out / "atlas.png").stat().st_size > 10_000
     assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
-    assert "0 tiles computed, 4 found in the store" in capsys.readouterr().out
+    assert "nothing to compute, all 4 tiles found in the store" in capsys.readouterr().out
     # another spec on the same store: refused in one line, before computing
     rc = main(CLI_SMALL + ["--impacts", "400", "--scheduler", "serial", "--out", str(out)])
     err = capsys.readouterr().err
@@ -281,3 +281,64 @@ def test_paper_scans_agree_with_the_1d_lyapunov_code():
     assert np.all(lam[chaos] > 0.1) and np.all(p[chaos] == 0)
     above = v >= 1.265
     assert np.all((p[above] == 4) & (m[above] == 1) & (lam[above] < 0))
+
+
+# --- issue 23: tiles fitted to the grid, nothing left behind, Ctrl-C -----------------------------------
+
+def test_tile_is_fitted_to_the_grid_and_bounded(tmp_path):
+    """--tile 256 on a 2 x 2 grid computed 65536 padded orbits; --tile 100000 allocated 74.5 GiB."""
+    from gear_rattle.validation.atlas.store import MAX_TILE_POINTS, fit_tile
+
+    assert fit_tile(SMALL, 256) == (3, 4) and fit_tile(SMALL, (2, 100000)) == (2, 4)
+    st = open_store(str(tmp_path / "a.zarr"), SMALL, 256)
+    assert st.tile == (3, 4) and st.n_tiles == (1, 1) and st.group["lambda1"].chunks == (3, 4)
+    assert open_store(str(tmp_path / "a.zarr"), SMALL, 10**5).tile == (3, 4)  # the same fitted tile resumes
+    big = AtlasSpec(n_alpha=2000, n_r=2000)
+    assert fit_tile(big, 1024) == (1024, 1024) and 1024 * 1024 == MAX_TILE_POINTS
+    with pytest.raises(ValueError, match=r"tile=100000 is out of range on a 2000 x 2000 grid"):
+        fit_tile(big, 100000)
+    # a store made before tiles were fitted (its tile larger than the grid) still resumes
+    old = open_store(str(tmp_path / "old.zarr"), SMALL, (3, 4))
+    old.group.attrs["tile"] = [16, 16]
+    assert open_store(str(tmp_path / "old.zarr"), SMALL, (16, 16)).tile == (16, 16)
+
+
+@pytest.mark.parametrize("args, what", [
+    (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler='tcp://127.0.0.1:1': cannot connect"),
+    (["--alpha-lo", "1e308", "--alpha-hi", "1e308"], "--alpha-lo=1e+308 is out of range: allowed 0 <= alpha <= 1e10"),
+    (["--alpha-hi", "1e11"], "--alpha-hi=100000000000.0 is out of range"),
+    (["--store", "/proc/s.zarr"], "--store: cannot write in directory '/proc'"),
+    (["--n-alpha", "2000", "--n-r", "2000", "--tile", "100000"], "--tile=100000 is out of range on a 2000 x 2000 grid"),
+])
+def test_cli_failures_leave_nothing_behind(args, what, tmp_path, capsys):
+    """Issue 23 item 12: each of these left a store or the --out folder behind and printed internal
+    messages ("arange: cannot compute length"); now: one line naming the option, nothing created."""
+    out = tmp_path / "o"
+    rc = main(CLI_SMALL[:-2] + ["--scheduler", "serial", "--out", str(out)] + args)
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and what in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
+    """Issue 23 item 4: Ctrl-C (SIGINT to the whole process group, as a terminal sends it) on an atlas on
+    the default LocalCluster printed ~64 lines of worker tracebacks.  Now the workers start with SIGINT
+    blocked, the command line ends at once with one line and status 130, and the workers exit with it."""
+    import subprocess
+    import time
+
+    p = subprocess.Popen([sys.executable, "-m", "gear_rattle", *CLI_SMALL[:-2], "--tile", "1", "--transient", "20000",
+                          "--workers", "2", "--quiet", "--out", str(tmp_path / "o")], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE, start_new_session=True, cwd=tmp_path)
+    time.sleep(12)  # the cluster is up and computing
+    os.killpg(p.pid, signal.SIGINT)
+    t0 = time.perf_counter()
+    try:
+        rc = p.wait(timeout=30)
+        latency = time.perf_counter() - t0
+        err = p.stderr.read().decode()  # after the workers are gone (they hold the pipe until they exit)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+    assert rc == 130 and err.strip() == "gear-rattle atlas: interrupted", err
+    assert latency < 2.0, f"Ctrl-C acted after {latency:.2f} s"  # measured 0.05-0.07 s (see test_interrupt)

@@ -18,17 +18,22 @@ dies (killed, out of memory) costs only its running tile: Dask reruns it on anot
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import os
+import signal
+import socket
 import time
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
+from ...core import _jax
 from .compute import compute_tile
 from ..extras import require
 from .spec import AtlasSpec
-from .store import AtlasStore, open_store, tile_slices
+from .store import AtlasStore, fit_tile, open_store, tile_slices
 
 ComputeFn = Callable[[np.ndarray, np.ndarray, AtlasSpec], dict]
 
@@ -136,70 +141,159 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
     ``"serial"`` (in this process) or a Dask scheduler address.  ``compute`` is the compute seam (default
     :func:`.compute.compute_tile`).  ``progress(done, total)`` is called after every stored tile.  A store
     made with another spec or tile size is refused unless ``overwrite``.  An interrupted call keeps every
-    stored tile; calling again resumes.
+    stored tile; calling again resumes.  Nothing is created before the input is validated and a remote
+    scheduler has answered (``ValueError`` naming ``scheduler`` otherwise).  ``tile`` is fitted to the
+    grid (:func:`.store.fit_tile`).
     """
     check_scheduler(scheduler, workers)
-    if scheduler != "serial":
-        import_distributed()
-    st = open_store(store, spec, tile, overwrite=overwrite)
-    tile = st.tile
-    todo = st.missing()
-    nt = st.n_tiles
-    run = AtlasRun(st, scheduler, 1, nt[0] * nt[1], nt[0] * nt[1] - len(todo), remaining=list(todo))
-    t0 = time.perf_counter()
+    fit_tile(spec, tile)
+    client = cluster = None
 
-    def store_one(ij, out, secs, cpu):
-        st.write_tile(*ij, crop(spec, tile, *ij, out), secs, cpu)
-        run.computed.append(ij)
-        run.remaining.remove(ij)
-        run.seconds = time.perf_counter() - t0
-        if progress is not None:
-            progress(len(run.computed), len(todo))
+    def shut():
+        _shutdown(client, cluster)
 
-    if not todo:
-        return run
-    if scheduler == "serial":
-        for ij in todo:
-            store_one(ij, *_timed(compute, *tile_points(spec, tile, *ij), spec))
-        return run
-    _run_dask(spec, tile, todo, scheduler, workers, compute, run, store_one)
-    return run
-
-
-def _run_dask(spec, tile, todo, scheduler, workers, compute, run: AtlasRun, store_one) -> None:
-    distributed = import_distributed()
-    import logging
-
-    cluster = None
-    if scheduler == "local":
-        run.workers = workers or default_workers()
-        cluster = distributed.LocalCluster(n_workers=run.workers, threads_per_worker=1, processes=True,
-                                           dashboard_address=None, silence_logs=logging.ERROR)
-        client = distributed.Client(cluster)
-    else:
-        try:
-            client = distributed.Client(scheduler, timeout=CONNECT_TIMEOUT_S)
-        except (OSError, TimeoutError, ValueError) as e:
-            raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e})") from None
-        run.workers = len(client.scheduler_info().get("workers", {}))
-    futures = {}
+    if scheduler not in ("serial", "local"):
+        client = _connect(scheduler)  # before the store is created
     try:
-        for ij in todo:
-            a, r = tile_points(spec, tile, *ij)
-            fut = client.submit(_worker_task, compute, a, r, spec, pure=False, key=f"atlas-tile-{ij[0]}-{ij[1]}-"
-                                f"{os.getpid()}-{time.monotonic_ns()}")
-            futures[fut] = ij
-        for fut in distributed.as_completed(list(futures)):
-            ij = futures[fut]
-            try:
-                out, secs, cpu = fut.result()
-            except Exception as e:  # noqa: BLE001 - a tile that failed on every allowed try
-                raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} tiles "
-                                   "finished are stored: rerun to resume") from e
-            store_one(ij, out, secs, cpu)
+        st = open_store(store, spec, tile, overwrite=overwrite)
+        tile = st.tile
+        todo = st.missing()
+        nt = st.n_tiles
+        run = AtlasRun(st, scheduler, 1, nt[0] * nt[1], nt[0] * nt[1] - len(todo), remaining=list(todo))
+        t0 = time.perf_counter()
+
+        def store_one(ij, out, secs, cpu):
+            st.write_tile(*ij, crop(spec, tile, *ij, out), secs, cpu)
+            run.computed.append(ij)
+            run.remaining.remove(ij)
+            run.seconds = time.perf_counter() - t0
+            if progress is not None:
+                progress(len(run.computed), len(todo))
+
+        if not todo:
+            return run
+        if scheduler == "serial":
+            for ij in todo:
+                store_one(ij, *_timed(compute, *tile_points(spec, tile, *ij), spec))
+            return run
+        if client is None:
+            run.workers = workers or default_workers()
+            cluster, client = _local_cluster(run.workers)
+        else:
+            run.workers = len(client.scheduler_info().get("workers", {}))
+        _run_dask(spec, tile, todo, client, compute, run, store_one)
+        return run
     finally:
-        for fut in futures:
-            fut.cancel()
-        client.close()
+        shut()
+
+
+def _shutdown(client, cluster) -> None:
+    """Close a client and its local cluster (once; quietly)."""
+    with _quiet_dask():
+        if client is not None:
+            client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _connect(scheduler: str):
+    """A client of the Dask scheduler at ``scheduler`` (``ValueError`` naming it when it does not answer)."""
+    distributed = import_distributed()
+    _probe(scheduler)
+    try:
+        with _quiet_dask():
+            return distributed.Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+    except (OSError, TimeoutError, ValueError) as e:
+        raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e})") from None
+
+
+def _probe(scheduler: str) -> None:
+    """A TCP address that refuses connections fails at once (Dask's client retries until its timeout)."""
+    if not scheduler.startswith("tcp://"):
+        return
+    host, _, port = scheduler[len("tcp://"):].rpartition(":")
+    try:
+        with socket.create_connection((host.strip("[]") or "127.0.0.1", int(port)), timeout=CONNECT_TIMEOUT_S):
+            pass
+    except ValueError:
+        raise ValueError(f"scheduler={scheduler!r} is out of range: allowed an address such as tcp://host:8786") from None
+    except OSError as e:
+        raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e.strerror or e})") from None
+
+
+@contextlib.contextmanager
+def _quiet_dask():
+    """Dask's own log records of this process (the client, the cluster's scheduler and nannies) below
+    CRITICAL are dropped while a run starts, computes and shuts down: a failure reaches the caller as an
+    exception (one line on the command line), an interruption as KeyboardInterrupt."""
+    loggers = [logging.getLogger(name) for name in ("distributed", "tornado", "bokeh")]
+    levels = [lg.level for lg in loggers]
+    for lg in loggers:
+        lg.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        for lg, lv in zip(loggers, levels):
+            lg.setLevel(lv)
+
+
+def _local_cluster(n_workers: int):
+    """An embedded LocalCluster of ``n_workers`` processes (one thread each) and its client.  Its threads
+    and worker processes start with SIGINT blocked (the mask is inherited): a Ctrl-C at the terminal,
+    which reaches the whole process group, interrupts this process only, which closes the cluster (or,
+    on the command line, ends; the workers exit with it) -- no traceback from every worker."""
+    distributed = import_distributed()
+    # the tracker first: launching it unblocks SIGINT in the launching thread (CPython's resource_tracker).
+    # On the command line its stderr is /dev/null: a Ctrl-C ends the process at once (the workers exit with
+    # it), and the tracker then frees the cluster's semaphores -- with a "leaked semaphore" warning each time
+    _start_resource_tracker(quiet=_jax.command_line_process())
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        with _quiet_dask():
+            cluster = distributed.LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                               dashboard_address=None, silence_logs=logging.CRITICAL)
+            client = distributed.Client(cluster)
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+    return cluster, client
+
+
+def _start_resource_tracker(quiet: bool) -> None:
+    """Start multiprocessing's resource tracker (if it is not running); with ``quiet``, with /dev/null as
+    its stderr (file descriptor 2 is swapped while it starts: the tracker writes there)."""
+    from multiprocessing import resource_tracker
+
+    if not quiet:
+        resource_tracker.ensure_running()
+        return
+    saved, null = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 2)
+        resource_tracker.ensure_running()
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(null)
+
+
+def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one) -> None:
+    distributed = import_distributed()
+    futures = {}
+    with _quiet_dask():
+        try:
+            for ij in todo:
+                a, r = tile_points(spec, tile, *ij)
+                fut = client.submit(_worker_task, compute, a, r, spec, pure=False,
+                                    key=f"atlas-tile-{ij[0]}-{ij[1]}-{os.getpid()}-{time.monotonic_ns()}")
+                futures[fut] = ij
+            for fut in distributed.as_completed(list(futures)):
+                ij = futures[fut]
+                try:
+                    out, secs, cpu = fut.result()
+                except Exception as e:  # noqa: BLE001 - a tile that failed on every allowed try
+                    raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} tiles "
+                                       "finished are stored: rerun to resume") from e
+                store_one(ij, out, secs, cpu)
+        finally:
+            for fut in futures:
+                fut.cancel()

@@ -17,7 +17,8 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ...core.params import check_value
+from ...core.checks import TAU0_MAX, TAU0_RANGE
+from ...core.params import PARAM_MAX, RANGES, check_value
 
 #: Bounds that keep an atlas finite.
 MAX_GRID = 100_000_000
@@ -68,8 +69,8 @@ class AtlasSpec:
 
     def __post_init__(self) -> None:
         s = object.__setattr__
-        for name in ("alpha_lo", "alpha_hi"):
-            s(self, name, _float(name, getattr(self, name), lambda x: x >= 0.0, f"a finite {name} >= 0"))
+        for name in ("alpha_lo", "alpha_hi"):  # the library's range of alpha (mapimpl.params.PARAM_MAX)
+            s(self, name, _float(name, getattr(self, name), lambda x: 0.0 <= x <= PARAM_MAX, RANGES["alpha"]))
         for name in ("r_lo", "r_hi"):
             s(self, name, _float(name, getattr(self, name), lambda x: 0.0 < x <= 1.0, f"0 < {name} <= 1"))
         s(self, "beta", check_value("beta", self.beta))
@@ -83,7 +84,7 @@ class AtlasSpec:
         s(self, "n_r", _int("n_r", self.n_r, 1, MAX_GRID))
         if self.n_alpha * self.n_r > MAX_GRID:
             raise ValueError(f"n_alpha * n_r = {self.n_alpha * self.n_r} is out of range: allowed <= {MAX_GRID}")
-        s(self, "tau0", _float("tau0", self.tau0, lambda x: True, "a finite tau0"))
+        s(self, "tau0", _float("tau0", self.tau0, lambda x: abs(x) <= TAU0_MAX, TAU0_RANGE))
         s(self, "sdot0", _float("sdot0", self.sdot0, lambda x: x != 0.0, "a finite sdot0 != 0"))
         s(self, "transient", _int("transient", self.transient, 0, MAX_IMPACTS))
         s(self, "impacts", _int("impacts", self.impacts, 1, MAX_IMPACTS))

@@ -58,6 +58,24 @@ def check_tile(tile) -> tuple[int, int]:
     return int(tr), int(ta)
 
 
+#: Most grid points per tile: every tile is one task padded to the full tile shape (see :mod:`.run`), so
+#: its memory grows with the tile's area (1024 x 1024 tiles: ~1 GB per worker).
+MAX_TILE_POINTS = 1 << 20
+
+
+def fit_tile(spec: AtlasSpec, tile) -> tuple[int, int]:
+    """The tile shape an atlas of ``spec`` uses for the requested ``tile`` (:func:`check_tile`): each side
+    clamped to the grid (a tile larger than the grid computed its padding: ``--tile 256`` on a 2 x 2 grid
+    ran 65536 orbits for 4 points), then at most :data:`MAX_TILE_POINTS` points (``ValueError`` naming
+    ``tile`` otherwise; ``--tile 100000`` allocated 74.5 GiB)."""
+    tr, ta = check_tile(tile)
+    fit = (min(tr, spec.n_r), min(ta, spec.n_alpha))
+    if fit[0] * fit[1] > MAX_TILE_POINTS:
+        raise ValueError(f"tile={tile!r} is out of range on a {spec.n_r} x {spec.n_alpha} grid: a tile of {fit[0]} x "
+                         f"{fit[1]} points, allowed at most {MAX_TILE_POINTS} points per tile (e.g. tile <= 1024)")
+    return fit
+
+
 def tile_grid(spec: AtlasSpec, tile: tuple[int, int]) -> tuple[int, int]:
     """Number of tiles along r and along alpha."""
     return math.ceil(spec.n_r / tile[0]), math.ceil(spec.n_alpha / tile[1])
@@ -133,15 +151,24 @@ def _half_made(path: Path, zarr) -> bool:
         return False
 
 
+def _tile_fits(stored, spec: AtlasSpec, tile: tuple[int, int]) -> bool:
+    """Whether a store's tile (larger than the grid: made before :func:`fit_tile`) fits to ``tile``."""
+    try:
+        return tuple(stored) != tile and (min(stored[0], spec.n_r), min(stored[1], spec.n_alpha)) == tile
+    except (TypeError, IndexError):
+        return False
+
+
 def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = False) -> AtlasStore:
     """Open the atlas store at ``path`` for ``spec`` and ``tile``, creating it if absent.
 
-    An existing store made with another spec, tile size or engine is refused (``ValueError``, one line)
-    unless ``overwrite``, which deletes and recreates it.  A path that exists but is not an atlas store
+    ``tile`` is fitted to the grid (:func:`fit_tile`).  An existing store made with another spec, tile
+    size or engine is refused (``ValueError``, one line) unless ``overwrite``, which deletes and
+    recreates it.  A path that exists but is not an atlas store
     (a file, a non-empty folder of something else) is always refused.
     """
     zarr = import_zarr()
-    tile = check_tile(tile)
+    tile = fit_tile(spec, tile)
     p = Path(path)
     want = {"format": FORMAT, "spec": spec.to_dict(), "tile": list(tile), "engine": ENGINE}
     if p.exists():
@@ -156,6 +183,9 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
             shutil.rmtree(p)
         else:
             have = {k: attrs.get(k) for k in want}
+            if _tile_fits(attrs.get("tile"), spec, tile):  # a store made before tiles were fitted to the grid
+                want["tile"] = have["tile"]
+                tile = tuple(have["tile"])
             if have != want:
                 parts = [f"{k}: {_diff(have[k], want[k])}" if isinstance(want[k], dict) else
                          f"{k} {have[k]!r} (store) != {want[k]!r}" for k in want if have[k] != want[k]]

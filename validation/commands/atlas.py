@@ -20,7 +20,7 @@ NAME = "atlas"
 HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
 
 _FIELD = re.compile(r"^(alpha_lo|alpha_hi|n_alpha|r_lo|r_hi|n_r|tau0|sdot0|transient|impacts|period_max|"
-                    r"period_tol|tile_r|tile_alpha|workers|scheduler)=")
+                    r"period_tol|tile_r|tile_alpha|tile|workers|scheduler|store)=")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -80,22 +80,24 @@ def run(args: argparse.Namespace) -> int:
         raise _option_names(e) from None
     from ..atlas.plot import plot_atlas
     from ..atlas.run import check_scheduler, import_distributed, run_atlas
-    from ..atlas.store import import_zarr, load_store
+    from ..atlas.store import fit_tile, import_zarr, load_store
     from ..atlas.summary import summarise
+    from ..cliutil import check_output_dir
 
     import_zarr()  # a missing extra: one line naming it, exit 2 (cli.main), before anything is written
     if args.scheduler != "serial":
         import_distributed()
     try:
         check_scheduler(args.scheduler, args.workers)
+        fit_tile(spec, args.tile)
     except ValueError as e:
         raise _option_names(e) from None
+    # every path is checked before anything is created (a store, the --out folder): run_atlas creates the
+    # store only after a remote scheduler has answered
     out = Path(args.out)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise CliError(f"--out: cannot create directory {str(out)!r}: {e.strerror}") from None
+    check_output_dir(args.out, "--out")
     store = args.store or str(out / "atlas.zarr")
+    check_output_dir(store, "--store" if args.store else "--out")
     from ...mapimpl.progress import Progress
 
     bar = Progress("atlas tiles", not args.quiet)
@@ -106,21 +108,33 @@ def run(args: argparse.Namespace) -> int:
         raise _option_names(e) from None
     except RuntimeError as e:
         raise CliError(str(e)) from None
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise CliError(f"--out: cannot create directory {str(out)!r}: {e.strerror}") from None
     st = load_store(store)
     data = st.read()
     summary = summarise(data, spec, res)
     summary["store"] = store
     (out / "atlas_summary.json").write_text(json.dumps(summary, indent=1) + "\n")
     plot_atlas(data, spec, str(out / "atlas.png"))
-    ru = summary["run"]
-    tile_rate = ru.get("median tile throughput per worker (points x impacts / s, wall)", float("nan"))
-    print(f"atlas {spec.n_alpha} x {spec.n_r} (alpha {spec.alpha_lo:g}..{spec.alpha_hi:g}, r {spec.r_lo:g}.."
-          f"{spec.r_hi:g}): {ru['tiles_computed']} tiles computed, {ru['tiles_resumed']} found in the store; "
-          f"{ru['wall_seconds']:.1f} s on {ru['workers']} worker(s) ({args.scheduler}), "
-          f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} points x impacts/s "
-          f"(start-up and compile included; median tile: {tile_rate:.3g} per worker)")
+    print(_run_line(spec, summary["run"], args.scheduler))
     print(f"chaotic (lambda1 > 0): {summary['chaotic (lambda1 > 0)']}, periodic: "
           f"{summary['periodic (period found)']}, sticking: {summary['sticking (lambda1 = -inf)']}, ended: "
           f"{summary['ended (status != 0)']} of {summary['points_computed']} points")
     print(f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}")
     return 0
+
+
+def _run_line(spec, ru: dict, scheduler: str) -> str:
+    """What this run did: tiles computed and resumed, and its speed -- only when it computed something
+    (a resumed atlas with nothing left printed "0 points x impacts/s ... nan")."""
+    head = (f"atlas {spec.n_alpha} x {spec.n_r} (alpha {spec.alpha_lo:g}..{spec.alpha_hi:g}, r {spec.r_lo:g}.."
+            f"{spec.r_hi:g}): ")
+    if ru["tiles_computed"] == 0:
+        return head + f"nothing to compute, all {ru['tiles_resumed']} tiles found in the store"
+    tile_rate = ru["median tile throughput per worker (points x impacts / s, wall)"]
+    return head + (f"{ru['tiles_computed']} tiles computed, {ru['tiles_resumed']} found in the store; "
+                   f"{ru['wall_seconds']:.1f} s on {ru['workers']} worker(s) ({scheduler}), "
+                   f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} "
+                   f"points x impacts/s (start-up and compile included; median tile: {tile_rate:.3g} per worker)")
