@@ -113,15 +113,18 @@ def test_chunked_orbit_compiles_once_and_stops_when_ended():
     _same(s, map_orbit(stuck, 0.0, 0.5, 200))
 
 
-def test_ctrl_c_stops_a_long_simulate_at_once(tmp_path, capsys):
+@pytest.mark.parametrize("track", ["map", "diffrax"])
+def test_ctrl_c_stops_a_long_simulate_at_once(track, tmp_path, capsys):
     """Ctrl-C took ~27 s to act (one XLA call for the whole orbit). Now it acts between chunks of
     1024 impacts: one line, exit 130, no output file.  The orbit asked for (5e6 impacts) would take
     minutes in one call; the bound below is ~20 chunk times even on a loaded machine.  Measured
     2026-11-25 with both cores busy (two spinning processes besides three other sessions' work):
-    0.011-0.019 s over three interrupts, so the 5 s bound has a margin of > 200x."""
-    from gear_rattle.mapimpl.orbit import map_orbit
+    0.011-0.019 s over three interrupts, so the 5 s bound has a margin of > 200x.  The diffrax track
+    (issue 23 item 3: one XLA call for the whole orbit, 100000 impacts took 55 s to act) runs in chunks
+    of 256 impacts the same way (core.state.run_in_chunks)."""
+    from gear_rattle.mapimpl.tracks import orbit
 
-    map_orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 100)  # compile first: measure the run, not XLA
+    orbit(track, Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 300)  # compile first: measure the run, not XLA
     out = tmp_path / "long.csv"
     fired = []
 
@@ -132,7 +135,7 @@ def test_ctrl_c_stops_a_long_simulate_at_once(tmp_path, capsys):
     timer = threading.Timer(1.5, interrupt)
     timer.start()
     try:
-        rc = main(["simulate", "--impacts", "5000000", "--output", str(out)])
+        rc = main(["simulate", "--track", track, "--impacts", "5000000", "--output", str(out)])
     finally:
         timer.cancel()
     latency = time.perf_counter() - fired[0]
