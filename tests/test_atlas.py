@@ -327,9 +327,11 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
     import subprocess
     import time
 
-    p = subprocess.Popen([sys.executable, "-m", "gear_rattle", *CLI_SMALL[:-2], "--tile", "1", "--transient", "20000",
-                          "--workers", "2", "--quiet", "--out", str(tmp_path / "o")], stdout=subprocess.DEVNULL,
-                         stderr=subprocess.PIPE, start_new_session=True, cwd=tmp_path)
+    # 12 points x 1e7 transient impacts: minutes of work on 2 cores, so the run is still computing when
+    # the signal comes however warm the compilation cache and however idle the machine
+    p = subprocess.Popen([sys.executable, "-m", "gear_rattle", *CLI_SMALL[:-2], "--tile", "1", "--transient",
+                          "10000000", "--workers", "2", "--quiet", "--out", str(tmp_path / "o")],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True, cwd=tmp_path)
     time.sleep(12)  # the cluster is up and computing
     os.killpg(p.pid, signal.SIGINT)
     t0 = time.perf_counter()
