@@ -66,16 +66,18 @@ class LyapunovResult:
         s = self.lam_free.sum(axis=1)
         return np.where(self.n_stuck == 0, np.abs(s - self.det_mean), np.nan)
 
-    def save_npz(self, path: str) -> None:
-        np.savez_compressed(path, param=self.param, values=self.values, lam=self.lam, lam_free=self.lam_free,
-                            det_mean=self.det_mean, n_stuck=self.n_stuck, n_steps=self.n_steps, active=self.active)
+    def arrays(self) -> dict:
+        """The arrays of the result (an NPZ file's content)."""
+        return dict(param=self.param, values=self.values, lam=self.lam, lam_free=self.lam_free,
+                    det_mean=self.det_mean, n_stuck=self.n_stuck, n_steps=self.n_steps, active=self.active)
 
-    def to_csv(self) -> str:
-        rows = [f"{self.param},lambda1,lambda2,lambda1_free,lambda2_free,mean_log_det,n_stuck,active"]
-        for i, v in enumerate(self.values):
-            rows.append(f"{float(v)!r},{float(self.lam[i, 0])!r},{float(self.lam[i, 1])!r},{float(self.lam_free[i, 0])!r},"
-                        f"{float(self.lam_free[i, 1])!r},{float(self.det_mean[i])!r},{int(self.n_stuck[i])},{bool(self.active[i])}")
-        return "\n".join(rows) + "\n"
+    def table(self) -> tuple[list, list]:
+        """``(header, rows)``: one row per parameter value (a CSV file's content)."""
+        header = [self.param, "lambda1", "lambda2", "lambda1_free", "lambda2_free", "mean_log_det", "n_stuck",
+                  "active"]
+        return header, [[float(v), float(self.lam[i, 0]), float(self.lam[i, 1]), float(self.lam_free[i, 0]),
+                         float(self.lam_free[i, 1]), float(self.det_mean[i]), int(self.n_stuck[i]),
+                         bool(self.active[i])] for i, v in enumerate(self.values)]
 
 
 def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transient: int = 1000, tau0: float = 0.0,

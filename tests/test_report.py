@@ -462,3 +462,11 @@ def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeyp
     assert np.array_equal(z["hit"][..., 0][c], z["first_stick"][c] + dec.value)
     d = z["hit"][..., 0].ravel()
     assert nums["mean_n"].value == pytest.approx(np.where(d < 0, int(z["cap"]), d).mean(), rel=1e-12)
+    # every file the section wrote is strict JSON (issue 23 item 8) and the CSVs hold numbers only
+    files = sorted((tmp_path / "data").rglob("*.json"))
+    assert len(files) == 5
+    for f in files:
+        json.loads(f.read_text(), parse_constant=lambda c: pytest.fail(f"{f.name}: {c} in JSON"))
+    for f in (tmp_path / "data").rglob("*.csv"):
+        header, *rows = f.read_text().splitlines()
+        assert header[0].isidentifier() and all(isinstance(float(x), float) for r in rows for x in r.split(",")), f

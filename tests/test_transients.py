@@ -3,6 +3,8 @@ per-orbit ones, survival curve, Eq. (14) and uncertainty-exponent fits on synthe
 validation.  The engine itself is tested in test_engine.py.  Paper-scale comparisons (Figs. 10 and
 11) are opt-in: ``pytest -m slow``."""
 
+import json
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -80,9 +82,12 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     engine's duration."""
     from gear_rattle.core.paper import PAPER_DECIMAL
     from gear_rattle.mapimpl.certified import certified_release_duration
+    from gear_rattle.validation.io.transients import write_survival
     from gear_rattle.validation.transient.experiments import transients
 
-    s = transients(outdir=tmp_path, profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    res = transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    write_survival(tmp_path, res)
+    s = json.loads((tmp_path / "transients.json").read_text())
     dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
     f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False)
     assert dec.status == "captured" and f64.status == "captured"
@@ -104,6 +109,42 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     # the fit of Fig. 11 is made on these durations
     d = np.where(hit.ravel() < 0, s["cap"], hit.ravel())
     assert s["fits"]["0.001"]["mean_n"] == pytest.approx(d.mean(), rel=1e-12)
+
+
+def test_the_capture_rule_of_an_orbit_that_sticks():
+    """Section 4 / issue 10 item 3: an orbit that first sticks at impact n_s has duration n_s + T_post,
+    censored (-1) when T_post < 0 (never captured) or the sum passes the cap -- one rule
+    (compose_release), used by the engine's composition, a certified T_post and the analyses."""
+    from gear_rattle.mapimpl.engine.transients import compose_release
+
+    first = np.array([0, 5, 100, 7])
+    assert compose_release(first, 10, 110).tolist() == [10, 15, 110, 17]
+    assert compose_release(first, 11, 110).tolist() == [11, 16, -1, 18]
+    assert compose_release(first, -1, 110).tolist() == [-1, -1, -1, -1]
+    per_delta = compose_release(first[:, None], np.array([3, -1, 200]), 150)
+    assert per_delta.tolist() == [[3, -1, -1], [8, -1, -1], [103, -1, -1], [10, -1, -1]]
+    assert per_delta.dtype == np.int64
+
+
+def test_stick_time_sensitivity_takes_the_fig11_result_not_a_file(tmp_path, monkeypatch):
+    """The chatter-threshold sensitivity starts from the Fig. 11 result it is given (its own threshold's
+    row is that run's durations, not recomputed): no file is read or written."""
+    from gear_rattle.validation.transient import experiments as E
+
+    monkeypatch.chdir(tmp_path)
+    fig11 = E.transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    sens = E.stick_time_sensitivity(fig11, stick_times=(1e-5,), n_boot=5, lanes=LANES, progress=False)
+    assert [r.stick_time for r in sens.rows] == [1e-6, 1e-5] and (sens.nx, sens.ny, sens.stride) == (18, 18, 1)
+    base = sens.rows[0]
+    assert base.base and base.n_ic == 324 and not sens.notes
+    assert base.fit.mean_n == fig11.main_fit.mean_n and base.sticking_fraction == fig11.composed.mean()
+    assert base.stick_counts == fig11.stick_counts
+    half = E.stick_time_sensitivity(fig11, stick_times=(), stride=2, n_boot=5, progress=False)
+    assert half.rows[0].n_ic == 81 and half.rows[0].sticking_fraction == fig11.composed.reshape(18, 18)[::2, ::2].mean()
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ValueError, match="certified"):
+        E.stick_time_sensitivity(E.transients(profile="quick", nx=4, deltas=(1e-3,), n_boot=0, progress=False,
+                                              lanes=LANES, release="float64"))
 
 
 def test_survival_monotone_and_counts():
@@ -227,7 +268,7 @@ def fig11_paper(tmp_path_factory):
     composed with the certified T_post (decimal parameters)."""
     from gear_rattle.validation.transient.experiments import transients
 
-    return transients(outdir=tmp_path_factory.mktemp("fig11"), profile="paper", progress=False)
+    return transients(profile="paper", progress=False).summary()
 
 
 def _z(computed, error, key):
@@ -288,6 +329,6 @@ def test_fig10_paper_scale(tmp_path):
     exponents are near zero (riddled-like basins)."""
     from gear_rattle.validation.transient.experiments import uncertainty
 
-    s = uncertainty(outdir=tmp_path, profile="paper", progress=False)
+    s = uncertainty(profile="paper", progress=False).summary()
     for n in ("500", "1000"):
         assert abs(s["fits"][n]["phi"]) < 0.05

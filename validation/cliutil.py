@@ -229,3 +229,55 @@ def write_file(option: str, path: str, write) -> None:
 def save_figure(fig, path: str, option: str = "--plot", dpi: int = 150) -> None:
     """``fig.savefig(path)`` with the parent directory created; errors name the option."""
     write_file(option, path, lambda x: fig.savefig(x, dpi=dpi))
+
+
+# ------------------------------------------------------------------------- the output options
+
+def add_output_options(p: argparse.ArgumentParser, *, fmt: str | None = None, output: str | None = None,
+                       plot: str | None = None, out: tuple[str, str] | None = None, quiet: str | None = None) -> None:
+    """The output options of a command, each added when its help text is given: ``--format`` (csv or
+    json), ``--output`` (a data file, default stdout), ``--plot FILE.png`` (a figure), ``--out DIR``
+    (``out = (default, help)``: an output directory) and ``--quiet`` (no progress).  Checked together by
+    :func:`check_outputs`, written by :func:`write_output` and :func:`write_plot`."""
+    if fmt is not None:
+        p.add_argument("--format", choices=("csv", "json"), default="csv", help=fmt)
+    if output is not None:
+        p.add_argument("--output", default=None, help=output)
+    if plot is not None:
+        p.add_argument("--plot", default=None, metavar="FILE.png", help=plot)
+    if out is not None:
+        p.add_argument("--out", default=out[0], metavar="DIR", help=out[1])
+    if quiet is not None:
+        p.add_argument("--quiet", action="store_true", help=quiet)
+
+
+def check_outputs(args: argparse.Namespace) -> None:
+    """Before any computation: every output option of :func:`add_output_options` the command has can be
+    written (:func:`check_output_file`, :func:`check_output_dir`), and ``--output`` and ``--plot`` name
+    different files."""
+    output, plot = getattr(args, "output", None), getattr(args, "plot", None)
+    check_output_file(output, "--output")
+    check_output_file(plot, "--plot", plot=True)
+    check_distinct(**{"--output": output, "--plot": plot})
+    if getattr(args, "out", None) is not None:
+        check_output_dir(args.out, "--out")
+
+
+def write_output(args: argparse.Namespace, result=None, *, arrays=None, table=None) -> None:
+    """``--output`` of a result with ``arrays()`` (NPZ) and ``table()`` (CSV ``(header, rows)``), or of
+    the callables ``arrays`` and ``table``: an NPZ file when the name ends in ``.npz``, else CSV in the
+    file or on stdout (None or ``-``)."""
+    from .io import csv_text, write_npz
+
+    arrays = arrays or result.arrays
+    table = table or result.table
+    if args.output and args.output.endswith(".npz"):
+        write_file("--output", args.output, lambda path: write_npz(path, **arrays()))
+    else:
+        write_text(csv_text(*table()), args.output)
+
+
+def write_plot(args: argparse.Namespace, fig, dpi: int = 150) -> None:
+    """``--plot``: save the figure ``fig`` (when the option was given)."""
+    if args.plot:
+        save_figure(fig, args.plot, "--plot", dpi=dpi)

@@ -102,6 +102,19 @@ def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tupl
                           np.asarray(po.multipliers), float(po.residual))
 
 
+def compose_release(first_stick, t_post, cap: int) -> np.ndarray:
+    """The capture rule of an orbit that sticks (see the module docstring): its duration is
+    ``first_stick + T_post`` -- the impact at which it first stuck plus the post-release orbit's own
+    duration counted from the release -- or -1 (censored) when ``T_post < 0`` (never captured) or the
+    sum exceeds ``cap``.  Broadcasts ``first_stick`` against ``t_post``; returns int64.  The one
+    implementation of the rule: the engine's composition (:func:`transient_times`), a certified
+    ``T_post`` (:meth:`TransientResult.duration`) and the analyses all use it."""
+    first = np.asarray(first_stick, np.int64)
+    tp = np.asarray(t_post, np.int64)
+    comp = first + tp
+    return np.where((tp >= 0) & (comp <= int(cap)), comp, -1)
+
+
 @dataclass
 class TransientResult:
     """Per-initial-condition results (flat arrays of length N, in input order).
@@ -159,8 +172,7 @@ class TransientResult:
                 sel = (self.first_stick >= 0) & (self.stick_wall == int(wall))
                 if raw is not None:
                     sel &= raw[:, j] < 0
-                comp = self.first_stick.astype(np.int64) + (int(tp) if tp is not None and tp >= 0 else self.cap + 1)
-                h = np.where(sel, np.where(comp <= self.cap, comp, -1), h)
+                h = np.where(sel, compose_release(self.first_stick, -1 if tp is None else tp, self.cap), h)
         censored = h < 0
         return np.where(censored, self.cap, h), censored
 
@@ -295,8 +307,7 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
         releases.append({"wall": w, "ic": i, "first_stick": int(first[i]),
                          "T_post": t_post, "impacts": int(rep.n[0]) - int(first[i])})
         # compose: first_stick + T_post, censored beyond the cap, for deltas not reached before sticking
-        comp = first[sel][:, None].astype(np.int64) + t_post[None, :]
-        comp = np.where((t_post[None, :] >= 0) & (comp <= cap), comp, -1)
+        comp = compose_release(first[sel][:, None], t_post[None, :], cap)
         hs = hit[sel]
         hit[sel] = np.where(hs >= 0, hs, comp).astype(np.int32)
         status[sel] = np.where(hit[sel][:, -1] >= 0, int(Status.STOPPED), int(Status.CAPPED))

@@ -3,8 +3,8 @@ over a grid of (alpha, r) at fixed beta, gamma, computed in tiles on Dask and st
 
 Modules: :mod:`.spec` (what is computed: :class:`AtlasSpec`), :mod:`.compute` (the one compute seam,
 :func:`compute_tile`), :mod:`.store` (the Zarr layout, resume), :mod:`.run` (tiles on Dask or in-process:
-:func:`run_atlas`), :mod:`.plot` and :mod:`.summary` (figure and numbers).  ``compute`` and ``spec`` need
-only the core dependencies; ``store`` and ``run`` need the ``atlas`` extra (zarr, dask[distributed]),
+:func:`run_atlas`), :mod:`.summary` (the numbers; the figure is drawn by
+:mod:`gear_rattle.validation.plots.atlas`).  ``compute`` and ``spec`` need only the core dependencies; ``store`` and ``run`` need the ``atlas`` extra (zarr, dask[distributed]),
 imported when used.  See docs/atlas.md.
 """
 

@@ -3,11 +3,42 @@ classes, and the atlas along the paper's scans)."""
 
 from __future__ import annotations
 
+from collections import Counter
+
 import numpy as np
 
-from .plot import paper_lines, period_classes
 from .run import AtlasRun
 from .spec import PAPER_LINES, AtlasSpec
+
+
+#: Most (p, m) classes coloured individually in the period panel; the rest are "other periodic".
+MAX_CLASSES = 12
+
+
+def period_classes(p: np.ndarray, m: np.ndarray, max_classes: int = MAX_CLASSES) -> list[tuple[int, int, int]]:
+    """``(p, m, count)`` of the periodic points, most frequent first (ties: smaller p, then m)."""
+    c = Counter(zip(p[p > 0].tolist(), m[p > 0].tolist()))
+    return [(pp, mm, n) for (pp, mm), n in sorted(c.items(), key=lambda t: (-t[1], t[0]))][:max_classes]
+
+
+def paper_lines(spec: AtlasSpec):
+    """The paper's scans clipped to the atlas: ``(label, (x0, x1), (y0, y1))`` in (alpha, r) coordinates,
+    only those that cross the atlas."""
+    out = []
+    for label, fixed, value, _varied, lo, hi in PAPER_LINES:
+        if fixed == "alpha":
+            if not spec.alpha_lo <= value <= spec.alpha_hi:
+                continue
+            y0, y1 = max(lo, spec.r_lo), min(hi, spec.r_hi)
+            if y0 <= y1:
+                out.append((label, (value, value), (y0, y1)))
+        else:
+            if not spec.r_lo <= value <= spec.r_hi:
+                continue
+            x0, x1 = max(lo, spec.alpha_lo), min(hi, spec.alpha_hi)
+            if x0 <= x1:
+                out.append((label, (x0, x1), (value, value)))
+    return out
 
 
 def _line_profile(data: dict, spec: AtlasSpec, fixed: str, value: float, lo: float, hi: float) -> dict:

@@ -10,7 +10,6 @@ See docs/atlas.md."""
 from __future__ import annotations
 
 import argparse
-import json
 import re
 from pathlib import Path
 
@@ -78,11 +77,12 @@ def run(args: argparse.Namespace) -> int:
                          args.period_tol)
     except ValueError as e:
         raise _option_names(e) from None
-    from ..atlas.plot import plot_atlas
     from ..atlas.run import check_scheduler, import_distributed, run_atlas
     from ..atlas.store import fit_tile, import_zarr, load_store
     from ..atlas.summary import summarise
     from ..cliutil import check_output_dir
+    from ..io import save_figure, write_json
+    from ..plots.atlas import atlas_figure
 
     import_zarr()  # a missing extra: one line naming it, exit 2 (cli.main), before anything is written
     if args.scheduler != "serial":
@@ -116,8 +116,8 @@ def run(args: argparse.Namespace) -> int:
     data = st.read()
     summary = summarise(data, spec, res)
     summary["store"] = store
-    (out / "atlas_summary.json").write_text(json.dumps(summary, indent=1) + "\n")
-    plot_atlas(data, spec, str(out / "atlas.png"))
+    write_json(out / "atlas_summary.json", summary)
+    save_figure(atlas_figure(data, spec), out / "atlas.png", dpi=130)
     print(_run_line(spec, summary["run"], args.scheduler))
     print(f"chaotic (lambda1 > 0): {summary['chaotic (lambda1 > 0)']}, periodic: "
           f"{summary['periodic (period found)']}, sticking: {summary['sticking (lambda1 = -inf)']}, ended: "

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, real
 from ._transient_common import add_common, check_common, print_summary, progress_arg
@@ -33,6 +34,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from ...core.checks import TAU0_MAX, TAU0_RANGE
     from ..cliutil import params_from
+    from ..io import save_figure
+    from ..io.transients import write_basins
+    from ..plots.transients import basins_figure
     from ..transient.experiments import basins
 
     params = params_from(args)
@@ -41,7 +45,9 @@ def run(args: argparse.Namespace) -> int:
         raise CliError(f"--window={' '.join(map(repr, args.window))} is out of range: allowed TAU_LO < TAU_HI "
                        f"({TAU0_RANGE.replace('tau0', 'tau')}) and SDOT_LO < SDOT_HI")
     check_common(args)
-    s = basins(outdir=args.out, profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
+    res = basins(profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
                ns=tuple(args.ns), delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
-    print_summary(s)
+    write_basins(args.out, res)
+    save_figure(basins_figure(res), Path(args.out) / "fig9_basins.png")
+    print_summary(res.summary(), res.notes)
     return 0

@@ -7,9 +7,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_AVERAGED, MAX_IMPACTS, MAX_VALUES, CliError, add_param_args, check_distinct,
-                       check_output_file, nonneg_int, params_from, positive_int, real, tau0_type, write_file,
-                       write_text)
+from ..cliutil import (MAX_AVERAGED, MAX_IMPACTS, MAX_VALUES, CliError, add_output_options, add_param_args,
+                       check_outputs, nonneg_int, params_from, positive_int, real, tau0_type, write_output, write_plot)
 
 NAME = "bifurcation"
 HELP = "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure"
@@ -35,19 +34,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
     p.add_argument("--lyapunov", type=nonneg_int("--lyapunov", MAX_AVERAGED), default=0, metavar="N",
                    help="also compute Lyapunov exponents over N impacts, figure panel b (default 0: not computed)")
-    p.add_argument("--output", default=None, help="data file: .npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure (default: no figure)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_output_options(p, output="data file: .npz or .csv (default: CSV on stdout)",
+                       plot="write the figure (default: no figure)", quiet="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..dynamics.bifurcation import bifurcation_diagram, plot_diagram
+    from ..dynamics.bifurcation import bifurcation_diagram
     from ...mapimpl.progress import Progress
 
     base = params_from(args)
-    check_output_file(args.output, "--output")
-    check_output_file(args.plot, "--plot", plot=True)
-    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    check_outputs(args)
     if args.values * args.keep > MAX_RECORDED:
         raise CliError(f"--values x --keep = {args.values * args.keep} is out of range: allowed <= {MAX_RECORDED}")
     if args.sdot0 == 0:
@@ -65,10 +61,9 @@ def run(args: argparse.Namespace) -> int:
         res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))
         lyap = (res.values, res.lam_free)
-    if args.output and args.output.endswith(".npz"):
-        write_file("--output", args.output, d.save_npz)
-    else:
-        write_text(d.to_csv(), args.output)
+    write_output(args, d)
     if args.plot:
-        write_file("--plot", args.plot, lambda path: plot_diagram(d, path, lyap))
+        from ..plots import diagram_figure
+
+        write_plot(args, diagram_figure(d, lyap))
     return 0

@@ -9,8 +9,8 @@ import argparse
 
 import numpy as np
 
-from ..cliutil import (MAX_AVERAGED, MAX_VALUES, CliError, add_param_args, check_distinct, check_output_file,
-                       nonneg_int, params_from, positive_int, real, save_figure, tau0_type, write_file, write_text)
+from ..cliutil import (MAX_AVERAGED, MAX_VALUES, CliError, add_output_options, add_param_args, check_outputs,
+                       nonneg_int, params_from, positive_int, real, tau0_type, write_output, write_plot)
 
 NAME = "lyapunov"
 HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
@@ -29,9 +29,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="impacts discarded first (default 1000)")
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
-    p.add_argument("--output", default=None, help=".npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure (default: no figure)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_output_options(p, output=".npz or .csv (default: CSV on stdout)", plot="write the figure (default: no figure)",
+                       quiet="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -39,9 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.progress import Progress
 
     base = params_from(args)
-    check_output_file(args.output, "--output")
-    check_output_file(args.plot, "--plot", plot=True)
-    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    check_outputs(args)
     if args.sdot0 == 0:
         raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
     lo = args.lo if args.lo is not None else getattr(base, args.param)
@@ -52,19 +49,10 @@ def run(args: argparse.Namespace) -> int:
     res = lyapunov(base, args.param, values, n=args.impacts, transient=args.transient, tau0=args.tau0,
                    sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))
     fig = None
-    if args.plot:
-        from ..figures import subplots
+    if args.plot:  # drawn before anything is written
+        from ..plots import lyapunov_figure
 
-        fig, ax = subplots(figsize=(7, 3.5))
-        ax.plot(values, res.lam_free[:, 0], "-", label=r"$\lambda_1$")
-        ax.plot(values, res.lam_free[:, 1], "-", label=r"$\lambda_2$")
-        ax.axhline(0, color="gray", lw=0.5)
-        ax.set_xlabel(args.param); ax.set_ylabel("per impact"); ax.legend()
-        fig.tight_layout()
-    if args.output and args.output.endswith(".npz"):
-        write_file("--output", args.output, res.save_npz)
-    else:
-        write_text(res.to_csv(), args.output)
-    if fig is not None:
-        save_figure(fig, args.plot, "--plot", dpi=150)
+        fig = lyapunov_figure(values, res.lam_free, args.param)
+    write_output(args, res)
+    write_plot(args, fig)
     return 0

@@ -10,8 +10,8 @@ import argparse
 
 import numpy as np
 
-from ..cliutil import (MAX_IMPACTS, MAX_VALUES, CliError, add_param_args, check_distinct, check_output_file,
-                       int_range, params_from, positive_int, real, save_figure, tau0_type, write_file, write_text)
+from ..cliutil import (MAX_IMPACTS, MAX_VALUES, CliError, add_output_options, add_param_args, check_outputs,
+                       int_range, params_from, positive_int, real, tau0_type, write_output, write_plot, write_text)
 
 NAME = "orbit"
 #: Most impacts (and turns) per periodic orbit.
@@ -42,10 +42,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="initial arclength step, 0 < ds <= 1 (default 0.002)")
     p.add_argument("--max-points", type=int_range("--max-points", 2, MAX_VALUES), default=200,
                    help=f"most points of the branch, 2 to {MAX_VALUES} (default 200)")
-    p.add_argument("--output", default=None, help="orbit or branch data: .npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png",
-                   help="branch figure, sdot and |multipliers| (default: no figure)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_output_options(p, output="orbit or branch data: .npz or .csv (default: CSV on stdout)",
+                       plot="branch figure, sdot and |multipliers| (default: no figure)", quiet="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -57,9 +55,7 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.progress import Progress
 
     base = params_from(args)
-    check_output_file(args.output, "--output")
-    check_output_file(args.plot, "--plot", plot=True)
-    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    check_outputs(args)
     if args.plot and args.action == "find":
         raise CliError("--plot draws a continued branch: allowed with 'continue' only")
     if (args.tau0 is None) != (args.sdot0 is None):
@@ -88,36 +84,15 @@ def run(args: argparse.Namespace) -> int:
     br = continue_orbit(base, args.param, tau0, sdot0, args.impacts, args.turns, mu_range=(lo, hi),
                         direction=args.direction, ds=args.ds, ds_max=max(2e-2, args.ds), max_points=args.max_points,
                         progress=prog)
-    a = br.arrays()
-    if args.output and args.output.endswith(".npz"):
-        write_file("--output", args.output, lambda path: np.savez_compressed(
-            path, **a, param=args.param, folds=np.array([f.mu for f in br.folds]),
-            flips=np.array([f.mu for f in br.flips])))
-    else:
-        rows = [f"{args.param},tau,sdot,mult1_re,mult1_im,mult2_re,mult2_im,stable"]
-        for i in range(a["mu"].size):
-            rows.append(f"{float(a['mu'][i])!r},{float(a['tau'][i])!r},{float(a['sdot'][i])!r},{float(a['mult_re'][i, 0])!r},{float(a['mult_im'][i, 0])!r},"
-                        f"{float(a['mult_re'][i, 1])!r},{float(a['mult_im'][i, 1])!r},{bool(a['stable'][i])}")
-        write_text("\n".join(rows) + "\n", args.output)
+    write_output(args, table=br.table, arrays=lambda: {
+        **br.arrays(), "param": args.param, "folds": np.array([f.mu for f in br.folds]),
+        "flips": np.array([f.mu for f in br.flips])})
     out = sys.stderr if args.output in (None, "-") else sys.stdout
     print(f"branch: {len(br.points)} points, stop: {br.stop_reason}", file=out)
     for f in br.folds + br.flips:
         print(f.describe(), file=out)
     if args.plot:
-        from ..figures import subplots
+        from ..plots import branch_figure
 
-        fig, ax = subplots(2, 1, figsize=(7, 5), sharex=True)
-        st = a["stable"]
-        ax[0].plot(a["mu"], a["sdot"], "-", color="gray", lw=0.6)
-        ax[0].plot(a["mu"][st], a["sdot"][st], ".b", ms=3, label="stable")
-        ax[0].plot(a["mu"][~st], a["sdot"][~st], ".r", ms=3, label="unstable")
-        ax[0].set_ylabel(r"$\dot s$ (one point of the orbit)"); ax[0].legend(fontsize=8)
-        mods = np.abs(a["mult_re"] + 1j * a["mult_im"])
-        ax[1].semilogy(a["mu"], mods, ".", ms=3); ax[1].axhline(1, color="k", lw=0.5)
-        for f in br.folds + br.flips:
-            for x in ax:
-                x.axvline(f.mu, color="g" if f.kind == "fold" else "m", lw=0.6)
-        ax[1].set_ylabel("|Floquet multipliers|"); ax[1].set_xlabel(args.param)
-        fig.tight_layout()
-        save_figure(fig, args.plot, "--plot", dpi=150)
+        write_plot(args, branch_figure(br, args.param))
     return 0

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import CliError, check_output_dir, seed_int
+from ..cliutil import CliError, add_output_options, check_outputs, seed_int
 
 NAME = "report"
 HELP = "generate the validation report (HTML + Markdown)"
@@ -15,12 +15,11 @@ HELP = "generate the validation report (HTML + Markdown)"
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--profile", choices=("quick", "paper"), default="quick",
                    help="quick or paper scale (default quick)")
-    p.add_argument("--out", default="report", metavar="DIR", help="output directory (default report)")
     p.add_argument("--seed", type=seed_int(), default=20040101,
                    help="random seed of every sampled quantity, 0 to 2**32-1 (default 20040101)")
     p.add_argument("--sections", nargs="*", default=None, metavar="KEY",
                    help="run only these section keys (default: all sections)")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    add_output_options(p, out=("report", "output directory (default report)"), quiet="no progress output")
 
 
 def section_keys() -> list[str]:
@@ -42,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
         unknown = [s for s in args.sections if s not in keys]
         if unknown:
             raise CliError(f"--sections: unknown key(s) {', '.join(unknown)}: allowed {', '.join(keys)}")
-    check_output_dir(args.out, "--out")
+    check_outputs(args)
     path, ok = build_report(args.profile, args.out, args.sections, seed=args.seed, progress=not args.quiet,
                             argv=["gear-rattle", *sys.argv[1:]])
     print(f"report written: {path}")

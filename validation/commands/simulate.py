@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_IMPACTS, add_param_args, check_distinct, check_output_file, nonneg_int, params_from,
-                       real, tau0_type, write_text)
+from ..cliutil import (MAX_IMPACTS, add_output_options, add_param_args, check_outputs, nonneg_int, params_from, real,
+                       tau0_type, write_plot, write_text)
 
 NAME = "simulate"
 HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
@@ -26,10 +26,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"impacts after impact 0, at most {MAX_IMPACTS} (default 1000)")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
                    help="which track computes the orbit (default map)")
-    p.add_argument("--format", choices=("csv", "json"), default="csv", help="output format (default csv)")
-    p.add_argument("--output", default=None, help="output file (default: stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png",
-                   help="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
+    add_output_options(p, fmt="output format (default csv)", output="output file (default: stdout)",
+                       plot="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
     p.add_argument("--plot-span", type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4), default=50.0,
                    help="time span of the plot in tau units, at most 1e4 (default 50.0)")
 
@@ -38,9 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.tracks import orbit
 
     params = params_from(args)
-    check_output_file(args.output, "--output")
-    check_output_file(args.plot, "--plot", plot=True)
-    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    check_outputs(args)
     seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0)
     fig = None
     if args.plot:  # drawn before anything is written
@@ -56,8 +52,5 @@ def run(args: argparse.Namespace) -> int:
                "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
         print(f"gear-rattle simulate: note: the orbit ended after {int(seq.impacts.sum())} impacts "
               f"(status {seq.status}: {why})", file=sys.stderr)
-    if fig is not None:
-        from ..cliutil import save_figure
-
-        save_figure(fig, args.plot, "--plot", dpi=110)
+    write_plot(args, fig, dpi=110)
     return 0

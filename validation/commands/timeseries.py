@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_IMPACTS, CliError, add_param_args, check_distinct, check_output_file, int_range,
-                       nonneg_int, params_from, real, tau0_type, write_file, write_text)
+from ..cliutil import (MAX_IMPACTS, CliError, add_output_options, add_param_args, check_outputs, int_range,
+                       nonneg_int, params_from, real, tau0_type, write_output, write_plot)
 
 NAME = "timeseries"
 HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
@@ -23,19 +23,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="impacts discarded first (default 2000)")
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
-    p.add_argument("--output", default=None, help=".npz or .csv (default: CSV on stdout)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the figure (default: no figure)")
+    add_output_options(p, output=".npz or .csv (default: CSV on stdout)", plot="write the figure (default: no figure)")
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..dynamics.timeseries import FIGURE_R, plot_time_series, time_series
+    from ..dynamics.timeseries import FIGURE_R, time_series
 
     base = params_from(args)
     if args.figure:
         base = base.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[args.figure])
-    check_output_file(args.output, "--output")
-    check_output_file(args.plot, "--plot", plot=True)
-    check_distinct(**{"--output": args.output, "--plot": args.plot})
+    check_outputs(args)
     if args.sdot0 == 0:
         raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
     ts = time_series(base, args.impacts, args.transient, args.tau0, args.sdot0)
@@ -43,11 +40,9 @@ def run(args: argparse.Namespace) -> int:
         raise CliError(f"--impacts={args.impacts} is too small: the impacts kept after --transient={args.transient} "
                        "span less than one forcing period (2 pi), so there is no stroboscopic sample; "
                        "allowed: enough impacts to span a period (the orbit may chatter or stick)")
-    if args.output and args.output.endswith(".npz"):
-        write_file("--output", args.output, ts.save_npz)
-    else:
-        write_text(ts.to_csv(), args.output)
+    write_output(args, ts)
     if args.plot:
-        title = f"{args.figure or ''} alpha={base.alpha}, r={base.r}"
-        write_file("--plot", args.plot, lambda path: plot_time_series(ts, path, title=title))
+        from ..plots import velocity_series_figure
+
+        write_plot(args, velocity_series_figure(ts, title=f"{args.figure or ''} alpha={base.alpha}, r={base.r}"))
     return 0

@@ -9,6 +9,7 @@ survival.csv, transients.json and fig11_survival.png; fits N(n) = N0 exp(-kappa 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, MAX_MESH, nonneg_int, positive_int, real, seed_int
 from ._transient_common import add_common, check_common, print_summary, progress_arg
@@ -33,13 +34,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..cliutil import params_from
+    from ..io import save_figure
+    from ..io.transients import write_survival
+    from ..plots.transients import survival_figure
     from ..transient.experiments import transients
 
     params = params_from(args)
     check_common(args)
-    s = transients(outdir=args.out, profile=args.profile, nx=args.n, cap=args.cap, delta=args.delta,
+    res = transients(profile=args.profile, nx=args.n, cap=args.cap, delta=args.delta,
                    deltas=(1e-2, args.delta, 1e-4, 1e-6), params=params,
                    ic_mode="pre-impact" if args.s0 is None else "free", s0=args.s0, n_lo=args.n_lo, seed=args.seed,
                    progress=progress_arg(args), lanes=args.lanes)
-    print_summary(s)
+    write_survival(args.out, res)
+    save_figure(survival_figure(res), Path(args.out) / "fig11_survival.png")
+    print_summary(res.summary(), res.notes)
     return 0

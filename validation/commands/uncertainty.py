@@ -10,8 +10,7 @@ Writes uncertainty.npz, uncertainty.csv, uncertainty.json and fig10_uncertainty.
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, real, seed_int
 from ._transient_common import add_common, check_common, print_summary, progress_arg
@@ -39,18 +38,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..cliutil import params_from
-    from ..transient.experiments import uncertainty
+    from ..io import save_figure
+    from ..io.transients import write_uncertainty
+    from ..plots.transients import uncertainty_figure
+    from ..transient.experiments import default_eps, uncertainty
 
     params = params_from(args)
     if not args.eps_min < args.eps_max:
         raise CliError(f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "
                        "allowed 0 < eps-min < eps-max <= 0.1")
     check_common(args)
-    eps = None
-    if args.n_eps is not None or args.eps_min != 1e-9 or args.eps_max != 1e-3:
-        n_eps = args.n_eps or (7 if args.profile == "quick" else 13)
-        eps = np.logspace(np.log10(args.eps_min), np.log10(args.eps_max), n_eps)
-    s = uncertainty(outdir=args.out, profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
+    eps = default_eps(args.profile, args.n_eps, args.eps_min, args.eps_max)
+    res = uncertainty(profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
                     seed=args.seed, delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
-    print_summary(s)
+    write_uncertainty(args.out, res)
+    save_figure(uncertainty_figure(res), Path(args.out) / "fig10_uncertainty.png")
+    print_summary(res.summary(), res.notes)
     return 0

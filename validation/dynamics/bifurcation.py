@@ -78,18 +78,18 @@ class Diagram:
             out.append(1 + int(np.sum(np.diff(s) > tol)) if s.size else 0)
         return np.array(out)
 
-    def save_npz(self, path: str) -> None:
-        np.savez_compressed(path, param=self.param, values=self.values, sdot=self.sdot, theta=self.theta,
-                            active=self.active, mode=self.mode, transient=self.transient, keep=self.keep,
-                            alpha=self.base.alpha, beta=self.base.beta, gamma=self.base.gamma, r=self.base.r)
+    def arrays(self) -> dict:
+        """The arrays of the diagram's NPZ file."""
+        return dict(param=self.param, values=self.values, sdot=self.sdot, theta=self.theta, active=self.active,
+                    mode=self.mode, transient=self.transient, keep=self.keep, alpha=self.base.alpha,
+                    beta=self.base.beta, gamma=self.base.gamma, r=self.base.r)
 
-    def to_csv(self) -> str:
-        lines = [f"{self.param},n,theta,sdot"]
-        for i, v in enumerate(self.values):
-            for j in range(self.sdot.shape[1]):
-                if self.active[i, j]:
-                    lines.append(f"{float(v)!r},{j},{float(self.theta[i, j])!r},{float(self.sdot[i, j])!r}")
-        return "\n".join(lines) + "\n"
+    def table(self) -> tuple[list, list]:
+        """``(header, rows)`` of the diagram's CSV: one row per recorded impact (parameter value, index,
+        theta, sdot)."""
+        return [self.param, "n", "theta", "sdot"], [
+            [float(v), j, float(self.theta[i, j]), float(self.sdot[i, j])]
+            for i, v in enumerate(self.values) for j in range(self.sdot.shape[1]) if self.active[i, j]]
 
 
 def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values: int = 200,
@@ -133,26 +133,3 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
             progress(n_values, n_values)
     sd = np.where(act, sd, np.nan)
     return Diagram(param, values, sd, th, act, mode, base, transient, keep)
-
-
-def plot_diagram(diag: Diagram, path: str, lyap=None, title: str | None = None) -> None:
-    """Draw the diagram (and, if given, the Lyapunov exponents ``(values, lambdas (n, 2))`` below it)."""
-    from ..figures import subplots
-
-    rows = 2 if lyap is not None else 1
-    fig, axes = subplots(rows, 1, figsize=(7, 3.2 * rows + 0.5), sharex=True, squeeze=False)
-    ax = axes[0, 0]
-    x = np.repeat(diag.values, diag.sdot.shape[1])
-    ax.plot(x, diag.sdot.ravel(), ",k", alpha=0.5)
-    ax.set_ylabel(r"$\dot s_n$")
-    ax.set_title(title or f"bifurcation diagram ({diag.mode}), {diag.param} varied")
-    if lyap is not None:
-        v, lam = lyap
-        axes[1, 0].plot(v, lam[:, 0], "-", lw=0.8, label=r"$\lambda_1$")
-        axes[1, 0].plot(v, lam[:, 1], "-", lw=0.8, label=r"$\lambda_2$")
-        axes[1, 0].axhline(0, color="gray", lw=0.5)
-        axes[1, 0].set_ylabel("Lyapunov exponents (per impact)")
-        axes[1, 0].legend(fontsize=8)
-    axes[-1, 0].set_xlabel(diag.param)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)

@@ -184,6 +184,14 @@ class Branch:
             "stable": np.array([p.stable for p in self.points]),
         }
 
+    def table(self) -> tuple[list, list]:
+        """``(header, rows)``: one row per point (parameter, tau, sdot, the two multipliers, stable)."""
+        a = self.arrays()
+        return [self.param, "tau", "sdot", "mult1_re", "mult1_im", "mult2_re", "mult2_im", "stable"], [
+            [float(a["mu"][i]), float(a["tau"][i]), float(a["sdot"][i]), float(a["mult_re"][i, 0]),
+             float(a["mult_im"][i, 0]), float(a["mult_re"][i, 1]), float(a["mult_im"][i, 1]), bool(a["stable"][i])]
+            for i in range(a["mu"].size)]
+
 
 #: Newton steps taken by :func:`locate` after the tolerance is met, each kept only if it lowers the residual: the
 #: result does not depend on how far inside the tolerance the last regular step happened to land.

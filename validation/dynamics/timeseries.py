@@ -41,19 +41,22 @@ class TimeSeries:
     k: np.ndarray
     sdot_strobe: np.ndarray
 
-    def save_npz(self, path: str) -> None:
+    def arrays(self) -> dict:
+        """The arrays of the series' NPZ file."""
         p = self.params
-        np.savez_compressed(path, n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe,
-                            alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r)
+        return dict(n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe, alpha=p.alpha, beta=p.beta,
+                    gamma=p.gamma, r=p.r)
 
-    def to_csv(self) -> str:
+    def table(self) -> tuple[list, list]:
+        """``(header, rows)`` of the series' CSV: ``n, sdot_n`` beside ``k, sdot_strobe`` (the shorter
+        column pair padded with empty fields)."""
         m = max(self.n.size, self.k.size)
-        rows = ["n,sdot_n,k,sdot_strobe"]
+        rows = []
         for i in range(m):
-            a = f"{self.n[i]},{float(self.sdot_n[i])!r}" if i < self.n.size else ","
-            b = f"{self.k[i]},{float(self.sdot_strobe[i])!r}" if i < self.k.size else ","
-            rows.append(f"{a},{b}")
-        return "\n".join(rows) + "\n"
+            a = [self.n[i], float(self.sdot_n[i])] if i < self.n.size else [None, None]
+            b = [self.k[i], float(self.sdot_strobe[i])] if i < self.k.size else [None, None]
+            rows.append(a + b)
+        return ["n", "sdot_n", "k", "sdot_strobe"], rows
 
 
 def stroboscopic(seq: ImpactSequence) -> tuple[np.ndarray, np.ndarray]:
@@ -88,17 +91,3 @@ def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, ta
     k, v = stroboscopic(sub)
     m = sub.kind == "impact"
     return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0] if k.size else k, v)  # no sample: span < 2 pi
-
-
-def plot_time_series(ts: TimeSeries, path: str, title: str | None = None) -> None:
-    """Two panels, like Figs. 5-7: (a) sdot_n against n, (b) sdot(2 pi k) against k."""
-    from ..figures import subplots
-
-    fig, ax = subplots(2, 1, figsize=(7, 5))
-    ax[0].plot(ts.n, ts.sdot_n, ".k", ms=1)
-    ax[0].set_xlabel("n"); ax[0].set_ylabel(r"$\dot s_n$")
-    ax[1].plot(ts.k, ts.sdot_strobe, ".k", ms=1)
-    ax[1].set_xlabel("k"); ax[1].set_ylabel(r"$\dot s(2\pi k)$")
-    ax[0].set_title(title or f"alpha={ts.params.alpha}, r={ts.params.r}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)

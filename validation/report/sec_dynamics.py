@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...mapimpl import Params
-from ..figures import subplots
+from ..plots import subplots
 from .document import Section
 from ..paper import PAPER
 from .verdict import row
@@ -329,7 +329,9 @@ def build(ctx) -> Section:
     from ..dynamics.continuation import orbit_states
     from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
     from ..dynamics.crises.r2 import certified_r2
-    from ..dynamics.timeseries import FIGURE_R, plot_time_series, time_series
+    from ..dynamics.timeseries import FIGURE_R, time_series
+    from ..io import save_figure
+    from ..plots import velocity_series_figure
 
     sec = Section(KEY, TITLE)
     st = SETTINGS[ctx.profile]
@@ -387,7 +389,8 @@ def build(ctx) -> Section:
         trans = TS_TRANSIENT[fig]
         ts = time_series(P, n_impacts=st["ts_n"], transient=trans)
         path = ctx.fig_dir / f"{fig}_timeseries.png"
-        plot_time_series(ts, str(path), title=f"Fig. {fig[-1]} reproduced (computed): alpha = 3, r = {P.r:g}")
+        save_figure(velocity_series_figure(ts, title=f"Fig. {fig[-1]} reproduced (computed): alpha = 3, r = {P.r:g}"),
+                    path, dpi=150)
         if fig in ("fig5", "fig6"):
             frac, n_ph, tail = _laminar_in_series(np.asarray(ts.sdot_n), ls.eps)
             what = (f"r - r2 = {P.r - r2v:+.3g} (our r2); of the {ts.n.size} impacts shown, {100 * frac:.1f}% "

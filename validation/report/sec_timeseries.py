@@ -28,7 +28,8 @@ def _period(sd: np.ndarray, max_p: int = MAX_PERIOD, atol: float = PERIOD_ATOL) 
 
 def build(ctx) -> Section:
     from ...mapimpl.lyapunov import lyapunov
-    from ..plots import plot_time_series
+    from ..io import save_figure
+    from ..plots import time_series_figure
 
     sec = Section(KEY, TITLE)
     n = 600 if ctx.quick else 5000
@@ -39,8 +40,8 @@ def build(ctx) -> Section:
         seq = map_orbit(P, 0.0, 0.5, n)
         tau, theta, sd, wall = seq.impact_arrays()
         path = ctx.fig_dir / f"fig{fig[-1]}_timeseries.png"
-        plot_time_series(seq, str(path), span=50.0,
-                         title=f"{fig}: alpha={P.alpha:g}, beta={P.beta:g}, gamma={P.gamma:g}, r={P.r:g} (computed)")
+        save_figure(time_series_figure(seq, span=50.0, title=f"{fig}: alpha={P.alpha:g}, beta={P.beta:g}, "
+                                                            f"gamma={P.gamma:g}, r={P.r:g} (computed)"), path)
         sec.fig(path, f"{fig} reproduced: (a) driven gear between the driving gear's flanks, (b) relative "
                       f"coordinate s with impacts, alpha = {alpha:g}, from (tau0, sdot0) = (0, 0.5).")
         tail = sd[-TAIL:]

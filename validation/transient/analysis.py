@@ -226,11 +226,12 @@ class UncertaintyFit:
 def uncertain_fraction(dA, dB, dC, n_threshold: int) -> np.ndarray:
     """``f(eps)`` for every eps: ``dA`` shape (P,), ``dB``/``dC`` shape (P, E) (durations at
     ``tau0 +- eps``).  Returns shape (E,)."""
-    unc = _uncertain(dA, dB, dC, n_threshold)
-    return unc.mean(axis=0)
+    return uncertain_mask(dA, dB, dC, n_threshold).mean(axis=0)
 
 
-def _uncertain(dA, dB, dC, n_threshold):
+def uncertain_mask(dA, dB, dC, n_threshold: int) -> np.ndarray:
+    """Boolean ``(P, E)``: point ``i`` is eps-uncertain at ``eps[j]`` (one of ``tau0 +- eps`` lies in the
+    other basin: duration < ``n_threshold`` on one side, >= on the other)."""
     dA, dB, dC = np.asarray(dA), np.asarray(dB), np.asarray(dC)
     if dB.shape != dC.shape or dB.ndim != 2 or dB.shape[0] != dA.shape[0]:
         raise ValueError("dB and dC must have shape (len(dA), n_eps)")

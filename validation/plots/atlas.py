@@ -1,16 +1,14 @@
 """The atlas figure: largest Lyapunov exponent and period over the (alpha, r) plane, with the paper's two
-scans drawn as lines (Fig. 4: r-scan at alpha = 3; Fig. 8: alpha-scan at r = 0.9)."""
+scans drawn as lines (Fig. 4: r-scan at alpha = 3; Fig. 8: alpha-scan at r = 0.9), from an atlas's data
+(:func:`gear_rattle.validation.atlas.store.AtlasStore.read`)."""
 
 from __future__ import annotations
 
-from collections import Counter
-
 import numpy as np
 
-from .spec import PAPER_LINES, AtlasSpec
-
-#: Most (p, m) classes coloured individually in the period panel; the rest are "other periodic".
-MAX_CLASSES = 12
+from ..atlas.spec import AtlasSpec
+from ..atlas.summary import paper_lines, period_classes
+from .base import subplots
 
 
 def _edges(v: np.ndarray) -> np.ndarray:
@@ -21,41 +19,13 @@ def _edges(v: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
 
 
-def period_classes(p: np.ndarray, m: np.ndarray, max_classes: int = MAX_CLASSES) -> list[tuple[int, int, int]]:
-    """``(p, m, count)`` of the periodic points, most frequent first (ties: smaller p, then m)."""
-    c = Counter(zip(p[p > 0].tolist(), m[p > 0].tolist()))
-    return [(pp, mm, n) for (pp, mm), n in sorted(c.items(), key=lambda t: (-t[1], t[0]))][:max_classes]
-
-
-def paper_lines(spec: AtlasSpec):
-    """The paper's scans clipped to the atlas: ``(label, (x0, x1), (y0, y1))`` in (alpha, r) coordinates,
-    only those that cross the atlas."""
-    out = []
-    for label, fixed, value, _varied, lo, hi in PAPER_LINES:
-        if fixed == "alpha":
-            if not spec.alpha_lo <= value <= spec.alpha_hi:
-                continue
-            y0, y1 = max(lo, spec.r_lo), min(hi, spec.r_hi)
-            if y0 <= y1:
-                out.append((label, (value, value), (y0, y1)))
-        else:
-            if not spec.r_lo <= value <= spec.r_hi:
-                continue
-            x0, x1 = max(lo, spec.alpha_lo), min(hi, spec.alpha_hi)
-            if x0 <= x1:
-                out.append((label, (x0, x1), (value, value)))
-    return out
-
-
-def plot_atlas(data: dict[str, np.ndarray], spec: AtlasSpec, path: str, title: str | None = None) -> None:
+def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None = None):
     """Two panels over (alpha, r): lambda1 (diverging colours around 0; black: a sticking step, J = 0,
     lambda1 = -inf; grey: orbit ended or not computed) and the period class ``p in m`` (p impacts in m
-    driving periods; white: no period found), with the paper's scans as lines.  Writes ``path``."""
+    driving periods; white: no period found), with the paper's scans as lines."""
     from matplotlib import colormaps, patheffects
     from matplotlib.colors import ListedColormap, TwoSlopeNorm
     from matplotlib.patches import Patch
-
-    from ..figures import subplots
 
     xa, yr = _edges(data["alpha"]), _edges(data["r"])
     lam, p, m = data["lambda1"], data["period_p"], data["period_m"]
@@ -108,4 +78,4 @@ def plot_atlas(data: dict[str, np.ndarray], spec: AtlasSpec, path: str, title: s
                            f"{spec.n_alpha} x {spec.n_r} points, {spec.transient} transient + {spec.impacts} "
                            f"measured impacts from (tau0, sdot0) = ({spec.tau0:g}, {spec.sdot0:g})"), fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    return fig

@@ -1,0 +1,117 @@
+"""The package's file formats, one writer each: strict JSON, CSV and NPZ (and figures, saved without
+pyplot).
+
+* **JSON** (:func:`json_text`, :func:`write_json`): strict -- a non-finite float (NaN, +-inf) is
+  written as ``null`` and :func:`json.dumps` runs with ``allow_nan=False``, so every file parses
+  with a parser that rejects ``NaN`` (RFC 8259).  numpy scalars and arrays become numbers and lists,
+  tuples lists, mapping keys strings; an object that is not data raises ``TypeError`` (a result
+  states what it writes, e.g. its ``summary()``).
+* **CSV** (:func:`csv_text`, :func:`write_csv`): a header line and one line per row, nothing else
+  (no comment or prose lines); floats as the shortest decimal that reads back to the same float64
+  (``repr``), integers as integers, a missing value (``None``) as an empty field.
+* **NPZ** (:func:`write_npz`): :func:`numpy.savez_compressed` into exactly the path given (numpy
+  appends ``.npz`` to a file name without it; this writer does not).
+
+Analyses never write files: they return typed results, and the commands and the report write them
+with these functions (docs/architecture.md).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+
+def jsonable(x):
+    """``x`` as plain JSON data: numpy scalars/arrays as Python numbers/lists, tuples as lists, keys as
+    strings, non-finite floats as ``None``.  ``TypeError`` for an object that is not data."""
+    if isinstance(x, Mapping):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    if isinstance(x, (np.bool_, np.integer, np.floating)):
+        return jsonable(x.item())
+    if isinstance(x, float):
+        return x if math.isfinite(x) else None
+    if x is None or isinstance(x, (bool, int, str)):
+        return x
+    if isinstance(x, complex):
+        raise TypeError("a complex number is not JSON data: write its real and imaginary parts")
+    raise TypeError(f"{type(x).__name__} is not JSON data")
+
+
+def json_text(obj, indent: int | None = 1) -> str:
+    """Strict JSON text of ``obj`` (see the module docstring)."""
+    return json.dumps(jsonable(obj), indent=indent, allow_nan=False)
+
+
+def write_json(path, obj, indent: int | None = 1) -> Path:
+    """Write :func:`json_text` of ``obj`` (and a final newline) to ``path``; returns the path."""
+    p = Path(path)
+    p.write_text(json_text(obj, indent) + "\n")
+    return p
+
+
+def _cell(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (bool, np.bool_)):
+        return "True" if v else "False"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        return repr(float(v))
+    if isinstance(v, str):
+        if any(c in v for c in ',"\n\r'):
+            return '"' + v.replace('"', '""') + '"'
+        return v
+    raise TypeError(f"{type(v).__name__} is not a CSV value")
+
+
+def csv_text(header: Sequence[str], rows: Iterable[Sequence]) -> str:
+    """CSV text: the ``header`` line and one line per row of ``rows`` (see the module docstring)."""
+    header = list(header)
+    lines = [",".join(_cell(h) for h in header)]
+    for i, row in enumerate(rows):
+        row = list(row)
+        if len(row) != len(header):
+            raise ValueError(f"CSV row {i} has {len(row)} fields: allowed {len(header)} (the header's)")
+        lines.append(",".join(_cell(v) for v in row))
+    return "\n".join(lines) + "\n"
+
+
+def csv_columns(columns: Mapping[str, Sequence]) -> tuple[list[str], Iterable[tuple]]:
+    """``(header, rows)`` of equally long named columns, for :func:`csv_text`."""
+    cols = {k: list(v) for k, v in columns.items()}
+    lengths = {len(v) for v in cols.values()}
+    if len(lengths) > 1:
+        raise ValueError(f"CSV columns have different lengths {sorted(lengths)}: allowed one length")
+    return list(cols), zip(*cols.values())
+
+
+def write_csv(path, header: Sequence[str], rows: Iterable[Sequence]) -> Path:
+    """Write :func:`csv_text` to ``path``; returns the path."""
+    p = Path(path)
+    p.write_text(csv_text(header, rows))
+    return p
+
+
+def write_npz(path, **arrays) -> Path:
+    """:func:`numpy.savez_compressed` of ``arrays`` into exactly ``path``; returns the path."""
+    p = Path(path)
+    with open(p, "wb") as fh:
+        np.savez_compressed(fh, **arrays)
+    return p
+
+
+def save_figure(fig, path, dpi: int = 110) -> Path:
+    """``fig.savefig(path, dpi=dpi)`` (format from the extension); returns the path."""
+    fig.savefig(path, dpi=dpi)
+    return Path(path)
+

@@ -1,0 +1,76 @@
+"""Figures of Section 4: the transient basins (Fig. 9), the uncertain fraction (Fig. 10) and the survival
+curve with the Eq. (14) fit (Fig. 11), drawn from the results of
+:mod:`gear_rattle.validation.transient.experiments`."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.patches import Rectangle
+
+from ...core.paper import PAPER_BOX
+from ..paper import PAPER
+from .base import subplots
+
+
+def basins_figure(res):
+    """Fig. 9: one panel per threshold n (black = duration < n), the paper's box of Figs. 10-11 in red
+    (a :class:`~gear_rattle.validation.transient.experiments.BasinsResult`)."""
+    fig, axs = subplots(2, 2, figsize=(9, 7), sharex=True, sharey=True)
+    for ax, n, lab in zip(axs.ravel(), res.ns, "abcd"):
+        ax.imshow(res.duration < n, origin="lower", extent=res.window, aspect="auto", cmap="Greys", vmin=0, vmax=1,
+                  interpolation="nearest")
+        ax.add_patch(Rectangle((PAPER_BOX[0], PAPER_BOX[2]), PAPER_BOX[1] - PAPER_BOX[0],
+                               PAPER_BOX[3] - PAPER_BOX[2], fill=False, ec="C3", lw=1))
+        ax.set_title(f"({lab}) n = {n}: black = duration < n ({100 * res.short_fraction[n]:.1f}%)", fontsize=9)
+    for ax in axs[1]:
+        ax.set_xlabel(r"$\tau_0$")
+    for ax in axs[:, 0]:
+        ax.set_ylabel(r"$\dot s_0$")
+    fig.suptitle(f"Fig. 9: transient basins, alpha={res.params.alpha:g}, {res.nx}x{res.ny}, delta={res.delta:g}, "
+                 f"IC {res.ic_mode}", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def uncertainty_figure(res):
+    """Fig. 10: f(eps) per threshold n with binomial error bars and the fitted power laws (a
+    :class:`~gear_rattle.validation.transient.experiments.UncertaintyResult`)."""
+    eps = res.eps
+    fig, ax = subplots(figsize=(6, 4.5))
+    for n, mk in zip(res.ns, ("s", "o", "^", "v")):
+        f = res.fraction(n)
+        se = np.sqrt(f * (1.0 - f) / res.n_points)  # binomial standard error of each f(eps)
+        pos = f > 0
+        lo = np.minimum(se, 0.999 * f)  # keep the lower bar on the log axis
+        eb = ax.errorbar(eps[pos], f[pos], yerr=[lo[pos], se[pos]], fmt=mk, mfc="none" if mk == "s" else None,
+                         capsize=2, label=f"n = {n} (bars: sqrt(f(1-f)/{res.n_points}))")
+        ax.set_xscale("log"); ax.set_yscale("log")
+        ft = res.fits[n]
+        if ft is not None:
+            ax.loglog(eps, 10 ** ft.log10_C * eps ** ft.phi, "-", lw=0.8, color=eb[0].get_color(),
+                      label=f"fit: phi = {ft.phi:.4f} +- {ft.phi_se_ls:.4f} (boot {ft.phi_se_boot:.4f})")
+    ax.set_xlabel(r"$\epsilon$")
+    ax.set_ylabel(r"$f(\epsilon)$")
+    ax.set_title(f"Fig. 10: uncertain fraction, {res.n_points} points in the paper's box", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def survival_figure(res):
+    """Fig. 11: N(n) at the main delta and the Eq. (14) fit over its range (a
+    :class:`~gear_rattle.validation.transient.experiments.SurvivalResult`)."""
+    n, N, main = res.n, res.N, res.main_fit
+    fig, ax = subplots(figsize=(6, 4.5))
+    ax.semilogy(n, np.where(N > 0, N, np.nan), "-", lw=1, label=f"N(n), delta = {res.delta:g}")
+    if main is not None:
+        xs = np.array([main.n_lo, main.n_hi])
+        ax.semilogy(xs, main.N0 * np.exp(-main.kappa * xs / main.mean_n), "k--", lw=1,
+                    label=f"Eq. (14): <n> = {main.mean_n:.0f}, kappa = {main.kappa:.3f} +- {main.kappa_se_boot:.3f}")
+    ax.set_xlabel("n")
+    ax.set_ylabel("N(n): orbits still transient")
+    ax.set_title(f"Fig. 11: {res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release_source} "
+                 f"(paper: <n>={PAPER['mean_n'].printed}, kappa={PAPER['kappa'].printed})", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
