@@ -131,3 +131,41 @@ def test_locate_states_the_bracket_when_it_is_narrower_than_a_consistent_fit():
     # the same bracket with a fit narrower than it and inside it: the fit
     tight = locate(0.7414370, 1e-6, b, margin=1.7e-9)
     assert tight.method == "fit" and tight.value == 0.7414370 and tight.why == WHY_FIT_NARROWER
+
+
+def test_crisis_results_are_typed_and_write_as_strict_json(tmp_path):
+    """The crisis analyses return typed results (issue 24 item 1); their ``as_dict`` is the data written to
+    crises.json -- nested fits, brackets and the located point by their own ``as_dict``, periodic orbits
+    and branches left out, an infinite mean time (no event) written as null by the strict writer."""
+    import json
+
+    from gear_rattle.validation.dynamics.crises import R1Result
+    from gear_rattle.validation.dynamics.crises.stats import mean_time
+    from gear_rattle.validation.io.crises import write_crises
+
+    r = np.array([0.7410, 0.7412, 0.7413, 0.7414])
+    k = np.array([400.0, 120.0, 40.0, 0.0])
+    E = np.full(4, 4e6)
+    goy = fit_crisis(r[:3], k[:3], E[:3], "below", g=1.0)
+    brk = bracket(r, k, E, "below")
+    loc = locate(goy.mu_c, goy.err, brk)
+    none = mean_time([0, 0], [1e6, 1e6])
+    res = R1Result(r1=loc.value, r1_err=loc.err, method=loc.method, located=loc, r1_goy=goy.mu_c,
+                   r1_goy_err=goy.err, r1_stat=goy.err, r1_syst=0.0, r1_free=goy.mu_c, r1_free_err=goy.err,
+                   g_free=1.0, g_free_err=0.0, fit_goy=goy, fit_free=goy, subranges_goy=[("all", goy.mu_c)],
+                   subranges_free=[], goy_exponent=1.0, saddle=object(), bracket=brk, bracket_margin=math.nan,
+                   lower_bound=brk.seen, upper_bound=brk.clear, consistent=True, clear_lyapunov=None,
+                   near={"r": brk.seen, **none.as_dict()}, hops=[], paper_fig7={}, ics={}, cost={}, profile="quick")
+    d = res.as_dict()
+    assert "saddle" not in d and d["bracket"] == brk.as_dict() and d["located"] == loc.as_dict()
+    assert d["fit_goy"]["mu_c"] == goy.mu_c and d["near"]["T"] == math.inf
+    write_crises(tmp_path, "quick", types_ns(as_dict=lambda: {}), res, types_ns(as_dict=lambda: {"x": math.nan}))
+    back = json.loads((tmp_path / "crises.json").read_text(), parse_constant=lambda c: pytest.fail(c))
+    assert back["r1"]["near"]["T"] is None and back["r1"]["bracket"]["seen"] == brk.seen
+    assert back["alpha1"] == {"x": None} and back["profile"] == "quick"
+
+
+def types_ns(**kw):
+    import types
+
+    return types.SimpleNamespace(**kw)

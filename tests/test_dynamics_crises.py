@@ -15,9 +15,9 @@ def test_r2_fold_and_type1_intermittency_slope():
     rounded to 5 decimals; the laminar-length exponent is compared with type-I theory (-1/2) within 4
     of its own errors (the report prints the local slopes)."""
     res = locate_r2("paper")
-    assert abs(res["r2"] - PAPER_R2_FIG5) < 5e-6
-    assert res["fold"].residual < 1e-10
-    assert abs(res["slope"] + 0.5) < 4 * res["slope_err"] + 0.05
+    assert abs(res.r2 - PAPER_R2_FIG5) < 5e-6
+    assert res.fold.residual < 1e-10
+    assert abs(res.slope + 0.5) < 4 * res.slope_err + 0.05
 
 
 @pytest.mark.slow
@@ -26,12 +26,12 @@ def test_r1_interior_crisis_bracketed_by_direct_observation():
     where the band orbits are chaotic, lambda1 > 0: not a periodic window) to the +-2e-6 issue 10 asks;
     the paper's r = 0.74001 of Fig. 7 ("<~ r1") is below it."""
     res = locate_r1("paper")
-    b = res["bracket"]
-    assert np.isfinite(b["clear"]) and b["clear_exposure"] >= 5e7
-    assert res["clear_lyapunov"]["chaotic"] and res["clear_lyapunov"]["r"] == b["clear"]
-    assert b["seen"] - res["r1_err"] <= res["r1"] <= b["clear"] + res["r1_err"]
-    assert res["r1_err"] <= 2e-6
-    assert res["r1"] > PAPER_R1_FIG7
+    b = res.bracket
+    assert np.isfinite(b.clear) and b.clear_exposure >= 5e7
+    assert res.clear_lyapunov["chaotic"] and res.clear_lyapunov["r"] == b.clear
+    assert b.seen - res.r1_err <= res.r1 <= b.clear + res.r1_err
+    assert res.r1_err <= 2e-6
+    assert res.r1 > PAPER_R1_FIG7
 
 
 @pytest.mark.slow
@@ -40,13 +40,13 @@ def test_alpha1_boundary_crisis_from_escape_times():
     node is the stable 4-impact period-1 orbit; where the paper's 1.24370 lies is reported, not assumed."""
     res = locate_alpha1("paper")
     # issue 10: >= 200 orbits per value, mean lifetimes measured down to >= 1e6 impacts, +-1e-5
-    assert res["ics"]["n"] >= 200 and res["T_max_measured"] >= 1e6
-    assert res["alpha1_err"] <= 1e-5
-    b = res["bracket"]
-    assert b["clear"] - res["bracket_margin"] - res["alpha1_err"] <= res["alpha1"] <= b["seen"] + res["alpha1_err"]
-    assert res["node"].stable and res["node"].impacts == 4
+    assert res.ics["n"] >= 200 and res.T_max_measured >= 1e6
+    assert res.alpha1_err <= 1e-5
+    b = res.bracket
+    assert b.clear - res.bracket_margin - res.alpha1_err <= res.alpha1 <= b.seen + res.alpha1_err
+    assert res.node.stable and res.node.impacts == 4
     # where the paper's value lies: if it is above our alpha1 (beyond the error), escapes must have been
     # observed there (a finite measured mean lifetime): the chaotic set is already transient at 1.24370
-    assert res["paper"]["measured_at"] == PAPER_ALPHA1
-    if PAPER_ALPHA1 > res["alpha1"] + 3 * res["alpha1_err"]:
-        assert np.isfinite(res["paper"]["T"]) and res["paper"]["T"] > 0
+    assert res.paper["measured_at"] == PAPER_ALPHA1
+    if PAPER_ALPHA1 > res.alpha1 + 3 * res.alpha1_err:
+        assert np.isfinite(res.paper["T"]) and res.paper["T"] > 0

@@ -398,10 +398,10 @@ def test_local_slopes_of_an_exact_power_law():
     """The local slopes the report lists for the laminar-length curve (Figs. 5-6, type-I intermittency)."""
     import numpy as np
 
-    from gear_rattle.validation.report.sec_dynamics import _local_slopes
+    from gear_rattle.validation.dynamics.settling import local_slopes
 
     dr = np.logspace(-5, -3, 4)
-    out = _local_slopes(dr, 3.0 * dr ** -0.5, 0.03 * dr ** -0.5)
+    out = local_slopes(dr, 3.0 * dr ** -0.5, 0.03 * dr ** -0.5)
     assert [s for *_, s, _ in out] == pytest.approx([-0.5] * 3, abs=1e-12)
     assert all(e == pytest.approx(math.hypot(0.01, 0.01) / math.log(10 ** (2 / 3))) for *_, e in out)
 
@@ -409,7 +409,8 @@ def test_local_slopes_of_an_exact_power_law():
 def test_period_and_laminar_detection_on_synthetic_series():
     import numpy as np
 
-    from gear_rattle.validation.report.sec_dynamics import _laminar_in_series, _period
+    from gear_rattle.validation.dynamics.settling import laminar_in_series as _laminar_in_series
+    from gear_rattle.validation.dynamics.settling import period_of as _period
 
     th = np.tile([0.1, 1.2, 2.3, 6.2], 60)
     sd = np.tile([0.5, -0.4, 0.3, -0.2], 60)

@@ -17,6 +17,7 @@ Transients (``transient`` impacts) are discarded, then ``keep`` impacts are reco
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import partial
 
@@ -133,3 +134,45 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
             progress(n_values, n_values)
     sd = np.where(act, sd, np.nan)
     return Diagram(param, values, sd, th, act, mode, base, transient, keep)
+
+
+#: ln of the largest float64: the raw Jacobian product of the paper's Lyapunov method (eigenvalues of the
+#: product itself) overflows once n lambda1 exceeds it.
+LN_FLOAT_MAX = math.log(np.finfo(np.float64).max)
+
+
+@dataclass
+class DiagramLyapunov:
+    """A bifurcation diagram (Figs. 4a, 8a: ``mode="fixed"``) and the Lyapunov exponents at its parameter
+    values (Figs. 4b, 8b: a :class:`~gear_rattle.mapimpl.lyapunov.LyapunovResult`)."""
+
+    diagram: Diagram
+    lyapunov: object
+
+    @property
+    def sum_error(self) -> float:
+        """Largest ``|lambda1 + lambda2 - mean ln|det J||`` over the values (NaN if none is defined)."""
+        e = self.lyapunov.sum_error
+        return float(np.nanmax(e)) if np.any(np.isfinite(e)) else float("nan")
+
+    @property
+    def lam1_max(self) -> float:
+        """The largest lambda1 (free steps) of the scan."""
+        return float(np.nanmax(self.lyapunov.lam_free[:, 0]))
+
+
+def diagram_with_lyapunov(base: Params, param: str, lo: float, hi: float, n_values: int, transient: int, keep: int,
+                          lyap_n: int) -> DiagramLyapunov:
+    """The diagram of ``param`` in ``[lo, hi]`` (``n_values`` values, ``transient`` impacts discarded,
+    ``keep`` recorded, every value from the same initial condition) and the QR Lyapunov exponents over
+    ``lyap_n`` impacts at the same values."""
+    from ...mapimpl.lyapunov import lyapunov
+
+    d = bifurcation_diagram(base, param, lo, hi, n_values=n_values, transient=transient, keep=keep, mode="fixed")
+    return DiagramLyapunov(d, lyapunov(base, param, d.values, n=lyap_n, transient=transient))
+
+
+def raw_product_overflow(lam1: float) -> float:
+    """Impacts after which the raw product of Jacobians (entries growing like ``exp(n lambda1)``) passes the
+    largest float64: ``ln(float64 max) / lambda1``."""
+    return LN_FLOAT_MAX / lam1

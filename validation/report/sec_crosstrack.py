@@ -15,14 +15,12 @@ TAU_TOL, JAC_TOL = 1e-10, 1e-9
 #: Depth below which an impact counts as near-grazing (left out of the comparison).
 GRAZE_DEPTH = 1e-6
 
-SETTINGS = {"quick": {"one_step": 16, "jacobian": 6}, "paper": {"one_step": 200, "jacobian": 40}}
-
 
 def build(ctx) -> Section:
-    from ..crosscheck import DOMAIN, jacobian_agreement, one_step_agreement
+    from ..crosscheck import DOMAIN, PROFILES, jacobian_agreement, one_step_agreement
 
     sec = Section(KEY, TITLE)
-    st = SETTINGS[ctx.profile]
+    st = PROFILES[ctx.profile]
     ctx.say(f"one-step agreement on {st['one_step']} random states")
     rows = one_step_agreement(st["one_step"], seed=ctx.seed, graze_depth=GRAZE_DEPTH)
     sec.p("From the same random pre-impact states (domain: " + ", ".join(f"{k} in {v}" for k, v in DOMAIN.items())

@@ -43,6 +43,7 @@ from ....core.status import Status
 from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
                      orbit_points, per_orbit)
 from .profiles import get_profile
+from .results import Alpha1Result
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
 from ....core.paper import DELTA, PAPER_PARAMS
 from ...paper import PAPER
@@ -143,50 +144,9 @@ def _fits(rows, g):
     return goy, free, syst_goy, sub_goy, syst_free, sub_free
 
 
-def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int = 0) -> dict:
-    """Locate the boundary crisis alpha1 (Fig. 8, r = 0.9) from escape times of the pre-crisis chaotic
-    set (module docstring).  Run sizes: :data:`.profiles.PROFILES` ``[profile]["alpha1"]``.
-
-    Returns a dict:
-
-    * ``alpha1``, ``alpha1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies
-      in the bracket by direct observation and is narrower, else the bracket's midpoint and half-width;
-      ``method``,
-      ``located``;
-    * ``alpha1_goy``, ``alpha1_goy_err``: the GOY fit (exponent fixed to that of the saddle 4-impact
-      orbit at alpha1) and its total error ``sqrt(stat^2 + syst^2)``; ``alpha1_stat`` (68 %
-      profile-likelihood half-width, the larger side), ``alpha1_syst`` (fit-range systematic);
-    * ``alpha1_free``, ``alpha1_free_err``, ``g_free``, ``g_free_err``: the fit with the exponent free
-      (error: statistical and fit-range systematic combined);
-    * ``fit_goy``, ``fit_free``: the fits (:meth:`~.stats.CrisisFit.as_dict`); ``subranges_goy``,
-      ``subranges_free``: ``[(points used, alpha1), ...]`` behind the systematic;
-    * ``goy_exponent``: ``1/2 + ln|m_u|/|ln|m_s||`` of ``saddle`` (the saddle 4-impact orbit at alpha1,
-      a :class:`~gear_rattle.mapimpl.periodic.PeriodicOrbit`); ``alpha_sn``: the fold of the 4-impact
-      orbit; ``node``: the stable 4-impact orbit at alpha = 1.245 (Fig. 9); ``branch``;
-    * ``bracket``: :meth:`~.stats.Bracket.as_dict` (escapes ``seen`` at the smallest alpha with escapes,
-      none at ``clear`` in ``clear_exposure`` impacts, which excludes mean lifetimes below
-      ``clear_bound``); ``bracket_margin``: the distance below ``clear`` at which the GOY law gives
-      ``clear_bound`` (alpha1 > clear - margin, given the law); ``consistent``: the GOY fit lies
-      inside ``[clear - margin, seen]``;
-    * ``lifetimes``: per alpha ``{alpha, T, lo, hi (95 %), events, exposure, orbits, dropped,
-      approach_lag_max}``; ``T_max_measured``: the largest finite mean lifetime measured;
-    * ``paper``: the paper's alpha1 = 1.24370 with the measured mean lifetime there (``T``, ``lo``,
-      ``hi``) and ``diagram_impacts_equal``: the diagram length (transient + recorded impacts) at which
-      a bifurcation diagram started on the chaotic set would put the crisis there; ``diagram``:
-      ``{impacts, alpha_apparent}`` for this project's Fig. 8 setting (DIAGRAM_IMPACTS);
-    * ``ics``: how the initial conditions were made (``alpha_ref``, ``settle``, ``drawn``, ``captured``,
-      ``n``); ``cost``: impacts, wall and CPU seconds (:class:`.orbits.Cost`); ``profile``.
-    """
-    pr = get_profile(profile, "alpha1")
-    cost = Cost()
-    with Timer(cost, "alpha1: 4-impact branch"):
-        br = branch or four_impact_branch()
-    if not br.folds:
-        raise RuntimeError("the 4-impact branch has no fold in its range")
-    n_probe = int(pr.get("probe_ics", pr["ics"]))
-    probe_ics = attractor_ics(br, pr["alpha_ref"], max(pr["ics"], n_probe), pr["settle"], seed=seed, cost=cost)
-    ics = _first(probe_ics, pr["ics"])  # the scans use the first ``ics`` of them
-    probe_ics = _first(probe_ics, n_probe)
+def _scans(pr: dict, br, ics: dict, cost: Cost):
+    """The coarse scan, a first GOY fit, the fine scan above it: the rows, the GOY exponent ``g`` of the
+    saddle at the refitted crisis, that saddle and the GOY fit."""
     rows = lifetimes(pr["coarse"], ics, br, pr["cap"], cost=cost, label="alpha1: coarse scan")
     sad0 = orbit_on_branch(br, float(np.min(pr["coarse"])), "saddle")
     g0 = goy_exponent(sad0.multipliers)
@@ -197,10 +157,12 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     a1 = fit_crisis(*_arrays(rows), "above", g=g0).mu_c
     sad = orbit_on_branch(br, a1, "saddle")
     g = goy_exponent(sad.multipliers)
-    goy = fit_crisis(*_arrays(rows), "above", g=g)
-    # bracket runs (N x probe_cap impacts each): a bisection started from the fit, and a run where the
-    # law predicts DEEP_AIM x T_deep unless a mean lifetime >= T_deep was measured
-    strong = probe_ics["theta"].size * (pr["probe_cap"] - N0)
+    return rows, g, sad, fit_crisis(*_arrays(rows), "above", g=g)
+
+
+def _bracket_runs(pr: dict, br, probe_ics: dict, rows: list, g: float, goy, strong: float, cost: Cost):
+    """Bracket runs (N x probe_cap impacts each): a bisection started from the fit, and a run where the
+    law predicts DEEP_AIM x T_deep unless a mean lifetime >= T_deep was measured.  Appends to ``rows``."""
     for _ in range(int(pr["max_probes"])):
         a, k, E = _arrays(rows)
         err = math.hypot(goy.err, range_systematic(a, k, E, "above", g=g)[0])
@@ -213,39 +175,62 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         rows += lifetimes(np.round(probes, 9), probe_ics, br, pr["probe_cap"], cost=cost,
                           label="alpha1: bracket runs")
         goy = fit_crisis(*_arrays(rows), "above", g=g)
-    with Timer(cost, "alpha1: fits"):
-        goy, free, syst_goy, sub_goy, syst_free, sub_free = _fits(rows, g)
-        a, k, E = _arrays(rows)
-        brk = bracket(a, k, E, "above", min_exposure=strong)
-        margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
-        node = orbit_on_branch(br, PAPER_PARAMS.alpha, "node")
-    stat = goy.err
-    total = math.hypot(stat, syst_goy)
-    where = locate(goy.mu_c, total, brk, margin if np.isfinite(margin) else 0.0)
+
+
+def _lifetime_table(rows: list) -> list[dict]:
+    """Per alpha (sorted): the mean lifetime ``T`` with its 95 % interval and the bookkeeping."""
     table = []
     for x in sorted(rows, key=lambda x: x["alpha"]):
         rt = x["rate"]
         table.append({"alpha": x["alpha"], "T": rt.T, "lo": rt.lo, "hi": rt.hi, "events": rt.events,
                       "exposure": rt.exposure, "orbits": rt.orbits, "dropped": x["dropped"],
                       "approach_lag_max": x["approach_lag_max"], "other_end": x["other_end"]})
-    paper_row = min(table, key=lambda x: abs(x["alpha"] - PAPER_ALPHA1))
-    paper = {"alpha": PAPER_ALPHA1, "measured_at": paper_row["alpha"], "T": paper_row["T"], "lo": paper_row["lo"],
-             "hi": paper_row["hi"], "diagram_impacts_equal": paper_row["T"],
-             "T_law": float(goy.T(PAPER_ALPHA1))}
+    return table
+
+
+def _at_paper_alpha1(table: list[dict], goy) -> dict:
+    """The measured mean lifetime at the paper's alpha1 (the scan row nearest to it) and the law's."""
+    row = min(table, key=lambda x: abs(x["alpha"] - PAPER_ALPHA1))
+    return {"alpha": PAPER_ALPHA1, "measured_at": row["alpha"], "T": row["T"], "lo": row["lo"], "hi": row["hi"],
+            "diagram_impacts_equal": row["T"], "T_law": float(goy.T(PAPER_ALPHA1))}
+
+
+def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int = 0) -> Alpha1Result:
+    """Locate the boundary crisis alpha1 (Fig. 8, r = 0.9) from escape times of the pre-crisis chaotic
+    set (module docstring; an :class:`~.results.Alpha1Result`).  Run sizes: :data:`.profiles.PROFILES`
+    ``[profile]["alpha1"]``."""
+    pr = get_profile(profile, "alpha1")
+    cost = Cost()
+    with Timer(cost, "alpha1: 4-impact branch"):
+        br = branch or four_impact_branch()
+    if not br.folds:
+        raise RuntimeError("the 4-impact branch has no fold in its range")
+    n_probe = int(pr.get("probe_ics", pr["ics"]))
+    probe_ics = attractor_ics(br, pr["alpha_ref"], max(pr["ics"], n_probe), pr["settle"], seed=seed, cost=cost)
+    ics = _first(probe_ics, pr["ics"])  # the scans use the first ``ics`` of them
+    probe_ics = _first(probe_ics, n_probe)
+    rows, g, sad, goy = _scans(pr, br, ics, cost)
+    strong = probe_ics["theta"].size * (pr["probe_cap"] - N0)
+    _bracket_runs(pr, br, probe_ics, rows, g, goy, strong, cost)
+    with Timer(cost, "alpha1: fits"):
+        goy, free, syst_goy, sub_goy, syst_free, sub_free = _fits(rows, g)
+        a, k, E = _arrays(rows)
+        brk = bracket(a, k, E, "above", min_exposure=strong)
+        margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
+        node = orbit_on_branch(br, PAPER_PARAMS.alpha, "node")
+    total = math.hypot(goy.err, syst_goy)
+    where = locate(goy.mu_c, total, brk, margin if np.isfinite(margin) else 0.0)
+    table = _lifetime_table(rows)
     finite_T = [x["T"] for x in table if x["events"] > 0]
-    return {
-        "alpha1": where.value, "alpha1_err": where.err, "method": where.method, "located": where.as_dict(),
-        "alpha1_goy": goy.mu_c, "alpha1_goy_err": total, "alpha1_stat": stat, "alpha1_syst": syst_goy,
-        "alpha1_free": free.mu_c, "alpha1_free_err": math.hypot(free.err, syst_free), "g_free": free.g,
-        "g_free_err": free.g_err, "fit_goy": goy.as_dict(), "fit_free": free.as_dict(),
-        "subranges_goy": sub_goy, "subranges_free": sub_free,
-        "goy_exponent": g, "saddle": sad, "alpha_sn": br.folds[0].mu, "node": node, "branch": br,
-        "bracket": brk.as_dict(), "bracket_margin": margin,
-        "consistent": where.outside <= 1.0 and np.isfinite(brk.clear),
-        "lifetimes": table, "T_max_measured": float(max(finite_T)) if finite_T else math.nan,
-        "paper": paper,
-        "diagram": {"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},
-        "ics": {k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {"n": int(ics["theta"].size),
-                                                                                 "probe_n": int(probe_ics["theta"].size)},
-        "cost": cost.as_dict(), "profile": profile,
-    }
+    return Alpha1Result(
+        alpha1=where.value, alpha1_err=where.err, method=where.method, located=where, alpha1_goy=goy.mu_c,
+        alpha1_goy_err=total, alpha1_stat=goy.err, alpha1_syst=syst_goy, alpha1_free=free.mu_c,
+        alpha1_free_err=math.hypot(free.err, syst_free), g_free=free.g, g_free_err=free.g_err, fit_goy=goy,
+        fit_free=free, subranges_goy=sub_goy, subranges_free=sub_free, goy_exponent=g, saddle=sad,
+        alpha_sn=br.folds[0].mu, node=node, branch=br, bracket=brk, bracket_margin=margin,
+        consistent=where.outside <= 1.0 and np.isfinite(brk.clear), lifetimes=table,
+        T_max_measured=float(max(finite_T)) if finite_T else math.nan, paper=_at_paper_alpha1(table, goy),
+        diagram={"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},
+        ics={k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {
+            "n": int(ics["theta"].size), "probe_n": int(probe_ics["theta"].size)},
+        cost=cost.as_dict(), profile=profile)

@@ -36,6 +36,7 @@ from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
 from .profiles import get_profile
+from .results import R1Result
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
                     range_systematic)
 from ...paper import PAPER
@@ -124,36 +125,9 @@ def _arrays(rows):
     return r, k, E, phi
 
 
-def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1) -> dict:
-    """Locate the interior crisis r1 (alpha = 3) from band hops (module docstring).  Run sizes:
-    :data:`.profiles.PROFILES` ``[profile]["r1"]``.
-
-    Returns a dict:
-
-    * ``r1``, ``r1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies in the
-      bracket by direct observation and is narrower, else the bracket's midpoint and half-width; ``method``
-      (``"fit"``/``"bracket"``), ``located`` (:meth:`~.stats.Located.as_dict`);
-    * ``r1_goy``, ``r1_goy_err``: the GOY fit of the mean time between hops (exponent fixed to that of
-      the saddle 6-impact orbit at r1) and its total error ``sqrt(stat^2 + syst^2)``; ``r1_stat`` (68 %
-      profile-likelihood half-width, larger side, quasi-Poisson), ``r1_syst`` (fit-range systematic);
-    * ``r1_free``, ``r1_free_err``, ``g_free``, ``g_free_err``: the fit with the exponent free;
-    * ``fit_goy``, ``fit_free`` (:meth:`~.stats.CrisisFit.as_dict`), ``subranges_goy``, ``subranges_free``;
-    * ``goy_exponent`` of ``saddle`` (the saddle 6-impact orbit at r1, a
-      :class:`~gear_rattle.mapimpl.periodic.PeriodicOrbit`);
-    * ``bracket`` (:meth:`~.stats.Bracket.as_dict`): hops ``seen`` at the largest r with hops, none at
-      ``clear`` in ``clear_exposure`` impacts (>= probe_orbits x probe_cap), which excludes mean times
-      below ``clear_bound``; ``clear_lyapunov`` (:func:`lyapunov_at` at ``clear``, None without one: the
-      bracket bounds r1 from above only when ``clear_lyapunov["chaotic"]``); ``bracket_margin``: the
-      distance below ``clear`` at which the GOY law gives ``clear_bound``; ``lower_bound`` =
-      ``bracket["seen"]`` (r1 > lower_bound); ``upper_bound`` = ``bracket["clear"]``; ``consistent``: the
-      fit lies in the bracket within its error;
-    * ``near``: the mean time between hops at the bracket's ``seen`` value (``T``, ``lo``, ``hi`` at 95 %,
-      ``hops``, ``exposure``, ``dispersion``, ``orbits``);
-    * ``hops``: per r ``{r, T, lo, hi, events, exposure, dispersion, orbits}``;
-    * ``paper_fig7``: the paper's r = 0.74001 and its distance below r1;
-    * ``ics``: ``r_ref``, ``settle``, ``drawn``, ``rejected``, ``n``; ``cost`` (:class:`.orbits.Cost`);
-      ``profile``.
-    """
+def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1) -> R1Result:
+    """Locate the interior crisis r1 (alpha = 3) from band hops (module docstring; an
+    :class:`~.results.R1Result`).  Run sizes: :data:`.profiles.PROFILES` ``[profile]["r1"]``."""
     pr = get_profile(profile, "r1")
     cost = Cost()
     with Timer(cost, "r1: 6-impact branch"):
@@ -203,16 +177,13 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
     seen = [x for x in rows if x["r"] == brk.seen]
     near_rate = mean_time(np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]),
                           overdispersed=True)
-    return {
-        "r1": where.value, "r1_err": where.err, "method": where.method, "located": where.as_dict(),
-        "r1_goy": goy.mu_c, "r1_goy_err": total, "r1_stat": goy.err, "r1_syst": syst_goy,
-        "r1_free": free.mu_c, "r1_free_err": math.hypot(free.err, syst_free), "g_free": free.g,
-        "g_free_err": free.g_err, "fit_goy": goy.as_dict(), "fit_free": free.as_dict(),
-        "subranges_goy": sub_goy, "subranges_free": sub_free, "goy_exponent": g, "saddle": sad,
-        "bracket": brk.as_dict(), "bracket_margin": margin, "lower_bound": brk.seen, "upper_bound": brk.clear,
-        "consistent": where.outside <= 1.0 and np.isfinite(brk.clear), "clear_lyapunov": window,
-        "near": {"r": brk.seen, **near_rate.as_dict()}, "hops": table,
-        "paper_fig7": {"r": PAPER_R1_FIG7, "below_r1_by": where.value - PAPER_R1_FIG7},
-        "ics": {k_: ics[k_] for k_ in ("r_ref", "settle", "drawn", "rejected")} | {"n": int(ics["theta"].size)},
-        "cost": cost.as_dict(), "profile": profile,
-    }
+    return R1Result(
+        r1=where.value, r1_err=where.err, method=where.method, located=where, r1_goy=goy.mu_c, r1_goy_err=total,
+        r1_stat=goy.err, r1_syst=syst_goy, r1_free=free.mu_c, r1_free_err=math.hypot(free.err, syst_free),
+        g_free=free.g, g_free_err=free.g_err, fit_goy=goy, fit_free=free, subranges_goy=sub_goy,
+        subranges_free=sub_free, goy_exponent=g, saddle=sad, bracket=brk, bracket_margin=margin,
+        lower_bound=brk.seen, upper_bound=brk.clear, consistent=where.outside <= 1.0 and np.isfinite(brk.clear),
+        clear_lyapunov=window, near={"r": brk.seen, **near_rate.as_dict()}, hops=table,
+        paper_fig7={"r": PAPER_R1_FIG7, "below_r1_by": where.value - PAPER_R1_FIG7},
+        ics={k_: ics[k_] for k_ in ("r_ref", "settle", "drawn", "rejected")} | {"n": int(ics["theta"].size)},
+        cost=cost.as_dict(), profile=profile)

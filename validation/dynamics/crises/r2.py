@@ -28,6 +28,7 @@ from ....core.params import Params
 from ..continuation import orbit_states
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
 from .profiles import get_profile
+from .results import R2Result
 from .stats import fit_power_law
 from ...paper import PAPER
 
@@ -79,22 +80,10 @@ def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 200
                         float(eps), int(min_length), int(orbits), int(cap))
 
 
-def locate_r2(profile: str = "quick", branch=None, progress=None) -> dict:
+def locate_r2(profile: str = "quick", branch=None, progress=None) -> R2Result:
     """r2 (fold of the 6-impact orbit, alpha = 3) and the type-I intermittency exponent of the mean
-    laminar length.  Run sizes: :data:`.profiles.PROFILES` ``[profile]["r2"]``.
-
-    Returns a dict:
-
-    * ``r2``: the fold (Newton on the extended system); ``fold``: the
-      :class:`~..continuation.BifurcationPoint` (orbit, multipliers, residual); ``branch``: the 6-impact
-      branch (:func:`.orbits.six_impact_branch`, shared with r1);
-    * ``dr``: the offsets r - r2; ``laminar``: :class:`LaminarStats` at r2 + dr;
-    * ``slope``, ``slope_err``: fitted exponent of ``<l> ~ (r - r2)^slope`` (theory -1/2) and its total
-      error ``sqrt(stat^2 + syst^2)``; ``slope_stat`` (weighted fit, scaled by sqrt(chi^2_red) when > 1),
-      ``slope_syst`` (fit-range systematic), ``chi2_red``; ``subranges``: ``[(points used, slope)]``;
-    * ``paper_fig5``: the paper's r = 0.82144 and its distance to r2;
-    * ``cost`` (:class:`.orbits.Cost`), ``profile``.
-    """
+    laminar length (an :class:`~.results.R2Result`).  Run sizes: :data:`.profiles.PROFILES`
+    ``[profile]["r2"]``."""
     pr = get_profile(profile, "r2")
     cost = Cost()
     with Timer(cost, "r2: 6-impact branch and fold"):
@@ -112,10 +101,10 @@ def locate_r2(profile: str = "quick", branch=None, progress=None) -> dict:
         if keep.size >= 3:
             subs.append((f"without the {j} largest r - r2", fit_power_law(dr[keep], ls.mean[keep], ls.sem[keep])[0]))
     syst = max((abs(s - slope) for _, s in subs), default=0.0)
-    return {"r2": f.mu, "fold": f, "branch": br, "laminar": ls, "dr": dr, "slope": slope,
-            "slope_err": math.hypot(stat, syst), "slope_stat": stat, "slope_syst": syst, "chi2_red": chi2,
-            "subranges": subs, "paper_fig5": {"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu},
-            "cost": cost.as_dict(), "profile": profile}
+    return R2Result(r2=f.mu, fold=f, branch=br, laminar=ls, dr=dr, slope=slope, slope_err=math.hypot(stat, syst),
+                    slope_stat=stat, slope_syst=syst, chi2_red=chi2, subranges=subs,
+                    paper_fig5={"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu}, cost=cost.as_dict(),
+                    profile=profile)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,181 @@
+"""The results of the crisis analyses, typed: :class:`R2Result` (:func:`.r2.locate_r2`), :class:`R1Result`
+(:func:`.r1.locate_r1`) and :class:`Alpha1Result` (:func:`.alpha1.locate_alpha1`).
+
+Each :meth:`~_Result.as_dict` gives the data of the result for a file -- every scan row, bracket, fit
+and the cost of the engine runs -- and leaves out the objects that are not data (periodic orbits,
+branches, the laminar statistics), as ``data/dynamics/crises.json`` of the report holds them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from .stats import Bracket, CrisisFit, Located
+
+
+class _Result:
+    """``as_dict()`` of a result dataclass: its fields but those in ``_OBJECTS`` (not data), nested
+    results by their own ``as_dict()``."""
+
+    _OBJECTS: tuple = ()
+
+    def as_dict(self) -> dict:
+        out = {}
+        for f in dataclasses.fields(self):
+            if f.name in self._OBJECTS:
+                continue
+            v = getattr(self, f.name)
+            out[f.name] = v.as_dict() if hasattr(v, "as_dict") else v
+        return out
+
+
+@dataclass
+class R2Result(_Result):
+    """r2 (fold of the 6-impact orbit, alpha = 3) and the type-I intermittency exponent.
+
+    ``r2``: the fold (Newton on the extended system); ``fold``: the
+    :class:`~..continuation.BifurcationPoint` (orbit, multipliers, residual); ``branch``: the 6-impact
+    branch (:func:`.orbits.six_impact_branch`, shared with r1); ``laminar``: :class:`.r2.LaminarStats`
+    at ``r2 + dr``; ``slope``, ``slope_err``: fitted exponent of ``<l> ~ (r - r2)^slope`` (theory -1/2)
+    and its total error ``sqrt(stat^2 + syst^2)``; ``slope_stat`` (weighted fit, scaled by
+    sqrt(chi^2_red) when > 1), ``slope_syst`` (fit-range systematic), ``chi2_red``; ``subranges``:
+    ``[(points used, slope)]``; ``paper_fig5``: the paper's r of Fig. 5 and its distance to r2; ``cost``
+    (:class:`.orbits.Cost`), ``profile``."""
+
+    _OBJECTS = ("fold", "branch", "laminar")
+
+    r2: float
+    fold: object
+    branch: object
+    laminar: object
+    dr: np.ndarray
+    slope: float
+    slope_err: float
+    slope_stat: float
+    slope_syst: float
+    chi2_red: float
+    subranges: list
+    paper_fig5: dict
+    cost: dict
+    profile: str
+
+
+@dataclass
+class R1Result(_Result):
+    """The interior crisis r1 (alpha = 3) from band hops.
+
+    ``r1``, ``r1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies in the
+    bracket by direct observation and is narrower, else the bracket's midpoint and half-width; ``method``
+    (``"fit"``/``"bracket"``), ``located`` (:class:`~.stats.Located`); ``r1_goy``, ``r1_goy_err``: the GOY
+    fit of the mean time between hops (exponent fixed to that of the saddle 6-impact orbit at r1) and its
+    total error ``sqrt(stat^2 + syst^2)``; ``r1_stat`` (68 % profile-likelihood half-width, larger side,
+    quasi-Poisson), ``r1_syst`` (fit-range systematic); ``r1_free``, ``r1_free_err``, ``g_free``,
+    ``g_free_err``: the fit with the exponent free; ``fit_goy``, ``fit_free`` (:class:`~.stats.CrisisFit`),
+    ``subranges_goy``, ``subranges_free``; ``goy_exponent`` of ``saddle`` (the saddle 6-impact orbit at
+    r1, a :class:`~gear_rattle.mapimpl.periodic.PeriodicOrbit`); ``bracket`` (:class:`~.stats.Bracket`):
+    hops ``seen`` at the largest r with hops, none at ``clear`` in ``clear_exposure`` impacts (>=
+    probe_orbits x probe_cap), which excludes mean times below ``clear_bound``; ``clear_lyapunov``
+    (:func:`.r1.lyapunov_at` at ``clear``, None without one: the bracket bounds r1 from above only when
+    ``clear_lyapunov["chaotic"]``); ``bracket_margin``: the distance below ``clear`` at which the GOY law
+    gives ``clear_bound``; ``lower_bound`` = ``bracket.seen`` (r1 > lower_bound); ``upper_bound`` =
+    ``bracket.clear``; ``consistent``: the fit lies in the bracket within its error; ``near``: the mean
+    time between hops at the bracket's ``seen`` value (``T``, ``lo``, ``hi`` at 95 %, ``hops``,
+    ``exposure``, ``dispersion``, ``orbits``); ``hops``: per r ``{r, T, lo, hi, events, exposure,
+    dispersion, orbits}``; ``paper_fig7``: the paper's r of Fig. 7 and its distance below r1; ``ics``:
+    ``r_ref``, ``settle``, ``drawn``, ``rejected``, ``n``; ``cost`` (:class:`.orbits.Cost`); ``profile``."""
+
+    _OBJECTS = ("saddle",)
+
+    r1: float
+    r1_err: float
+    method: str
+    located: Located
+    r1_goy: float
+    r1_goy_err: float
+    r1_stat: float
+    r1_syst: float
+    r1_free: float
+    r1_free_err: float
+    g_free: float
+    g_free_err: float
+    fit_goy: CrisisFit
+    fit_free: CrisisFit
+    subranges_goy: list
+    subranges_free: list
+    goy_exponent: float
+    saddle: object
+    bracket: Bracket
+    bracket_margin: float
+    lower_bound: float
+    upper_bound: float
+    consistent: bool
+    clear_lyapunov: dict | None
+    near: dict
+    hops: list
+    paper_fig7: dict
+    ics: dict
+    cost: dict
+    profile: str
+
+
+@dataclass
+class Alpha1Result(_Result):
+    """The boundary crisis alpha1 (Fig. 8, r = 0.9) from escape times of the pre-crisis chaotic set.
+
+    ``alpha1``, ``alpha1_err``: the reported value (:func:`~.stats.locate`): the GOY fit when it lies in
+    the bracket by direct observation and is narrower, else the bracket's midpoint and half-width;
+    ``method``, ``located``; ``alpha1_goy``, ``alpha1_goy_err``: the GOY fit (exponent fixed to that of the
+    saddle 4-impact orbit at alpha1) and its total error; ``alpha1_stat`` (68 % profile-likelihood
+    half-width, the larger side), ``alpha1_syst`` (fit-range systematic); ``alpha1_free``,
+    ``alpha1_free_err``, ``g_free``, ``g_free_err``: the fit with the exponent free; ``fit_goy``,
+    ``fit_free`` (:class:`~.stats.CrisisFit`); ``subranges_goy``, ``subranges_free``: ``[(points used,
+    alpha1), ...]`` behind the systematic; ``goy_exponent``: ``1/2 + ln|m_u|/|ln|m_s||`` of ``saddle`` (the
+    saddle 4-impact orbit at alpha1); ``alpha_sn``: the fold of the 4-impact orbit; ``node``: the stable
+    4-impact orbit at the alpha of Fig. 9; ``branch``; ``bracket`` (:class:`~.stats.Bracket`: escapes
+    ``seen`` at the smallest alpha with escapes, none at ``clear`` in ``clear_exposure`` impacts, which
+    excludes mean lifetimes below ``clear_bound``); ``bracket_margin``: the distance below ``clear`` at
+    which the GOY law gives ``clear_bound``; ``consistent``: the GOY fit lies inside ``[clear - margin,
+    seen]``; ``lifetimes``: per alpha ``{alpha, T, lo, hi (95 %), events, exposure, orbits, dropped,
+    approach_lag_max, other_end}``; ``T_max_measured``: the largest finite mean lifetime measured;
+    ``paper``: the paper's alpha1 with the measured mean lifetime there (``T``, ``lo``, ``hi``) and
+    ``diagram_impacts_equal``: the diagram length at which a bifurcation diagram started on the chaotic
+    set would put the crisis there; ``diagram``: ``{impacts, alpha_apparent}`` for this project's Fig. 8
+    setting; ``ics``: how the initial conditions were made (``alpha_ref``, ``settle``, ``drawn``,
+    ``captured``, ``n``, ``probe_n``); ``cost``; ``profile``."""
+
+    _OBJECTS = ("saddle", "node", "branch")
+
+    alpha1: float
+    alpha1_err: float
+    method: str
+    located: Located
+    alpha1_goy: float
+    alpha1_goy_err: float
+    alpha1_stat: float
+    alpha1_syst: float
+    alpha1_free: float
+    alpha1_free_err: float
+    g_free: float
+    g_free_err: float
+    fit_goy: CrisisFit
+    fit_free: CrisisFit
+    subranges_goy: list
+    subranges_free: list
+    goy_exponent: float
+    saddle: object
+    alpha_sn: float
+    node: object
+    branch: object
+    bracket: Bracket
+    bracket_margin: float
+    consistent: bool
+    lifetimes: list
+    T_max_measured: float
+    paper: dict
+    diagram: dict
+    ics: dict
+    cost: dict
+    profile: str
