@@ -153,6 +153,31 @@ def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, de
                                        deadline=deadline, progress=progress, record=record)[float(delta)]
 
 
+def _budget_end(n: int, max_impacts: int, deadline: float | None) -> tuple[str, str] | None:
+    """``(status, reason)`` when the run must stop after impact ``n`` (impacts or time spent), else None."""
+    if n >= max_impacts:
+        return "no_capture", f"no capture within max_impacts={max_impacts}"
+    if deadline is not None and time.monotonic() > deadline:
+        return "failed", f"time budget exhausted after impact {n}"
+    return None
+
+
+def _stick_end(st, cur: int, n: int, walls_stuck: list, released_from: set) -> tuple[str, str] | None:
+    """After the certified step ``st`` from impact ``n`` on wall ``cur``: ``(status, reason)`` when the orbit
+    sticks forever or sticks again to a wall it was released from (it repeats: never captured), else None
+    (``walls_stuck`` and ``released_from`` updated)."""
+    if st.stick is None:
+        return None
+    walls_stuck.append(cur)
+    if st.tau is None:
+        return "stuck_forever", f"stuck forever to wall {cur} after impact {n}"
+    if cur in released_from:
+        return "periodic", (f"sticks again to wall {cur} after impact {n}: the orbit repeats from its release and "
+                            "is never captured")
+    released_from.add(cur)
+    return None
+
+
 def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Target, deltas=(DELTA,),
                                 max_impacts: int = MAX_IMPACTS, stick_time: float = STICK_TIME,
                                 radius_limit: float = RADIUS_LIMIT, deadline: float | None = None,
@@ -233,23 +258,12 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
                         closest[d] = lb if closest[d] is None else min(closest[d], lb)
                 if not pending:
                     return out
-                if n >= max_impacts:
-                    done(list(pending), "no_capture", f"no capture within max_impacts={max_impacts}")
+                end = _budget_end(n, max_impacts, deadline)
+                st = None if end else certified_step(model, tau, sdot, cur, prec=prec, stick_time=stick_time)
+                end = end or _stick_end(st, cur, n, walls_stuck, released_from)
+                if end:
+                    done(list(pending), *end)
                     return out
-                if deadline is not None and time.monotonic() > deadline:
-                    done(list(pending), "failed", f"time budget exhausted after impact {n}")
-                    return out
-                st = certified_step(model, tau, sdot, cur, prec=prec, stick_time=stick_time)
-                if st.stick is not None:
-                    walls_stuck.append(cur)
-                    if st.tau is None:
-                        done(list(pending), "stuck_forever", f"stuck forever to wall {cur} after impact {n}")
-                        return out
-                    if cur in released_from:
-                        done(list(pending), "periodic", f"sticks again to wall {cur} after impact {n}: the orbit "
-                                                        "repeats from its release and is never captured")
-                        return out
-                    released_from.add(cur)
                 tau, sdot, cur = st.tau, st.sdot, st.wall
         except CertificationError as e:
             done(list(pending), "failed", f"{e} (impact {n + 1} undecided)")

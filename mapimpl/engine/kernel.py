@@ -343,15 +343,9 @@ def search_step(s, k):
     return ns
 
 
-def arrival(s, k, observers: tuple[Observer, ...]):
-    """The arrival pass of one lane (scalar state ``s``; vmapped by the engine): a lane in mode ``H``
-    (an impact found by :func:`search_step`) or ``L`` (a freshly loaded initial condition) arrives at a
-    pre-impact state.  The observers see it, the sticking policy of :mod:`mapimpl.sticking` decides the
-    next flight (Eq. 11 reset, or the release at the canonical release phase), and that flight's first
-    safe step is taken from its closed-form state at ``t = 0`` (no evaluation); the lane goes on in
-    mode ``A`` or ``B``, or its orbit ends.  Lanes in other modes are left unchanged."""
-    _decide_barriers()
-    alpha, beta, gamma, r = s["al"], s["be"], s["ga"], s["rr"]
+def _arrived_state(s, k):
+    """The pre-impact state a lane in mode ``L`` (loaded) or ``H`` (impact found) arrives at: ``(inL,
+    arrive, t_hit, (theta, cycles, sdot, wall, sin, cos, dt, n))`` behind one barrier (part of :func:`arrival`)."""
     mode = s["mode"]
     inL = mode == MODE_L
     arrive = inL | (mode == MODE_H)
@@ -365,7 +359,31 @@ def arrival(s, k, observers: tuple[Observer, ...]):
     cs1 = jnp.where(inL, s["cs"], s["p2"])
     dt1 = jnp.where(inL, 0.0, s["tdl"] + t_hit)
     n1 = jnp.where(inL, s["n"], s["n"] + 1)
-    (th1, cyc1, v1, wall1, sn1, cs1, dt1, n1) = _barrier((th1, cyc1, v1, wall1, sn1, cs1, dt1, n1), k["true"])
+    return inL, arrive, t_hit, _barrier((th1, cyc1, v1, wall1, sn1, cs1, dt1, n1), k["true"])
+
+
+def _observe(s, k, observers: tuple[Observer, ...], ev: Impact, arrive):
+    """Every observer sees the arrival ``ev`` (its state kept where the lane did not arrive): ``(the new
+    observer states, stop)`` (part of :func:`arrival`)."""
+    obs_new, stop = [], jnp.asarray(False)
+    for o, so, ko in zip(observers, s["obs"], k["obs"]):
+        upd, st = o.update(so, ev, ko)
+        obs_new.append({name: jnp.where(arrive, upd[name], so[name]) for name in so})
+        stop = stop | st
+    return obs_new, arrive & stop
+
+
+def arrival(s, k, observers: tuple[Observer, ...]):
+    """The arrival pass of one lane (scalar state ``s``; vmapped by the engine): a lane in mode ``H``
+    (an impact found by :func:`search_step`) or ``L`` (a freshly loaded initial condition) arrives at a
+    pre-impact state.  The observers see it, the sticking policy of :mod:`mapimpl.sticking` decides the
+    next flight (Eq. 11 reset, or the release at the canonical release phase), and that flight's first
+    safe step is taken from its closed-form state at ``t = 0`` (no evaluation); the lane goes on in
+    mode ``A`` or ``B``, or its orbit ends.  Lanes in other modes are left unchanged."""
+    _decide_barriers()
+    alpha, beta, gamma, r = s["al"], s["be"], s["ga"], s["rr"]
+    mode = s["mode"]
+    inL, arrive, t_hit, (th1, cyc1, v1, wall1, sn1, cs1, dt1, n1) = _arrived_state(s, k)
     # the sticking policy for the step from this impact (release constants of the lane's parameters)
     top1 = wall1 == 0
     rel_ph = jnp.where(top1, s["rp0"], s["rp1"])
@@ -374,17 +392,10 @@ def arrival(s, k, observers: tuple[Observer, ...]):
                                          release=(rel_ph, never))
     stuck_forever = stick & ~jnp.isfinite(delay)
     # the observers
-    jac = None
-    if any(o.needs_jacobian for o in observers):
-        jac = _step_jacobian(s, t_hit, v1, sn1, cs1)
-    ev = Impact(n=n1, theta=th1, sdot=v1, wall=wall1, cycles=cyc1, dt=dt1, loaded=inL, stick=stick, jac=jac,
+    ev = Impact(n=n1, theta=th1, sdot=v1, wall=wall1, cycles=cyc1, dt=dt1, loaded=inL, stick=stick,
+                jac=_step_jacobian(s, t_hit, v1, sn1, cs1) if any(o.needs_jacobian for o in observers) else None,
                 jac_ok=~inL)
-    obs_new, stop = [], jnp.asarray(False)
-    for o, so, ko in zip(observers, s["obs"], k["obs"]):
-        upd, st = o.update(so, ev, ko)
-        obs_new.append({name: jnp.where(arrive, upd[name], so[name]) for name in so})
-        stop = stop | st
-    stop = arrive & stop
+    obs_new, stop = _observe(s, k, observers, ev, arrive)
     capped = arrive & (n1 >= k["cap"])
     stick_stop = arrive & stick & ~stuck_forever & k["stop_at_stick"]
     orbit_end = stop | capped | (arrive & stuck_forever) | stick_stop
