@@ -21,25 +21,26 @@ def out_dir(outdir) -> Path:
 
 
 def write_basins(outdir, res) -> list[Path]:
-    """Fig. 9 (:class:`~gear_rattle.validation.transient.experiments.BasinsResult`)."""
+    """Fig. 9 (:class:`~gear_rattle.validation.transient.results.BasinsResult`)."""
     out = out_dir(outdir)
     return [write_npz(out / "basins.npz", **res.arrays()), write_json(out / "basins.json", res.summary())]
 
 
 def write_uncertainty(outdir, res) -> list[Path]:
-    """Fig. 10 (:class:`~gear_rattle.validation.transient.experiments.UncertaintyResult`)."""
+    """Fig. 10 (:class:`~gear_rattle.validation.transient.results.UncertaintyResult`)."""
     out = out_dir(outdir)
     return [write_npz(out / "uncertainty.npz", **res.arrays()), write_csv(out / "uncertainty.csv", *res.table()),
             write_json(out / "uncertainty.json", res.summary())]
 
 
 def write_survival(outdir, res) -> list[Path]:
-    """Fig. 11 (:class:`~gear_rattle.validation.transient.experiments.SurvivalResult`)."""
+    """Fig. 11 (:class:`~gear_rattle.validation.transient.results.SurvivalResult`)."""
     out = out_dir(outdir)
     return [write_npz(out / "transients.npz", **res.arrays()), write_csv(out / "survival.csv", *res.survival_table()),
             write_json(out / "transients.json", res.summary())]
 
 
 def write_stick_time_sensitivity(outdir, res) -> list[Path]:
-    """The chatter-threshold sensitivity (:class:`~gear_rattle.validation.transient.experiments.StickTimeSensitivity`)."""
+    """The chatter-threshold sensitivity
+    (:class:`~gear_rattle.validation.transient.results.StickTimeSensitivity`)."""
     return [write_json(out_dir(outdir) / "stick_time_sensitivity.json", res.summary())]

@@ -15,7 +15,8 @@ def time_series_figure(seq: ImpactSequence, span: float = 50.0, title: str | Non
     """Figs. 2 and 3 of the paper: (a) the driven gear in absolute coordinates between the two tooth
     flanks of the driving gear; (b) the relative coordinate s(tau) with the impacts marked.
 
-    Returns the :class:`matplotlib.figure.Figure`.  The normalised absolute angle is ``(R/v) phi = alpha sin(tau) - s`` (Eq. 2); the driving gear's
+    Returns the :class:`matplotlib.figure.Figure`.  The normalised absolute angle is
+    ``(R/v) phi = alpha sin(tau) - s`` (Eq. 2); the driving gear's
     flanks are at ``alpha sin(tau)`` (``s = 0``) and ``alpha sin(tau) + 1`` (``s = -1``).
     """
     p = seq.params

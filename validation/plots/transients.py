@@ -14,7 +14,7 @@ from .base import subplots
 
 def basins_figure(res):
     """Fig. 9: one panel per threshold n (black = duration < n), the paper's box of Figs. 10-11 in red
-    (a :class:`~gear_rattle.validation.transient.experiments.BasinsResult`)."""
+    (a :class:`~gear_rattle.validation.transient.results.BasinsResult`)."""
     fig, axs = subplots(2, 2, figsize=(9, 7), sharex=True, sharey=True)
     for ax, n, lab in zip(axs.ravel(), res.ns, "abcd"):
         ax.imshow(res.duration < n, origin="lower", extent=res.window, aspect="auto", cmap="Greys", vmin=0, vmax=1,
@@ -34,7 +34,7 @@ def basins_figure(res):
 
 def uncertainty_figure(res):
     """Fig. 10: f(eps) per threshold n with binomial error bars and the fitted power laws (a
-    :class:`~gear_rattle.validation.transient.experiments.UncertaintyResult`)."""
+    :class:`~gear_rattle.validation.transient.results.UncertaintyResult`)."""
     eps = res.eps
     fig, ax = subplots(figsize=(6, 4.5))
     for n, mk in zip(res.ns, ("s", "o", "^", "v")):
@@ -59,7 +59,7 @@ def uncertainty_figure(res):
 
 def survival_figure(res):
     """Fig. 11: N(n) at the main delta and the Eq. (14) fit over its range (a
-    :class:`~gear_rattle.validation.transient.experiments.SurvivalResult`)."""
+    :class:`~gear_rattle.validation.transient.results.SurvivalResult`)."""
     n, N, main = res.n, res.N, res.main_fit
     fig, ax = subplots(figsize=(6, 4.5))
     ax.semilogy(n, np.where(N > 0, N, np.nan), "-", lw=1, label=f"N(n), delta = {res.delta:g}")

@@ -72,7 +72,7 @@ def _rounding_t_post(fig11, entries: dict) -> dict:
 
 def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> StickingConventions:
     """Refit Eq. (14) on the durations of the Fig. 11 run ``fig11`` (a
-    :class:`~gear_rattle.validation.transient.experiments.SurvivalResult` with the certified T_post) at its
+    :class:`~gear_rattle.validation.transient.results.SurvivalResult` with the certified T_post) at its
     main delta under each convention (module docstring)."""
     res, delta, cap = fig11.engine, fig11.delta, fig11.cap
     dur, cens = fig11.durations(delta)

@@ -11,27 +11,24 @@ A fit that fails is ``None`` in the result, with its reason in ``notes``.  Run s
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
 from ...core.params import Params
-from ...mapimpl.engine.transients import TransientResult, grid, transient_times
+from ...mapimpl.engine.transients import grid, transient_times
 from ...mapimpl.sticking import STICK_TIME
-from ..paper import PAPER
 from . import analysis as A
-from .post_release import (RELEASE_SOURCES, certified_t_post, composed_mask, decimal_params, release_durations,
-                           stick_counts)
+from .post_release import RELEASE_SOURCES, certified_t_post, composed_mask, release_durations, stick_counts
 from .profiles import get_profile
+from .results import (BasinsResult, Float64Horizon, StickTimeRow, StickTimeSensitivity, SurvivalResult,
+                      UncertaintyResult)
 
 BASIN_NS = (90, 500, 1000, 2000)
 #: Fig. 9 window: the whole phase circle, 0 < sdot0 < 0.5 (contains the paper's box).
 BASIN_WINDOW = (0.0, 2.0 * math.pi, 0.0, 0.5)
 #: The eps range of Fig. 10 (log-spaced; the number of values is the profile's ``n_eps``).
 EPS_RANGE = (1e-9, 1e-3)
-#: Most rows of the survival table written beside Fig. 11 (the curve is subsampled beyond).
-SURVIVAL_ROWS = 4000
 
 
 def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
@@ -45,42 +42,6 @@ def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
 
 
 # ------------------------------------------------------------------------------------- Fig. 9
-
-@dataclass
-class BasinsResult:
-    """Fig. 9: durations on an ``nx`` x ``ny`` mesh of ``window`` (arrays of shape ``(ny, nx)``),
-    thresholded at each ``n`` of ``ns``: ``short_fraction[n]`` = fraction with duration < n."""
-
-    params: Params
-    window: tuple
-    nx: int
-    ny: int
-    ns: tuple
-    delta: float
-    ic_mode: str
-    tau0: np.ndarray
-    sdot0: np.ndarray
-    duration: np.ndarray
-    censored: np.ndarray
-    short_fraction: dict
-    stick_counts: dict
-    release: dict
-    engine: TransientResult
-    notes: list = field(default_factory=list)
-
-    def arrays(self) -> dict:
-        """The arrays of ``basins.npz``."""
-        return dict(tau0=self.tau0, sdot0=self.sdot0, duration=self.duration, censored=self.censored,
-                    nstick=self.engine.nstick.reshape(self.tau0.shape), ns=np.array(self.ns), delta=self.delta,
-                    window=np.array(self.window))
-
-    def summary(self) -> dict:
-        """The numbers of ``basins.json``."""
-        return {"figure": "9", "nx": self.nx, "ny": self.ny, "window": list(self.window), "ns": list(self.ns),
-                "delta": self.delta, "short_fraction": self.short_fraction,
-                "orbits_with_sticking": self.engine.n_stuck_orbits, "stick_counts": self.stick_counts,
-                "release": self.release, "engine": self.engine.summary()}
-
 
 def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, delta=DELTA,
            params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, progress=None, lanes=None) -> BasinsResult:
@@ -104,51 +65,6 @@ def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, 
 
 
 # ------------------------------------------------------------------------------------ Fig. 10
-
-@dataclass
-class UncertaintyResult:
-    """Fig. 10: durations ``dA`` of ``n_points`` random points of ``box`` and ``dB``, ``dC`` (shape
-    ``(n_points, len(eps))``) at ``tau0 +- eps``; ``fits[n]``: the exponent fit at threshold ``n``
-    (None if it failed; the reason in ``notes``)."""
-
-    params: Params
-    n_points: int
-    eps: np.ndarray
-    seed: int
-    delta: float
-    ns: tuple
-    tauA: np.ndarray
-    sdotA: np.ndarray
-    dA: np.ndarray
-    dB: np.ndarray
-    dC: np.ndarray
-    fits: dict
-    release: dict
-    engine: TransientResult
-    notes: list = field(default_factory=list)
-
-    def fraction(self, n: int) -> np.ndarray:
-        """``f(eps)``: the fraction of eps-uncertain points at threshold ``n``."""
-        return A.uncertain_fraction(self.dA, self.dB, self.dC, n)
-
-    def arrays(self) -> dict:
-        """The arrays of ``uncertainty.npz``."""
-        return dict(eps=self.eps, tauA=self.tauA, sdotA=self.sdotA, dA=self.dA, dB=self.dB, dC=self.dC,
-                    ns=np.array(self.ns), f=np.array([self.fraction(n) for n in self.ns]))
-
-    def table(self) -> tuple[list, list]:
-        """``(header, rows)`` of ``uncertainty.csv``: eps and f(eps) at each n."""
-        fs = [self.fraction(n) for n in self.ns]
-        return ["eps"] + [f"f_n{n}" for n in self.ns], [[e] + [f[i] for f in fs] for i, e in enumerate(self.eps)]
-
-    def summary(self) -> dict:
-        """The numbers of ``uncertainty.json``."""
-        paper = {str(n): [PAPER[f"phi_{n}"].value, PAPER[f"phi_{n}"].error] for n in (500, 1000)}
-        return {"figure": "10", "n_points": self.n_points, "eps": self.eps.tolist(), "seed": self.seed,
-                "delta": self.delta,
-                "fits": {str(n): (f.as_dict() if f is not None else None) for n, f in self.fits.items()},
-                "paper": paper, "release": self.release, "engine": self.engine.summary()}
-
 
 def default_eps(profile: str, n_eps: int | None = None, lo: float = EPS_RANGE[0], hi: float = EPS_RANGE[1]):
     """``n_eps`` (default: the profile's) log-spaced eps values from ``lo`` to ``hi``."""
@@ -188,85 +104,6 @@ def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0
 
 # ------------------------------------------------------------------------------------ Fig. 11
 
-@dataclass
-class SurvivalResult:
-    """Fig. 11: the transient durations on an ``nx`` x ``ny`` mesh of ``box`` (``tau0``, ``sdot0`` of
-    shape ``(ny, nx)``), the orbits that stick composed with the ``release_source`` post-release
-    duration; ``hit[:, j]``: the duration within ``engine.deltas[j]`` (-1: censored at ``cap``);
-    ``fits[delta]``: the Eq. (14) fit (None if it failed; reason in ``notes``);
-    ``fit_float64_sample``: the fit at ``delta`` with the engine's float64 T_post instead; ``n``,
-    ``N``: the survival curve at ``delta``; ``composed``: the orbits whose duration comes from the
-    release; ``release``: per delta (``f"{d:g}"``) and wall the T_post used (:func:`release_durations`),
-    at ``delta`` also ``certified_float64_rounding``."""
-
-    params: Params
-    box: tuple
-    nx: int
-    ny: int
-    cap: int
-    delta: float
-    ic_mode: str
-    s0: float | None
-    stick_time: float
-    release_source: str
-    confirm: bool
-    tau0: np.ndarray
-    sdot0: np.ndarray
-    hit: np.ndarray
-    fits: dict
-    fit_float64_sample: A.SurvivalFit | None
-    release: dict
-    n: np.ndarray
-    N: np.ndarray
-    composed: np.ndarray
-    engine: TransientResult
-    notes: list = field(default_factory=list)
-
-    @property
-    def stick_counts(self) -> dict:
-        """Orbits that stick before coming within ``delta``, per wall of their first sticking episode."""
-        return stick_counts(self.engine, self.delta)
-
-    @property
-    def main_fit(self) -> A.SurvivalFit | None:
-        """The Eq. (14) fit at the main ``delta``."""
-        return self.fits.get(float(self.delta))
-
-    def durations(self, delta: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """``(durations, censored)`` at ``delta`` (default the main one), censored set to ``cap``."""
-        h = self.hit[:, self.engine.column(delta)]
-        cens = h < 0
-        return np.where(cens, self.cap, h), cens
-
-    def arrays(self) -> dict:
-        """The arrays of ``transients.npz``."""
-        shape, r, p = self.tau0.shape, self.engine, self.params
-        return dict(tau0=self.tau0, sdot0=self.sdot0, hit=self.hit.reshape(shape + (-1,)),
-                    hit_float64_sample=r.hit.reshape(shape + (-1,)), deltas=r.deltas, delta=self.delta, cap=self.cap,
-                    status=r.status.reshape(shape), nstick=r.nstick.reshape(shape),
-                    first_stick=r.first_stick.reshape(shape), stick_wall=r.stick_wall.reshape(shape),
-                    composed=self.composed.reshape(shape), stick_time=self.stick_time, release=self.release_source,
-                    params=np.array([p.alpha, p.beta, p.gamma, p.r]), n=self.n, N=self.N)
-
-    def survival_table(self, rows: int = SURVIVAL_ROWS) -> tuple[list, list]:
-        """``(header, rows)`` of ``survival.csv``: ``n, N(n)``, every ``len(n) // rows``-th point."""
-        step = max(1, len(self.n) // rows)
-        return ["n", "N"], [[self.n[i], self.N[i]] for i in range(0, len(self.n), step)]
-
-    def summary(self) -> dict:
-        """The numbers of ``transients.json``."""
-        fs = self.fit_float64_sample
-        return {"figure": "11", "nx": self.nx, "ny": self.ny, "cap": self.cap, "box": list(self.box),
-                "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0, "stick_time": self.stick_time,
-                "release_source": self.release_source, "params_decimal": decimal_params(self.params),
-                "fits": {f"{d:g}": (f.as_dict() if f is not None else None) for d, f in self.fits.items()},
-                "fits_float64_sample": fs.as_dict() if fs is not None else None,
-                "stick_counts": self.stick_counts, "n_composed": int(self.composed.sum()),
-                "release": self.release,
-                "paper": {"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]},
-                "engine": self.engine.summary()}
-
-
 def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta=DELTA, deltas=DELTAS,
                params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, n_lo=None, n_hi=None, n_boot=200, seed=0,
                progress=None, lanes=None, stick_time: float = STICK_TIME, release: str = "certified") -> SurvivalResult:
@@ -274,7 +111,7 @@ def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta
     delta (the dependence on delta).
 
     The orbits that stick are composed with their wall's post-release duration, ``first_stick +
-    T_post`` (:func:`release_durations`): ``release="certified"`` (default) uses ``T_post`` certified
+    T_post`` (:func:`.post_release.release_durations`): ``release="certified"`` (default) uses ``T_post`` certified
     in ball arithmetic for the decimal parameters (confirmed at a second precision in the paper
     profile), ``"float64"`` the engine's own post-release orbit (a sample).  The result's ``release``
     gives, per wall stuck to, the certified values for the decimal parameters and for their float64
@@ -314,47 +151,6 @@ def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta
 
 #: Other values of the chatter threshold (``mapimpl.sticking.STICK_TIME``) tried by :func:`stick_time_sensitivity`.
 STICK_TIMES = (1e-7, 1e-5)
-
-
-@dataclass
-class StickTimeRow:
-    """One chatter threshold of :func:`stick_time_sensitivity`: ``base`` (the Fig. 11 run's own),
-    ``n_ic`` orbits, ``sticking_fraction``, ``stick_counts`` per wall, the upper wall's certified
-    ``T_post`` (value and status) and the Eq. (14) ``fit`` (None if it failed)."""
-
-    stick_time: float
-    base: bool
-    n_ic: int
-    sticking_fraction: float
-    stick_counts: dict
-    T_post_upper: int | None
-    T_post_upper_status: str
-    fit: A.SurvivalFit | None
-
-    def as_dict(self) -> dict:
-        return {"stick_time": self.stick_time, "base": self.base, "n_ic": self.n_ic,
-                "sticking_fraction": self.sticking_fraction, "stick_counts": self.stick_counts,
-                "T_post_upper": self.T_post_upper, "T_post_upper_status": self.T_post_upper_status,
-                "fit": self.fit.as_dict() if self.fit is not None else None}
-
-
-@dataclass
-class StickTimeSensitivity:
-    """<n>, kappa and the sticking fraction per chatter threshold (``rows``), on the sub-mesh of a Fig. 11
-    run taking every ``stride``-th row and column (``nx`` x ``ny``)."""
-
-    stride: int
-    nx: int
-    ny: int
-    cap: int
-    delta: float
-    rows: list
-    notes: list = field(default_factory=list)
-
-    def summary(self) -> dict:
-        """The numbers of ``stick_time_sensitivity.json``."""
-        return {"stride": self.stride, "nx": self.nx, "ny": self.ny, "cap": self.cap, "delta": self.delta,
-                "rows": [r.as_dict() for r in self.rows]}
 
 
 def _base_row_data(fig11: SurvivalResult, stride: int, k: int):
@@ -405,30 +201,6 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
 
 
 # --------------------------------------------------------------- the float64 horizon (a sample, not a value)
-
-@dataclass
-class Float64Horizon:
-    """The transient Lyapunov exponent ``lambda1`` (per impact; over ``impacts_used`` transient impacts of
-    ``orbits`` orbits from an ``n_side`` x ``n_side`` grid, ``impacts`` each) and the impacts after which
-    float64 roundoff has grown to ``delta`` (``horizon_delta``) and to order one (``horizon_1``)."""
-
-    lambda1: float
-    impacts_used: int
-    orbits: int
-    orbits_reaching_target: int
-    n_side: int
-    impacts: int
-    delta: float
-    horizon_delta: float
-    horizon_1: float
-
-    def as_dict(self) -> dict:
-        return dict(self.__dict__)
-
-    def fraction_beyond(self, durations) -> float:
-        """The fraction of ``durations`` longer than the horizon at ``delta``: samples, not values."""
-        return float(np.mean(np.asarray(durations) > self.horizon_delta))
-
 
 def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float = DELTA, n_side: int | None = None,
                     impacts: int | None = None) -> Float64Horizon:

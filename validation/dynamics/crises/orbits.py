@@ -23,13 +23,14 @@ from ....mapimpl.engine.driver import EngineResult, run
 from ....core.params import Params
 from ....mapimpl.periodic import PeriodicOrbit, find_periodic
 from ....core.checks import check_int
+from ....core.paper import PAPER_BOX
 from ..continuation import Branch, continue_orbit
 
 #: Starting guesses on the attractors of the paper (any nearby guess works).
 R2_START = Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.80)      # stable 6-impact orbit (Fig. 4)
 ALPHA1_START = Params(alpha=1.30, beta=0.1, gamma=0.1, r=0.9)  # stable 4-impact orbit (Fig. 8)
-#: The paper's box of initial conditions (Figs. 9-11): 3 < tau0 < 3.5, 0 < sdot0 < 0.5.
-BOX = (3.0, 3.5, 0.0, 0.5)
+#: The paper's box of initial conditions (Figs. 9-11): 3 < tau0 < 3.5, 0 < sdot0 < 0.5 (core.paper.PAPER_BOX).
+BOX = PAPER_BOX
 
 
 @dataclass
