@@ -3,15 +3,22 @@ its allowed range."""
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 
-def check_int(name: str, value, lo: int, hi: int) -> int:
-    """``value`` as an int in ``[lo, hi]`` or ValueError naming ``name`` and the range."""
+def check_int(name: str, value, lo: int, hi: int, *, strict: bool = False) -> int:
+    """``value`` as an int in ``[lo, hi]`` or ValueError naming ``name`` and the range.  A bool is not an
+    integer; a float with an integral value is accepted unless ``strict`` (then only ``int`` and numpy
+    integers are: a value that is stored and compared, e.g. an atlas spec's)."""
+    integral = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
     try:
-        v = int(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
+        v = int(value) if isinstance(value, (numbers.Real, np.number)) else None
+    except (TypeError, ValueError, OverflowError):
+        v = None
+    if v is None or isinstance(value, (bool, np.bool_)) or (strict and not integral):
+        raise ValueError(f"{name}={value!r} is not an integer: allowed {lo} <= {name} <= {hi}")
     if v != value or not lo <= v <= hi:
         raise ValueError(f"{name}={value!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
     return v

@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ...core.checks import TAU0_MAX, TAU0_RANGE
+from ...core.checks import TAU0_MAX, TAU0_RANGE, check_int
 from ...core.params import PARAM_MAX, RANGES, check_value
 
 #: Bounds that keep an atlas finite.
@@ -30,12 +30,6 @@ PAPER_LINES = (
     ("Fig. 4 (alpha = 3)", "alpha", 3.0, "r", 0.70, 0.95),
     ("Fig. 8 (r = 0.9)", "r", 0.9, "alpha", 1.10, 1.40),
 )
-
-
-def _int(name: str, value, lo: int, hi: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
-        raise ValueError(f"{name}={value!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
-    return int(value)
 
 
 def _float(name: str, value, ok, allowed: str) -> float:
@@ -80,15 +74,15 @@ class AtlasSpec:
                              "allowed alpha_lo <= alpha_hi")
         if self.r_lo > self.r_hi:
             raise ValueError(f"r_lo={self.r_lo!r}, r_hi={self.r_hi!r} are out of range: allowed r_lo <= r_hi")
-        s(self, "n_alpha", _int("n_alpha", self.n_alpha, 1, MAX_GRID))
-        s(self, "n_r", _int("n_r", self.n_r, 1, MAX_GRID))
+        s(self, "n_alpha", check_int("n_alpha", self.n_alpha, 1, MAX_GRID, strict=True))
+        s(self, "n_r", check_int("n_r", self.n_r, 1, MAX_GRID, strict=True))
         if self.n_alpha * self.n_r > MAX_GRID:
             raise ValueError(f"n_alpha * n_r = {self.n_alpha * self.n_r} is out of range: allowed <= {MAX_GRID}")
         s(self, "tau0", _float("tau0", self.tau0, lambda x: abs(x) <= TAU0_MAX, TAU0_RANGE))
         s(self, "sdot0", _float("sdot0", self.sdot0, lambda x: x != 0.0, "a finite sdot0 != 0"))
-        s(self, "transient", _int("transient", self.transient, 0, MAX_IMPACTS))
-        s(self, "impacts", _int("impacts", self.impacts, 1, MAX_IMPACTS))
-        s(self, "period_max", _int("period_max", self.period_max, 1, MAX_PERIOD))
+        s(self, "transient", check_int("transient", self.transient, 0, MAX_IMPACTS, strict=True))
+        s(self, "impacts", check_int("impacts", self.impacts, 1, MAX_IMPACTS, strict=True))
+        s(self, "period_max", check_int("period_max", self.period_max, 1, MAX_PERIOD, strict=True))
         s(self, "period_tol", _float("period_tol", self.period_tol, lambda x: 0.0 < x < 1.0,
                                      "a period_tol with 0 < period_tol < 1"))
 

@@ -9,7 +9,6 @@ parameter rounding and, with ``--json``, the full results.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 
@@ -123,8 +122,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         from pathlib import Path
 
+        from ..io import write_json
+
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.json).write_text(json.dumps(out, indent=1) + "\n")
+        write_json(args.json, out)
     return 0
 
 

@@ -172,7 +172,8 @@ def diagram_with_lyapunov(base: Params, param: str, lo: float, hi: float, n_valu
     return DiagramLyapunov(d, lyapunov(base, param, d.values, n=lyap_n, transient=transient))
 
 
-def raw_product_overflow(lam1: float) -> float:
-    """Impacts after which the raw product of Jacobians (entries growing like ``exp(n lambda1)``) passes the
-    largest float64: ``ln(float64 max) / lambda1``."""
+def raw_product_horizon(lam1: float) -> float:
+    """Impacts after which the raw product of Jacobians (entries growing like ``exp(n lambda1)``) is predicted to
+    pass the largest float64: ``ln(float64 max) / lambda1`` (the measured step:
+    :func:`gear_rattle.mapimpl.lyapunov.raw_product_overflow`)."""
     return LN_FLOAT_MAX / lam1

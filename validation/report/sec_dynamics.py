@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..dynamics.bifurcation import LN_FLOAT_MAX, diagram_with_lyapunov, raw_product_overflow
+from ..dynamics.bifurcation import LN_FLOAT_MAX, diagram_with_lyapunov, raw_product_horizon
 from ..dynamics.profiles import SCANS, TS_TRANSIENT, get_profile
 from ..dynamics.settling import MIN_LAMINAR, SETTLE_TAIL, SETTLE_TOL, laminar_in_series, local_slopes, settle
 from ..io import save_figure
@@ -110,7 +110,7 @@ def build(ctx) -> Section:
           f"{sum_err:.2e} (closed-form determinant, docs/model.md). We use QR re-orthonormalisation: the paper's "
           f"method (eigenvalues of the raw product of Jacobians) needs the product itself, whose entries grow like "
           f"exp(n lambda1); with the largest lambda1 of these diagrams ({l1max:.3f} per impact) they pass the "
-          f"largest float64 (exp({LN_FLOAT_MAX:.1f})) after about {raw_product_overflow(l1max):.0f} impacts.")
+          f"largest float64 (exp({LN_FLOAT_MAX:.1f})) after about {raw_product_horizon(l1max):.0f} impacts.")
     A3, R9 = SCANS["Fig. 4"][3], SCANS["Fig. 8"][3]
     f, ls = r2.fold, r2.laminar
     fold_th, fold_sd = orbit_states(A3.replace(r=f.mu), f.tau, f.sdot, 6)
