@@ -148,8 +148,8 @@ def test_the_guard_finds_a_retyped_constant(tmp_path):
 MAX_FUNCTION_LINES = 100
 #: Functions allowed to be longer.  (The engine kernel's arrival pass, the one exception the issue allows
 #: where splitting it would slow the kernel, is split: its optimized HLO is identical, debug information
-#: aside.)  driver.run waits for the Ctrl-C and extreme-parameter changes of issue 23 to land before it is split.
-LONG_FUNCTIONS_ALLOWED: set[str] = {"mapimpl/engine/driver.py::run"}
+#: aside.)
+LONG_FUNCTIONS_ALLOWED: set[str] = set()
 
 
 def long_functions(repo: Path = REPO, limit: int = MAX_FUNCTION_LINES) -> list[str]:

@@ -180,6 +180,89 @@ def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, 
     raise RuntimeError("engine made no progress (bug): queue not drained")
 
 
+def _check_states(theta, sdot, wall) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The initial pre-impact states as flat arrays (float64, float64, int32), validated."""
+    th = np.atleast_1d(np.asarray(theta, np.float64)).ravel()
+    sd = np.atleast_1d(np.asarray(sdot, np.float64)).ravel()
+    w = np.atleast_1d(np.asarray(wall)).ravel()
+    if not (th.shape == sd.shape == w.shape):
+        raise ValueError(f"theta, sdot and wall must have the same length (got {th.size}, {sd.size}, {w.size})")
+    if th.size == 0:
+        raise ValueError("theta is empty: allowed at least one initial condition")
+    if not np.all(np.isfinite(th)) or np.any(np.abs(th) > TAU0_MAX):
+        raise ValueError(f"theta is out of range: allowed finite values with {TAU0_RANGE.replace('tau0', 'theta')}")
+    if not np.all(np.isfinite(sd)) or np.any(sd == 0.0):
+        raise ValueError("sdot is out of range: a pre-impact state needs a finite sdot != 0")
+    if not np.all(np.isin(w, (0, -1))):
+        raise ValueError("wall is out of range: allowed 0 (s = 0) or -1 (s = -1)")
+    return th, sd, w.astype(np.int32)
+
+
+def _progress_sinks(progress, label: str, n: int):
+    """``(bar, sink)``: the terminal bar and the caller's ``(done, total)`` callable (or None)."""
+    if callable(progress) and not isinstance(progress, bool):
+        return Progress(label, True, total=n), progress
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    return Progress(label, show, total=n), None
+
+
+def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa) -> list[dict]:
+    """One job per device for the initial conditions ``idx`` of a chunk (every ``ndev``-th one): its queue
+    padded to a power of two, idle lanes and empty results, placed on the device."""
+    jobs = []
+    for j, dv in enumerate(devs):
+        sel = idx[j::len(devs)]
+        m = sel.size
+        if m == 0:
+            continue
+        mp = _pow2(max(m, lanes))
+        pad = lambda a, v: np.concatenate([a, np.full(mp - m, v, a.dtype)])  # noqa: E731
+        q = dict(K.prepare_queue(pad(thr[sel], 0.0), pad(sd[sel], 1.0), pad(w[sel], 0), pad(pa["alpha"][sel], 1.0),
+                                 pad(pa["beta"][sel], 0.1), pad(pa["gamma"][sel], 0.0), pad(pa["r"][sel], 0.9)))
+        q["n_ic"] = jnp.asarray(m, jnp.int32)  # the queue is padded to mp entries; the first m are loaded
+        carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs),
+                 jnp.asarray(0, jnp.int32))
+        jobs.append({"sel": sel, "m": m, "q": jax.device_put(q, dv), "k": k_dev[j],
+                     "carry": jax.device_put(carry, dv), "done": 0})
+    return jobs
+
+
+def _run_jobs(jobs: list[dict], cap: int, block: int, obs, report, stop_event: threading.Event, bar) -> None:
+    """Drive every device's job in its own thread to the end; on any exception (Ctrl-C) stop them all
+    within one kernel call and re-raise."""
+    pool = ThreadPoolExecutor(max_workers=len(jobs))
+    futures = [pool.submit(_drive, jb, cap, block, report, stop_event, obs) for jb in jobs]
+    try:
+        for f in futures:
+            while True:
+                try:
+                    f.result(timeout=0.2)
+                    break
+                except TimeoutError:
+                    continue
+    except BaseException:
+        stop_event.set()
+        pool.shutdown(wait=True, cancel_futures=True)
+        bar.close()
+        raise
+    pool.shutdown(wait=True)
+
+
+def _gather(jobs: list[dict], out: dict, out_obs: tuple) -> int:
+    """Copy the jobs' per-orbit results into ``out`` and ``out_obs`` (input order); returns the orbits."""
+    done = 0
+    for jb in jobs:
+        res, sel = jb["carry"][1], jb["sel"]
+        m = jb["m"]
+        done += m
+        for name in out:
+            out[name][sel] = np.asarray(res[name])[:m]
+        for o_out, r_o in zip(out_obs, res["obs"]):
+            for nm in o_out:
+                o_out[nm][sel] = np.asarray(r_o[nm])[:m]
+    return done
+
+
 def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = (), *, cap: int,
         stop_at_stick: bool = False, lanes: int | None = None, block: int = 32, chunk: int | None = None,
         devices=None, progress=None, label: str = "engine", stick_time: float = STICK_TIME,
@@ -200,20 +283,7 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
     if not all(isinstance(o, Observer) for o in obs):
         raise ValueError("observers is out of range: allowed Observer instances")
-    th = np.atleast_1d(np.asarray(theta, np.float64)).ravel()
-    sd = np.atleast_1d(np.asarray(sdot, np.float64)).ravel()
-    w = np.atleast_1d(np.asarray(wall)).ravel()
-    if not (th.shape == sd.shape == w.shape):
-        raise ValueError(f"theta, sdot and wall must have the same length (got {th.size}, {sd.size}, {w.size})")
-    if th.size == 0:
-        raise ValueError("theta is empty: allowed at least one initial condition")
-    if not np.all(np.isfinite(th)) or np.any(np.abs(th) > TAU0_MAX):
-        raise ValueError(f"theta is out of range: allowed finite values with {TAU0_RANGE.replace('tau0', 'theta')}")
-    if not np.all(np.isfinite(sd)) or np.any(sd == 0.0):
-        raise ValueError("sdot is out of range: a pre-impact state needs a finite sdot != 0")
-    if not np.all(np.isin(w, (0, -1))):
-        raise ValueError("wall is out of range: allowed 0 (s = 0) or -1 (s = -1)")
-    w = w.astype(np.int32)
+    th, sd, w = _check_states(theta, sdot, wall)
     cap = check_int("cap", cap, 1, MAX_CAP)
     block = check_int("block", block, 1, 1 << 16)
     if lanes is not None:
@@ -229,13 +299,12 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     cyc_start = np.floor_divide(th - thr + np.pi, 2 * np.pi).astype(np.int64)  # turns removed by the reduction
 
     devs = engine_devices(devices)
-    ndev = max(1, min(len(devs), th.size))
-    devs = devs[:ndev]
+    devs = devs[:max(1, min(len(devs), th.size))]
     per_ic = 48 + sum(int(np.prod(o.fields()[nm][1], dtype=np.int64)) * 8 for o in obs for nm in o.outputs())
     if chunk is None:
         chunk = int(max(4096, min(1 << 18, CHUNK_BYTES // per_ic)))
     if lanes is None:
-        lanes = default_lanes(min(th.size, chunk) // ndev)
+        lanes = default_lanes(min(th.size, chunk) // len(devs))
     lanes = K.padded_lanes(lanes)
     uniform = all(np.all(a == a[0]) for a in pa.values())
     k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps,
@@ -247,32 +316,12 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
                                                    ("wall", np.int32), ("cyc", np.int64))}
     out_obs = tuple({nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()}
                     for o in obs)
-    if callable(progress) and not isinstance(progress, bool):
-        bar = Progress(label, True, total=n)
-        sink = progress
-    else:
-        show = sys.stderr.isatty() if progress is None else bool(progress)
-        bar, sink = Progress(label, show, total=n), None
+    bar, sink = _progress_sinks(progress, label, n)
     stop_event = threading.Event()
     t0 = time.perf_counter()
     done_total = 0
     for c0 in range(0, n, chunk):
-        idx = np.arange(c0, min(n, c0 + chunk))
-        jobs = []
-        for j, dv in enumerate(devs):
-            sel = idx[j::ndev]
-            m = sel.size
-            if m == 0:
-                continue
-            mp = _pow2(max(m, lanes))
-            pad = lambda a, v: np.concatenate([a, np.full(mp - m, v, a.dtype)])  # noqa: E731
-            q = dict(K.prepare_queue(pad(thr[sel], 0.0), pad(sd[sel], 1.0), pad(w[sel], 0), pad(pa["alpha"][sel], 1.0),
-                                     pad(pa["beta"][sel], 0.1), pad(pa["gamma"][sel], 0.0), pad(pa["r"][sel], 0.9)))
-            q["n_ic"] = jnp.asarray(m, jnp.int32)  # the queue is padded to mp entries; the first m are loaded
-            carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs),
-                     jnp.asarray(0, jnp.int32))
-            jobs.append({"sel": sel, "m": m, "q": jax.device_put(q, dv), "k": k_dev[j],
-                         "carry": jax.device_put(carry, dv), "done": 0})
+        jobs = _device_jobs(np.arange(c0, min(n, c0 + chunk)), devs, k_dev, lanes, obs, thr, sd, w, pa)
         lock = threading.Lock()
 
         def report(jb, n_done, _base=done_total, _jobs=jobs):
@@ -283,31 +332,8 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
                 if sink is not None:
                     sink(tot, n)
 
-        pool = ThreadPoolExecutor(max_workers=len(jobs))
-        futures = [pool.submit(_drive, jb, cap, block, report, stop_event, obs) for jb in jobs]
-        try:
-            for f in futures:
-                while True:
-                    try:
-                        f.result(timeout=0.2)
-                        break
-                    except TimeoutError:
-                        continue
-        except BaseException:
-            stop_event.set()
-            pool.shutdown(wait=True, cancel_futures=True)
-            bar.close()
-            raise
-        pool.shutdown(wait=True)
-        for jb in jobs:
-            res, sel = jb["carry"][1], jb["sel"]
-            m = jb["m"]
-            done_total += m
-            for name in out:
-                out[name][sel] = np.asarray(res[name])[:m]
-            for o_out, r_o in zip(out_obs, res["obs"]):
-                for nm in o_out:
-                    o_out[nm][sel] = np.asarray(r_o[nm])[:m]
+        _run_jobs(jobs, cap, block, obs, report, stop_event, bar)
+        done_total += _gather(jobs, out, out_obs)
     elapsed = time.perf_counter() - t0
     bar.update(n)
     bar.close()
