@@ -1,9 +1,10 @@
-"""A JSON-able summary of an atlas: what was run, how fast, and what the plane holds (counts, period
-classes, and the atlas along the paper's scans)."""
+"""The summary of an atlas (a typed :class:`AtlasSummary`): what was run, how fast, and what the plane
+holds (counts, period classes, and the atlas along the paper's scans)."""
 
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -63,35 +64,75 @@ def _line_profile(data: dict, spec: AtlasSpec, fixed: str, value: float, lo: flo
     }
 
 
-def summarise(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun | None = None) -> dict:
+@dataclass
+class AtlasSummary:
+    """What an atlas holds and how it was computed: ``points`` of the grid and ``points_computed``,
+    ``tiles_done`` of ``tiles_total``; counts over the computed points: ``chaotic`` (lambda1 > 0),
+    ``periodic`` (a period found), ``sticking`` (lambda1 = -inf), ``ended`` (status != 0),
+    ``periodic_chaotic`` (a period found but lambda1 > 0: a chaotic transient that ended during the
+    measurement); ``period_classes``: the most frequent ``(p, m, count)``; ``paper_lines``: the atlas
+    along the paper's scans (per label, :func:`_line_profile`); ``run``: timing and throughput of the run
+    (None without one); ``store``: where the atlas is (set by the caller).  :meth:`as_dict` is the
+    content of ``atlas_summary.json``."""
+
+    spec: AtlasSpec
+    points: int
+    points_computed: int
+    tiles_done: int
+    tiles_total: int
+    chaotic: int
+    periodic: int
+    sticking: int
+    ended: int
+    periodic_chaotic: int
+    period_classes: list
+    paper_lines: dict
+    run: dict | None = None
+    store: str | None = None
+
+    def as_dict(self) -> dict:
+        out = {"spec": self.spec.to_dict(), "points": self.points, "points_computed": self.points_computed,
+               "tiles_done": self.tiles_done, "tiles_total": self.tiles_total,
+               "chaotic (lambda1 > 0)": self.chaotic, "periodic (period found)": self.periodic,
+               "sticking (lambda1 = -inf)": self.sticking, "ended (status != 0)": self.ended,
+               "period found but lambda1 > 0 (transient ended during the measurement)": self.periodic_chaotic,
+               "period classes": [{"p": a, "m": b, "count": n} for a, b, n in self.period_classes],
+               "paper lines": self.paper_lines}
+        if self.run is not None:
+            out["run"] = self.run
+        if self.store is not None:
+            out["store"] = self.store
+        return out
+
+
+def _run_record(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun) -> dict:
+    out = {
+        "scheduler": run.scheduler, "workers": run.workers, "tile": list(run.store.tile),
+        "tiles_computed": len(run.computed), "tiles_resumed": run.skipped,
+        "points_computed": run.points_computed, "impacts_per_point": spec.impacts_per_point,
+        "wall_seconds": run.seconds,
+        "throughput (points x impacts / s, wall, start-up and compile included)": run.throughput,
+    }
+    out.update(tile_throughput(data, spec, run))
+    return out
+
+
+def summarise(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun | None = None) -> AtlasSummary:
     """Counts over the computed points, the ten most frequent period classes, the profiles along the
     paper's scans, and (given ``run``) timing and throughput (grid points x map steps per second)."""
     done_pts = data["status"] >= 0
     lam = data["lambda1"]
-    out: dict = {"spec": spec.to_dict(), "points": int(done_pts.size), "points_computed": int(done_pts.sum()),
-                 "tiles_done": int(data["done"].sum()), "tiles_total": int(data["done"].size)}
-    out["chaotic (lambda1 > 0)"] = int(np.sum(done_pts & np.isfinite(lam) & (lam > 0)))
-    out["periodic (period found)"] = int(np.sum(done_pts & (data["period_p"] > 0)))
-    out["sticking (lambda1 = -inf)"] = int(np.sum(done_pts & np.isneginf(lam)))
-    out["ended (status != 0)"] = int(np.sum(done_pts & (data["status"] > 0)))
-    # a chaotic transient that ended during the measurement: lambda1 from chaos, the period from the end
-    out["period found but lambda1 > 0 (transient ended during the measurement)"] = int(
-        np.sum(done_pts & (data["period_p"] > 0) & np.isfinite(lam) & (lam > 0)))
-    out["period classes"] = [{"p": a, "m": b, "count": n} for a, b, n in period_classes(data["period_p"],
-                                                                                          data["period_m"], 10)]
+    chaotic = done_pts & np.isfinite(lam) & (lam > 0)
+    periodic = done_pts & (data["period_p"] > 0)
     shown = {lab for lab, _, _ in paper_lines(spec)}
-    out["paper lines"] = {lab: _line_profile(data, spec, fixed, value, lo, hi)
-                          for lab, fixed, value, _v, lo, hi in PAPER_LINES if lab in shown}
-    if run is not None:
-        out["run"] = {
-            "scheduler": run.scheduler, "workers": run.workers, "tile": list(run.store.tile),
-            "tiles_computed": len(run.computed), "tiles_resumed": run.skipped,
-            "points_computed": run.points_computed, "impacts_per_point": spec.impacts_per_point,
-            "wall_seconds": run.seconds,
-            "throughput (points x impacts / s, wall, start-up and compile included)": run.throughput,
-        }
-        out["run"].update(tile_throughput(data, spec, run))
-    return out
+    return AtlasSummary(
+        spec, int(done_pts.size), int(done_pts.sum()), int(data["done"].sum()), int(data["done"].size),
+        chaotic=int(np.sum(chaotic)), periodic=int(np.sum(periodic)), sticking=int(np.sum(done_pts & np.isneginf(lam))),
+        ended=int(np.sum(done_pts & (data["status"] > 0))), periodic_chaotic=int(np.sum(periodic & chaotic)),
+        period_classes=period_classes(data["period_p"], data["period_m"], 10),
+        paper_lines={lab: _line_profile(data, spec, fixed, value, lo, hi)
+                     for lab, fixed, value, _v, lo, hi in PAPER_LINES if lab in shown},
+        run=_run_record(data, spec, run) if run is not None else None)
 
 
 def tile_throughput(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun) -> dict:

@@ -13,7 +13,7 @@ import argparse
 import re
 from pathlib import Path
 
-from ..cliutil import CliError, nonneg_int, positive_int, tau0_type
+from ..cliutil import CliError, add_output_options, nonneg_int, positive_int, tau0_type
 
 NAME = "atlas"
 HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
@@ -58,8 +58,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "scheduler such as tcp://host:8786 (default local)")
     r.add_argument("--workers", type=positive_int("--workers", 1024), default=None,
                    help="worker processes of the local cluster (default: one per core)")
-    r.add_argument("--out", default="atlas", help="directory for atlas.png and atlas_summary.json (default atlas)")
-    r.add_argument("--quiet", action="store_true", help="no progress indicator")
+    add_output_options(r, out=("atlas", "directory for atlas.png and atlas_summary.json (default atlas)"),
+                       quiet="no progress indicator")
 
 
 def _option_names(e: ValueError) -> ValueError:
@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     from ..atlas.run import check_scheduler, import_distributed, run_atlas
     from ..atlas.store import fit_tile, import_zarr, load_store
     from ..atlas.summary import summarise
-    from ..cliutil import check_output_dir
+    from ..cliutil import check_output_dir, check_outputs
     from ..io import save_figure, write_json
     from ..plots.atlas import atlas_figure
 
@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     # every path is checked before anything is created (a store, the --out folder): run_atlas creates the
     # store only after a remote scheduler has answered
     out = Path(args.out)
-    check_output_dir(args.out, "--out")
+    check_outputs(args)
     store = args.store or str(out / "atlas.zarr")
     check_output_dir(store, "--store" if args.store else "--out")
     from ...mapimpl.progress import Progress
@@ -115,13 +115,12 @@ def run(args: argparse.Namespace) -> int:
     st = load_store(store)
     data = st.read()
     summary = summarise(data, spec, res)
-    summary["store"] = store
-    write_json(out / "atlas_summary.json", summary)
+    summary.store = store
+    write_json(out / "atlas_summary.json", summary.as_dict())
     save_figure(atlas_figure(data, spec), out / "atlas.png", dpi=130)
-    print(_run_line(spec, summary["run"], args.scheduler))
-    print(f"chaotic (lambda1 > 0): {summary['chaotic (lambda1 > 0)']}, periodic: "
-          f"{summary['periodic (period found)']}, sticking: {summary['sticking (lambda1 = -inf)']}, ended: "
-          f"{summary['ended (status != 0)']} of {summary['points_computed']} points")
+    print(_run_line(spec, summary.run, args.scheduler))
+    print(f"chaotic (lambda1 > 0): {summary.chaotic}, periodic: {summary.periodic}, sticking: {summary.sticking}, "
+          f"ended: {summary.ended} of {summary.points_computed} points")
     print(f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}")
     return 0
 
