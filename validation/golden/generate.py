@@ -77,7 +77,7 @@ class Spec:
     level: int = 1
     #: bug classes the case exists to catch (:data:`catalog.BUG_CLASSES`)
     catches: tuple = ()
-    #: how the orbit ends: ``"active"`` or ``"stuck_forever"`` (:func:`certify.certify_orbit`), or
+    #: how the orbit ends: ``"active"`` or ``"stuck_forever"`` (:func:`mapimpl.certified.certify_orbit`), or
     #: ``"no_impact"`` (:func:`mapimpl.certified.certify_no_impact_orbit`)
     ending: str = "active"
     #: certified extras recorded in the notes before the settings are written: ``"excursion"`` (a
@@ -113,10 +113,10 @@ def _horizon_rule_text() -> str:
 
 def finish_release_case(spec: Spec) -> Spec:
     """The found settings of the release case: its horizon from the Lyapunov exponent of the
-    *transient* at alpha = 1.245 (:func:`release.transient_lyapunov`), and, as oracle notes, the
-    certified post-release duration ``T_post`` for the decimal parameters and for their float64
-    roundings (:func:`release.certified_release_duration`, several minutes), the float64 engine's
-    own ``T_post``, ``delta`` and the capture target."""
+    *transient* at alpha = 1.245 (:func:`validation.transient.float64_release.transient_lyapunov`), and, as
+    oracle notes, the certified post-release duration ``T_post`` for the decimal parameters and for their
+    float64 roundings (:func:`mapimpl.certified.certified_release_duration`, several minutes), the float64
+    engine's own ``T_post``, ``delta`` and the capture target."""
     from ...core.paper import DELTA, PAPER_DECIMAL
     from ...mapimpl import certified as rel
     from ..transient import float64_release as fl64
@@ -144,7 +144,7 @@ def finish_release_case(spec: Spec) -> Spec:
         "lyapunov_lambda1_per_impact": lam,
         "lyapunov_method": (f"QR exponent of the transient: {ly['orbits']} orbits from a {RELEASE_LYAP_SIDE}x"
                             f"{RELEASE_LYAP_SIDE} grid of the Fig. 11 box, {ly['impacts_used']} impacts before each "
-                            "comes within 1e-2 of the 4-impact orbit (validation/golden/release.py)"),
+                            "comes within 1e-2 of the 4-impact orbit (validation/transient/float64_release.py)"),
         "horizon_rule": _horizon_rule_text(),
         "T_post_definition": ("the release flight's first impact is post-release impact 1 (here: impact 1); T_post is "
                               "the index of the first post-release impact whose pre-impact state lies within delta "
@@ -232,7 +232,8 @@ def specs() -> list[Spec]:
              tags=("chaotic", "paper", "sticking", "release"),
              notes={"sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
                                   "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
-                                  "to 3 significant digits (release.stick_at_once_state)"},
+                                  "to 3 significant digits (validation/transient/float64_release.py: "
+                                  "stick_at_once_state)"},
              finish=finish_release_case, level=2, catches=("release-departure", "float64-drift")),
     ] + new_specs()
 
@@ -543,7 +544,9 @@ def provenance_json(spec: Spec, orb: cert.CertifiedOrbit, radii: dict, agreement
                        "(a) unique root: sign change of the gap and derivative enclosure excluding 0 on the root "
                        "bracket; (b) no earlier wall contact: [0, t_lo] covered by pieces on which both gap "
                        "enclosures are > 0; states propagated impact to impact as balls (mean-value form with the "
-                       "analytic Jacobian, intersected with the direct enclosure). See validation/golden/certify.py.",
+                       "analytic Jacobian, intersected with the direct enclosure). The certified track: "
+                       "mapimpl/certified/ (contact.py: one flight; sticking.py: the policy; orbit.py: the sequence; "
+                       "noimpact.py: a flight that never lands).",
             "initial_state": "exact (float64 inputs are exact binary numbers)",
             "stick_rows": "policy values (tau_n + t_acc, accumulation-point formula of mapimpl/sticking.py), "
                           "not solutions of the ODE; the sticking decision itself is certified definite",
