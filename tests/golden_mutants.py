@@ -64,6 +64,9 @@ class Mutant:
     trailing_rows: bool = False
     #: tau_mod_2pi written as this constant (None: tau mod 2 pi)
     phase_value: float | None = None
+    #: not a bug: the position held in float64 as ``y = s + coordinate`` (None: the finder's exact gaps), the
+    #: contact where the computed ``y`` reaches the wall's value (:func:`rounded_coordinate_contact`)
+    coordinate: float | None = None
 
 
 BASE = Mutant()
@@ -144,11 +147,31 @@ def tolerant_contact(th, s0, v0, p, release, m: Mutant):
     return hit
 
 
+def rounded_coordinate_contact(hit, th, s0, v0, p, m: Mutant):
+    """The contact as an implementation finds it that holds the position as the float64 ``y = s + c`` and
+    stops where the computed ``y`` reaches the wall's value ``w + c``: the first sign change of
+    ``fl(y0 + ds(t)) - (w + c)`` before the true contact ``t*``, bisected on ``[t*/2, t*]``.  Correct, but
+    the rounding step of ``y`` at the wall (2^-53 for ``s`` at ``s = -1`` and for ``s + 1`` at ``s = 0``)
+    makes a bounce of speed ``v`` land up to ``2^-54 / v`` early, every bounce on the same side: what the
+    chatter rule of docs/golden.md budgets for."""
+    t, wall, v = hit
+    y0, yw, side = s0 + m.coordinate, wall + m.coordinate, 1.0 if wall == 0 else -1.0
+
+    def reached(x):  # the computed coordinate is at the wall or beyond
+        return side * ((y0 + float(_s(x, th, 0.0, v0, p))) - yw) >= 0.0
+
+    if reached(0.5 * t) or not reached(t):
+        return hit
+    tr = _bisect(lambda x: -1.0 if reached(x) else 1.0, 0.5 * t, t)
+    return tr, wall, _v(tr, th, v0, p)
+
+
 def contact(th, s0, v0, p, release, m: Mutant):
     if release and m.redetect_after_release:
         return 0.0, int(s0), 0.0
     finder = fixed_step_contact if m.step else (tolerant_contact if m.contact_tol else certified_contact)
-    return finder(th, s0, v0, p, release, m)
+    hit = finder(th, s0, v0, p, release, m)
+    return hit if hit is None or m.coordinate is None else rounded_coordinate_contact(hit, th, s0, v0, p, m)
 
 
 # ---------------------------------------------------------------------------------------------

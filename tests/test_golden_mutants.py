@@ -5,7 +5,8 @@ The implementations are :mod:`golden_mutants` (tests/golden_mutants.py): a small
 written from docs/golden.md around the map track's certified finder, and mutants of it with one
 decision changed.  The base passes every case, so each failure below is its mutant's one change.
 Mutants run only on the cases they target, except where a claim is about the old cases
-(:func:`test_each_new_case_is_needed`: the mutant passes all of 0001-0012).
+(:func:`test_each_new_case_is_needed`: the mutant passes all of 0001-0012).  Two correct variants (the
+position held as the float64 ``s`` or ``s + 1``) must pass every case: the tolerances admit them.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import pytest
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden import contacts
 from gear_rattle.validation.golden.catalog import BUG_CLASSES
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids
+from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids, read_sequence
 from golden_mutants import BASE, Mutant, run, write_csv
 
 CASES = case_ids()
@@ -98,6 +99,38 @@ def test_base_implementation_passes_every_case(tmp_path, capsys):
     """The unmutated implementation passes all cases: the mutants' failures are their one change."""
     verdict = _check(BASE, CASES, tmp_path / "base", capsys)
     assert all(verdict.values()), [c for c, ok in verdict.items() if not ok]
+
+
+#: Correct variants, not mutants: the position held as the float64 ``s`` or ``s + 1``, the contact where
+#: it reaches the wall's value (:func:`golden_mutants.rounded_coordinate_contact`).  Near the wall where the
+#: coordinate is near -1 or 1 its rounding step is 2^-53, so a bounce of speed v lands up to 2^-54 / v early,
+#: and a chatter adds these up: the chatter rule of the tolerances (docs/golden.md) must admit both.
+VARIANTS = {"s-coordinates": Mutant("s-coordinates", coordinate=0.0),
+            "s+1-coordinates": Mutant("s+1-coordinates", coordinate=1.0)}
+
+
+@pytest.mark.parametrize("name", VARIANTS)
+def test_correct_variant_passes_every_case(name, tmp_path, capsys):
+    verdict = _check(VARIANTS[name], CASES, tmp_path / name, capsys)
+    assert all(verdict.values()), [c for c, ok in verdict.items() if not ok]
+
+
+def _max_tau_error(m: Mutant, cid: str) -> float:
+    exp = read_sequence(DEFAULT_SUITE / cid / "expected.csv")
+    got = np.array([row[1] for row in run(_settings(cid), m)])
+    assert got.size == len(exp)
+    return float(np.max(np.abs(got - exp.tau)))
+
+
+def test_rounded_coordinates_need_the_chatter_rule():
+    """The variants are not vacuous: where the coordinate is coarse at the chattering wall, their impact
+    times are off by more than the 1e-9 the chatter cases had before the rule (0015: bounces down to 1.3e-8
+    on s = 0, measured 4.2e-8 in s + 1; 0008: 1.9e-9), and by far less where it is fine (s at s = 0)."""
+    up, down = VARIANTS["s+1-coordinates"], VARIANTS["s-coordinates"]
+    assert _max_tau_error(up, _case("0015")) > 1e-8
+    assert _max_tau_error(up, _case("0008")) > 1e-9
+    assert _max_tau_error(down, _case("0014")) > 1e-10  # s at s = -1 (measured 6.3e-10)
+    assert _max_tau_error(down, _case("0015")) < 1e-13
 
 
 @pytest.mark.parametrize("name", MUTANTS)

@@ -50,6 +50,10 @@ def tol(tau: float, sdot: float | None = None) -> dict:
 #: Tolerance of most cases: a float64 implementation with event location to ~1e-12 passes easily,
 #: an impact time off by 1e-6 fails.
 TOL = tol(1e-9)
+#: The chatter rule (:func:`chatter_tolerance`): the rounding step of the position at a wall, in any float64
+#: coordinate of magnitude below 2 there (``s`` at ``s = -1``: 2^-53; ``s + 1`` at ``s = 0``: 2^-53 inside,
+#: 2^-52 beyond), and the safety factor.
+POSITION_STEP, CHATTER_SAFETY = 2.0 ** -52, 10.0
 #: Chaotic case: tolerance and the per-impact error a good float64 implementation starts from.
 CHAOS_TOL, CHAOS_ERR0, CHAOS_SAFETY = 1e-8, 1e-12, 10.0
 #: Radius limit (fraction of the tolerance) at which a certified run stops.
@@ -316,12 +320,62 @@ def certified_policy(spec: Spec) -> dict:
                 "meaning": "the policy's quantities at impact 0, certified (ball radii < 1e-80)"}
 
 
+def round_up_1(x: float) -> float:
+    """``x > 0`` rounded up to one significant digit (2.06e-8 -> 3e-8; 2e-6 stays 2e-6)."""
+    m = 10.0 ** math.floor(math.log10(x))
+    return float(f"{math.ceil(x / m - 1e-9) * m:.1g}")
+
+
 def _graze_tol(params: Params, tau0: float, sdot0: float) -> dict:
     """Tolerance of a graze case: :data:`contacts.GAP_BUDGET` / (normal speed), rounded up to one digit."""
     _, _, v = contacts.first_contact(params, tau0, sdot0)
-    x = contacts.GAP_BUDGET / abs(v)
-    m = 10.0 ** math.floor(math.log10(x))
-    return tol(float(f"{math.ceil(x / m - 1e-9) * m:.1g}"))
+    return tol(round_up_1(contacts.GAP_BUDGET / abs(v)))
+
+
+def chatter_tolerance(spec: Spec, orb: cert.CertifiedOrbit) -> tuple[dict, str] | None:
+    """The chatter rule: per-column absolute tolerances from the slowest bounce of the case, and its note.
+
+    A bounce that lands with speed ``v`` is timed to ``e / v`` by an implementation whose position at
+    the wall carries a rounding error ``e`` (the gap computed from ``s``, ``s + 1``, ...: at most
+    :data:`POSITION_STEP`), and its landing speed is off by ``f_in e / v``.  Along a chatter the speeds
+    fall like ``r^k`` and each error is carried on: the velocity error by ``r`` per bounce into every later
+    flight time ``2 r v / f_in``, and into the stick row's ``t_acc = 2 r v / ((1 - r) f_in)``.  Summed over
+    the geometric sequence down to the slowest bounce ``v_min`` (all errors of one sign), the stick row is off
+    by at most ``(1 + r) / (1 - r)^2 e / v_min`` and a landing speed by ``f_in / (1 - r^2) e / v_min``, with
+    ``f_in <= R + |gamma|``.  The tolerances are :data:`CHATTER_SAFETY` times these, rounded up to one digit.
+    ``v_min`` is the smallest pre-impact speed of an impact reached by a flight (a pre-impact initial state
+    is exact).  ``None`` at ``r = 1``, where speeds do not fall and nothing accumulates (docs/golden.md,
+    "Tolerances from the conditioning").
+    """
+    p = spec.params
+    if not p.r < 1:
+        return None
+    reached = [e for e in orb.events if e.kind == "impact" and not (e.n == 0 and spec.s0 is None)]
+    if not reached:
+        return None
+    slow = min(reached, key=lambda e: abs(cert.nearest_float(e.sdot)))
+    v = abs(cert.nearest_float(slow.sdot))
+    f_max = p.alpha * math.sqrt(1 + p.beta ** 2) + abs(p.gamma)
+    x_tau = CHATTER_SAFETY * (1 + p.r) / (1 - p.r) ** 2 * POSITION_STEP / v
+    x_sdot = CHATTER_SAFETY * f_max / (1 - p.r ** 2) * POSITION_STEP / v
+    note = (f"chatter: slowest bounce v_min = {v:.4g} (impact {slow.n}, wall {slow.wall}); tau and tau_mod_2pi: "
+            f"{CHATTER_SAFETY:g} (1 + r)/(1 - r)^2 2^-52 / v_min = {x_tau:.3g}, sdot: {CHATTER_SAFETY:g} "
+            f"(R + |gamma|)/(1 - r^2) 2^-52 / v_min = {x_sdot:.3g}, each rounded up to one digit; a column keeps "
+            "its own tolerance where that is larger (docs/golden.md, tolerances from the conditioning)")
+    return tol(round_up_1(x_tau), round_up_1(x_sdot)), note
+
+
+def with_chatter_rule(spec: Spec, orb: cert.CertifiedOrbit) -> Spec:
+    """``spec`` with each tolerance the larger of its own and the chatter rule's (:func:`chatter_tolerance`),
+    and the rule in its notes where the rule sets one (idempotent: a re-certified case keeps its settings)."""
+    rule = chatter_tolerance(spec, orb)
+    if rule is None:
+        return spec
+    ct, note = rule
+    if all(ct[c]["abs"] < v["abs"] for c, v in spec.tolerances.items()):
+        return spec
+    tols = {c: {"abs": max(v["abs"], ct[c]["abs"]), "rel": v["rel"]} for c, v in spec.tolerances.items()}
+    return replace(spec, tolerances=tols, notes={**spec.notes, "tolerance_rule": note})
 
 
 def graze_specs() -> list[Spec]:
@@ -613,6 +667,7 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
         raise cert.CertificationError(f"{spec.id}: {orb.stop_reason}: lower n_impacts or raise prec")
     if orb.status != spec.ending and not (spec.ending == "active" and orb.status == "stuck_forever"):
         raise cert.CertificationError(f"{spec.id}: certified status {orb.status!r}, expected {spec.ending!r}")
+    spec = with_chatter_rule(spec, orb)
     if "excursion" in spec.extras:
         spec.notes["excursion"] = contacts.certified_excursion(spec.params, spec.tau0, spec.sdot0, spec.prec)
     if "policy" in spec.extras:
