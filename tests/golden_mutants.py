@@ -23,6 +23,7 @@ import jax.numpy as jnp
 
 from gear_rattle.mapimpl.finder import T_MAX, first_impact
 from gear_rattle.mapimpl.flight import flight
+from gear_rattle.validation.golden.conditioning import FLIGHT_ERROR, POSITION_STEP
 
 TWO_PI = 2 * math.pi
 _first_impact = jax.jit(first_impact)
@@ -67,6 +68,10 @@ class Mutant:
     #: not a bug: the position held in float64 as ``y = s + coordinate`` (None: the finder's exact gaps), the
     #: contact where the computed ``y`` reaches the wall's value (:func:`rounded_coordinate_contact`)
     coordinate: float | None = None
+    #: not a bug: every contact displaced by the per-impact error the tolerances assume (docs/golden.md): to
+    #: where the true gap is ``e = 2^-52 + 1e-12 h`` beyond the wall (``"late"``), before it (``"early"``), or
+    #: a sign per contact from the bits of its time (``"random"``); "" none (:func:`displaced_contact`)
+    gap_error: str = ""
 
 
 BASE = Mutant()
@@ -166,11 +171,25 @@ def rounded_coordinate_contact(hit, th, s0, v0, p, m: Mutant):
     return tr, wall, _v(tr, th, v0, p)
 
 
+def displaced_contact(hit, th, s0, v0, p, m: Mutant):
+    """The contact as found by an implementation whose computed gap is off by ``e = 2^-52 + 1e-12 h`` (``h``
+    the flight's height, sampled): the time moves by ``e / |v|`` and the velocity is the flight's there, plus
+    an error of 1e-12 of the same sign.  The per-impact error of the amplification rule, made on purpose."""
+    t, wall, v = hit
+    h = min(1.0, float(np.max(np.abs(_s(np.linspace(0.0, t, CHUNK), th, 0.0, v0, p)))))
+    e = POSITION_STEP + FLIGHT_ERROR * h
+    sign = {"late": 1.0, "early": -1.0}.get(m.gap_error) or (1.0 if hash(t) & 1 else -1.0)
+    tr = t + sign * e / abs(v)
+    return tr, wall, _v(tr, th, v0, p) + sign * FLIGHT_ERROR
+
+
 def contact(th, s0, v0, p, release, m: Mutant):
     if release and m.redetect_after_release:
         return 0.0, int(s0), 0.0
     finder = fixed_step_contact if m.step else (tolerant_contact if m.contact_tol else certified_contact)
     hit = finder(th, s0, v0, p, release, m)
+    if hit is not None and m.gap_error:
+        return displaced_contact(hit, th, s0, v0, p, m)
     return hit if hit is None or m.coordinate is None else rounded_coordinate_contact(hit, th, s0, v0, p, m)
 
 

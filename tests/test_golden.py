@@ -286,8 +286,8 @@ def test_other_suite_directory(tmp_path, map_outputs, capsys):
 # certification
 
 
-@pytest.mark.parametrize("cid", ["0003-free-flight-start", "0008-stuck-forever", "0005-near-miss-return",
-                                 "0015-no-impact-after-release", "0020-graze-lower-wall-a",
+@pytest.mark.parametrize("cid", ["0003-free-flight-start", "0006-return-to-start-wall", "0008-stuck-forever",
+                                 "0005-near-miss-return", "0015-no-impact-after-release", "0020-graze-lower-wall-a",
                                  "0025-near-miss-1e-11-upper-wall"])
 def test_recertification_reproduces_the_committed_files(cid):
     pytest.importorskip("flint")
@@ -300,6 +300,28 @@ def test_recertification_reproduces_the_committed_files(cid):
     assert s == settings
     committed = json.loads((folder / "provenance.json").read_text())
     assert prov["rows"] == committed["rows"] and prov["radius"] == committed["radius"]
+
+
+def test_tolerances_follow_the_amplification_rule():
+    """Every case's ``notes.amplification`` is the rule recomputed from its committed rows (the map's Jacobians
+    at the certified states, docs/golden.md), and its tolerances are at least the rule's: equal in the columns
+    the rule sets, larger in the others (set by the case's own rule: default, graze, chatter, chaotic)."""
+    from gear_rattle.core.params import Params
+    from gear_rattle.validation.golden.conditioning import propagated_error
+
+    for cid in CASES:
+        case = load_case(DEFAULT_SUITE / cid)
+        s, ini = case.settings, case.settings["initial_state"]
+        free = (ini["tau0"], ini["s0"], ini["sdot0"]) if ini["kind"] == "free-flight" else None
+        err = propagated_error(Params(**s["params"]), case.expected, free)
+        note = s["notes"]["amplification"]
+        assert note == err.note(note["sets"]), cid
+        for c, rule in err.tolerances().items():
+            own = s["tolerances"][c]["abs"]
+            assert (own == rule) if c in note["sets"] else (own > rule), (cid, c, own, rule)
+    # the rule is what raised the cases whose orbits amplify errors beyond their own tolerances
+    raised = {cid[:4] for cid in CASES if load_case(DEFAULT_SUITE / cid).settings["notes"]["amplification"]["sets"]}
+    assert {"0004", "0006", "0009", "0011", "0012", "0024"} <= raised
 
 
 def test_certified_first_impact_agrees_with_50_digit_bisection():

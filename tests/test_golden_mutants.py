@@ -5,8 +5,9 @@ The implementations are :mod:`golden_mutants` (tests/golden_mutants.py): a small
 written from docs/golden.md around the map track's certified finder, and mutants of it with one
 decision changed.  The base passes every case, so each failure below is its mutant's one change.
 Mutants run only on the cases they target, except where a claim is about the old cases
-(:func:`test_each_new_case_is_needed`: the mutant passes all of 0001-0012).  Two correct variants (the
-position held as the float64 ``s`` or ``s + 1``) must pass every case: the tolerances admit them.
+(:func:`test_each_new_case_is_needed`: the mutant passes all of 0001-0012).  Correct variants must pass every
+case: the position held as the float64 ``s`` or ``s + 1`` (the chatter rule admits them), and every contact
+displaced by the per-impact error the amplification rule assumes (docs/golden.md).
 """
 
 from __future__ import annotations
@@ -105,8 +106,12 @@ def test_base_implementation_passes_every_case(tmp_path, capsys):
 #: it reaches the wall's value (:func:`golden_mutants.rounded_coordinate_contact`).  Near the wall where the
 #: coordinate is near -1 or 1 its rounding step is 2^-53, so a bounce of speed v lands up to 2^-54 / v early,
 #: and a chatter adds these up: the chatter rule of the tolerances (docs/golden.md) must admit both.
+#: The gap-error variants displace every contact by the per-impact error of the amplification rule
+#: (:func:`golden_mutants.displaced_contact`), all late (first order: as all early) or with pseudo-random signs.
 VARIANTS = {"s-coordinates": Mutant("s-coordinates", coordinate=0.0),
-            "s+1-coordinates": Mutant("s+1-coordinates", coordinate=1.0)}
+            "s+1-coordinates": Mutant("s+1-coordinates", coordinate=1.0),
+            "gap-error-late": Mutant("gap-error-late", gap_error="late"),
+            "gap-error-random": Mutant("gap-error-random", gap_error="random")}
 
 
 @pytest.mark.parametrize("name", VARIANTS)
@@ -131,6 +136,17 @@ def test_rounded_coordinates_need_the_chatter_rule():
     assert _max_tau_error(up, _case("0008")) > 1e-9
     assert _max_tau_error(down, _case("0014")) > 1e-10  # s at s = -1 (measured 6.3e-10)
     assert _max_tau_error(down, _case("0015")) < 1e-13
+
+
+def test_gap_error_variant_needs_the_amplification_rule():
+    """The gap-error variant is not vacuous: where the orbit amplifies errors its impact times are off by more
+    than the tolerances these cases had before the amplification rule (0004: 1e-7 after its graze, measured
+    1.6e-7; 0006 and 0009: 1e-9, measured 2.1e-8 and 2.6e-9), and the rule's tolerances hold them with a
+    factor 5 or more (measured 9.5 on 0006: 2e-7)."""
+    late = VARIANTS["gap-error-late"]
+    for prefix, before in (("0004", 1e-7), ("0006", 1e-9), ("0009", 1e-9)):
+        err = _max_tau_error(late, _case(prefix))
+        assert before < err <= _settings(_case(prefix))["tolerances"]["tau"]["abs"] / 5, (prefix, err)
 
 
 @pytest.mark.parametrize("name", MUTANTS)

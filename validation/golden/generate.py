@@ -23,14 +23,16 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
 from flint import arb
 
 from ...core.paper import PAPER_PARAMS
 from ...core.params import Params
 from ...mapimpl.sticking import STICK_TIME
 from ...mapimpl import certified as cert
-from . import contacts
-from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, read_sequence, score_sequence, \
+from . import conditioning, contacts
+from .conditioning import FLIGHT_ERROR, POSITION_STEP, SAFETY, round_up_1
+from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, Sequence, read_sequence, score_sequence, \
     sequence_from_impacts
 
 FIG2 = Params(0.5, 0.1, 0.1, 0.9)
@@ -48,14 +50,16 @@ def tol(tau: float, sdot: float | None = None) -> dict:
 
 
 #: Tolerance of most cases: a float64 implementation with event location to ~1e-12 passes easily,
-#: an impact time off by 1e-6 fails.
+#: an impact time off by 1e-6 fails; raised where the orbit amplifies errors (the amplification rule,
+#: :func:`with_amplification_rule`).
 TOL = tol(1e-9)
 #: The chatter rule (:func:`chatter_tolerance`): the rounding step of the position at a wall, in any float64
-#: coordinate of magnitude below 2 there (``s`` at ``s = -1``: 2^-53; ``s + 1`` at ``s = 0``: 2^-53 inside,
-#: 2^-52 beyond), and the safety factor.
-POSITION_STEP, CHATTER_SAFETY = 2.0 ** -52, 10.0
-#: Chaotic case: tolerance and the per-impact error a good float64 implementation starts from.
-CHAOS_TOL, CHAOS_ERR0, CHAOS_SAFETY = 1e-8, 1e-12, 10.0
+#: coordinate of magnitude below 2 there (:data:`conditioning.POSITION_STEP`: ``s`` at ``s = -1``: 2^-53;
+#: ``s + 1`` at ``s = 0``: 2^-53 inside, 2^-52 beyond), and the safety factor.
+CHATTER_SAFETY = SAFETY
+#: Chaotic case: tolerance and the per-impact error a good float64 implementation starts from (the
+#: flight error of the amplification rule, :mod:`.conditioning`).
+CHAOS_TOL, CHAOS_ERR0, CHAOS_SAFETY = 1e-8, FLIGHT_ERROR, SAFETY
 #: Radius limit (fraction of the tolerance) at which a certified run stops.
 RADIUS_FRACTION = 1e-6
 #: Target pre-impact speed of the grazing impact, and the initial-velocity offset of the near miss.
@@ -320,12 +324,6 @@ def certified_policy(spec: Spec) -> dict:
                 "meaning": "the policy's quantities at impact 0, certified (ball radii < 1e-80)"}
 
 
-def round_up_1(x: float) -> float:
-    """``x > 0`` rounded up to one significant digit (2.06e-8 -> 3e-8; 2e-6 stays 2e-6)."""
-    m = 10.0 ** math.floor(math.log10(x))
-    return float(f"{math.ceil(x / m - 1e-9) * m:.1g}")
-
-
 def _graze_tol(params: Params, tau0: float, sdot0: float) -> dict:
     """Tolerance of a graze case: :data:`contacts.GAP_BUDGET` / (normal speed), rounded up to one digit."""
     _, _, v = contacts.first_contact(params, tau0, sdot0)
@@ -376,6 +374,28 @@ def with_chatter_rule(spec: Spec, orb: cert.CertifiedOrbit) -> Spec:
         return spec
     tols = {c: {"abs": max(v["abs"], ct[c]["abs"]), "rel": v["rel"]} for c, v in spec.tolerances.items()}
     return replace(spec, tolerances=tols, notes={**spec.notes, "tolerance_rule": note})
+
+
+def certified_rows(orb: cert.CertifiedOrbit) -> Sequence:
+    """The rows of a certified orbit as printed in ``expected.csv`` (float64 nearest to each ball)."""
+    ev = orb.events
+    return Sequence("<certified>", np.array([e.n for e in ev]), np.array([cert.nearest_float(e.tau) for e in ev]),
+                    np.array([cert.nearest_float(e.theta) for e in ev]), np.array([e.wall for e in ev]),
+                    np.array([math.nan if e.sdot is None else cert.nearest_float(e.sdot) for e in ev]),
+                    np.array([e.kind for e in ev], dtype=object))
+
+
+def with_amplification_rule(spec: Spec, orb: cert.CertifiedOrbit) -> Spec:
+    """``spec`` with each tolerance the larger of its own and the amplification rule's
+    (:func:`conditioning.propagated_error`: a float64 implementation's per-impact error carried along the
+    certified orbit by the map's Jacobians), and the rule in ``notes.amplification`` (``sets``: the
+    columns whose tolerance it gives; idempotent: a re-certified case keeps its settings)."""
+    free = None if spec.s0 is None else (spec.tau0, spec.s0, spec.sdot0)
+    err = conditioning.propagated_error(spec.params, certified_rows(orb), free)
+    rule = err.tolerances()
+    sets = [c for c, v in spec.tolerances.items() if rule[c] >= v["abs"]]
+    tols = {c: {"abs": max(v["abs"], rule[c]), "rel": v["rel"]} for c, v in spec.tolerances.items()}
+    return replace(spec, tolerances=tols, notes={**spec.notes, "amplification": err.note(sets)})
 
 
 def graze_specs() -> list[Spec]:
@@ -667,7 +687,7 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
         raise cert.CertificationError(f"{spec.id}: {orb.stop_reason}: lower n_impacts or raise prec")
     if orb.status != spec.ending and not (spec.ending == "active" and orb.status == "stuck_forever"):
         raise cert.CertificationError(f"{spec.id}: certified status {orb.status!r}, expected {spec.ending!r}")
-    spec = with_chatter_rule(spec, orb)
+    spec = with_amplification_rule(with_chatter_rule(spec, orb), orb)
     if "excursion" in spec.extras:
         spec.notes["excursion"] = contacts.certified_excursion(spec.params, spec.tau0, spec.sdot0, spec.prec)
     if "policy" in spec.extras:
