@@ -75,7 +75,7 @@ def test_case_folder_is_well_formed(cid):
 @pytest.fixture(scope="module")
 def map_outputs(tmp_path_factory):
     out = tmp_path_factory.mktemp("map_outputs")
-    rc = main(["check", "--self", "--track", "map", "--write", str(out), "--quiet"])
+    rc = main(["check", "--self", "--track", "map", "--out", str(out), "--summary"])
     return rc, out
 
 

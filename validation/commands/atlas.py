@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     from ..atlas.run import check_scheduler, import_distributed, run_atlas
     from ..atlas.store import fit_tile, import_zarr, load_store
     from ..atlas.summary import summarise
-    from ..cliutil import check_output_dir, check_outputs
+    from ..cliutil import check_output_dir, check_outputs, print_result
     from ..io import save_figure, write_json
     from ..plots.atlas import atlas_figure
 
@@ -98,16 +98,17 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args)
     store = args.store or str(out / "atlas.zarr")
     check_output_dir(store, "--store" if args.store else "--out")
-    from ...mapimpl.progress import Progress
+    from ...core.progress import Bar
 
-    bar = Progress("atlas tiles", not args.quiet)
-    try:
-        res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
-                        progress=bar)
-    except ValueError as e:
-        raise _option_names(e) from None
-    except RuntimeError as e:
-        raise CliError(str(e)) from None
+    with Bar("atlas", unit="tiles", enabled=not args.quiet,
+             phase="starting workers" if args.scheduler == "local" else "starting") as bar:
+        try:
+            res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
+                            progress=bar)
+        except ValueError as e:
+            raise _option_names(e) from None
+        except RuntimeError as e:
+            raise CliError(str(e)) from None
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -118,10 +119,11 @@ def run(args: argparse.Namespace) -> int:
     summary.store = store
     write_json(out / "atlas_summary.json", summary.as_dict())
     save_figure(atlas_figure(data, spec), out / "atlas.png", dpi=130)
-    print(_run_line(spec, summary.run, args.scheduler))
-    print(f"chaotic (lambda1 > 0): {summary.chaotic}, periodic: {summary.periodic}, sticking: {summary.sticking}, "
-          f"ended: {summary.ended} of {summary.points_computed} points")
-    print(f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}")
+    print_result(summary.as_dict(), [
+        _run_line(spec, summary.run, args.scheduler),
+        f"chaotic (lambda1 > 0): {summary.chaotic}, periodic: {summary.periodic}, sticking: {summary.sticking}, "
+        f"ended: {summary.ended} of {summary.points_computed} points",
+        f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}"], [out / "atlas_summary.json"])
     return 0
 
 
