@@ -67,6 +67,17 @@ def clear_status() -> None:
             pass
 
 
+def _width() -> int:
+    """A bar's width: the terminal's less two columns, so that the terminal's echo of Ctrl-C (``^C``)
+    stays on the bar's line (on a full-width line it wraps, and clearing the line would clear the
+    echo's line instead of the bar's)."""
+    try:
+        cols = os.get_terminal_size(sys.stderr.fileno()).columns
+    except (AttributeError, ValueError, OSError):
+        cols = 80
+    return max(20, cols - 2)
+
+
 def _clear_for_interrupt() -> None:
     """What the command line's Ctrl-C runs: wait (briefly) for a bar being drawn, then clear its line."""
     from tqdm import tqdm
@@ -103,13 +114,12 @@ class Bar:
         clear_status()
         tqdm.monitor_interval = 0  # no tqdm monitor thread
         self._bar = tqdm(total=total, desc=label if phase is None else f"{label} ({phase})", unit=" " + unit,
-                         unit_scale=unit == "impacts", file=sys.stderr, dynamic_ncols=True, mininterval=MIN_INTERVAL,
+                         unit_scale=unit == "impacts", file=sys.stderr, ncols=_width(), mininterval=MIN_INTERVAL,
                          smoothing=0.3, delay=delay, leave=True, bar_format=None if phase is None else PHASE_FORMAT)
         if _clear_for_interrupt not in _jax.CLEAR_LINE:
             _jax.CLEAR_LINE.append(_clear_for_interrupt)
         self._ticker = None
-        if phase is not None:
-            self.phase(phase)
+        self._start_ticker()
 
     @property
     def drawn(self) -> bool:
@@ -117,29 +127,31 @@ class Bar:
         return self._bar is not None
 
     def phase(self, text: str | None) -> None:
-        """Show ``label (text) elapsed`` until the first count, the elapsed time ticking (a phase such as
-        compiling has no count to show); ``None``: back to the bar."""
+        """Show ``label (text) elapsed`` until the first count (a phase such as compiling has no count to
+        show); ``None``: back to the bar."""
         b = self._bar
         if b is None:
             return
         if text is None:
-            self._stop_ticker()
             b.bar_format = None
             b.set_description_str(self.label)
             return
         b.bar_format = PHASE_FORMAT
         b.set_description_str(f"{self.label} ({text})")
-        if self._ticker is None:
-            import threading
 
-            stop = threading.Event()
+    def _start_ticker(self) -> None:
+        """Redraw twice a second while the bar is open, so that its clock moves while the work has nothing
+        to count (compiling, a long kernel call, a narrower block compiled for the tail)."""
+        import threading
 
-            def tick():
-                while not stop.wait(0.5):
-                    b.refresh()
+        stop, b = threading.Event(), self._bar
 
-            self._ticker = (stop, threading.Thread(target=tick, name="progress-phase", daemon=True))
-            self._ticker[1].start()
+        def tick():
+            while not stop.wait(0.5):
+                b.refresh()
+
+        self._ticker = (stop, threading.Thread(target=tick, name="progress-ticker", daemon=True))
+        self._ticker[1].start()
 
     def _stop_ticker(self) -> None:
         if self._ticker is not None:
@@ -160,7 +172,6 @@ class Bar:
             return
         if not self._counting:
             self._counting = True
-            self._stop_ticker()
             b.bar_format = None
             b.set_description_str(self.label, refresh=False)
             b.reset(total=total if total is not None else b.total)

@@ -183,6 +183,7 @@ def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, 
             size //= TAIL_SHRINK
         if size < lanes_s["mode"].shape[0]:
             jb["carry"] = (K.compact(lanes_s, size=K.padded_lanes(size)), res_s, next_ic)
+            jb["tail"] = K.padded_lanes(size)
     raise RuntimeError("engine made no progress (bug): queue not drained")
 
 
@@ -209,9 +210,12 @@ class _Reporter:
     or the caller's ``progress(orbits done, orbits)`` -- never both (:mod:`gear_rattle.core.progress`).
 
     The bar counts impacts, finished and in progress; its total is ``orbits x cap`` until an orbit
-    finishes, then the impacts of the finished orbits plus the others at their mean so far (an estimate
-    that improves as orbits finish: transient durations differ by orders of magnitude), at most
-    ``orbits x cap``.  It shows "compiling" until the first kernel call returns."""
+    finishes, then the impacts done plus, for every orbit not finished, the mean duration still to come:
+    transient durations are about exponential (Eq. 14), so an orbit's expected remaining duration does
+    not shrink with its age, and the mean is estimated as for censored exponential data, all the impacts
+    done over the orbits finished (the mean of the finished ones alone is biased low: the short ones
+    finish first); at most ``orbits x cap``.  It shows "compiling" until the first kernel call returns, and the lanes of the
+    tail once the busy orbits move to a narrower block."""
 
     def __init__(self, progress, label: str, n: int, cap: int):
         self.bar = Bar(label, enabled=wanted(progress), phase="compiling")
@@ -232,7 +236,10 @@ class _Reporter:
                     imp_fin = self.base[1] + sum(x["impacts"][0] for x in jobs)
                     done = imp_fin + sum(x["impacts"][1] for x in jobs)
                     most = self.n * self.cap
-                    est = most if fin == 0 else min(most, imp_fin + (self.n - fin) * imp_fin / fin)
+                    est = most if fin == 0 else min(most, done + (self.n - fin) * done / fin)
+                    tails = [x["tail"] for x in jobs if x.get("tail")]
+                    if tails:
+                        self.bar.postfix(f"tail: {sum(tails)} lanes")
                     self.bar.update(done, max(est, done))
                 if self.sink is not None:
                     self.sink(fin, self.n)
