@@ -240,13 +240,15 @@ DATA_FORMATS = {".csv": "csv", ".json": "json", ".npz": "npz"}
 
 
 def output_format(args: argparse.Namespace) -> str:
-    """The format of ``--output``: from the file's extension (:data:`DATA_FORMATS`), on stdout from
-    ``--format`` (default csv).  An unknown extension, or ``--format`` naming another format than
+    """The format of ``--output``: from the file's extension (:data:`DATA_FORMATS`), on stdout or for a
+    name without an extension (``/dev/null``) from ``--format`` (default csv).  An unknown extension, or ``--format`` naming another format than
     the extension, is a :class:`CliError` (one line, before computing)."""
     output, fmt = getattr(args, "output", None), getattr(args, "format", None)
     if output in (None, "-"):
         return fmt or "csv"
     ext = Path(output).suffix.lower()
+    if not ext:  # /dev/null, a named pipe, a name without an extension: --format (default csv)
+        return fmt or "csv"
     if ext not in DATA_FORMATS:
         raise CliError(f"--output={output!r}: the file extension must be one of {', '.join(DATA_FORMATS)} "
                        "(it decides the data format)")
