@@ -88,6 +88,9 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts: one orbit per value on the
     many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer).  ``values``:
     default the value of ``param`` in ``base`` (one orbit)."""
+    from ..core.params import check_params
+
+    check_params(base, "base")
     n = check_int("n", n, 1, 50_000_000)
     transient = check_int("transient", transient, 0, 50_000_000)
     if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):

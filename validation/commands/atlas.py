@@ -96,8 +96,8 @@ def run(args: argparse.Namespace) -> int:
     # store only after a remote scheduler has answered
     out = Path(args.out)
     check_outputs(args)
-    store = args.store or str(out / "atlas.zarr")
-    check_output_dir(store, "--store" if args.store else "--out")
+    store = args.store if args.store is not None else str(out / "atlas.zarr")
+    check_output_dir(store, "--store" if args.store is not None else "--out")
     from ...core.progress import Bar
 
     with Bar("atlas", unit="tiles", enabled=not args.quiet,

@@ -43,16 +43,21 @@ def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
 
 # ------------------------------------------------------------------------------------- Fig. 9
 
+def basins_mesh(profile: str, nx: int | None, ny: int | None) -> tuple[int, int]:
+    """The Fig. 9 mesh ``(nx, ny)``: the profile's, ``ny`` with ``nx`` given keeping the profile's ratio
+    ``ny/nx`` (quick 120 x 60: ``nx=121`` gives 121 x 60)."""
+    size = get_profile(profile, "basins")
+    if ny is None:
+        ny = size["ny"] if nx is None else max(1, round(int(nx) * size["ny"] / size["nx"]))
+    return (size["nx"] if nx is None else int(nx)), int(ny)
+
+
 def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, delta=DELTA,
            params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, progress=None, lanes=None) -> BasinsResult:
     """Fig. 9: durations on an ``nx`` x ``ny`` mesh computed once (cap = max(ns)), thresholded at each
     n: black = duration < n ("short" transients).  Defaults: the profile's mesh; ``ny`` with ``nx``
     given keeps the profile's ratio ``ny/nx`` (quick: 120 x 60, so ``nx=121`` gives 121 x 60)."""
-    size = get_profile(profile, "basins")
-    if ny is None:
-        ny = size["ny"] if nx is None else max(1, round(int(nx) * size["ny"] / size["nx"]))
-    nx = size["nx"] if nx is None else int(nx)
-    ny = int(ny)
+    nx, ny = basins_mesh(profile, nx, ny)
     ns = tuple(sorted(int(n) for n in ns))
     if not ns or ns[0] < 1:
         raise ValueError(f"ns={ns!r} is out of range: allowed integers >= 1")
