@@ -50,7 +50,8 @@ class LyapunovResult:
     non-sticking steps; ``det_mean``: closed-form mean of ln|det J| (telescoped);
     ``n_stuck``: sticking steps; ``n_steps``: steps used; ``active``: orbit still active at the end
     (where it ended before ``transient + n`` impacts -- stuck forever, no impact, step cap -- the
-    exponents are NaN: there is no average over ``n`` impacts).
+    exponents are NaN: there is no average over ``n`` impacts; ``lam_free`` is NaN too where every step
+    stuck).
     """
 
     param: str
@@ -107,7 +108,8 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     active = np.isin(res.status, (int(Status.STOPPED), int(Status.CAPPED)))
     n_st, n_ok = t["n_stuck"].astype(int), t["n_free"].astype(int)
     lam_free = t["log_r"] / np.maximum(n_ok, 1)[:, None]
-    lam_free = np.where(active[:, None], lam_free, np.nan)  # an orbit that ended has no exponent over n impacts
+    # an orbit that ended has no exponent over n impacts, and one whose every step stuck none of its free steps
+    lam_free = np.where(active[:, None] & (n_ok[:, None] > 0), lam_free, np.nan)
     lam = np.where(n_st[:, None] > 0, -np.inf, lam_free)
     lam = np.where(active[:, None], lam, np.nan)
     rr = np.asarray(p.r) * np.ones(m)

@@ -150,4 +150,9 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     Jn = np.asarray(J)
     # the scan records the walls of states 1..p; state p is state 0, so roll to align with tau/sdot
     return PeriodicOrbit(params, int(impacts), int(turns), np.mod(np.array(taus), float(TWO_PI)), np.array(sds),
-                         np.roll(np.asarray(walls), 1), np.linalg.eigvals(Jn), Jn, res, conv, it)
+                         np.roll(np.asarray(walls), 1), _multipliers(Jn), Jn, res, conv, it)
+
+
+def _multipliers(J: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the monodromy matrix; NaN where it is not finite (the orbit ended or overflowed)."""
+    return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(J.shape[0], np.nan)

@@ -360,3 +360,45 @@ def test_basins_mesh_keeps_the_profile_ratio():
     assert basins_mesh("quick", 240, None) == (240, 120)
     assert basins_mesh("paper", 100, None) == (100, 100)
     assert basins_mesh("quick", 10, 7) == (10, 7)
+
+
+# ------------------------------------------------------------- odd paths, extreme models, files
+
+def test_stdout_that_cannot_be_written_is_one_line(tmp_path, monkeypatch, capsys):
+    """`gear-rattle simulate > /dev/full` and a closed stdout (`>&-`) ended in tracebacks."""
+    import sys
+
+    monkeypatch.setattr(sys, "stdout", None)
+    assert main(["simulate", "--impacts", "2"]) == 2
+    full = open("/dev/full", "w")
+    monkeypatch.setattr(sys, "stdout", full)
+    try:
+        assert main(["simulate", "--impacts", "2"]) == 2
+    finally:
+        monkeypatch.undo()
+        full.close()
+    err = capsys.readouterr().err.splitlines()
+    assert "stdout is closed" in err[0] and "No space left on device" in err[1] and len(err) == 2
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["orbit", "find", "--gamma", "1e10", "--settle", "100"], "did not converge"),  # was 'Array must not ...'
+    (["orbit", "continue", "--r", "1", "--settle", "100"], "did not converge"),      # exit 2 from the library
+])
+def test_extreme_models_fail_in_one_line(args, needle, capsys):
+    rc, out, err = run_cli(args, capsys)
+    assert rc == 1 and out == "" and len(err.splitlines()) == 1 and needle in err, err
+
+
+def test_every_step_stuck_has_no_free_exponent():
+    """beta = 1e10: every step sticks; the exponents of the free steps were 0.0 (no free step)."""
+    import gear_rattle as gr
+
+    res = gr.lyapunov(gr.Params(3.0, 1e10, 0.1, 0.9), n_impacts=50, transient=5, progress=False)
+    assert res.n_stuck[0] == 50 and np.all(np.isneginf(res.lam)) and np.all(np.isnan(res.lam_free))
+
+
+def test_paths_with_spaces_and_unicode(tmp_path, capsys):
+    for name in ("a b/c d.csv", "ü/ß.json"):
+        assert main(["simulate", "--impacts", "2", "--output", str(tmp_path / name)]) == 0
+        assert (tmp_path / name).stat().st_size > 0

@@ -191,12 +191,31 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
 
     clear_status()
     if not _is_terminal(sys.stdout):
-        sys.stdout.write(json_text(result) + "\n")
+        to_stdout(json_text(result) + "\n")
         return
     lines = list(human)
     where = ", ".join(str(f) for f in files or () if str(f).endswith(".json"))
     lines.append("(the result as JSON: " + (f"{where}, or " if where else "") + "stdout redirected: `... > result.json`)")
-    sys.stdout.write("\n".join(lines) + "\n")
+    to_stdout("\n".join(lines) + "\n")
+
+
+def to_stdout(text: str) -> None:
+    """``text`` on stdout (flushed); a closed stdout or one that cannot be written (``> /dev/full``) is a
+    one-line :class:`CliError` (a broken pipe stays a BrokenPipeError: the command line stops quietly)."""
+    from ..core.progress import clear_status
+
+    clear_status()
+    if sys.stdout is None:
+        raise CliError("stdout is closed: allowed an open stdout, or --output FILE where the command has it")
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        devnull = os.open(os.devnull, os.O_WRONLY)  # the exit's flush of what is left must not fail again
+        os.dup2(devnull, sys.stdout.fileno())
+        raise CliError(f"stdout: cannot write: {e.strerror or e}") from None
 
 
 # ---------------------------------------------------------------------------------- outputs
@@ -336,10 +355,7 @@ def writing(option: str, path: str | None):
 def write_text(text: str, output: str | None, option: str = "--output") -> None:
     """Write to a file (parents created) or to stdout when ``output`` is None or '-'."""
     if output in (None, "-"):
-        from ..core.progress import clear_status
-
-        clear_status()
-        sys.stdout.write(text)
+        to_stdout(text)
         return
     write_file(option, output, lambda path: Path(path).write_text(text))
 

@@ -12,7 +12,7 @@ import argparse
 from functools import partial
 from pathlib import Path
 
-from ..cliutil import CliError, check_input_path
+from ..cliutil import CliError, check_input_path, to_stdout
 from .check import read_outputs, write_output
 
 
@@ -52,5 +52,5 @@ def run_orbits(args: argparse.Namespace) -> int:
             return 2
     scores = [score(rec, values[rec.id]) for rec in records]
     table = summary_table(scores)
-    print(table if not args.summary else table.splitlines()[-1])
+    to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
     return 0 if all(s.passed for s in scores) else 1

@@ -19,7 +19,7 @@ import sys
 from functools import partial
 from pathlib import Path
 
-from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir
+from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir, to_stdout
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -66,7 +66,8 @@ def read_outputs(reads: dict, malformed) -> dict | None:
         except malformed as e:
             errors.append(str(e))
     for e in errors:
-        print(f"gear-rattle check: error: {e}", file=sys.stderr)
+        e = " ".join(e.split())
+        print(f"gear-rattle check: error: {e if len(e) <= 500 else e[:500] + ' ... (cut)'}", file=sys.stderr)
     return None if errors else out
 
 
@@ -131,5 +132,5 @@ def run(args: argparse.Namespace) -> int:
         except MalformedFile as e:
             raise CliError(str(e)) from None
     table = summary_table(scores)
-    print(table if not args.summary else table.splitlines()[-1])
+    to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
     return 0 if all(s.passed for s in scores) else 1

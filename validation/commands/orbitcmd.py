@@ -103,9 +103,9 @@ def run(args: argparse.Namespace) -> int:
     return _continue(args, base, tau0, sdot0, bounds)
 
 
-def _find(args, base, tau0: float, sdot0: float) -> int:
+def _converged(args, base, tau0: float, sdot0: float):
+    """The periodic orbit through the guess, or :class:`CommandFailed` (one line, exit 1)."""
     from ...mapimpl.periodic import find_periodic
-    from ..dynamics.continuation import closed_form_det
 
     o = find_periodic(base, tau0, sdot0, args.period, args.turns)
     if not o.converged:
@@ -113,6 +113,13 @@ def _find(args, base, tau0: float, sdot0: float) -> int:
         raise CommandFailed(f"Newton did not converge (residual {o.residual:.2e} after {o.iterations} iterations): no "
                             f"{args.period}-impact, {args.turns}-turn orbit near the guess ({tau0!r}, {sdot0!r}) from "
                             f"{where}; try another guess, --period or parameters")
+    return o
+
+
+def _find(args, base, tau0: float, sdot0: float) -> int:
+    from ..dynamics.continuation import closed_form_det
+
+    o = _converged(args, base, tau0, sdot0)
     write_output(args, o)
     note(f"converged (residual {o.residual:.2e}, {o.iterations} iterations); multipliers "
          + ", ".join(f"{complex(m):.12g}" for m in o.multipliers) + f"; stable: {o.stable}")
@@ -124,6 +131,7 @@ def _find(args, base, tau0: float, sdot0: float) -> int:
 def _continue(args, base, tau0: float, sdot0: float, bounds: tuple[float, float]) -> int:
     from ..dynamics.continuation import continue_orbit
 
+    _converged(args, base, tau0, sdot0)  # the start, before the branch (a failure is exit 1, not a usage error)
     br = continue_orbit(base, args.param, tau0, sdot0, args.period, args.turns, mu_range=bounds,
                         direction=args.direction, ds=args.ds, ds_max=max(2e-2, args.ds), max_points=args.max_points)
     write_output(args, table=br.table, arrays=lambda: {
