@@ -402,3 +402,23 @@ def test_paths_with_spaces_and_unicode(tmp_path, capsys):
     for name in ("a b/c d.csv", "ü/ß.json"):
         assert main(["simulate", "--impacts", "2", "--output", str(tmp_path / name)]) == 0
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_every_numeric_option_states_its_range():
+    """--help missed the ranges of --transient, --lo/--hi, --settle, --n-lo, --window, --eps-min and the
+    atlas options: every option that takes a number says what is allowed."""
+    import argparse
+    import re
+
+    from gear_rattle.validation.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    missing = []
+    for name, sp in sub.choices.items():
+        for a in sp._actions:
+            numeric = a.type is float or getattr(a.type, "__name__", "") in ("integer", "number")
+            if not numeric or a.help == argparse.SUPPRESS:
+                continue
+            if not re.search(r"<=|<|>=|>| to \d|\d to |!=|nonzero|finite", a.help):
+                missing.append(f"{name} {a.option_strings[0]}: {a.help}")
+    assert not missing, missing

@@ -19,7 +19,7 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="capture distance to the periodic orbit, sup norm of (tau mod 2pi, sdot), 0 < delta <= 1 "
                         "(default 0.001)")
     p.add_argument("--lanes", type=positive_int("--lanes", MAX_LANES), default=None,
-                   help=f"orbits advanced together per device, at most {MAX_LANES} "
+                   help=f"orbits advanced together per device, 1 to {MAX_LANES} "
                         "(default: the orbits per device, at most 256 on a CPU with the engine's XLA options, 512 "
                         "without them, 65536 on an accelerator)")
     add_output_options(p, out=("out/transients", "output directory (default out/transients)"), quiet="no progress bar")

@@ -30,7 +30,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"highest value, in the parameter's range, >= --lo (default {SCAN_OF['r'].hi} for r, "
                         f"{SCAN_OF['alpha'].hi} for alpha)")
     p.add_argument("--values", type=positive_int("--values", MAX_VALUES), default=200,
-                   help=f"number of parameter values, at most {MAX_VALUES} (default 200)")
+                   help=f"number of parameter values, 1 to {MAX_VALUES} (default 200)")
     p.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=1000,
                    help=f"impacts discarded first, 0 to {MAX_IMPACTS} (default 1000)")
     p.add_argument("--impacts", type=positive_int("--impacts", MAX_KEEP), default=200,
@@ -42,7 +42,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
     p.add_argument("--lyapunov", type=nonneg_int("--lyapunov", MAX_AVERAGED), default=0, metavar="N",
-                   help="also compute Lyapunov exponents over N impacts, figure panel b (default 0: not computed)")
+                   help=f"also compute Lyapunov exponents over N impacts, 0 to {MAX_AVERAGED}, figure panel b (default 0: "
+                        "not computed)")
     add_output_options(p, output="the diagram's points", plot="write the figure (default: no figure)")
 
 

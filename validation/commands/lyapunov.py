@@ -25,7 +25,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "--alpha value)")
     p.add_argument("--hi", type=real("--hi"), default=None, help="highest value, in the range, >= --lo (default: --lo)")
     p.add_argument("--values", type=positive_int("--values", MAX_VALUES), default=1,
-                   help=f"number of parameter values, at most {MAX_VALUES} (default 1)")
+                   help=f"number of parameter values, 1 to {MAX_VALUES} (default 1)")
     p.add_argument("--impacts", type=positive_int("--impacts", MAX_AVERAGED), default=20000,
                    help=f"impacts averaged after --transient, 1 to {MAX_AVERAGED} (default 20000)")
     p.add_argument("--transient", type=nonneg_int("--transient", MAX_AVERAGED), default=1000,

@@ -42,10 +42,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     c = p.add_argument_group("continue only")
     c.add_argument("--param", choices=("r", "alpha"), default=None, help="continuation parameter (default r)")
     c.add_argument("--lo", type=real("--lo"), default=None,
-                   help="lower bound of the continuation parameter, in its range (default: its value - 0.1)")
+                   help="lower bound of the continuation parameter, in its range (0 < r <= 1, 0 <= alpha <= 1e10), <= "
+                        "its value (default: its value - 0.1)")
     c.add_argument("--hi", type=real("--hi"), default=None,
-                   help="upper bound of the continuation parameter, in its range (default: its value + 0.1, at most "
-                        "1 for r)")
+                   help="upper bound of the continuation parameter, in its range, >= its value (default: its value + "
+                        "0.1, at most 1 for r)")
     c.add_argument("--direction", type=int, choices=(1, -1), default=None, help="initial sense, 1 or -1 (default 1)")
     c.add_argument("--ds", type=real("--ds", lo=0.0, lo_open=True, hi=1.0), default=None,
                    help="initial arclength step, 0 < ds <= 1 (default 0.002)")

@@ -19,16 +19,16 @@ HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time tau0, |tau0| <= 1e6 (default 0.0)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity (default 0.5)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial pre-impact velocity, finite (> 0 hits s = 0, < 0 hits s = -1; with --s0 any) (default 0.5)")
     p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
                    help="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
     p.add_argument("--impacts", type=nonneg_int("--impacts", MAX_IMPACTS), default=1000,
-                   help=f"impacts after impact 0, at most {MAX_IMPACTS} (default 1000)")
+                   help=f"impacts after impact 0, 0 to {MAX_IMPACTS} (default 1000)")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
                    help="which track computes the orbit (default map)")
     add_output_options(p, output="the events", plot="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
     p.add_argument("--plot-span", type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4), default=50.0,
-                   help="time span of the plot in tau units, at most 1e4 (default 50.0)")
+                   help="time span of the plot in tau units, 0 < span <= 1e4 (default 50.0)")
 
 
 def run(args: argparse.Namespace) -> int:
