@@ -207,15 +207,23 @@ def test_spec_mismatch_refused(tmp_path):
 def test_cli_serial_run_resume_and_mismatch(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
-    text = capsys.readouterr().out
-    assert "4 tiles computed, 0 found in the store" in text
+    printed = json.loads(capsys.readouterr().out)  # stdout, not a terminal: the summary as strict JSON
+    assert printed["run"]["tiles_computed"] == 4 and printed["run"]["tiles_resumed"] == 0
     summary = json.loads((out / "atlas_summary.json").read_text())
     assert summary["points_computed"] == 12 and summary["run"]["tiles_computed"] == 4
     fig4 = summary["paper lines"]["Fig. 4 (alpha = 3)"]
     assert fig4["grid_line"] == {"alpha": 3.0} and fig4["points"] == 3
     assert (out / "atlas.png").stat().st_size > 10_000
     assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
-    assert "nothing to compute, all 4 tiles found in the store" in capsys.readouterr().out
+    resumed = json.loads(capsys.readouterr().out)["run"]
+    assert resumed["tiles_computed"] == 0 and resumed["tiles_resumed"] == 4
+    from gear_rattle.validation import cliutil  # on a terminal: lines for a person, no 'nan' rate
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(cliutil, "_is_terminal", lambda stream: True)
+        assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "nothing to compute, all 4 tiles found in the store" in text and "nan" not in text
     # another spec on the same store: refused in one line, before computing
     rc = main(CLI_SMALL + ["--impacts", "400", "--scheduler", "serial", "--out", str(out)])
     err = capsys.readouterr().err

@@ -227,9 +227,11 @@ def _nearest_existing(path: Path) -> Path:
     return p
 
 
-def _check_creatable_in(path: Path, option: str) -> None:
-    """The directory that will hold ``path`` exists or can be created, and accepts new files."""
+def _check_creatable_in(path: Path, option: str, shown: Path | None = None) -> None:
+    """The directory that will hold ``path`` exists or can be created, and accepts new files (messages
+    name ``shown``, default ``path``)."""
     anc = _nearest_existing(path.parent)
+    path = shown if shown is not None else path
     if not anc.is_dir():
         raise CliError(f"{option}: cannot create {str(path)!r}: {str(anc)!r} is not a directory")
     try:  # a real probe (permissions, read-only or pseudo file systems): created and removed at once
@@ -312,7 +314,7 @@ def check_output_dir(path: str, option: str) -> None:
         except OSError as e:
             raise CliError(f"{option}: cannot write in directory {path!r}: {e.strerror or e}") from None
         return
-    _check_creatable_in(p / "x", option)
+    _check_creatable_in(p / "x", option, shown=p)
 
 
 def check_input_path(path: str, option: str, *, directory: bool) -> Path:
