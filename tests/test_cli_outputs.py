@@ -260,6 +260,19 @@ def test_every_json_file_is_strict(tmp_path, capsys):
         strict_json(f.read_text())
 
 
+def test_every_committed_json_file_is_strict():
+    """The published report's crises.json held bare Infinity (written before the strict writer): every JSON
+    file of the repository (the report, the golden cases, the benchmarks) parses with a parser that
+    refuses NaN and the infinities."""
+    files = [f for top in ("docs", "validation", "benchmarks", "tests") for f in (ROOT / top).rglob("*.json")]
+    assert len(files) > 50, files  # the golden cases and the report are there
+    for f in files:
+        try:
+            strict_json(f.read_text())
+        except ValueError as e:
+            pytest.fail(f"{f.relative_to(ROOT)}: {e}")
+
+
 def test_report_json_is_strict_and_rerender_reads_null_back(tmp_path, monkeypatch):
     """summary.json and document.json went through json.dumps (a NaN value was written as NaN); now the
     strict writer, and rerender reads the report back."""
