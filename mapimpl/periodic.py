@@ -129,6 +129,8 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
         try:
             dx = np.linalg.solve(np.asarray(J) - np.eye(2), -G)
         except np.linalg.LinAlgError:
+            if it > 1:  # at a later iterate: Newton failed there (not converged), the guess was fine
+                break
             raise ValueError(f"the Newton step is singular at (tau, sdot) = ({float(x[0])!r}, {float(x[1])!r}) (DF^p - I has no "
                              f"inverse: a multiplier is 1): allowed a guess (tau0, sdot0) where it is "
                              "invertible, e.g. closer to the orbit") from None

@@ -362,6 +362,18 @@ def test_find_periodic_singular_step_and_divergence(monkeypatch):
     monkeypatch.setattr(P, "pfold", identity_jacobian)
     with pytest.raises(ValueError, match="singular"):
         P.find_periodic(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 6)
+    # singular at a later iterate (orbit find --r 1 --alpha 1e10 was exit 2, 'allowed a guess ...', for a guess
+    # it had not been given): Newton stops there, not converged
+    calls = []
+
+    def singular_after_the_first(*a, **k):
+        tp, sp, J, walls, stuck, ok = real(*a, **k)
+        calls.append(1)
+        return tp, sp, (J if len(calls) == 1 else np.eye(2)), walls, stuck, ok
+
+    monkeypatch.setattr(P, "pfold", singular_after_the_first)
+    o = P.find_periodic(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 6)
+    assert not o.converged and o.iterations == 2
 
 
 def test_basins_mesh_keeps_the_profile_ratio():
