@@ -132,7 +132,9 @@ def _run_line(spec, ru: dict, scheduler: str) -> str:
     head = (f"atlas {spec.n_alpha} x {spec.n_r} (alpha {spec.alpha_lo:g}..{spec.alpha_hi:g}, r {spec.r_lo:g}.."
             f"{spec.r_hi:g}): ")
     if ru["tiles_computed"] == 0:
-        return head + f"nothing to compute, all {ru['tiles_resumed']} tiles found in the store"
+        n = ru["tiles_resumed"]
+        return head + ("nothing to compute, the one tile found in the store" if n == 1 else
+                       f"nothing to compute, all {n} tiles found in the store")
     tile_rate = ru["median tile throughput per worker (points x impacts / s, wall)"]
     return head + (f"{ru['tiles_computed']} tiles computed, {ru['tiles_resumed']} found in the store; "
                    f"{ru['wall_seconds']:.1f} s on {ru['workers']} worker(s) ({scheduler}), "
