@@ -447,3 +447,22 @@ def test_every_numeric_option_states_its_range():
             if not re.search(r"<=|<|>=|>| to \d|\d to |!=|nonzero|finite", a.help):
                 missing.append(f"{name} {a.option_strings[0]}: {a.help}")
     assert not missing, missing
+
+
+@pytest.mark.parametrize("text, value", [("1000", 1000), ("1e3", 1000), ("2.0e1", 20), ("1_0", 10), (" 7", 7),
+                                         ("0e5", 0), ("1.5", None), ("nan", None), ("inf", None), ("0x10", None),
+                                         ("1e-400000", None), ("1e400000", "range"), ("-1e31", "range")])
+def test_integer_options_take_exponent_notation(text, value):
+    """--impacts 1e3 was refused ('not an integer'); an integral value in exponent notation is the integer,
+    1.5 or nan is refused naming the range, 1e400000 is out of range (not converted)."""
+    import argparse
+
+    from gear_rattle.validation.cliutil import int_range
+
+    conv = int_range("--impacts", 0, 10_000_000)
+    if isinstance(value, int):
+        assert conv(text) == value
+    else:
+        msg = "is out of range: allowed 0 <=" if value == "range" else "is not an integer: allowed 0 <="
+        with pytest.raises(argparse.ArgumentTypeError, match=msg):
+            conv(text)

@@ -89,14 +89,33 @@ def progress_arg(args: argparse.Namespace):
 
 # ------------------------------------------------------------------------------ option types
 
+def _integer(text: str) -> int | None:
+    """``text`` as an integer, also in decimal exponent notation when its value is exactly an integer
+    (``--impacts 1e6``, ``2.0e3``); None for anything else (``1.5``, ``nan``, ``0x10``)."""
+    from decimal import Decimal, InvalidOperation
+
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        d = Decimal(text.strip())
+    except (InvalidOperation, ValueError):
+        return None
+    if not d.is_finite():
+        return None
+    if d.adjusted() > 30:  # beyond every option's range (and not worth converting): the range message
+        return 10 ** 31 if d > 0 else -10 ** 31
+    return int(d) if d == d.to_integral_value() else None
+
+
 def int_range(name: str, lo: int, hi: int):
     """argparse type: an integer ``lo <= v <= hi``, with a message naming the option and the range."""
 
     def conv(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer") from None
+        v = _integer(text)
+        if v is None:
+            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer: allowed {lo} <= {name} <= {hi}")
         if not lo <= v <= hi:
             raise argparse.ArgumentTypeError(f"{name}={text} is out of range: allowed {lo} <= {name} <= {hi}")
         return v
