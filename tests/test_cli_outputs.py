@@ -466,3 +466,11 @@ def test_integer_options_take_exponent_notation(text, value):
         msg = "is out of range: allowed 0 <=" if value == "range" else "is not an integer: allowed 0 <="
         with pytest.raises(argparse.ArgumentTypeError, match=msg):
             conv(text)
+
+
+@pytest.mark.parametrize("args", [["--r", "0.05"], ["--param", "alpha", "--alpha", "0.05"]])
+def test_orbit_continue_default_bounds_are_in_range(args, capsys):
+    """orbit continue --r 0.05 refused its own default '--lo=-0.05' (the value - 0.1): the defaults stay
+    in the parameter's range, so the run gets past the bounds (to Newton)."""
+    rc, out, err = run_cli(["orbit", "continue", *args, "--settle", "20", "--max-points", "2", "--quiet"], capsys)
+    assert "--lo" not in err and "--hi" not in err and rc in (0, 1), err

@@ -62,10 +62,10 @@ def params_from(args: argparse.Namespace) -> Params:
     return Params(*(d[k] if getattr(args, k) is None else getattr(args, k) for k in ("alpha", "beta", "gamma", "r")))
 
 
-def check_scan(args: argparse.Namespace, lo: float, hi: float) -> tuple[float, float]:
+def check_scan(args: argparse.Namespace, lo: float, hi: float, *, strict: bool = False) -> tuple[float, float]:
     """``(lo, hi)`` of a scan of ``--param`` from ``--lo``/``--hi`` (defaults ``lo``, ``hi``): both values
-    of the parameter (its range, :data:`core.params.RANGES`) and ``lo <= hi``; one-line
-    :class:`CliError` naming the option before anything is computed."""
+    of the parameter (its range, :data:`core.params.RANGES`) and ``lo <= hi`` (``lo < hi`` if ``strict``);
+    one-line :class:`CliError` naming the option before anything is computed."""
     from ..core.params import RANGES, check_value
 
     lo = args.lo if args.lo is not None else lo
@@ -76,8 +76,8 @@ def check_scan(args: argparse.Namespace, lo: float, hi: float) -> tuple[float, f
         except ValueError:
             raise CliError(f"{opt}={v!r} is out of range: allowed a value of --param {args.param}, "
                            f"{RANGES[args.param]}") from None
-    if not lo <= hi:
-        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo <= hi")
+    if not (lo < hi if strict else lo <= hi):
+        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo {'<' if strict else '<='} hi")
     return lo, hi
 
 

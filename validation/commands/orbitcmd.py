@@ -13,7 +13,7 @@ import argparse
 import numpy as np
 
 from ..cliutil import (MAX_IMPACTS, MAX_VALUES, CliError, CommandFailed, add_output_options, add_param_args, add_renamed,
-                       check_outputs, int_range, note, params_from, positive_int, real, tau0_type, write_output,
+                       check_outputs, check_scan, int_range, note, params_from, positive_int, real, tau0_type, write_output,
                        write_plot)
 
 NAME = "orbit"
@@ -43,7 +43,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     c.add_argument("--param", choices=("r", "alpha"), default=None, help="continuation parameter (default r)")
     c.add_argument("--lo", type=real("--lo"), default=None,
                    help="lower bound of the continuation parameter, in its range (0 < r <= 1, 0 <= alpha <= 1e10), <= "
-                        "its value (default: its value - 0.1)")
+                        "its value (default: its value - 0.1, at least 0 for alpha and half the value for r)")
     c.add_argument("--hi", type=real("--hi"), default=None,
                    help="upper bound of the continuation parameter, in its range, >= its value (default: its value + "
                         "0.1, at most 1 for r)")
@@ -58,8 +58,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _check(args: argparse.Namespace, base) -> tuple[float, float] | None:
     """Every option checked before computing; the continuation bounds ``(lo, hi)`` for 'continue'."""
-    from ...core.params import check_value
-
     given = [k for k in CONTINUATION if getattr(args, k) is not None]
     if args.action == "find":
         if given or args.plot:
@@ -70,16 +68,11 @@ def _check(args: argparse.Namespace, base) -> tuple[float, float] | None:
         if getattr(args, k) is None:
             setattr(args, k, v)
     mu = getattr(base, args.param)
-    lo = args.lo if args.lo is not None else mu - 0.1
-    hi = args.hi if args.hi is not None else (min(mu + 0.1, 1.0) if args.param == "r" else mu + 0.1)
-    for opt, v in (("--lo", lo), ("--hi", hi)):
-        try:
-            check_value(args.param, v)
-        except ValueError:
-            raise CliError(f"{opt}={v!r} is out of range: allowed a value of --param {args.param} "
-                           f"({'0 < r <= 1' if args.param == 'r' else '0 <= alpha <= 1e10'})") from None
-    if not lo < hi:
-        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo < hi")
+    if args.param == "r":  # defaults within the range (r = 0.05 had the default --lo=-0.05 refused)
+        default_lo, default_hi = (mu - 0.1 if mu > 0.2 else mu / 2), min(mu + 0.1, 1.0)
+    else:
+        default_lo, default_hi = max(mu - 0.1, 0.0), mu + 0.1
+    lo, hi = check_scan(args, default_lo, default_hi, strict=True)
     if not lo <= mu <= hi:
         raise CliError(f"--lo={lo!r}, --hi={hi!r}: allowed bounds around the starting --{args.param}={mu!r}")
     return lo, hi
