@@ -352,3 +352,32 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
             os.killpg(p.pid, signal.SIGKILL)
     assert rc == 130 and err.strip() == "gear-rattle atlas: interrupted", err
     assert latency < 2.0, f"Ctrl-C acted after {latency:.2f} s"  # measured 0.05-0.07 s (see test_interrupt)
+
+
+def test_local_cluster_with_port_8787_taken_says_nothing():
+    """The scheduler's HTTP server took the default port 8787; with another cluster on the machine there
+    ('Port 8787 is already in use', and a ResourceWarning) the command line showed both as notes, also
+    on Ctrl-C.  It now listens on a free port: no warning whoever holds 8787."""
+    import socket
+    import warnings
+
+    from gear_rattle.validation.atlas.run import _local_cluster
+
+    holder = socket.socket()
+    try:
+        holder.bind(("0.0.0.0", 8787))
+        holder.listen()
+    except OSError:  # another cluster holds it already: the case itself
+        pass
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            cluster, client = _local_cluster(1)
+            try:
+                assert cluster.scheduler.http_server.port != 8787
+            finally:
+                client.close()
+                cluster.close()
+    finally:
+        holder.close()
+    assert not [str(w.message) for w in caught if "8787" in str(w.message) or "unclosed" in str(w.message)]
