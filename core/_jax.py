@@ -43,6 +43,11 @@ def command_line_process() -> bool:
 
 #: The line a Ctrl-C prints in the command line (the CLI adds the command's name once it is known).
 INTERRUPTED = ["gear-rattle: interrupted"]
+#: Folders a Ctrl-C removes before the process ends (a report's staging folder: nothing half-written stays).
+CLEANUP: list[str] = []
+#: What clears a progress bar from the terminal line before the Ctrl-C line (set by
+#: :class:`core.progress.Bar`); without one, the line is cleared when stderr is a terminal.
+CLEAR_LINE: list = []
 
 
 def exit_interrupted(signum=None, frame=None) -> None:
@@ -55,6 +60,16 @@ def exit_interrupted(signum=None, frame=None) -> None:
     try:
         sys.stdout.flush()
     except Exception:  # noqa: BLE001 - a closed or broken stdout: nothing to keep
+        pass
+    try:
+        if os.isatty(2):  # a progress bar or status line: cleared, not left half-drawn (with the ^C echo)
+            for clear in CLEAR_LINE or [lambda: os.write(2, b"\r\033[K")]:
+                clear()
+        import shutil
+
+        for folder in list(CLEANUP):
+            shutil.rmtree(folder, ignore_errors=True)
+    except Exception:  # noqa: BLE001 - never keep the process from ending
         pass
     try:
         os.write(2, (INTERRUPTED[0] + "\n").encode())

@@ -80,6 +80,15 @@ def check_value(name: str, value: float) -> float:
     return x
 
 
+def check_params(params, name: str = "params") -> "Params":
+    """``params`` if it is a :class:`Params`; ``TypeError`` naming the argument otherwise (a dict of
+    values is not validated parameters: ``Params(**d)`` makes one)."""
+    if not isinstance(params, Params):
+        hint = " (make one with gear_rattle.Params(**d))" if isinstance(params, dict) else ""
+        raise TypeError(f"{name} is a {type(params).__name__}: allowed a gear_rattle.Params{hint}")
+    return params
+
+
 class ParamArrays(NamedTuple):
     """Parameters as float64 JAX arrays (scalars or broadcastable batches) for the kernels."""
 
@@ -100,7 +109,11 @@ class Params:
 
     def __post_init__(self) -> None:
         for name in ("alpha", "beta", "gamma", "r"):
-            object.__setattr__(self, name, check_value(name, getattr(self, name)))
+            value = getattr(self, name)
+            if isinstance(value, (str, bytes, bool, complex)) or value is None:  # no silent coercion of '3'
+                raise TypeError(f"Params: {name}={value!r} is a {type(value).__name__}: allowed a real number, "
+                                f"{RANGES[name]}")
+            object.__setattr__(self, name, check_value(name, value))
 
     def arrays(self) -> ParamArrays:
         """The parameters as float64 JAX scalars, for the kernels."""

@@ -46,7 +46,8 @@ class ImpactSequence:
     reached); impacts 1..N follow.  Sticking rows carry the index of the impact after which the
     tooth sticks.
 
-    ``n``: impact index; ``tau``: elapsed time; ``theta``: tau mod 2 pi; ``wall``: 0 or -1;
+    ``n``: impact index; ``tau``: the time of the event (absolute: impact 0 of a start at an impact is at
+    ``tau0``, not 0); ``theta``: tau mod 2 pi; ``wall``: 0 or -1;
     ``sdot``: velocity just before the impact (NaN for stick/release rows); ``kind``: event kind
     (:data:`KINDS`).  ``status``: final orbit status (:data:`~gear_rattle.core.status.TRACK_STATUSES`); ``track``: which
     track produced it; ``meta``: the call's arguments and solver options.
@@ -86,24 +87,40 @@ class ImpactSequence:
             for n, t, th, w, v, k in zip(self.n, self.tau, self.theta, self.wall, self.sdot, self.kind)
         ]
 
+    def table(self) -> tuple[list[str], list[list]]:
+        """``(header, rows)``: the :data:`COLUMNS` and one row per event (``sdot`` None on stick/release
+        rows), for a CSV writer."""
+        return list(COLUMNS), [[r[c] for c in COLUMNS] for r in self.rows()]
+
+    def arrays(self) -> dict:
+        """The events as arrays (``kind`` as text), the parameters, track and status: an NPZ file's
+        content."""
+        p = self.params
+        return dict(n=self.n, tau=self.tau, tau_mod_2pi=self.theta, wall=self.wall, sdot=self.sdot,
+                    kind=np.asarray(self.kind, dtype=str), alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r,
+                    track=self.track, status=self.status)
+
+    def as_dict(self) -> dict:
+        """The parameters, status, track, the call's arguments (``meta``) and the event rows: a JSON
+        file's content (:meth:`to_json`)."""
+        p = self.params
+        return {"params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
+                "track": self.track, "status": self.status, "n_sticking": self.n_sticking,
+                "meta": self.meta, "events": self.rows()}
+
     def to_csv(self) -> str:
         """CSV text, one row per event, columns :data:`COLUMNS` (17 significant digits)."""
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
-        w.writerow(COLUMNS)
-        for row in self.rows():
-            w.writerow([row["n"], repr(row["tau"]), repr(row["tau_mod_2pi"]), row["wall"],
-                        "" if row["sdot"] is None else repr(row["sdot"]), row["kind"]])
+        header, rows = self.table()
+        w.writerow(header)
+        for row in rows:
+            w.writerow(["" if v is None else repr(v) if isinstance(v, float) else v for v in row])
         return buf.getvalue()
 
     def to_json(self) -> str:
-        """JSON text with the parameters, status, track and the event rows."""
-        p = self.params
-        return json.dumps({
-            "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
-            "track": self.track, "status": self.status, "n_sticking": self.n_sticking,
-            "meta": self.meta, "events": self.rows(),
-        }, indent=1)
+        """Strict JSON text of :meth:`as_dict` (a NaN in ``meta`` raises ``ValueError``)."""
+        return json.dumps(self.as_dict(), indent=1, allow_nan=False)
 
 
 class StepJacobian(NamedTuple):

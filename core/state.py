@@ -119,7 +119,7 @@ def chunk_length(n: int, chunk: int) -> int:
     return min(int(chunk), SHORT) if int(n) <= SHORT else int(chunk)
 
 
-def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int):
+def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, progress=False, label: str = "orbit"):
     """``run(first, params.arrays(), n)`` -- ``n`` steps of a track's map, a jitted ``lax.scan`` of
     ``length`` (static) steps returning a pytree whose ``states`` field is the stacked
     :class:`MapState` -- as a sequence of fixed-length scans (the map track,
@@ -129,8 +129,12 @@ def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int):
     next starts, so a KeyboardInterrupt (Ctrl-C) acts between chunks, within a fraction of a second.
     The steps are the same as in one long scan (the carry is the state), so the result is bitwise the
     same.  The run stops early once the orbit has ended (terminal states are frozen by the map, and
-    :func:`sequence_from_states` stops at the first one).
+    :func:`sequence_from_states` stops at the first one).  ``progress``: a bar of the impacts (None or
+    True: when stderr is a terminal and the run lasts over a second) or a callable ``(done, n)``
+    (:mod:`core.progress`).
     """
+    from .progress import Bar, sink, wanted
+
     n = int(n)
     if int(chunk) < 1:
         raise ValueError(f"chunk={chunk!r} is out of range: allowed chunk >= 1")
@@ -138,15 +142,20 @@ def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int):
     length = chunk_length(n, chunk)
     parts = []
     state, done = first, 0
-    while done < n:
-        traj = run(state, pa, length)
-        take = min(length, n - done)
-        part = jax.tree_util.tree_map(lambda x: np.asarray(x)[:take], traj)  # blocks: Ctrl-C acts here
-        parts.append(part)
-        done += take
-        state = MapState(*(jnp.asarray(x[-1]) for x in part.states))  # host copies: bitwise the carry
-        if int(state.status) != Status.ACTIVE:
-            break
+    report = sink(progress)
+    with Bar(label, total=n, enabled=wanted(progress), delay=1.0) as bar:
+        while done < n:
+            traj = run(state, pa, length)
+            take = min(length, n - done)
+            part = jax.tree_util.tree_map(lambda x: np.asarray(x)[:take], traj)  # blocks: Ctrl-C acts here
+            parts.append(part)
+            done += take
+            bar.update(done)
+            if report is not None:
+                report(done, n)
+            state = MapState(*(jnp.asarray(x[-1]) for x in part.states))  # host copies: bitwise the carry
+            if int(state.status) != Status.ACTIVE:
+                break
     if not parts:  # n = 0: empty arrays of the right shapes and types (traced, not compiled)
         shapes = jax.eval_shape(lambda s: run(s, pa, 0), first)
         return jax.tree_util.tree_map(lambda a: np.zeros(a.shape, a.dtype), shapes)

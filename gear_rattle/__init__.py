@@ -42,37 +42,66 @@ __all__ = ["__version__", "Params", "orbit", "find_periodic", "lyapunov", "trans
 
 
 
+def _renamed(old: str, new: str, value, old_value):
+    """The value of a keyword argument renamed from ``old`` to ``new`` (the old name still works, with a
+    DeprecationWarning); ``TypeError`` when both are given."""
+    if old_value is None:
+        return value
+    if value is not None:
+        raise TypeError(f"give {new}= or its old name {old}=, not both")
+    import warnings
+
+    warnings.warn(f"{old}= is deprecated: use {new}= (same meaning)", DeprecationWarning, stacklevel=3)
+    return old_value
+
+
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: str = "map",
-          s0: float | None = None, **options):
+          s0: float | None = None, progress=False, **solver_options):
     """Impact sequence of one orbit (:class:`gear_rattle.core.results.ImpactSequence`) on ``track``:
     impact 0 is the pre-impact state ``(tau0, sdot0)`` (or, with ``s0``, the first impact of the
-    free flight from ``(tau0, s0, sdot0)``), then ``n_impacts`` further impacts."""
+    free flight from ``(tau0, s0, sdot0)``), then ``n_impacts`` further impacts.  ``progress``: True
+    for a bar on a terminal (:mod:`gear_rattle.core.progress`).  ``solver_options`` of the numerical
+    tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``, ``max_steps`` (diffrax);
+    the map track takes none."""
     from .mapimpl.tracks import orbit as _orbit
 
-    return _orbit(track, params, tau0, sdot0, n_impacts, s0=s0, **options)
+    return _orbit(track, params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
 
 
-def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns: int = 1, **options):
-    """Newton search for a periodic orbit with ``impacts`` impacts per ``turns`` driving periods
-    (:func:`gear_rattle.mapimpl.periodic.find_periodic`)."""
+def find_periodic(params: Params, tau0: float, sdot0: float, period: int | None = None, turns: int = 1, *,
+                  tol: float = 1e-12, max_iter: int = 60, impacts: int | None = None):
+    """Newton search for a periodic orbit with ``period`` impacts per ``turns`` driving periods
+    (:func:`gear_rattle.mapimpl.periodic.find_periodic`; ``impacts=`` is the old name of ``period``)."""
     from .mapimpl.periodic import find_periodic as _find
 
-    return _find(params, tau0, sdot0, impacts, turns, **options)
+    period = _renamed("impacts", "period", period, impacts)
+    if period is None:
+        raise TypeError("find_periodic() missing the argument period (impacts per orbit)")
+    return _find(params, tau0, sdot0, period, turns, tol=tol, max_iter=max_iter)
 
 
-def lyapunov(params: Params, param: str = "r", values=None, **options):
+def lyapunov(params: Params, param: str = "r", values=None, *, n_impacts: int | None = None, transient: int = 1000,
+             tau0: float = 0.0, sdot0: float = 0.5, progress=None, n: int | None = None):
     """Lyapunov exponents of the impact map (QR method) at ``values`` of ``param`` (default: the
-    value in ``params``); see :func:`gear_rattle.mapimpl.lyapunov.lyapunov`."""
+    value in ``params``), averaged over ``n_impacts`` impacts (default 20000) after ``transient``; see
+    :func:`gear_rattle.mapimpl.lyapunov.lyapunov` (``n=`` is the old name of ``n_impacts``)."""
     from .mapimpl.lyapunov import lyapunov as _lyap
 
-    return _lyap(params, param, values, **options)
+    n_impacts = _renamed("n", "n_impacts", n_impacts, n)
+    return _lyap(params, param, values, n=20000 if n_impacts is None else n_impacts, transient=transient, tau0=tau0,
+                 sdot0=sdot0, progress=progress)
 
 
-def transient_times(tau0, sdot0, params: Params | None = None, **options):
+def transient_times(tau0, sdot0, params: Params | None = None, *, ic_mode: str = "pre-impact", s0=None,
+                    delta: float | None = None, deltas=None, cap: int = 20000, release: str = "compose",
+                    lanes: int | None = None, progress=None, stick_time: float | None = None, devices=None):
     """Transient durations until capture by the stable periodic orbit, for many initial conditions
     (:func:`gear_rattle.mapimpl.engine.transients.transient_times`; default parameters: the paper's
-    Figs. 9-11, alpha = 1.245, beta = gamma = 0.1, r = 0.9)."""
+    Figs. 9-11, alpha = 1.245, beta = gamma = 0.1, r = 0.9).  ``delta``, ``deltas``, ``stick_time``:
+    None for that function's defaults."""
     from .mapimpl.engine.transients import transient_times as _tt
     from .core.paper import PAPER_PARAMS
 
-    return _tt(tau0, sdot0, PAPER_PARAMS if params is None else params, **options)
+    kw = {k: v for k, v in dict(delta=delta, deltas=deltas, stick_time=stick_time).items() if v is not None}
+    return _tt(tau0, sdot0, PAPER_PARAMS if params is None else params, ic_mode=ic_mode, s0=s0, cap=cap,
+               release=release, lanes=lanes, progress=progress, devices=devices, **kw)

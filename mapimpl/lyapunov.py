@@ -48,7 +48,10 @@ class LyapunovResult:
 
     ``lam``: (n, 2) exponents (``-inf`` where a step stuck); ``lam_free``: exponents over the
     non-sticking steps; ``det_mean``: closed-form mean of ln|det J| (telescoped);
-    ``n_stuck``: sticking steps; ``n_steps``: steps used; ``active``: orbit still active at the end.
+    ``n_stuck``: sticking steps; ``n_steps``: steps used; ``active``: orbit still active at the end
+    (where it ended before ``transient + n`` impacts -- stuck forever, no impact, step cap -- the
+    exponents are NaN: there is no average over ``n`` impacts; ``lam_free`` is NaN too where every step
+    stuck).
     """
 
     param: str
@@ -86,6 +89,9 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts: one orbit per value on the
     many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer).  ``values``:
     default the value of ``param`` in ``base`` (one orbit)."""
+    from ..core.params import check_params
+
+    check_params(base, "base")
     n = check_int("n", n, 1, 50_000_000)
     transient = check_int("transient", transient, 0, 50_000_000)
     if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):
@@ -102,7 +108,10 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     active = np.isin(res.status, (int(Status.STOPPED), int(Status.CAPPED)))
     n_st, n_ok = t["n_stuck"].astype(int), t["n_free"].astype(int)
     lam_free = t["log_r"] / np.maximum(n_ok, 1)[:, None]
+    # an orbit that ended has no exponent over n impacts, and one whose every step stuck none of its free steps
+    lam_free = np.where(active[:, None] & (n_ok[:, None] > 0), lam_free, np.nan)
     lam = np.where(n_st[:, None] > 0, -np.inf, lam_free)
+    lam = np.where(active[:, None], lam, np.nan)
     rr = np.asarray(p.r) * np.ones(m)
     beta = np.asarray(p.beta) * np.ones(m)
     steps = np.maximum(res.n - transient, 1)

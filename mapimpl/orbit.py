@@ -61,23 +61,28 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
 
-def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK):
+def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK, progress=False):
     """:func:`mapimpl.impact_map.iterate` for ``n`` steps, run as a sequence of fixed-length scans
     (:func:`core.state.run_in_chunks`): Ctrl-C acts between chunks, and the result is bitwise the one
     of a single scan."""
-    return run_in_chunks(_iterate_jit, first, params, n, chunk)
+    return run_in_chunks(_iterate_jit, first, params, n, chunk, progress=progress, label="map orbit")
 
 
 def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-              chunk: int = CHUNK) -> ImpactSequence:
+              chunk: int = CHUNK, progress=False) -> ImpactSequence:
     """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13).
 
     Runs in chunks of ``chunk`` impacts (:func:`iterate_chunked`): interruptible with Ctrl-C, and the
-    same result as one scan.  An orbit that ends (stuck forever, no impact) stops early.
+    same result as one scan.  An orbit that ends (stuck forever, no impact) stops early.  ``progress``:
+    None or True for a bar of the impacts on a terminal for runs over a second (default False: none;
+    :mod:`gear_rattle.core.progress`).
     """
-    if int(n_impacts) != n_impacts or int(n_impacts) < 0:
+    from ..core.params import check_params
+
+    check_params(params)
+    if isinstance(n_impacts, bool) or int(n_impacts) != n_impacts or int(n_impacts) < 0:
         raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer n_impacts >= 0")
     first = initial_state(params, tau0, sdot0, s0)
-    traj = iterate_chunked(first, params, int(n_impacts), chunk)
+    traj = iterate_chunked(first, params, int(n_impacts), chunk, progress=progress)
     return sequence_from_states(params, first, traj, track="map",
                                 meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)})

@@ -73,6 +73,28 @@ class PeriodicOrbit:
         """All Floquet multipliers inside the unit circle."""
         return bool(np.all(np.abs(self.multipliers) < 1.0))
 
+    def table(self) -> tuple[list[str], list[list]]:
+        """``(header, rows)``: the p points of the orbit, ``k, tau_mod_2pi, sdot, wall`` (a CSV file)."""
+        return ["k", "tau_mod_2pi", "sdot", "wall"], [[k, float(t), float(s), int(w)] for k, (t, s, w) in
+                                                      enumerate(zip(self.tau, self.sdot, self.walls))]
+
+    def arrays(self) -> dict:
+        """The orbit's arrays and numbers (an NPZ file): points, multipliers (complex), monodromy matrix,
+        Newton's residual, iterations and convergence, p, m and the parameters."""
+        p = self.params
+        return dict(tau_mod_2pi=self.tau, sdot=self.sdot, wall=self.walls, multipliers=self.multipliers,
+                    monodromy=self.monodromy, residual=self.residual, converged=self.converged,
+                    iterations=self.iterations, stable=self.stable, impacts=self.impacts, turns=self.turns,
+                    alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r)
+
+    def as_dict(self) -> dict:
+        """The orbit as JSON data: :meth:`arrays` with the multipliers as ``[real, imag]`` pairs and the
+        points as rows."""
+        d = {k: v for k, v in self.arrays().items() if k not in ("tau_mod_2pi", "sdot", "wall", "multipliers")}
+        d["points"] = [dict(zip(self.table()[0], row)) for row in self.table()[1]]
+        d["multipliers"] = [[float(np.real(m)), float(np.imag(m))] for m in self.multipliers]
+        return d
+
 
 def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns: int = 1,
                   tol: float = 1e-12, max_iter: int = 60) -> PeriodicOrbit:
@@ -81,11 +103,17 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     ``(tau0, sdot0)`` is an initial guess of one pre-impact state (e.g. the end of a long run on
     the attractor).  Raises ``ValueError`` for bad ``impacts``/``turns``.
     """
-    if int(impacts) < 1:
-        raise ValueError(f"impacts={impacts!r} is out of range: allowed impacts >= 1")
-    if int(turns) < 1:
-        raise ValueError(f"turns={turns!r} is out of range: allowed turns >= 1")
-    p = params.arrays()
+    from ..core.checks import check_int
+    from ..core.params import check_params
+
+    p = check_params(params).arrays()
+    impacts = check_int("impacts", impacts, 1, 100_000)
+    turns = check_int("turns", turns, 1, 100_000)
+    for name, v in (("tau0", tau0), ("sdot0", sdot0)):
+        if isinstance(v, (str, bytes, bool)) or not np.isfinite(float(v)):
+            raise ValueError(f"{name}={v!r} is out of range: allowed a finite number")
+    if float(sdot0) == 0.0:
+        raise ValueError("sdot0=0.0 is out of range: allowed sdot0 != 0 (a pre-impact velocity)")
     x = np.array([float(tau0) % float(TWO_PI), float(sdot0)])
     wall0 = 0 if x[1] > 0 else -1
     res, it, conv = np.inf, 0, False
@@ -98,12 +126,22 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
         if res < tol:
             conv = True
             break
-        dx = np.linalg.solve(np.asarray(J) - np.eye(2), -G)
+        try:
+            dx = np.linalg.solve(np.asarray(J) - np.eye(2), -G)
+        except np.linalg.LinAlgError:
+            if it > 1:  # at a later iterate: Newton failed there (not converged), the guess was fine
+                break
+            raise ValueError(f"the Newton step is singular at (tau, sdot) = ({float(x[0])!r}, {float(x[1])!r}) (DF^p - I has no "
+                             f"inverse: a multiplier is 1): allowed a guess (tau0, sdot0) where it is "
+                             "invertible, e.g. closer to the orbit") from None
         # damped step: never flip the wall the orbit starts on
         lam = 1.0
         while lam > 1e-4 and np.sign(x[1] + lam * dx[1]) != np.sign(x[1]):
             lam *= 0.5
-        x = x + lam * dx
+        x_new = x + lam * dx
+        if not (np.all(np.isfinite(x_new)) and abs(x_new[0]) <= 1e6):  # Newton diverged: not converged
+            break
+        x = x_new
     tp, sp, J, walls, stuck, ok = pfold(x[0], x[1], p, int(impacts), wall0)
     # record the p states along the orbit
     taus, sds = [x[0]], [x[1]]
@@ -114,4 +152,9 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     Jn = np.asarray(J)
     # the scan records the walls of states 1..p; state p is state 0, so roll to align with tau/sdot
     return PeriodicOrbit(params, int(impacts), int(turns), np.mod(np.array(taus), float(TWO_PI)), np.array(sds),
-                         np.roll(np.asarray(walls), 1), np.linalg.eigvals(Jn), Jn, res, conv, it)
+                         np.roll(np.asarray(walls), 1), _multipliers(Jn), Jn, res, conv, it)
+
+
+def _multipliers(J: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the monodromy matrix; NaN where it is not finite (the orbit ended or overflowed)."""
+    return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(J.shape[0], np.nan)

@@ -40,9 +40,9 @@ def _no_options(options: dict) -> None:
 
 
 def _map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
-               **options) -> ImpactSequence:
+               progress=False, **options) -> ImpactSequence:
     _no_options(options)
-    return map_orbit(params, tau0, sdot0, n_impacts, s0=s0)
+    return map_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress)
 
 
 def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None = None,
@@ -80,7 +80,12 @@ def get(track: str) -> Track:
 
 def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
           **options) -> ImpactSequence:
-    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`)."""
+    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`); every
+    track takes ``progress=`` (:mod:`gear_rattle.core.progress`), the numerical ones their solver
+    options.  ``TypeError`` when ``params`` is not a :class:`Params`."""
+    from ..core.params import check_params
+
+    check_params(params)
     return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
 
 

@@ -294,17 +294,19 @@ def _initial(params: Params, tau0: float, sdot0: float, s0: float | None, opts: 
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
           rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
-          max_steps: int = MAX_STEPS) -> ImpactSequence:
+          max_steps: int = MAX_STEPS, progress=False) -> ImpactSequence:
     """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`; runs in chunks of
-    :data:`CHUNK` impacts like it (interruptible with Ctrl-C, the same result as one scan).
+    :data:`CHUNK` impacts like it (interruptible with Ctrl-C, the same result as one scan), with the
+    same ``progress``.
     """
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     opts = options(rtol, atol, dtmax, t_max, max_steps)
     first = _initial(params, tau0, sdot0, s0, opts)
     # in chunks of CHUNK impacts (Ctrl-C acts between them), bitwise the same as one scan of n steps
-    traj = run_in_chunks(lambda s, p, length: iterate(s, p, length, opts), first, params, n, CHUNK)
+    traj = run_in_chunks(lambda s, p, length: iterate(s, p, length, opts), first, params, n, CHUNK,
+                         progress=progress, label="diffrax orbit")
     meta = {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": n, "method": "Dopri8", "rtol": opts.rtol,
             "atol": opts.atol, "dtmax": opts.dtmax, "t_max": opts.t_max}
     return sequence_from_states(params, first, traj, track="diffrax", meta=meta)

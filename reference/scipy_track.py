@@ -66,6 +66,7 @@ from scipy.integrate import solve_ivp
 
 from ..core.checks import start_wall
 from ..core.params import Params
+from ..core.progress import Bar, wanted
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
 from . import events as ev
@@ -276,7 +277,7 @@ class DenseTrajectory(NamedTuple):
 
 
 def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, opts: Options,
-         points_per_unit: float | None):
+         points_per_unit: float | None, progress=False):
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     p = params
     s0 = None if s0 is None else float(s0)
@@ -310,7 +311,9 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
             theta, cycles = reduce_phase(theta + fl.t, cycles)
             sdot, wall = fl.v, fl.wall
     rec = TrajectoryRecorder(theta, cycles, sdot, wall, Status.ACTIVE)
-    for _ in range(n):
+    bar = Bar("scipy orbit", total=n, enabled=wanted(progress), delay=1.0)
+    for i in range(n):
+        bar.update(i)
         tau_n = cycles * TWO_PI + theta
         stick, t_acc, delay, phase = stick_decision(theta, wall, sdot, p)
         stick_tau = release_tau = math.nan
@@ -345,6 +348,7 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
         theta, cycles = reduce_phase(th0 + fl.t, cyc0)
         sdot, wall = fl.v, fl.wall
         rec.step(theta, cycles, sdot, wall, Status.ACTIVE, stick, stick_tau, release_tau, fl.segments)
+    bar.close()
     return rec.sequence(params, "scipy", meta), dense
 
 
@@ -354,14 +358,15 @@ def _meta(tau0, sdot0, s0, n, opts: Options) -> dict:
 
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-          rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX) -> ImpactSequence:
+          rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX,
+          progress=False) -> ImpactSequence:
     """Orbit of Eq. (3) integrated numerically: impact 0 plus ``n_impacts`` impacts (track ``"scipy"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`: with ``s0`` None,
     ``(tau0, sdot0)`` is the state just before impact 0 (``sdot0 > 0`` hits ``s = 0``); with
     ``-1 <= s0 <= 0`` it is a free-flight state.  Raises ``ValueError`` naming a bad argument.
     """
-    seq, _ = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), None)
+    seq, _ = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), None, progress)
     return seq
 
 

@@ -207,15 +207,23 @@ def test_spec_mismatch_refused(tmp_path):
 def test_cli_serial_run_resume_and_mismatch(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
-    text = capsys.readouterr().out
-    assert "4 tiles computed, 0 found in the store" in text
+    printed = json.loads(capsys.readouterr().out)  # stdout, not a terminal: the summary as strict JSON
+    assert printed["run"]["tiles_computed"] == 4 and printed["run"]["tiles_resumed"] == 0
     summary = json.loads((out / "atlas_summary.json").read_text())
     assert summary["points_computed"] == 12 and summary["run"]["tiles_computed"] == 4
     fig4 = summary["paper lines"]["Fig. 4 (alpha = 3)"]
     assert fig4["grid_line"] == {"alpha": 3.0} and fig4["points"] == 3
     assert (out / "atlas.png").stat().st_size > 10_000
     assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
-    assert "nothing to compute, all 4 tiles found in the store" in capsys.readouterr().out
+    resumed = json.loads(capsys.readouterr().out)["run"]
+    assert resumed["tiles_computed"] == 0 and resumed["tiles_resumed"] == 4
+    from gear_rattle.validation import cliutil  # on a terminal: lines for a person, no 'nan' rate
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(cliutil, "_is_terminal", lambda stream: True)
+        assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "nothing to compute, all 4 tiles found in the store" in text and "nan" not in text
     # another spec on the same store: refused in one line, before computing
     rc = main(CLI_SMALL + ["--impacts", "400", "--scheduler", "serial", "--out", str(out)])
     err = capsys.readouterr().err
@@ -307,7 +315,7 @@ def test_tile_is_fitted_to_the_grid_and_bounded(tmp_path):
     (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler='tcp://127.0.0.1:1': cannot connect"),
     (["--alpha-lo", "1e308", "--alpha-hi", "1e308"], "--alpha-lo=1e+308 is out of range: allowed 0 <= alpha <= 1e10"),
     (["--alpha-hi", "1e11"], "--alpha-hi=100000000000.0 is out of range"),
-    (["--store", "/proc/s.zarr"], "--store: cannot write in directory '/proc'"),
+    (["--store", "/proc/s.zarr"], "--store: cannot create '/proc/s.zarr': directory '/proc': it does not accept new files"),
     (["--n-alpha", "2000", "--n-r", "2000", "--tile", "100000"], "--tile=100000 is out of range on a 2000 x 2000 grid"),
 ])
 def test_cli_failures_leave_nothing_behind(args, what, tmp_path, capsys):
@@ -344,3 +352,32 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
             os.killpg(p.pid, signal.SIGKILL)
     assert rc == 130 and err.strip() == "gear-rattle atlas: interrupted", err
     assert latency < 2.0, f"Ctrl-C acted after {latency:.2f} s"  # measured 0.05-0.07 s (see test_interrupt)
+
+
+def test_local_cluster_with_port_8787_taken_says_nothing():
+    """The scheduler's HTTP server took the default port 8787; with another cluster on the machine there
+    ('Port 8787 is already in use', and a ResourceWarning) the command line showed both as notes, also
+    on Ctrl-C.  It now listens on a free port: no warning whoever holds 8787."""
+    import socket
+    import warnings
+
+    from gear_rattle.validation.atlas.run import _local_cluster
+
+    holder = socket.socket()
+    try:
+        holder.bind(("0.0.0.0", 8787))
+        holder.listen()
+    except OSError:  # another cluster holds it already: the case itself
+        pass
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            cluster, client = _local_cluster(1)
+            try:
+                assert cluster.scheduler.http_server.port != 8787
+            finally:
+                client.close()
+                cluster.close()
+    finally:
+        holder.close()
+    assert not [str(w.message) for w in caught if "8787" in str(w.message) or "unclosed" in str(w.message)]

@@ -52,7 +52,7 @@ def test_check_fails_a_phase_more_than_2pi_off(tmp_path, capsys):
     ids = case_ids()
     d = tmp_path / "out"
     _copy_expected(d, ids)
-    assert main(["check", str(d), "--quiet"]) == 0
+    assert main(["check", str(d), "--summary"]) == 0
     assert capsys.readouterr().out.startswith(f"{len(ids)}/{len(ids)} cases pass")
     for cid in ids:
         _set_column(d / f"{cid}.csv", "tau_mod_2pi", lambda x: 1000.0)
@@ -69,11 +69,11 @@ def test_check_reduces_out_of_range_phases(tmp_path, capsys):
     d = tmp_path / "out"
     _copy_expected(d, [cid])
     _set_column(d / f"{cid}.csv", "tau_mod_2pi", lambda x: x + 4 * TWO_PI)
-    assert main(["check", str(d), "--cases", cid, "--quiet"]) == 0
+    assert main(["check", str(d), "--cases", cid, "--summary"]) == 0
     shutil.rmtree(d)
     _copy_expected(d, [cid])
     _set_column(d / f"{cid}.csv", "tau_mod_2pi", lambda x: x - 4 * TWO_PI + 1e-6)
-    assert main(["check", str(d), "--cases", cid, "--quiet"]) == 1
+    assert main(["check", str(d), "--cases", cid, "--summary"]) == 1
     capsys.readouterr()
 
 
@@ -173,7 +173,7 @@ def test_strict_number_forms_are_malformed(tmp_path, capsys, line, column, text,
 def test_documented_number_forms_are_accepted(tmp_path, capsys, line, column, text):
     cid = "0007-chatter-sticking"
     d = _one_field(tmp_path, cid, line, column, text)
-    assert main(["check", str(d), "--cases", cid, "--quiet"]) == 0, capsys.readouterr()
+    assert main(["check", str(d), "--cases", cid, "--summary"]) == 0, capsys.readouterr()
 
 
 def test_utf8_byte_order_mark_is_accepted(tmp_path, capsys):
@@ -182,7 +182,7 @@ def test_utf8_byte_order_mark_is_accepted(tmp_path, capsys):
     _copy_expected(d, [cid])
     f = d / f"{cid}.csv"
     f.write_bytes(b"\xef\xbb\xbf" + f.read_bytes())
-    assert main(["check", str(d), "--cases", cid, "--quiet"]) == 0, capsys.readouterr()
+    assert main(["check", str(d), "--cases", cid, "--summary"]) == 0, capsys.readouterr()
 
 
 def test_digits_where_the_golden_value_is_zero():

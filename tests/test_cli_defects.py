@@ -278,6 +278,8 @@ def test_help_shows_every_default():
         for a in sp._actions:
             if isinstance(a, argparse._HelpAction) or isinstance(a, argparse._StoreTrueAction):
                 continue
+            if a.help == argparse.SUPPRESS:  # an old name kept working (cliutil.add_renamed)
+                continue
             if not a.option_strings and a.required:
                 continue
             h = fmt._expand_help(a) if a.help else ""
@@ -303,27 +305,32 @@ class FakeStream(io.StringIO):
         return self.tty
 
 
-def test_progress_only_on_a_terminal_labelled_no_nan():
-    from gear_rattle.mapimpl.progress import Progress
+def test_progress_only_on_a_terminal_labelled(monkeypatch):
+    """A bar draws only on a terminal (a log file or pipe gets nothing), always with its label, and a
+    phase (compiling) shows the label and the time until the first count."""
+    from gear_rattle.core.progress import Bar
 
     pipe = FakeStream(False)
-    bar = Progress("work", True, total=10, stream=pipe)
-    bar.update(0); bar.update(5); bar.close()
-    assert pipe.getvalue() == ""  # a log file or pipe gets nothing
+    monkeypatch.setattr("sys.stderr", pipe)
+    with Bar("work", total=10, unit="tiles") as bar:
+        bar.update(5)
+        bar(10, 10)
+    assert pipe.getvalue() == "" and not bar.drawn
     tty = FakeStream(True)
-    bar = Progress("work", True, total=10, stream=tty)
-    bar.update(0)
-    first = tty.getvalue()
-    assert first.startswith("\rwork [") and "eta" not in first and "nan" not in first
-    assert "eta" in bar.line(5)
-    bar(10, 10)  # callable form: completes and closes
-    assert tty.getvalue().endswith("\n") and "nan" not in tty.getvalue()
-    assert "eta" not in bar.line(10)
+    monkeypatch.setattr("sys.stderr", tty)
+    bar = Bar("work", unit="tiles", phase="compiling")
+    assert bar.drawn and tty.getvalue().lstrip("\r").startswith("work (compiling) 00:00")
+    bar.update(3, 10)
+    bar.update(10)
+    bar.close()
+    last = tty.getvalue().split("\r")[-1]
+    assert last.startswith("work: 100%") and "10/10" in last and last.endswith("\n") and "nan" not in last
     quiet = FakeStream(True)
-    Progress("work", False, total=3, stream=quiet).close()
+    monkeypatch.setattr("sys.stderr", quiet)
+    Bar("work", total=3, enabled=False).close()
     assert quiet.getvalue() == ""
     with pytest.raises(ValueError, match="label"):
-        Progress("", True)
+        Bar("", True)
 
 
 # ------------------------------------------------------------ item 10: dense, one compilation

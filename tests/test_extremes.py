@@ -131,9 +131,13 @@ def _cli(args, capsys):
 
 def test_cli_refuses_parameters_outside_the_box_in_one_line(capsys):
     """The issue's command: alpha up to 1e308 made the engine raise "no progress (bug)", exit 1."""
-    rc, out, err = _cli("bifurcation --param alpha --lo 1 --hi 1e308 --values 3 --transient 5 --keep 5".split(), capsys)
+    rc, out, err = _cli("bifurcation --param alpha --lo 1 --hi 1e308 --values 3 --transient 5 --impacts 5".split(), capsys)
     assert rc == 2 and out == ""
-    assert err.strip().count("\n") == 0 and "alpha=1e+308" in err and "0 <= alpha <= 1e10" in err
+    assert err.strip().count("\n") == 0 and "--hi=1e+308" in err and "0 <= alpha <= 1e10" in err
+    # the issue's spelling (--keep, now --impacts): the rename note, then the same one-line error
+    rc, out, err = _cli("bifurcation --param alpha --lo 1 --hi 1e308 --values 3 --transient 5 --keep 5".split(), capsys)
+    lines = err.strip().splitlines()
+    assert rc == 2 and out == "" and len(lines) == 2 and "--keep is deprecated" in lines[0] and "--hi=1e+308" in lines[1]
     rc, _, err = _cli("simulate --beta 1e308 --impacts 2".split(), capsys)
     assert rc == 2 and "0 < beta <= 1e10" in err and err.strip().count("\n") == 0
 

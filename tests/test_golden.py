@@ -75,7 +75,7 @@ def test_case_folder_is_well_formed(cid):
 @pytest.fixture(scope="module")
 def map_outputs(tmp_path_factory):
     out = tmp_path_factory.mktemp("map_outputs")
-    rc = main(["check", "--self", "--track", "map", "--write", str(out), "--quiet"])
+    rc = main(["check", "--self", "--track", "map", "--out", str(out), "--summary"])
     return rc, out
 
 
@@ -249,7 +249,10 @@ def test_check_usage_errors(tmp_path, capsys):
     assert main(["check", str(tmp_path), "--self"]) == 2
     _one_line_error(capsys, "not both")
     assert main(["check", str(tmp_path / "nope")]) == 2
-    _one_line_error(capsys, "not a directory")
+    _one_line_error(capsys, "PATH=", "not found: allowed a directory")
+    (tmp_path / "afile").write_text("")
+    assert main(["check", str(tmp_path / "afile")]) == 2
+    _one_line_error(capsys, "PATH=", "is not a directory")
     assert main(["check", "--self", "--suite", str(tmp_path / "nosuite")]) == 2
     _one_line_error(capsys, "nosuite")
     assert main(["check", "--self", "--cases", "9999-nothing"]) == 2

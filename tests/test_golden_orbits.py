@@ -215,7 +215,7 @@ def test_a_copy_of_the_suite_is_used_with_suite(tmp_path, capsys):
     shutil.copytree(DEFAULT_ORBITS, suite)
     (suite / "orbit-3-impact-fig2-alpha0.5-r0.9.json").unlink()
     d = _perfect(tmp_path / "out")
-    assert main(["check", "--orbits", str(d), "--suite", str(suite), "--quiet"]) == 0
+    assert main(["check", "--orbits", str(d), "--suite", str(suite), "--summary"]) == 0
     assert capsys.readouterr().out.startswith(f"{len(IDS) - 1}/{len(IDS) - 1} ")
 
 
@@ -230,7 +230,7 @@ def test_our_float64_solvers_meet_the_enclosures(tmp_path, capsys):
     <= 1.1e-11, bifurcation values <= 8e-16: >= 100 times inside every tolerance; the files written are
     a valid implementation output."""
     out = tmp_path / "ours"
-    assert main(["check", "--orbits", "--self", "--write", str(out)]) == 0
+    assert main(["check", "--orbits", "--self", "--out", str(out)]) == 0
     table = capsys.readouterr().out
     assert f"{len(IDS)}/{len(IDS)} orbits and bifurcation points pass" in table
     from gear_rattle.validation.golden.orbit_suite import read_values, score
@@ -240,7 +240,7 @@ def test_our_float64_solvers_meet_the_enclosures(tmp_path, capsys):
         s = score(rec, read_values(out / f"{rid}.json", rec))
         for c in s.columns.values():
             assert c.error <= c.tolerance / 50, (rid, c)
-    assert main(["check", "--orbits", str(out), "--quiet"]) == 0
+    assert main(["check", "--orbits", str(out), "--summary"]) == 0
 
 
 @pytest.mark.slow

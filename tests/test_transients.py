@@ -171,6 +171,17 @@ def test_survival_fit_recovers_kappa_on_synthetic_data():
     assert abs(f2.kappa - 1.0) > 0.1  # distinguishable from a pure exponential
 
 
+def test_survival_fit_says_why_its_range_is_empty():
+    """transients --nx 5 said 'fit range n_lo=200, n_hi=-1 is empty' (n_hi = -1: fewer orbits than the
+    fit's n_min_count); the message says how many orbits there are and what n_hi is."""
+    d = np.arange(1, 26) * 10
+    with pytest.raises(ValueError, match="25 orbits are too few to fit: allowed at least n_min_count=100"):
+        A.fit_survival(d, n_boot=0)
+    d = np.concatenate([np.full(150, 3), np.arange(1000, 1100)])  # 250 orbits: N < 100 from n = 999 on
+    with pytest.raises(ValueError, match=r"n_lo=1000, n_hi=\d+ is empty.*n_hi: the last n with at least"):
+        A.fit_survival(d, n_lo=1000, n_boot=0)
+
+
 def test_uncertainty_fit_recovers_exponent():
     rng = np.random.default_rng(2)
     eps = np.logspace(-8, -2, 7)

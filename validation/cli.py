@@ -15,9 +15,9 @@ import sys
 import threading
 import warnings
 
-from ..core import _jax
+from ..core import _jax, progress
 from ..core._jax import use_compilation_cache, use_cpu_devices
-from .cliutil import CliError
+from .cliutil import COMMAND, CliError, CommandFailed
 from .extras import MissingExtra
 
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
@@ -50,6 +50,21 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):  # one line, exit 2
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+    def parse_args(self, args=None, namespace=None):
+        """As argparse's, but an unknown option is reported by the subcommand that was given it
+        (``gear-rattle simulate: error: unrecognized arguments: --bogus``)."""
+        ns, extra = self.parse_known_args(args, namespace)
+        if extra:
+            sub = self._subparsers_by_name().get(getattr(ns, "command", None), self)
+            sub.error(f"unrecognized arguments: {' '.join(extra)}")
+        return ns
+
+    def _subparsers_by_name(self) -> dict:
+        for a in self._actions:
+            if isinstance(a, argparse._SubParsersAction):
+                return dict(a.choices)
+        return {}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -144,16 +159,27 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         args = parser.parse_args(argv)
         command = args.command
         _jax.INTERRUPTED[0] = f"gear-rattle {command}: interrupted"
+        COMMAND[0] = f"gear-rattle {command}"
+        if not getattr(args, "quiet", False):  # until the first bar, note or result (a terminal only)
+            progress.status(f"gear-rattle {command}: starting (loading libraries)")
         # the command line (not the library) spreads the engine over one XLA CPU device per core and, as a
         # process of its own, keeps compiled kernels in a per-user cache ($GEAR_RATTLE_JAX_CACHE=0: off)
         use_cpu_devices()
         if console:
             use_compilation_cache()
-        return int(args._run(args) or 0)
+        rc = int(args._run(args) or 0)
+        progress.clear_status()
+        return rc
     except (ValueError, CliError, MissingExtra) as e:
+        progress.clear_status()
         print(f"gear-rattle {command}: error: {e}", file=sys.stderr)
         return 2
+    except CommandFailed as e:
+        progress.clear_status()
+        print(f"gear-rattle {command}: error: {e}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:  # Ctrl-C in a command run from Python (the console script exits at once)
+        progress.clear_status()
         print(f"gear-rattle{' ' + command if command else ''}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # e.g. `gear-rattle simulate | head`: stop quietly

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import math
 import os
 import sys
@@ -24,6 +25,11 @@ class CliError(Exception):
     """A user error on the command line: printed as one line, exit status 2."""
 
 
+class CommandFailed(Exception):
+    """The computation did not give the result asked for (e.g. Newton did not converge): printed as
+    one line, exit status 1, nothing written."""
+
+
 # --------------------------------------------------------------------------------- upper bounds
 #: Sane upper bounds of the integer options (memory and run time stay bounded; a larger value is
 #: refused with a message naming the option and this range).
@@ -35,29 +41,81 @@ MAX_SEED = 2**32 - 1            # numpy's seed range
 
 
 def add_param_args(p: argparse.ArgumentParser, alpha=3.0, beta=0.1, gamma=0.1, r=0.9) -> None:
-    """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults."""
+    """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults (kept apart, so that
+    :func:`given_params` knows which were given)."""
     g = p.add_argument_group("model parameters (Eqs. 4-6, 11)")
-    g.add_argument("--alpha", type=float, default=alpha, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {alpha})")
-    g.add_argument("--beta", type=float, default=beta, help=f"damping, 0 < beta <= 1e10 (default {beta})")
-    g.add_argument("--gamma", type=float, default=gamma, help=f"constant torque term, |gamma| <= 1e10 (default {gamma})")
-    g.add_argument("--r", type=float, default=r, help=f"restitution coefficient, 0 < r <= 1 (default {r})")
+    g.add_argument("--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {alpha})")
+    g.add_argument("--beta", type=float, default=None, help=f"damping, 0 < beta <= 1e10 (default {beta})")
+    g.add_argument("--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {gamma})")
+    g.add_argument("--r", type=float, default=None, help=f"restitution coefficient, 0 < r <= 1 (default {r})")
+    p.set_defaults(_param_defaults={"alpha": alpha, "beta": beta, "gamma": gamma, "r": r})
+
+
+def given_params(args: argparse.Namespace) -> list[str]:
+    """The parameter options given on the command line (``['--r']``)."""
+    return [f"--{k}" for k in ("alpha", "beta", "gamma", "r") if getattr(args, k, None) is not None]
 
 
 def params_from(args: argparse.Namespace) -> Params:
     """Validated Params from parsed arguments (ValueError names the parameter and its range)."""
-    return Params(args.alpha, args.beta, args.gamma, args.r)
+    d = args._param_defaults
+    return Params(*(d[k] if getattr(args, k) is None else getattr(args, k) for k in ("alpha", "beta", "gamma", "r")))
+
+
+def check_scan(args: argparse.Namespace, lo: float, hi: float, *, strict: bool = False) -> tuple[float, float]:
+    """``(lo, hi)`` of a scan of ``--param`` from ``--lo``/``--hi`` (defaults ``lo``, ``hi``): both values
+    of the parameter (its range, :data:`core.params.RANGES`) and ``lo <= hi`` (``lo < hi`` if ``strict``);
+    one-line :class:`CliError` naming the option before anything is computed."""
+    from ..core.params import RANGES, check_value
+
+    lo = args.lo if args.lo is not None else lo
+    hi = args.hi if args.hi is not None else hi
+    for opt, v in (("--lo", lo), ("--hi", hi)):
+        try:
+            check_value(args.param, v)
+        except ValueError:
+            raise CliError(f"{opt}={v!r} is out of range: allowed a value of --param {args.param}, "
+                           f"{RANGES[args.param]}") from None
+    if not (lo < hi if strict else lo <= hi):
+        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo {'<' if strict else '<='} hi")
+    return lo, hi
+
+
+def progress_arg(args: argparse.Namespace):
+    """A library function's ``progress=``: False with ``--quiet``, else None (bars when stderr is a
+    terminal)."""
+    return False if getattr(args, "quiet", False) else None
 
 
 # ------------------------------------------------------------------------------ option types
+
+def _integer(text: str) -> int | None:
+    """``text`` as an integer, also in decimal exponent notation when its value is exactly an integer
+    (``--impacts 1e6``, ``2.0e3``); None for anything else (``1.5``, ``nan``, ``0x10``)."""
+    from decimal import Decimal, InvalidOperation
+
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        d = Decimal(text.strip())
+    except (InvalidOperation, ValueError):
+        return None
+    if not d.is_finite():
+        return None
+    if d.adjusted() > 30:  # beyond every option's range (and not worth converting): the range message
+        return 10 ** 31 if d > 0 else -10 ** 31
+    return int(d) if d == d.to_integral_value() else None
+
 
 def int_range(name: str, lo: int, hi: int):
     """argparse type: an integer ``lo <= v <= hi``, with a message naming the option and the range."""
 
     def conv(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer") from None
+        v = _integer(text)
+        if v is None:
+            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer: allowed {lo} <= {name} <= {hi}")
         if not lo <= v <= hi:
             raise argparse.ArgumentTypeError(f"{name}={text} is out of range: allowed {lo} <= {name} <= {hi}")
         return v
@@ -121,6 +179,64 @@ def tau0_type(name: str = "--tau0"):
     return real(name, max_abs=TAU0_MAX)
 
 
+# ---------------------------------------------------------------------------------- messages
+
+#: The command running (``gear-rattle simulate``), set by :mod:`validation.cli`: the label of notes.
+COMMAND = ["gear-rattle"]
+
+
+def note(text: str) -> None:
+    """A note for the person running the command: one line on stderr, ``gear-rattle COMMAND: note: text``.
+    Notes never go to stdout (it carries the result only) and ``--quiet`` does not hide them."""
+    from ..core.progress import clear_status
+
+    clear_status()
+    print(f"{COMMAND[0]}: note: {' '.join(str(text).split())}", file=sys.stderr)
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError, OSError):  # no isatty, or a closed stream
+        return False
+
+
+def print_result(result: dict, human: list[str], files: list | None = None) -> None:
+    """A command's result on stdout: strict JSON (``result``) when stdout is a pipe or a file, for
+    programs; on a terminal the few ``human`` lines instead, and where the JSON is (the ``files``
+    written, and ``... | cat`` or ``> result.json`` for the same JSON on stdout)."""
+    from ..core.progress import clear_status
+    from .io import json_text
+
+    clear_status()
+    if not _is_terminal(sys.stdout):
+        to_stdout(json_text(result) + "\n")
+        return
+    lines = list(human)
+    where = ", ".join(str(f) for f in files or () if str(f).endswith(".json"))
+    lines.append("(the result as JSON: " + (f"{where}, or " if where else "") + "stdout redirected: `... > result.json`)")
+    to_stdout("\n".join(lines) + "\n")
+
+
+def to_stdout(text: str) -> None:
+    """``text`` on stdout (flushed); a closed stdout or one that cannot be written (``> /dev/full``) is a
+    one-line :class:`CliError` (a broken pipe stays a BrokenPipeError: the command line stops quietly)."""
+    from ..core.progress import clear_status
+
+    clear_status()
+    if sys.stdout is None:
+        raise CliError("stdout is closed: allowed an open stdout, or --output FILE where the command has it")
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        devnull = os.open(os.devnull, os.O_WRONLY)  # the exit's flush of what is left must not fail again
+        os.dup2(devnull, sys.stdout.fileno())
+        raise CliError(f"stdout: cannot write: {e.strerror or e}") from None
+
+
 # ---------------------------------------------------------------------------------- outputs
 
 def _nearest_existing(path: Path) -> Path:
@@ -130,16 +246,26 @@ def _nearest_existing(path: Path) -> Path:
     return p
 
 
-def _check_creatable_in(path: Path, option: str) -> None:
-    """The directory that will hold ``path`` exists or can be created, and accepts new files."""
+def _check_creatable_in(path: Path, option: str, shown: Path | None = None) -> None:
+    """The directory that will hold ``path`` exists or can be created, and accepts new files (messages
+    name ``shown``, default ``path``)."""
     anc = _nearest_existing(path.parent)
+    path = shown if shown is not None else path
     if not anc.is_dir():
         raise CliError(f"{option}: cannot create {str(path)!r}: {str(anc)!r} is not a directory")
     try:  # a real probe (permissions, read-only or pseudo file systems): created and removed at once
         with tempfile.TemporaryFile(dir=anc, prefix=".gear-rattle-probe-"):
             pass
     except OSError as e:
-        raise CliError(f"{option}: cannot write in directory {str(anc)!r}: {e.strerror or e}") from None
+        why = e.strerror or str(e)
+        if e.errno == errno.ENOENT:  # the directory exists but refuses new entries (/proc, /sys)
+            why = "it does not accept new files"
+        raise CliError(f"{option}: cannot create {str(path)!r}: directory {str(anc)!r}: {why}") from None
+
+
+def _check_not_empty(path: str, option: str, what: str) -> None:
+    if not str(path).strip():
+        raise CliError(f"{option}={path!r} is empty: allowed {what}")
 
 
 def plot_formats() -> dict:
@@ -149,12 +275,36 @@ def plot_formats() -> dict:
     return FigureCanvasBase.get_supported_filetypes()
 
 
+#: The data formats of ``--output``, by the file's extension (stdout: ``--format``, default csv).
+DATA_FORMATS = {".csv": "csv", ".json": "json", ".npz": "npz"}
+
+
+def output_format(args: argparse.Namespace) -> str:
+    """The format of ``--output``: from the file's extension (:data:`DATA_FORMATS`), on stdout or for a
+    name without an extension (``/dev/null``) from ``--format`` (default csv).  An unknown extension, or ``--format`` naming another format than
+    the extension, is a :class:`CliError` (one line, before computing)."""
+    output, fmt = getattr(args, "output", None), getattr(args, "format", None)
+    if output in (None, "-"):
+        return fmt or "csv"
+    ext = Path(output).suffix.lower()
+    if not ext:  # /dev/null, a named pipe, a name without an extension: --format (default csv)
+        return fmt or "csv"
+    if ext not in DATA_FORMATS:
+        raise CliError(f"--output={output!r}: the file extension must be one of {', '.join(DATA_FORMATS)} "
+                       "(it decides the data format)")
+    if fmt is not None and fmt != DATA_FORMATS[ext]:
+        raise CliError(f"--format={fmt} does not match --output={output!r} ({DATA_FORMATS[ext]}): "
+                       "allowed the same format, or only one of them")
+    return DATA_FORMATS[ext]
+
+
 def check_output_file(path: str | None, option: str, *, plot: bool = False) -> None:
-    """Fail before any computation if ``path`` cannot be written: it is an existing directory or not
-    writable, its directory cannot be created or written, or (``plot``) its extension is not a format
-    matplotlib writes.  ``None`` and ``'-'`` (stdout) pass, except for plots."""
+    """Fail before any computation if ``path`` cannot be written: it is empty, an existing directory
+    or not writable, its directory cannot be created or written, or (``plot``) its extension is not a
+    format matplotlib writes.  ``None`` and ``'-'`` (stdout) pass, except for plots."""
     if path is None or (path == "-" and not plot):
         return
+    _check_not_empty(path, option, "a file name")
     p = Path(path)
     if plot:
         fmts = plot_formats()
@@ -170,8 +320,9 @@ def check_output_file(path: str | None, option: str, *, plot: bool = False) -> N
 
 
 def check_output_dir(path: str, option: str) -> None:
-    """Fail before any computation if the output directory ``path`` cannot be used: it is an existing
-    file, or it cannot be created or written in."""
+    """Fail before any computation if the output directory ``path`` cannot be used: it is empty, an
+    existing file, or it cannot be created or written in."""
+    _check_not_empty(path, option, "a directory name")
     p = Path(path)
     if p.exists() and not p.is_dir():
         raise CliError(f"{option}={path!r} is an existing file: allowed a directory (existing or new)")
@@ -182,7 +333,22 @@ def check_output_dir(path: str, option: str) -> None:
         except OSError as e:
             raise CliError(f"{option}: cannot write in directory {path!r}: {e.strerror or e}") from None
         return
-    _check_creatable_in(p / "x", option)
+    _check_creatable_in(p / "x", option, shown=p)
+
+
+def check_input_path(path: str, option: str, *, directory: bool) -> Path:
+    """An input path that must exist: a directory (``directory``) or a readable file; one-line
+    :class:`CliError` otherwise.  Returns it as a Path."""
+    _check_not_empty(path, option, "a directory" if directory else "a file")
+    p = Path(path)
+    what = "a directory" if directory else "a file"
+    if not p.exists():
+        raise CliError(f"{option}={path!r} not found: allowed {what}")
+    if directory != p.is_dir():
+        raise CliError(f"{option}={path!r} is not {what}")
+    if not os.access(p, os.R_OK | (os.X_OK if directory else 0)):
+        raise CliError(f"{option}={path!r} is not readable")
+    return p
 
 
 def check_distinct(**files: str | None) -> None:
@@ -210,69 +376,79 @@ def writing(option: str, path: str | None):
 def write_text(text: str, output: str | None, option: str = "--output") -> None:
     """Write to a file (parents created) or to stdout when ``output`` is None or '-'."""
     if output in (None, "-"):
-        sys.stdout.write(text)
+        to_stdout(text)
         return
-    path = Path(output)
-    with writing(option, output):
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
+    write_file(option, output, lambda path: Path(path).write_text(text))
 
 
-def write_file(option: str, path: str, write) -> None:
-    """``write(path)`` (a figure's or an array file's writer) with the parent directory created;
+def write_file(option: str, path, write) -> None:
+    """``write(path)`` (one of :mod:`validation.io`'s writers) with the parent directory created;
     errors name the option."""
-    with writing(option, path):
+    with writing(option, str(path)):
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         write(path)
 
 
 def save_figure(fig, path: str, option: str = "--plot", dpi: int = 150) -> None:
     """``fig.savefig(path)`` with the parent directory created; errors name the option."""
-    write_file(option, path, lambda x: fig.savefig(x, dpi=dpi))
+    from .io import save_figure as _save
+
+    write_file(option, path, lambda x: _save(fig, x, dpi=dpi))
 
 
 # ------------------------------------------------------------------------- the output options
 
-def add_output_options(p: argparse.ArgumentParser, *, fmt: str | None = None, output: str | None = None,
-                       plot: str | None = None, out: tuple[str, str] | None = None, quiet: str | None = None) -> None:
-    """The output options of a command, each added when its help text is given: ``--format`` (csv or
-    json), ``--output`` (a data file, default stdout), ``--plot FILE.png`` (a figure), ``--out DIR``
-    (``out = (default, help)``: an output directory) and ``--quiet`` (no progress).  Checked together by
+def add_output_options(p: argparse.ArgumentParser, *, output: str | None = None, plot: str | None = None,
+                       out: tuple[str, str] | None = None, quiet: str | None = "no progress bars") -> None:
+    """The output options of a command, each added when its help text is given: ``--output FILE`` (a
+    data file, its format from the extension, default stdout) with ``--format csv|json`` (the format on
+    stdout), ``--plot FILE.png`` (a figure), ``--out DIR`` (``out = (default, help)``: an output
+    directory) and ``--quiet`` (no progress bars; every command has it).  Checked together by
     :func:`check_outputs`, written by :func:`write_output` and :func:`write_plot`."""
-    if fmt is not None:
-        p.add_argument("--format", choices=("csv", "json"), default="csv", help=fmt)
     if output is not None:
-        p.add_argument("--output", default=None, help=output)
+        p.add_argument("--output", default=None, metavar="FILE",
+                       help=f"{output}: .csv, .json or .npz, the format from the extension (default: stdout)")
+        p.add_argument("--format", choices=("csv", "json"), default=None,
+                       help="format on stdout; with --output it must match the extension (default csv)")
     if plot is not None:
         p.add_argument("--plot", default=None, metavar="FILE.png", help=plot)
     if out is not None:
         p.add_argument("--out", default=out[0], metavar="DIR", help=out[1])
     if quiet is not None:
-        p.add_argument("--quiet", action="store_true", help=quiet)
+        p.add_argument("--quiet", action="store_true", help=f"{quiet} (notes and errors still go to stderr)")
 
 
 def check_outputs(args: argparse.Namespace) -> None:
     """Before any computation: every output option of :func:`add_output_options` the command has can be
-    written (:func:`check_output_file`, :func:`check_output_dir`), and ``--output`` and ``--plot`` name
-    different files."""
+    written (:func:`check_output_file`, :func:`check_output_dir`), the data format is known
+    (:func:`output_format`), and ``--output`` and ``--plot`` name different files."""
     output, plot = getattr(args, "output", None), getattr(args, "plot", None)
     check_output_file(output, "--output")
+    if hasattr(args, "output"):
+        output_format(args)
     check_output_file(plot, "--plot", plot=True)
     check_distinct(**{"--output": output, "--plot": plot})
     if getattr(args, "out", None) is not None:
         check_output_dir(args.out, "--out")
 
 
-def write_output(args: argparse.Namespace, result=None, *, arrays=None, table=None) -> None:
-    """``--output`` of a result with ``arrays()`` (NPZ) and ``table()`` (CSV ``(header, rows)``), or of
-    the callables ``arrays`` and ``table``: an NPZ file when the name ends in ``.npz``, else CSV in the
-    file or on stdout (None or ``-``)."""
-    from .io import csv_text, write_npz
+def write_output(args: argparse.Namespace, result=None, *, arrays=None, table=None, data=None) -> None:
+    """``--output`` of a result in the format of :func:`output_format`, through the one writer of each
+    format (:mod:`validation.io`): NPZ of ``result.arrays()``, CSV of ``result.table()`` (``(header,
+    rows)``), JSON of ``result.as_dict()`` (else of its arrays); or of the callables ``arrays``,
+    ``table`` and ``data`` given instead.  A file, or stdout (None or ``-``)."""
+    from .io import csv_text, json_text, write_npz
 
     arrays = arrays or result.arrays
     table = table or result.table
-    if args.output and args.output.endswith(".npz"):
+    data = data or getattr(result, "as_dict", None) or arrays
+    fmt = output_format(args)
+    if fmt == "npz":
+        if args.output in (None, "-"):  # pragma: no cover - output_format gives npz for a file only
+            raise CliError("--format npz: allowed with --output FILE.npz only (binary)")
         write_file("--output", args.output, lambda path: write_npz(path, **arrays()))
+    elif fmt == "json":
+        write_text(json_text(data()) + "\n", args.output)
     else:
         write_text(csv_text(*table()), args.output)
 
@@ -281,3 +457,25 @@ def write_plot(args: argparse.Namespace, fig, dpi: int = 150) -> None:
     """``--plot``: save the figure ``fig`` (when the option was given)."""
     if args.plot:
         save_figure(fig, args.plot, "--plot", dpi=dpi)
+
+
+# ------------------------------------------------------------------------ renamed options
+
+class _Renamed(argparse.Action):
+    """An option's old name: stores into the new option's destination and notes the rename on stderr."""
+
+    def __init__(self, option_strings, dest, new: str = "", **kwargs):
+        self.new = new
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"{parser.prog}: note: {option_string} is deprecated: use {self.new} (same meaning)", file=sys.stderr)
+        setattr(namespace, self.dest, values)
+
+
+def add_renamed(p: argparse.ArgumentParser, old: str, new: str, **kwargs) -> None:
+    """Keep the old spelling ``old`` of the option ``new`` working (hidden from --help, a note on
+    stderr when used); ``kwargs``: the new option's ``type``/``nargs``."""
+    dest = new.lstrip("-").replace("-", "_")
+    p.add_argument(old, dest=dest, action=_Renamed, new=new, default=argparse.SUPPRESS, help=argparse.SUPPRESS,
+                   **kwargs)

@@ -168,3 +168,26 @@ _VALUES: dict[str, PaperValue] = {v.key: v for v in (
 
 #: Every paper value by key (the keys are those of the report's summary rows that compare with it).
 PAPER: dict[str, PaperValue] = {**_VALUES, "decay_time": _decay_time()}
+
+
+@dataclass(frozen=True)
+class Scan:
+    """One of the paper's parameter scans (Section 3): ``param`` from ``lo`` to ``hi`` with the other
+    parameters ``fixed`` (alpha, beta, gamma, r, the varied one at its value in the figure's caption)."""
+
+    figure: str
+    param: str
+    lo: float
+    hi: float
+    fixed: tuple[float, float, float, float]
+
+
+#: The paper's two scans, defined once (the bifurcation command's default ranges, the report's Figs. 4
+#: and 8, the atlas's lines): Fig. 4 varies r in [0.70, 0.95] at alpha = 3, Fig. 8 alpha in [1.10, 1.40]
+#: at r = 0.9 (beta = gamma = 0.1).  ``fixed``: the parameters the report starts from.
+PAPER_SCANS: dict[str, Scan] = {
+    "Fig. 4": Scan("Fig. 4", "r", 0.70, 0.95, (3.0, 0.1, 0.1, 0.9)),
+    "Fig. 8": Scan("Fig. 8", "alpha", 1.10, 1.40, (1.2, 0.1, 0.1, 0.9)),
+}
+#: The scan of each parameter: r -> Fig. 4, alpha -> Fig. 8.
+SCAN_OF = {s.param: s for s in PAPER_SCANS.values()}

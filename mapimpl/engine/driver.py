@@ -22,7 +22,6 @@ depend on its lane, block, chunk or device (see :mod:`kernel`).
 from __future__ import annotations
 
 import math
-import sys
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -38,7 +37,7 @@ from ...core._jax import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
 from ...core.checks import TAU0_MAX, TAU0_RANGE, check_int
 from ...core.params import Params, validate_arrays
-from ..progress import Progress
+from ...core.progress import Bar, sink, wanted
 from ...core.status import Status
 from ..sticking import STICK_TIME
 from . import kernel as K
@@ -157,6 +156,13 @@ def max_kernel_calls(m: int, cap: int, block: int, max_steps: int, every: int = 
     return 2 + -(-int(m) * per_orbit // (int(block) * 64))
 
 
+def _impacts_done(lanes_s, res_s) -> tuple[int, int]:
+    """``(impacts of the finished orbits, impacts so far of the busy ones)`` of a device's queue."""
+    busy = lanes_s["mode"] != K.MODE_IDLE
+    return (int(jnp.sum(res_s["n"], dtype=jnp.int64)),
+            int(jnp.sum(jnp.where(busy, lanes_s["n"], 0), dtype=jnp.int64)))
+
+
 def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, observers) -> None:
     """Run one device's queue to the end: blocks of micro-steps, progress, and the tail compaction."""
     # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded
@@ -169,7 +175,7 @@ def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, 
         lanes_s, res_s, next_ic = jb["carry"]
         n_busy = int(jnp.sum(lanes_s["mode"] != K.MODE_IDLE))
         drained = int(next_ic) >= jb["m"]
-        report(jb, int(next_ic) - n_busy)
+        report(jb, int(next_ic) - n_busy, _impacts_done(lanes_s, res_s) if jb["count_impacts"] else (0, 0))
         if drained and n_busy == 0:
             return
         size = lanes_s["mode"].shape[0]
@@ -177,6 +183,7 @@ def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, 
             size //= TAIL_SHRINK
         if size < lanes_s["mode"].shape[0]:
             jb["carry"] = (K.compact(lanes_s, size=K.padded_lanes(size)), res_s, next_ic)
+            jb["tail"] = K.padded_lanes(size)
     raise RuntimeError("engine made no progress (bug): queue not drained")
 
 
@@ -198,12 +205,50 @@ def _check_states(theta, sdot, wall) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return th, sd, w.astype(np.int32)
 
 
-def _progress_sinks(progress, label: str, n: int):
-    """``(bar, sink)``: the terminal bar and the caller's ``(done, total)`` callable (or None)."""
-    if callable(progress) and not isinstance(progress, bool):
-        return Progress(label, True, total=n), progress
-    show = sys.stderr.isatty() if progress is None else bool(progress)
-    return Progress(label, show, total=n), None
+class _Reporter:
+    """The engine's progress, one per :func:`run`: its own bar in impacts (when ``progress`` asks for one)
+    or the caller's ``progress(orbits done, orbits)`` -- never both (:mod:`gear_rattle.core.progress`).
+
+    The bar counts impacts, finished and in progress; its total is ``orbits x cap`` until an orbit
+    finishes, then the impacts done plus, for every orbit not finished, the mean duration still to come:
+    transient durations are about exponential (Eq. 14), so an orbit's expected remaining duration does
+    not shrink with its age, and the mean is estimated as for censored exponential data, all the impacts
+    done over the orbits finished (the mean of the finished ones alone is biased low: the short ones
+    finish first); at most ``orbits x cap``.  It shows "compiling" until the first kernel call returns, and the lanes of the
+    tail once the busy orbits move to a narrower block."""
+
+    def __init__(self, progress, label: str, n: int, cap: int):
+        self.bar = Bar(label, enabled=wanted(progress), phase="compiling")
+        self.sink, self.n, self.cap = sink(progress), n, cap
+        self.lock = threading.Lock()
+        self.base = [0, 0]  # orbits and impacts of the chunks done
+
+    def chunk(self, jobs: list[dict]):
+        """The ``report(jb, finished orbits, (impacts finished, impacts busy))`` of one chunk's jobs."""
+        for jb in jobs:
+            jb.update(done=0, impacts=(0, 0), count_impacts=self.bar.drawn)
+
+        def report(jb, n_done, impacts):
+            with self.lock:
+                jb["done"], jb["impacts"] = n_done, impacts
+                fin = self.base[0] + sum(x["done"] for x in jobs)
+                if self.bar.drawn:
+                    imp_fin = self.base[1] + sum(x["impacts"][0] for x in jobs)
+                    done = imp_fin + sum(x["impacts"][1] for x in jobs)
+                    most = self.n * self.cap
+                    est = most if fin == 0 else min(most, done + (self.n - fin) * done / fin)
+                    tails = [x["tail"] for x in jobs if x.get("tail")]
+                    if tails:
+                        self.bar.postfix(f"tail: {sum(tails)} lanes")
+                    self.bar.update(done, max(est, done))
+                if self.sink is not None:
+                    self.sink(fin, self.n)
+
+        return report
+
+    def chunk_done(self, jobs: list[dict]) -> None:
+        self.base[0] += sum(x["m"] for x in jobs)
+        self.base[1] += sum(x["impacts"][0] + x["impacts"][1] for x in jobs)
 
 
 def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa) -> list[dict]:
@@ -243,7 +288,7 @@ def _run_jobs(jobs: list[dict], cap: int, block: int, obs, report, stop_event: t
     except BaseException:
         stop_event.set()
         pool.shutdown(wait=True, cancel_futures=True)
-        bar.close()
+        bar.abort()
         raise
     pool.shutdown(wait=True)
 
@@ -277,8 +322,9 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     ``lanes``: orbits advanced together per device (default :func:`default_lanes`, padded to a
     multiple of :data:`kernel.LANE_QUANTUM`); ``block``: micro-steps between refills; ``chunk``:
     initial conditions per kernel launch (default: bounded by memory); ``devices``: a count or list
-    of JAX devices (default all of the default backend); ``progress``: True/False, a callable
-    ``(done, total)``, or None (a bar when stderr is a terminal).
+    of JAX devices (default all of the default backend); ``progress``: None or True (a bar in impacts
+    when stderr is a terminal), False, or a callable ``(orbits done, orbits)`` instead of the bar
+    (:mod:`gear_rattle.core.progress`).
     """
     obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
     if not all(isinstance(o, Observer) for o in obs):
@@ -316,27 +362,17 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
                                                    ("wall", np.int32), ("cyc", np.int64))}
     out_obs = tuple({nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()}
                     for o in obs)
-    bar, sink = _progress_sinks(progress, label, n)
+    progress_ = _Reporter(progress, label, n, cap)
     stop_event = threading.Event()
     t0 = time.perf_counter()
-    done_total = 0
     for c0 in range(0, n, chunk):
         jobs = _device_jobs(np.arange(c0, min(n, c0 + chunk)), devs, k_dev, lanes, obs, thr, sd, w, pa)
-        lock = threading.Lock()
-
-        def report(jb, n_done, _base=done_total, _jobs=jobs):
-            with lock:
-                jb["done"] = n_done
-                tot = _base + sum(x["done"] for x in _jobs)
-                bar.update(tot)
-                if sink is not None:
-                    sink(tot, n)
-
-        _run_jobs(jobs, cap, block, obs, report, stop_event, bar)
-        done_total += _gather(jobs, out, out_obs)
+        _run_jobs(jobs, cap, block, obs, progress_.chunk(jobs), stop_event, progress_.bar)
+        _gather(jobs, out, out_obs)
+        progress_.chunk_done(jobs)
     elapsed = time.perf_counter() - t0
-    bar.update(n)
-    bar.close()
+    progress_.bar.update(int(np.sum(out["n"], dtype=np.int64)), int(np.sum(out["n"], dtype=np.int64)))
+    progress_.bar.close()
     out["cyc"] = out["cyc"] + cyc_start
     return EngineResult(out["n"], out["status"], out["nst"], out["nstk"], out["th"], out["sd"], out["wall"],
                         out["cyc"], out_obs, elapsed,

@@ -86,15 +86,20 @@ def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tupl
         seq = map_orbit(params, tau, sdot, settle)
         _, th, sd, _ = seq.impact_arrays()
         if seq.status != "active" or len(th) < 2 * impacts + 1:
-            raise ValueError(f"orbit from guess={guess} ended ({seq.status}); cannot locate the periodic orbit")
+            raise ValueError(f"no capture target at these parameters (alpha={params.alpha:g}, beta={params.beta:g}, "
+                             f"gamma={params.gamma:g}, r={params.r:g}): the orbit from {guess} ended ({seq.status}) "
+                             f"before settling on a stable {impacts}-impact period-1 orbit (the transients of "
+                             "Figs. 9-11 end on it)")
         tau, sdot = float(th[-1]), float(sd[-1])
         dth = np.abs(np.angle(np.exp(1j * (th[-1 - impacts:] - th[-1 - 2 * impacts:-impacts]))))
         if np.max(dth) < 1e-6 and np.max(np.abs(sd[-1 - impacts:] - sd[-1 - 2 * impacts:-impacts])) < 1e-6:
             break
     po = find_periodic(params, tau, sdot, impacts)
     if not po.converged or not po.stable:
-        raise ValueError(f"no stable {impacts}-impact period-1 orbit found from guess={guess} "
-                         f"(converged={po.converged}, |multipliers|={np.abs(po.multipliers)})")
+        raise ValueError(f"no capture target at these parameters (alpha={params.alpha:g}, beta={params.beta:g}, "
+                         f"gamma={params.gamma:g}, r={params.r:g}): no stable {impacts}-impact period-1 orbit (the "
+                         f"transients of Figs. 9-11 end on it) found from {guess} (Newton converged: {po.converged}, "
+                         f"|multipliers| {np.array2string(np.abs(po.multipliers), precision=3)})")
     # the wall of each pre-impact state follows the sign of its velocity (sdot > 0 hits s = 0);
     # (po.walls lists the same walls, aligned with po.tau and po.sdot)
     wall = np.where(np.asarray(po.sdot) > 0, 0, -1).astype(np.int32)

@@ -250,8 +250,11 @@ def _local_cluster(n_workers: int):
     old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         with _quiet_dask():
+            # no dashboard; the scheduler's HTTP server (health routes) on a free port: its default 8787 taken
+            # by another cluster on the machine gave a 'Port 8787 is already in use' note (and a ResourceWarning)
             cluster = distributed.LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=None, silence_logs=logging.CRITICAL)
+                                               dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"},
+                                               silence_logs=logging.CRITICAL)
             client = distributed.Client(cluster)
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)

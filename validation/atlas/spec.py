@@ -19,6 +19,7 @@ import numpy as np
 
 from ...core.checks import TAU0_MAX, TAU0_RANGE, check_int
 from ...core.params import PARAM_MAX, RANGES, check_value
+from ..paper import PAPER_SCANS
 
 #: Bounds that keep an atlas finite.
 MAX_GRID = 100_000_000
@@ -26,10 +27,11 @@ MAX_IMPACTS = 50_000_000
 MAX_PERIOD = 1024
 
 #: The paper's scans drawn on the atlas: (label, fixed parameter, value, varied parameter, lo, hi).
-PAPER_LINES = (
-    ("Fig. 4 (alpha = 3)", "alpha", 3.0, "r", 0.70, 0.95),
-    ("Fig. 8 (r = 0.9)", "r", 0.9, "alpha", 1.10, 1.40),
-)
+#: (:data:`validation.paper.PAPER_SCANS`: Fig. 4 at alpha = 3, Fig. 8 at r = 0.9).
+PAPER_LINES = tuple(
+    (f"{s.figure} ({fixed} = {value:g})", fixed, value, s.param, s.lo, s.hi)
+    for s in PAPER_SCANS.values()
+    for fixed, value in [("alpha", s.fixed[0]) if s.param == "r" else ("r", s.fixed[3])])
 
 
 def _float(name: str, value, ok, allowed: str) -> float:

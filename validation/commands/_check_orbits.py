@@ -3,28 +3,28 @@ records of ``validation/golden/orbits`` (docs/golden.md, "Periodic orbits and bi
 
 PATH holds one ``<id>.json`` per record (:mod:`validation.golden.orbit_suite` gives the layout);
 with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scored instead, and
-``--write DIR`` keeps their files (an example of the layout).  Exit status as for the impact cases:
+``--out DIR`` keeps their files (an example of the layout).  Exit status as for the impact cases:
 0 all pass, 1 some fail, 2 usage error or malformed input (one line per file on stderr)."""
 
 from __future__ import annotations
 
 import argparse
-import json
 from functools import partial
 from pathlib import Path
 
-from ..cliutil import CliError
+from ..cliutil import CliError, check_input_path, to_stdout
 from .check import read_outputs, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
     from ..golden.orbit_float64 import float64_values
+    from ..io import write_json
 
     out = {}
     for rec in records:
         d, values = float64_values(rec)
         if write:
-            values.path = write_output(Path(write) / f"{rec.id}.json", json.dumps(d, indent=1, allow_nan=False) + "\n")
+            values.path = write_output(Path(write) / f"{rec.id}.json", write_json, d)
         out[rec.id] = values
     return out
 
@@ -35,7 +35,7 @@ def run_orbits(args: argparse.Namespace) -> int:
 
     if args.self_check and args.track != "map":
         raise CliError("--orbits --self scores the map track's float64 solvers: --track must be map")
-    folder = Path(args.suite) if args.suite else DEFAULT_ORBITS
+    folder = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_ORBITS
     try:
         records = load_records(folder, args.cases)
     except MalformedFile as e:
@@ -43,16 +43,14 @@ def run_orbits(args: argparse.Namespace) -> int:
     if not records:
         raise CliError(f"orbit suite {str(folder)!r} has no records")
     if args.self_check:
-        values = _self_values(records, args.write)
+        values = _self_values(records, args.out)
     else:
-        root = Path(args.path)
-        if not root.is_dir():
-            raise CliError(f"{str(root)!r} is not a directory (expected one <id>.json per orbit record)")
+        root = check_input_path(args.path, "PATH", directory=True)
         values = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
                               MalformedFile)
         if values is None:
             return 2
     scores = [score(rec, values[rec.id]) for rec in records]
     table = summary_table(scores)
-    print(table if not args.quiet else table.splitlines()[-1])
+    to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
     return 0 if all(s.passed for s in scores) else 1

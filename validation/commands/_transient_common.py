@@ -19,7 +19,7 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="capture distance to the periodic orbit, sup norm of (tau mod 2pi, sdot), 0 < delta <= 1 "
                         "(default 0.001)")
     p.add_argument("--lanes", type=positive_int("--lanes", MAX_LANES), default=None,
-                   help=f"orbits advanced together per device, at most {MAX_LANES} "
+                   help=f"orbits advanced together per device, 1 to {MAX_LANES} "
                         "(default: the orbits per device, at most 256 on a CPU with the engine's XLA options, 512 "
                         "without them, 65536 on an accelerator)")
     add_output_options(p, out=("out/transients", "output directory (default out/transients)"), quiet="no progress bar")
@@ -30,22 +30,41 @@ def check_common(args: argparse.Namespace) -> None:
     check_outputs(args)
 
 
-def progress_arg(args: argparse.Namespace):
-    """The engine's ``progress=``: off with --quiet, else a bar when stderr is a terminal."""
-    return False if args.quiet else None
+def _fmt(x, spec: str = ".4g") -> str:
+    return "n/a" if x is None else format(x, spec)
 
 
-def print_summary(summary: dict, notes=()) -> None:
-    """The result's summary (without the engine's run record) as strict JSON on stdout; the notes (fits
-    that failed) and the engine's run record on stderr."""
-    import sys
+def human_lines(summary: dict) -> list[str]:
+    """A few lines for a person at a terminal: the figure's headline numbers (the JSON has all)."""
+    fig = summary.get("figure")
+    if fig == "9":
+        fr = ", ".join(f"n = {n}: {f:.3f}" for n, f in summary["short_fraction"].items())
+        return [f"Fig. 9 basins, {summary['nx']} x {summary['ny']} mesh: fraction of transients shorter than {fr}"]
+    if fig == "10":
+        lines = [f"Fig. 10 uncertainty, {summary['n_points']} points:"]
+        for n, f in summary["fits"].items():
+            paper = summary.get("paper", {}).get(n)
+            ours = "no fit" if f is None else f"phi = {_fmt(f['phi'])} +- {_fmt(f['phi_se_boot'], '.2g')}"
+            lines.append(f"  n = {n}: {ours}" + (f" (paper {paper[0]} +- {paper[1]})" if paper else ""))
+        return lines
+    d = str(summary["delta"])
+    f = summary["fits"].get(d) or next(iter(summary["fits"].values()), None)
+    head = f"Fig. 11 survival, {summary['nx']} x {summary['ny']} mesh, cap {summary['cap']}:"
+    if f is None:
+        return [head, "  no Eq. (14) fit (see the notes above)"]
+    p = summary.get("paper", {})
+    return [head, f"  delta = {d}: kappa = {_fmt(f['kappa'])} +- {_fmt(f['kappa_se_boot'], '.2g')} (paper "
+                  f"{p.get('kappa', ['?'])[0]}), <n> = {_fmt(f['mean_n'], '.1f')} (paper {p.get('mean_n', '?')})"]
 
-    from ..io import json_text
 
-    print(json_text({k: v for k, v in summary.items() if k != "engine"}))
-    for note in notes:
-        print(note, file=sys.stderr)
+def print_summary(summary: dict, notes=(), files=()) -> None:
+    """The result's summary (without the engine's run record) on stdout (strict JSON, or on a terminal
+    :func:`human_lines`); the notes (fits that failed) and the engine's run record as notes on stderr."""
+    from ..cliutil import note, print_result
+
+    for text in notes:
+        note(text)
     e = summary.get("engine", {})
-    print(f"engine: {e.get('impacts')} impacts in {e.get('elapsed_s', 0):.1f} s "
-          f"({e.get('impacts_per_s', 0):.3g} impacts/s), orbits with sticking: {e.get('orbits_with_sticking')}",
-          file=sys.stderr)
+    note(f"engine: {e.get('impacts')} impacts in {e.get('elapsed_s', 0):.1f} s ({e.get('impacts_per_s', 0):.3g} "
+         f"impacts/s), orbits with sticking: {e.get('orbits_with_sticking')}")
+    print_result({k: v for k, v in summary.items() if k != "engine"}, human_lines(summary), files)

@@ -27,39 +27,38 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     d = AtlasSpec()
     g = p.add_argument_group("grid (alpha = linspace(lo, hi, n) by r = linspace(lo, hi, n))")
-    g.add_argument("--alpha-lo", type=float, default=d.alpha_lo, help=f"lowest alpha, >= 0 (default {d.alpha_lo})")
-    g.add_argument("--alpha-hi", type=float, default=d.alpha_hi, help=f"highest alpha (default {d.alpha_hi})")
+    g.add_argument("--alpha-lo", type=float, default=d.alpha_lo, help=f"lowest alpha, 0 <= alpha-lo <= alpha-hi (default {d.alpha_lo})")
+    g.add_argument("--alpha-hi", type=float, default=d.alpha_hi, help=f"highest alpha, alpha-hi <= 1e10 (default {d.alpha_hi})")
     g.add_argument("--n-alpha", type=positive_int("--n-alpha", MAX_GRID), default=d.n_alpha,
-                   help=f"alpha values (default {d.n_alpha})")
-    g.add_argument("--r-lo", type=float, default=d.r_lo, help=f"lowest r, 0 < r <= 1 (default {d.r_lo})")
-    g.add_argument("--r-hi", type=float, default=d.r_hi, help=f"highest r (default {d.r_hi})")
-    g.add_argument("--n-r", type=positive_int("--n-r", MAX_GRID), default=d.n_r, help=f"r values (default {d.n_r})")
-    g.add_argument("--beta", type=float, default=d.beta, help=f"damping, > 0 (default {d.beta})")
-    g.add_argument("--gamma", type=float, default=d.gamma, help=f"constant torque term (default {d.gamma})")
+                   help=f"alpha values, 1 to {MAX_GRID} (default {d.n_alpha})")
+    g.add_argument("--r-lo", type=float, default=d.r_lo, help=f"lowest r, 0 < r-lo <= r-hi (default {d.r_lo})")
+    g.add_argument("--r-hi", type=float, default=d.r_hi, help=f"highest r, r-hi <= 1 (default {d.r_hi})")
+    g.add_argument("--n-r", type=positive_int("--n-r", MAX_GRID), default=d.n_r, help=f"r values, 1 to {MAX_GRID} (default {d.n_r})")
+    g.add_argument("--beta", type=float, default=d.beta, help=f"damping, 0 < beta <= 1e10 (default {d.beta})")
+    g.add_argument("--gamma", type=float, default=d.gamma, help=f"constant torque term, |gamma| <= 1e10 (default {d.gamma})")
     m = p.add_argument_group("orbits")
     m.add_argument("--tau0", type=tau0_type(), default=d.tau0, help=f"initial time, |tau0| <= 1e6 (default {d.tau0})")
-    m.add_argument("--sdot0", type=float, default=d.sdot0, help=f"initial pre-impact velocity, != 0 (default {d.sdot0})")
+    m.add_argument("--sdot0", type=float, default=d.sdot0, help=f"initial pre-impact velocity, finite, != 0 (default {d.sdot0})")
     m.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=d.transient,
-                   help=f"impacts discarded (default {d.transient})")
+                   help=f"impacts discarded first, 0 to {MAX_IMPACTS} (default {d.transient})")
     m.add_argument("--impacts", type=positive_int("--impacts", MAX_IMPACTS), default=d.impacts,
-                   help=f"impacts averaged for lambda1 (default {d.impacts})")
+                   help=f"impacts averaged for lambda1 after --transient, 1 to {MAX_IMPACTS} (default {d.impacts})")
     m.add_argument("--period-max", type=positive_int("--period-max", MAX_PERIOD), default=d.period_max,
-                   help=f"longest period looked for, in impacts; 2x this many impacts are recorded (default "
+                   help=f"longest period looked for, in impacts, 1 to {MAX_PERIOD}; 2x this many impacts are recorded (default "
                         f"{d.period_max})")
     m.add_argument("--period-tol", type=float, default=d.period_tol,
-                   help=f"state distance below which a period is recognised (default {d.period_tol:g})")
+                   help=f"state distance below which a period is recognised, 0 < period-tol < 1 (default {d.period_tol:g})")
     r = p.add_argument_group("run")
-    r.add_argument("--tile", type=positive_int("--tile", 100_000), default=16, help="tile side in grid points: one task "
-                   "and one Zarr chunk per tile (default 16)")
+    r.add_argument("--tile", type=positive_int("--tile", 100_000), default=16, help="tile side in grid points, 1 to 100000, "
+                   "fitted to the grid: one task and one Zarr chunk per tile (default 16)")
     r.add_argument("--store", default=None, help="Zarr store (default: OUT/atlas.zarr); rerun to resume")
     r.add_argument("--overwrite", action="store_true", help="replace a store made with other options")
     r.add_argument("--scheduler", default="local", metavar="local|serial|ADDRESS",
                    help="local: embedded LocalCluster; serial: in this process; ADDRESS: a Dask "
                         "scheduler such as tcp://host:8786 (default local)")
     r.add_argument("--workers", type=positive_int("--workers", 1024), default=None,
-                   help="worker processes of the local cluster (default: one per core)")
-    add_output_options(r, out=("atlas", "directory for atlas.png and atlas_summary.json (default atlas)"),
-                       quiet="no progress indicator")
+                   help="worker processes of the local cluster, 1 to 1024 (default: one per core)")
+    add_output_options(r, out=("atlas", "directory for atlas.png and atlas_summary.json (default atlas)"))
 
 
 def _option_names(e: ValueError) -> ValueError:
@@ -80,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
     from ..atlas.run import check_scheduler, import_distributed, run_atlas
     from ..atlas.store import fit_tile, import_zarr, load_store
     from ..atlas.summary import summarise
-    from ..cliutil import check_output_dir, check_outputs
+    from ..cliutil import check_output_dir, check_outputs, print_result
     from ..io import save_figure, write_json
     from ..plots.atlas import atlas_figure
 
@@ -96,18 +95,19 @@ def run(args: argparse.Namespace) -> int:
     # store only after a remote scheduler has answered
     out = Path(args.out)
     check_outputs(args)
-    store = args.store or str(out / "atlas.zarr")
-    check_output_dir(store, "--store" if args.store else "--out")
-    from ...mapimpl.progress import Progress
+    store = args.store if args.store is not None else str(out / "atlas.zarr")
+    check_output_dir(store, "--store" if args.store is not None else "--out")
+    from ...core.progress import Bar
 
-    bar = Progress("atlas tiles", not args.quiet)
-    try:
-        res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
-                        progress=bar)
-    except ValueError as e:
-        raise _option_names(e) from None
-    except RuntimeError as e:
-        raise CliError(str(e)) from None
+    with Bar("atlas", unit="tiles", enabled=not args.quiet,
+             phase="starting workers" if args.scheduler == "local" else "starting") as bar:
+        try:
+            res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
+                            progress=bar)
+        except ValueError as e:
+            raise _option_names(e) from None
+        except RuntimeError as e:
+            raise CliError(str(e)) from None
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -118,10 +118,11 @@ def run(args: argparse.Namespace) -> int:
     summary.store = store
     write_json(out / "atlas_summary.json", summary.as_dict())
     save_figure(atlas_figure(data, spec), out / "atlas.png", dpi=130)
-    print(_run_line(spec, summary.run, args.scheduler))
-    print(f"chaotic (lambda1 > 0): {summary.chaotic}, periodic: {summary.periodic}, sticking: {summary.sticking}, "
-          f"ended: {summary.ended} of {summary.points_computed} points")
-    print(f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}")
+    print_result(summary.as_dict(), [
+        _run_line(spec, summary.run, args.scheduler),
+        f"chaotic (lambda1 > 0): {summary.chaotic}, periodic: {summary.periodic}, sticking: {summary.sticking}, "
+        f"ended: {summary.ended} of {summary.points_computed} points",
+        f"wrote {store}, {out / 'atlas.png'}, {out / 'atlas_summary.json'}"], [out / "atlas_summary.json"])
     return 0
 
 
@@ -131,7 +132,9 @@ def _run_line(spec, ru: dict, scheduler: str) -> str:
     head = (f"atlas {spec.n_alpha} x {spec.n_r} (alpha {spec.alpha_lo:g}..{spec.alpha_hi:g}, r {spec.r_lo:g}.."
             f"{spec.r_hi:g}): ")
     if ru["tiles_computed"] == 0:
-        return head + f"nothing to compute, all {ru['tiles_resumed']} tiles found in the store"
+        n = ru["tiles_resumed"]
+        return head + ("nothing to compute, the one tile found in the store" if n == 1 else
+                       f"nothing to compute, all {n} tiles found in the store")
     tile_rate = ru["median tile throughput per worker (points x impacts / s, wall)"]
     return head + (f"{ru['tiles_computed']} tiles computed, {ru['tiles_resumed']} found in the store; "
                    f"{ru['wall_seconds']:.1f} s on {ru['workers']} worker(s) ({scheduler}), "

@@ -11,22 +11,26 @@ import argparse
 import math
 from pathlib import Path
 
-from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, real
-from ._transient_common import add_common, check_common, print_summary, progress_arg
+from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, progress_arg, real
+from ._transient_common import add_common, check_common, print_summary
 
 NAME = "basins"
 HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..transient.profiles import get_profile
+
     add_common(p)
+    q, pp = (get_profile(k, "basins") for k in ("quick", "paper"))
     p.add_argument("--nx", type=positive_int("--nx", MAX_MESH), default=None,
-                   help=f"mesh points in tau0, at most {MAX_MESH} (default: quick 120, paper 400)")
+                   help=f"mesh points in tau0, 1 to {MAX_MESH} (default: quick {q['nx']}, paper {pp['nx']})")
     p.add_argument("--ny", type=positive_int("--ny", MAX_MESH), default=None,
-                   help=f"mesh points in sdot0, at most {MAX_MESH} (default: quick 60, paper 400; --nx if given)")
+                   help=f"mesh points in sdot0, 1 to {MAX_MESH} (default: quick {q['ny']}, paper {pp['ny']}; with --nx "
+                        "the profile's ratio ny/nx times --nx)")
     p.add_argument("--window", type=real("--window"), nargs=4, default=[0.0, 2 * math.pi, 0.0, 0.5],
                    metavar=("TAU_LO", "TAU_HI", "SDOT_LO", "SDOT_HI"),
-                   help="mesh window (default 0 2pi 0 0.5)")
+                   help="mesh window, TAU_LO < TAU_HI within |tau| <= 1e6 and SDOT_LO < SDOT_HI (default 0 2pi 0 0.5)")
     p.add_argument("--ns", type=positive_int("--ns", MAX_IMPACTS), nargs="+", default=[90, 500, 1000, 2000],
                    help=f"thresholds n, each 1 to {MAX_IMPACTS} (default 90 500 1000 2000)")
 
@@ -47,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
     check_common(args)
     res = basins(profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
                ns=tuple(args.ns), delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
-    write_basins(args.out, res)
-    save_figure(basins_figure(res), Path(args.out) / "fig9_basins.png")
-    print_summary(res.summary(), res.notes)
+    files = write_basins(args.out, res)
+    fig = Path(args.out) / "fig9_basins.png"
+    save_figure(basins_figure(res), fig)
+    print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0

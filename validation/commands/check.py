@@ -19,7 +19,7 @@ import sys
 from functools import partial
 from pathlib import Path
 
-from ..cliutil import CliError, check_output_dir
+from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir, to_stdout
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -35,21 +35,23 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="run our own track on every case and score it")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
                    help="track used by --self (default map)")
-    p.add_argument("--write", default=None, metavar="DIR",
-                   help="with --self: also write the track's <case-id>.csv files to DIR (default: none written)")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help="with --self: also write the track's <case-id>.csv (with --orbits <id>.json) files to DIR "
+                        "(default: none written)")
+    add_renamed(p, "--write", "--out")
     p.add_argument("--orbits", action="store_true",
                    help="score periodic orbits and bifurcation points (one <id>.json per record of "
                         "validation/golden/orbits, or --self) instead of impact sequences")
-    p.add_argument("--quiet", action="store_true", help="print only the summary line")
+    p.add_argument("--summary", action="store_true", help="print only the summary line of the table")
+    p.add_argument("--quiet", action="store_true", help="no progress bars (notes and errors still go to stderr)")
 
 
-def write_output(path: Path, text: str) -> str:
-    """Write one ``--write`` file (an OS error is a one-line usage error); returns its path."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
-    except OSError as e:
-        raise CliError(f"--write: cannot write {str(path)!r}: {e.strerror}") from None
+def write_output(path: Path, write, *args) -> str:
+    """Write one ``--out`` file with ``write(path, *args)`` (one of :mod:`validation.io`'s writers; an OS
+    error is a one-line usage error); returns its path."""
+    from ..cliutil import write_file
+
+    write_file("--out", path, lambda p: write(p, *args))
     return str(path)
 
 
@@ -64,12 +66,14 @@ def read_outputs(reads: dict, malformed) -> dict | None:
         except malformed as e:
             errors.append(str(e))
     for e in errors:
-        print(f"gear-rattle check: error: {e}", file=sys.stderr)
+        e = " ".join(e.split())
+        print(f"gear-rattle check: error: {e if len(e) <= 500 else e[:500] + ' ... (cut)'}", file=sys.stderr)
     return None if errors else out
 
 
 def _self_outputs(cases, track: str, write: str | None):
     from ..golden.suite import run_case, sequence_from_impacts
+    from ..io import write_csv
 
     try:
         if track != "map":
@@ -85,7 +89,7 @@ def _self_outputs(cases, track: str, write: str | None):
         seq = run_case(case, track)
         label = f"<{track} track, case {case.id}>"
         if write:
-            label = write_output(Path(write) / f"{case.id}.csv", seq.to_csv())
+            label = write_output(Path(write) / f"{case.id}.csv", write_csv, *seq.table())
         out[case.id] = sequence_from_impacts(seq, label)
     return out
 
@@ -98,15 +102,15 @@ def run(args: argparse.Namespace) -> int:
         raise CliError("give either PATH or --self, not both")
     if not args.self_check and args.path is None:
         raise CliError("missing PATH (a directory with one <case-id>.csv per case), or use --self")
-    if args.write and not args.self_check:
-        raise CliError("--write needs --self")
-    if args.write:
-        check_output_dir(args.write, "--write")
+    if args.out is not None and not args.self_check:
+        raise CliError("--out needs --self (it keeps the files of our own track)")
+    if args.out is not None:
+        check_output_dir(args.out, "--out")
     if args.orbits:
         from ._check_orbits import run_orbits
 
         return run_orbits(args)
-    suite = Path(args.suite) if args.suite else DEFAULT_SUITE
+    suite = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_SUITE
     try:
         cases = load_suite(suite, args.cases)
     except MalformedFile as e:
@@ -114,11 +118,9 @@ def run(args: argparse.Namespace) -> int:
     if not cases:
         raise CliError(f"suite {str(suite)!r} has no cases")
     if args.self_check:
-        outputs = _self_outputs(cases, args.track, args.write)
+        outputs = _self_outputs(cases, args.track, args.out)
     else:
-        root = Path(args.path)
-        if not root.is_dir():
-            raise CliError(f"{str(root)!r} is not a directory (expected one <case-id>.csv per case)")
+        root = check_input_path(args.path, "PATH", directory=True)
         outputs = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
                                MalformedFile)
         if outputs is None:
@@ -130,5 +132,5 @@ def run(args: argparse.Namespace) -> int:
         except MalformedFile as e:
             raise CliError(str(e)) from None
     table = summary_table(scores)
-    print(table if not args.quiet else table.splitlines()[-1])
+    to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
     return 0 if all(s.passed for s in scores) else 1

@@ -10,7 +10,8 @@ import argparse
 import numpy as np
 
 from ..cliutil import (MAX_AVERAGED, MAX_VALUES, CliError, add_output_options, add_param_args, check_outputs,
-                       nonneg_int, params_from, positive_int, real, tau0_type, write_output, write_plot)
+                       check_scan, nonneg_int, note, params_from, positive_int, progress_arg, real, tau0_type, write_output,
+                       write_plot)
 
 NAME = "lyapunov"
 HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
@@ -19,40 +20,43 @@ HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
     p.add_argument("--param", choices=("r", "alpha"), default="r", help="parameter varied (default r)")
-    p.add_argument("--lo", type=real("--lo"), default=None, help="lowest value (default: the --r or --alpha value)")
-    p.add_argument("--hi", type=real("--hi"), default=None, help="highest value (default: --lo)")
+    p.add_argument("--lo", type=real("--lo"), default=None,
+                   help="lowest value, in the parameter's range: 0 < r <= 1, 0 <= alpha <= 1e10 (default: the --r or "
+                        "--alpha value)")
+    p.add_argument("--hi", type=real("--hi"), default=None, help="highest value, in the range, >= --lo (default: --lo)")
     p.add_argument("--values", type=positive_int("--values", MAX_VALUES), default=1,
-                   help=f"number of parameter values, at most {MAX_VALUES} (default 1)")
+                   help=f"number of parameter values, 1 to {MAX_VALUES} (default 1)")
     p.add_argument("--impacts", type=positive_int("--impacts", MAX_AVERAGED), default=20000,
-                   help=f"impacts averaged, at most {MAX_AVERAGED} (default 20000)")
+                   help=f"impacts averaged after --transient, 1 to {MAX_AVERAGED} (default 20000)")
     p.add_argument("--transient", type=nonneg_int("--transient", MAX_AVERAGED), default=1000,
-                   help="impacts discarded first (default 1000)")
+                   help=f"impacts discarded first, 0 to {MAX_AVERAGED} (default 1000)")
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
-    add_output_options(p, output=".npz or .csv (default: CSV on stdout)", plot="write the figure (default: no figure)",
-                       quiet="no progress bar")
+    add_output_options(p, output="the exponents", plot="write the figure (default: no figure)")
 
 
 def run(args: argparse.Namespace) -> int:
     from ...mapimpl.lyapunov import lyapunov
-    from ...mapimpl.progress import Progress
 
     base = params_from(args)
     check_outputs(args)
     if args.sdot0 == 0:
         raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
     lo = args.lo if args.lo is not None else getattr(base, args.param)
-    hi = args.hi if args.hi is not None else lo
-    if not lo <= hi:
-        raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo <= hi")
+    lo, hi = check_scan(args, lo, lo if args.hi is None else args.hi)
     values = np.linspace(lo, hi, args.values)
     res = lyapunov(base, args.param, values, n=args.impacts, transient=args.transient, tau0=args.tau0,
-                   sdot0=args.sdot0, progress=Progress("lyapunov", not args.quiet))
+                   sdot0=args.sdot0, progress=progress_arg(args))
     fig = None
     if args.plot:  # drawn before anything is written
         from ..plots import lyapunov_figure
 
         fig = lyapunov_figure(values, res.lam_free, args.param)
     write_output(args, res)
+    ended = ~np.asarray(res.active)
+    if ended.any():
+        at = ", ".join(f"{v:g}" for v in values[ended][:5]) + (", ..." if ended.sum() > 5 else "")
+        note(f"{int(ended.sum())} of {values.size} orbits ended before --transient + --impacts impacts (stuck forever, "
+             f"no impact or the step cap) at {args.param} = {at}: their exponents are NaN (nan in CSV, null in JSON)")
     write_plot(args, fig)
     return 0

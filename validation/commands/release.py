@@ -89,22 +89,22 @@ def main(argv: list[str] | None = None) -> int:
     walls = (0, -1) if args.wall == "both" else (int(args.wall),)
     roundings = ROUNDINGS if args.rounding == "both" else (args.rounding,)
 
-    def prog(prec, n, rad):
-        if not args.quiet:
-            sys.stderr.write(f"\r  {prec} bits: impact {n}, radius {rad}   ")
-            sys.stderr.flush()
+    from ...core.progress import Bar
 
     out = {"command": "python -m gear_rattle.validation.commands.release " + " ".join(argv or sys.argv[1:]),
            "results": [], "float64_engine": []}
     try:
         for wall in walls:
             for rounding in roundings:
-                d = certified_release_duration(params, wall, args.delta, rounding=rounding,
-                                               max_impacts=args.max_impacts, precisions=args.precisions,
-                                               confirm=not args.no_confirm, time_budget_s=args.time_budget,
-                                               progress=prog)
-                if not args.quiet:
-                    sys.stderr.write("\r" + " " * 60 + "\r")
+                with Bar(f"T_post (wall {wall}, {rounding})", enabled=not args.quiet) as bar:
+                    def prog(prec, n, rad, bar=bar):
+                        bar.postfix(f"{prec} bits, radius {rad}")
+                        bar.update(n)
+
+                    d = certified_release_duration(params, wall, args.delta, rounding=rounding,
+                                                   max_impacts=args.max_impacts, precisions=args.precisions,
+                                                   confirm=not args.no_confirm, time_budget_s=args.time_budget,
+                                                   progress=prog)
                 print(d.summary())
                 for a in d.attempts:
                     print(f"    {a.prec:5d} bits: {a.status:13s} impacts {a.impacts:6d}  radius {a.radius:>9s}  "

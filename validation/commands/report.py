@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import CliError, add_output_options, check_outputs, seed_int
+from ..cliutil import add_output_options, check_outputs, note, print_result, seed_int
+from ..report.builder import SECTION_KEYS
 
 NAME = "report"
 HELP = "generate the validation report (HTML + Markdown)"
@@ -17,34 +18,26 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="quick or paper scale (default quick)")
     p.add_argument("--seed", type=seed_int(), default=20040101,
                    help="random seed of every sampled quantity, 0 to 2**32-1 (default 20040101)")
-    p.add_argument("--sections", nargs="*", default=None, metavar="KEY",
-                   help="run only these section keys (default: all sections)")
-    add_output_options(p, out=("report", "output directory (default report)"), quiet="no progress output")
-
-
-def section_keys() -> list[str]:
-    """The report's section keys, in order."""
-    import importlib
-
-    from ..report.builder import SECTIONS
-
-    return [importlib.import_module(m).KEY for m in SECTIONS]
+    p.add_argument("--sections", nargs="+", default=None, metavar="KEY", choices=SECTION_KEYS,
+                   help=f"run only these sections, of {', '.join(SECTION_KEYS)} (default: all sections)")
+    add_output_options(p, out=("report", "output directory (default report); written when the run ends, "
+                               "an interrupted run leaves it as it was"))
 
 
 def run(args: argparse.Namespace) -> int:
     import sys
+    from pathlib import Path
 
+    from ..io import read_json
     from ..report.builder import build_report
 
-    if args.sections:
-        keys = section_keys()
-        unknown = [s for s in args.sections if s not in keys]
-        if unknown:
-            raise CliError(f"--sections: unknown key(s) {', '.join(unknown)}: allowed {', '.join(keys)}")
     check_outputs(args)
     path, ok = build_report(args.profile, args.out, args.sections, seed=args.seed, progress=not args.quiet,
                             argv=["gear-rattle", *sys.argv[1:]])
-    print(f"report written: {path}")
+    summary = read_json(Path(args.out) / "summary.json")
+    c = summary["counts"]
+    print_result(summary, [f"report written: {path}", "verdicts: " + ", ".join(f"{k} {v}" for k, v in c.items())],
+                 [Path(args.out) / "summary.json"])
     if not ok:
-        print("gear-rattle report: some sections FAILED (see the report)", file=sys.stderr)
+        note("some sections FAILED (see the report)")
     return 0 if ok else 1

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_IMPACTS, add_output_options, add_param_args, check_outputs, nonneg_int, params_from, real,
-                       tau0_type, write_plot, write_text)
+from ..cliutil import (MAX_IMPACTS, add_output_options, add_param_args, check_outputs, nonneg_int, note, params_from, progress_arg,
+                       real, tau0_type, write_output, write_plot)
 
 NAME = "simulate"
 HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
@@ -19,17 +19,16 @@ HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time tau0, |tau0| <= 1e6 (default 0.0)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity (default 0.5)")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial pre-impact velocity, finite (> 0 hits s = 0, < 0 hits s = -1; with --s0 any) (default 0.5)")
     p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
                    help="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
     p.add_argument("--impacts", type=nonneg_int("--impacts", MAX_IMPACTS), default=1000,
-                   help=f"impacts after impact 0, at most {MAX_IMPACTS} (default 1000)")
+                   help=f"impacts after impact 0, 0 to {MAX_IMPACTS} (default 1000)")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
                    help="which track computes the orbit (default map)")
-    add_output_options(p, fmt="output format (default csv)", output="output file (default: stdout)",
-                       plot="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
+    add_output_options(p, output="the events", plot="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
     p.add_argument("--plot-span", type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4), default=50.0,
-                   help="time span of the plot in tau units, at most 1e4 (default 50.0)")
+                   help="time span of the plot in tau units, 0 < span <= 1e4 (default 50.0)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -37,20 +36,17 @@ def run(args: argparse.Namespace) -> int:
 
     params = params_from(args)
     check_outputs(args)
-    seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0)
+    seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0, progress=progress_arg(args))
     fig = None
     if args.plot:  # drawn before anything is written
         from ..plots import time_series_figure
 
         fig = time_series_figure(seq, span=args.plot_span)
-    write_text(seq.to_csv() if args.format == "csv" else seq.to_json() + "\n", args.output)
+    write_output(args, seq)
     if seq.status != "active":
-        import sys
-
         why = {"no_impact": "no wall is reached within the flight horizon T_MAX",
                "stuck_forever": "the tooth sticks to a wall and the forcing never releases it",
                "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
-        print(f"gear-rattle simulate: note: the orbit ended after {int(seq.impacts.sum())} impacts "
-              f"(status {seq.status}: {why})", file=sys.stderr)
+        note(f"the orbit ended after {int(seq.impacts.sum()) - 1} impacts (status {seq.status}: {why})")
     write_plot(args, fig, dpi=110)
     return 0

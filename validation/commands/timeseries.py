@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_IMPACTS, CliError, add_output_options, add_param_args, check_outputs, int_range,
-                       nonneg_int, params_from, real, tau0_type, write_output, write_plot)
+from ..cliutil import (MAX_IMPACTS, CliError, add_output_options, add_param_args, check_outputs, given_params, int_range,
+                       nonneg_int, params_from, progress_arg, real, tau0_type, write_output, write_plot)
 
 NAME = "timeseries"
 HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
@@ -16,14 +16,15 @@ HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_param_args(p)
     p.add_argument("--figure", choices=("fig5", "fig6", "fig7"), default=None,
-                   help="use the paper's parameters of this figure (default: none, use --alpha ... --r)")
+                   help="the paper's parameters of this figure: alpha = 3, beta = gamma = 0.1 and its r; not with "
+                        "--alpha/--beta/--gamma/--r (default: none, use --alpha ... --r)")
     p.add_argument("--impacts", type=int_range("--impacts", 2, MAX_IMPACTS), default=3000,
-                   help=f"impacts recorded, 2 to {MAX_IMPACTS} (default 3000)")
+                   help=f"impacts recorded after --transient, 2 to {MAX_IMPACTS} (default 3000)")
     p.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=2000,
-                   help="impacts discarded first (default 2000)")
+                   help=f"impacts discarded first, 0 to {MAX_IMPACTS} (default 2000)")
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
-    add_output_options(p, output=".npz or .csv (default: CSV on stdout)", plot="write the figure (default: no figure)")
+    add_output_options(p, output="the two series", plot="write the figure (default: no figure)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -31,11 +32,15 @@ def run(args: argparse.Namespace) -> int:
 
     base = params_from(args)
     if args.figure:
+        given = given_params(args)
+        if given:
+            raise CliError(f"{', '.join(given)}: not allowed with --figure {args.figure} (it sets alpha = 3, "
+                           f"beta = gamma = 0.1, r = {FIGURE_R[args.figure]}): give one or the other")
         base = base.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[args.figure])
     check_outputs(args)
     if args.sdot0 == 0:
         raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
-    ts = time_series(base, args.impacts, args.transient, args.tau0, args.sdot0)
+    ts = time_series(base, args.impacts, args.transient, args.tau0, args.sdot0, progress=progress_arg(args))
     if ts.k.size == 0:
         raise CliError(f"--impacts={args.impacts} is too small: the impacts kept after --transient={args.transient} "
                        "span less than one forcing period (2 pi), so there is no stroboscopic sample; "

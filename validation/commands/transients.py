@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..cliutil import MAX_IMPACTS, MAX_MESH, nonneg_int, positive_int, real, seed_int
-from ._transient_common import add_common, check_common, print_summary, progress_arg
+from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, nonneg_int, positive_int, progress_arg, real, seed_int
+from ._transient_common import add_common, check_common, print_summary
 
 NAME = "transients"
 HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
@@ -20,15 +20,18 @@ HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common(p)
-    p.add_argument("--n", type=positive_int("--n", MAX_MESH), default=None,
-                   help=f"mesh size n x n, at most {MAX_MESH} (default: quick 60, paper 400)")
+    p.add_argument("--nx", type=positive_int("--nx", MAX_MESH), default=None,
+                   help=f"mesh points in tau0, 1 to {MAX_MESH} (default: quick 60, paper 400)")
+    p.add_argument("--ny", type=positive_int("--ny", MAX_MESH), default=None,
+                   help=f"mesh points in sdot0, 1 to {MAX_MESH} (default: --nx)")
+    add_renamed(p, "--n", "--nx", type=positive_int("--n", MAX_MESH))
     p.add_argument("--cap", type=positive_int("--cap", MAX_IMPACTS), default=None,
-                   help=f"most iterations per orbit, at most {MAX_IMPACTS} (default 20000)")
+                   help=f"most impacts per orbit, 1 to {MAX_IMPACTS} (default 20000)")
     p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
                    help="read (tau0, sdot0) as a free-flight state at s = s0, -1 <= s0 <= 0 "
                         "(default: none, pre-impact states)")
     p.add_argument("--n-lo", type=nonneg_int("--n-lo", MAX_IMPACTS), default=None,
-                   help="start of the fit range (default: the median duration)")
+                   help=f"start of the fit range in impacts, 0 to {MAX_IMPACTS} (default: the median duration)")
     p.add_argument("--seed", type=seed_int(), default=0, help="bootstrap seed, 0 to 2**32-1 (default 0)")
 
 
@@ -41,11 +44,12 @@ def run(args: argparse.Namespace) -> int:
 
     params = params_from(args)
     check_common(args)
-    res = transients(profile=args.profile, nx=args.n, cap=args.cap, delta=args.delta,
+    res = transients(profile=args.profile, nx=args.nx, ny=args.ny, cap=args.cap, delta=args.delta,
                    deltas=(1e-2, args.delta, 1e-4, 1e-6), params=params,
                    ic_mode="pre-impact" if args.s0 is None else "free", s0=args.s0, n_lo=args.n_lo, seed=args.seed,
                    progress=progress_arg(args), lanes=args.lanes)
-    write_survival(args.out, res)
-    save_figure(survival_figure(res), Path(args.out) / "fig11_survival.png")
-    print_summary(res.summary(), res.notes)
+    files = write_survival(args.out, res)
+    fig = Path(args.out) / "fig11_survival.png"
+    save_figure(survival_figure(res), fig)
+    print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0

@@ -12,8 +12,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, real, seed_int
-from ._transient_common import add_common, check_common, print_summary, progress_arg
+from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, progress_arg, real, seed_int
+from ._transient_common import add_common, check_common, print_summary
 
 NAME = "uncertainty"
 HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
@@ -26,9 +26,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--points", type=int_range("--points", 10, MAX_POINTS), default=None,
                    help=f"random points, 10 to {MAX_POINTS} (default: quick 300, paper 3000)")
     p.add_argument("--eps-min", type=real("--eps-min", lo=0.0, lo_open=True, hi=0.1), default=1e-9,
-                   help="smallest eps (default 1e-09)")
+                   help="smallest eps, 0 < eps-min < eps-max (default 1e-09)")
     p.add_argument("--eps-max", type=real("--eps-max", lo=0.0, lo_open=True, hi=0.1), default=1e-3,
-                   help="largest eps, at most 0.1 (default 0.001)")
+                   help="largest eps, eps-min < eps-max <= 0.1 (default 0.001)")
     p.add_argument("--n-eps", type=int_range("--n-eps", 3, 100), default=None,
                    help="eps values, log-spaced, 3 to 100 (default: quick 7, paper 13)")
     p.add_argument("--ns", type=positive_int("--ns", MAX_IMPACTS), nargs="+", default=[500, 1000],
@@ -51,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
     eps = default_eps(args.profile, args.n_eps, args.eps_min, args.eps_max)
     res = uncertainty(profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
                     seed=args.seed, delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
-    write_uncertainty(args.out, res)
-    save_figure(uncertainty_figure(res), Path(args.out) / "fig10_uncertainty.png")
-    print_summary(res.summary(), res.notes)
+    files = write_uncertainty(args.out, res)
+    fig = Path(args.out) / "fig10_uncertainty.png"
+    save_figure(uncertainty_figure(res), fig)
+    print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0

@@ -11,13 +11,10 @@ time series, settling runs) per profile, and the paper's two parameter scans.  T
 from __future__ import annotations
 
 from ...core.params import Params
+from ..paper import PAPER_SCANS
 
-#: The paper's scans: Fig. 4 varies r in [0.70, 0.95] at alpha = 3, Fig. 8 alpha in [1.10, 1.40] at r = 0.9
-#: (beta = gamma = 0.1): ``(parameter, lo, hi, base parameters)``.
-SCANS = {
-    "Fig. 4": ("r", 0.70, 0.95, Params(3.0, 0.1, 0.1, 0.9)),
-    "Fig. 8": ("alpha", 1.10, 1.40, Params(1.2, 0.1, 0.1, 0.9)),
-}
+#: The paper's scans (:data:`validation.paper.PAPER_SCANS`) as ``(parameter, lo, hi, base parameters)``.
+SCANS = {k: (s.param, s.lo, s.hi, Params(*s.fixed)) for k, s in PAPER_SCANS.items()}
 #: Transient discarded before the time series of Figs. 5-7 (Fig. 5 shows the approach from the start).
 TS_TRANSIENT = {"fig5": 0, "fig6": 2000, "fig7": 2000}
 

@@ -78,13 +78,14 @@ def stroboscopic(seq: ImpactSequence) -> tuple[np.ndarray, np.ndarray]:
 
 
 def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, tau0: float = 0.0,
-                sdot0: float = 0.5) -> TimeSeries:
-    """Discrete and stroboscopic velocity series after ``transient`` impacts (n counted after it)."""
+                sdot0: float = 0.5, progress=False) -> TimeSeries:
+    """Discrete and stroboscopic velocity series after ``transient`` impacts (n counted after it);
+    ``progress``: see :func:`gear_rattle.mapimpl.orbit.map_orbit`."""
     if int(n_impacts) != n_impacts or not 2 <= int(n_impacts) <= 10_000_000:
         raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer 2 <= n_impacts <= 1e7")
     if int(transient) != transient or not 0 <= int(transient) <= 10_000_000:
         raise ValueError(f"transient={transient!r} is out of range: allowed an integer 0 <= transient <= 1e7")
-    seq = map_orbit(params, tau0, sdot0, int(n_impacts) + int(transient))
+    seq = map_orbit(params, tau0, sdot0, int(n_impacts) + int(transient), progress=progress)
     keep = seq.n >= int(transient)
     sub = ImpactSequence(params, seq.n[keep] - int(transient), seq.tau[keep], seq.theta[keep], seq.wall[keep],
                          seq.sdot[keep], seq.kind[keep], seq.status)

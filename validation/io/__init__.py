@@ -5,6 +5,8 @@ The I/O layer sits above the analyses (which return typed results and never writ
 report and the commands (which compose: compute -> write -> plot); docs/architecture.md.
 """
 
-from .formats import csv_columns, csv_text, json_text, jsonable, save_figure, write_csv, write_json, write_npz
+from .formats import (csv_columns, csv_text, json_text, jsonable, nan_from_null, read_json, save_figure, write_csv,
+                      write_json, write_npz)
 
-__all__ = ["csv_columns", "csv_text", "json_text", "jsonable", "save_figure", "write_csv", "write_json", "write_npz"]
+__all__ = ["csv_columns", "csv_text", "json_text", "jsonable", "nan_from_null", "read_json", "save_figure", "write_csv",
+           "write_json", "write_npz"]

@@ -46,15 +46,31 @@ def jsonable(x):
     raise TypeError(f"{type(x).__name__} is not JSON data")
 
 
-def json_text(obj, indent: int | None = 1) -> str:
-    """Strict JSON text of ``obj`` (see the module docstring)."""
-    return json.dumps(jsonable(obj), indent=indent, allow_nan=False)
+def json_text(obj, indent: int | None = 1, ensure_ascii: bool = True) -> str:
+    """Strict JSON text of ``obj`` (see the module docstring); ``ensure_ascii=False`` keeps non-ASCII
+    characters as they are (the file is UTF-8)."""
+    return json.dumps(jsonable(obj), indent=indent, allow_nan=False, ensure_ascii=ensure_ascii)
 
 
-def write_json(path, obj, indent: int | None = 1) -> Path:
-    """Write :func:`json_text` of ``obj`` (and a final newline) to ``path``; returns the path."""
+def read_json(path):
+    """The data of a JSON file written by :func:`write_json`: strict (a bare ``NaN`` or ``Infinity`` is
+    refused with ``ValueError``); ``null`` stays ``None`` -- the reader of a numeric field turns it
+    back into NaN where NaN is what was written (:func:`nan_from_null`)."""
+    def refuse(name):
+        raise ValueError(f"{str(path)!r}: {name} is not JSON (RFC 8259): allowed numbers and null")
+
+    return json.loads(Path(path).read_text(encoding="utf-8"), parse_constant=refuse)
+
+
+def nan_from_null(x):
+    """A numeric value read from strict JSON: ``None`` (a NaN or infinity written as ``null``) as NaN."""
+    return math.nan if x is None else x
+
+
+def write_json(path, obj, indent: int | None = 1, ensure_ascii: bool = True) -> Path:
+    """Write :func:`json_text` of ``obj`` (and a final newline) to ``path`` (UTF-8); returns the path."""
     p = Path(path)
-    p.write_text(json_text(obj, indent) + "\n")
+    p.write_text(json_text(obj, indent, ensure_ascii) + "\n", encoding="utf-8")
     return p
 
 

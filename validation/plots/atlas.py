@@ -63,19 +63,18 @@ def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None
     ax2.set_title(r"period: $p$ impacts in $m$ driving periods ($p \leq$ %d)" % spec.period_max)
 
     outline = [patheffects.withStroke(linewidth=4.0, foreground="white")]
+    lines = []
     for ax in (ax1, ax2):
         for k, (label, xs, ys) in enumerate(paper_lines(spec)):
             colour = ("#007000", "#b000b0")[k % 2]
-            ax.plot(xs, ys, "-", color=colour, lw=2.2, solid_capstyle="butt", path_effects=outline)
-            vertical = xs[0] == xs[1]
-            ax.annotate(label, (0.5 * (xs[0] + xs[1]), 0.5 * (ys[0] + ys[1])), xytext=(-6, 0) if vertical else (0, 5),
-                        textcoords="offset points", fontsize=8, color=colour, rotation=90 if vertical else 0,
-                        ha="right" if vertical else "center", va="center" if vertical else "bottom",
-                        path_effects=outline)
+            lines.append(ax.plot(xs, ys, "-", color=colour, lw=2.2, solid_capstyle="butt", path_effects=outline,
+                                 label=f"the paper's {label} scan")[0])
         ax.set_xlabel(r"$\alpha$ (driving amplitude)")
         ax.set_ylabel(r"$r$ (restitution)")
+    # the scans' names in a legend below the panels: a label inside covered cells
+    fig.legend(handles=lines[:len(lines) // 2], loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.suptitle(title or (rf"Parameter-plane atlas, $\beta$ = {spec.beta:g}, $\gamma$ = {spec.gamma:g}: "
                            f"{spec.n_alpha} x {spec.n_r} points, {spec.transient} transient + {spec.impacts} "
                            f"measured impacts from (tau0, sdot0) = ({spec.tau0:g}, {spec.sdot0:g})"), fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     return fig

@@ -13,3 +13,11 @@ def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
     fig_kw = {k: kwargs.pop(k) for k in ("figsize", "dpi", "layout") if k in kwargs}
     fig = Figure(**fig_kw)
     return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def legend_outside(ax, **kwargs):
+    """The axes' legend to the right of it, outside the data (a legend inside covered data points in
+    Figs. 2-4 and 8); the figure's ``tight_layout`` makes room for it."""
+    kw = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
+    kw.update(kwargs)
+    return ax.legend(**kw)

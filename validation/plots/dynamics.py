@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import subplots
+from .base import legend_outside, subplots
 
 
 def diagram_lyapunov_figure(dl, fig: str, lo: float, hi: float, marks=()):
@@ -14,7 +14,7 @@ def diagram_lyapunov_figure(dl, fig: str, lo: float, hi: float, marks=()):
     exponents of ``dl.lyapunov`` (a :class:`~gear_rattle.validation.dynamics.bifurcation.DiagramLyapunov`),
     dashed lines at ``marks`` (``(name, value)``)."""
     d, lam = dl.diagram, dl.lyapunov
-    f, ax = subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    f, ax = subplots(2, 1, figsize=(8.8, 6.5), sharex=True)
     vv = np.repeat(d.values, d.sdot.shape[1]) if d.sdot.ndim == 2 else d.values
     ax[0].plot(vv, np.ravel(d.sdot), ",", color="k", alpha=0.6)
     ax[0].set_ylabel(r"$\dot s_n$")
@@ -23,7 +23,7 @@ def diagram_lyapunov_figure(dl, fig: str, lo: float, hi: float, marks=()):
     ax[1].axhline(0, color="0.5", lw=0.5)
     ax[1].set_ylabel("Lyapunov exponents")
     ax[1].set_xlabel(d.param)
-    ax[1].legend(fontsize=8, loc="lower left")
+    legend_outside(ax[1])
     for name, val in marks:
         for a in ax:
             a.axvline(val, color="C3", lw=0.6, ls="--")

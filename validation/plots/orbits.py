@@ -8,7 +8,7 @@ import numpy as np
 
 from ...core.results import ImpactSequence
 from ...mapimpl.dense import dense
-from .base import subplots
+from .base import legend_outside, subplots
 
 
 def time_series_figure(seq: ImpactSequence, span: float = 50.0, title: str | None = None):
@@ -25,12 +25,12 @@ def time_series_figure(seq: ImpactSequence, span: float = 50.0, title: str | Non
     keep = tau <= t_end
     tau, s = tau[keep], s[keep]
     drive = p.alpha * np.sin(tau)
-    fig, ax = subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, ax = subplots(2, 1, figsize=(9.5, 6), sharex=True)
     ax[0].plot(tau, drive, color="0.5", lw=0.8, label="driving gear flanks")
     ax[0].plot(tau, drive + 1.0, color="0.5", lw=0.8)
     ax[0].plot(tau, drive - s, color="C0", lw=1.0, label="driven gear")
     ax[0].set_ylabel(r"$(R/v)\,\varphi$")
-    ax[0].legend(loc="upper right", fontsize=8)
+    legend_outside(ax[0])
     ax[0].set_title(title or f"alpha={p.alpha:g} beta={p.beta:g} gamma={p.gamma:g} r={p.r:g} ({seq.track} track)")
     ax[1].plot(tau, s, color="C0", lw=1.0)
     m = seq.impacts & (seq.tau <= t_end)
@@ -41,7 +41,7 @@ def time_series_figure(seq: ImpactSequence, span: float = 50.0, title: str | Non
     ax[1].set_ylim(-1.1, 0.1)
     ax[1].set_ylabel("s")
     ax[1].set_xlabel(r"$\tau$")
-    ax[1].legend(loc="upper right", fontsize=8)
+    legend_outside(ax[1])
     fig.tight_layout()
     return fig
 
@@ -75,7 +75,7 @@ def diagram_figure(diag, lyap=None, title: str | None = None):
         axes[1, 0].plot(v, lam[:, 1], "-", lw=0.8, label=r"$\lambda_2$")
         axes[1, 0].axhline(0, color="gray", lw=0.5)
         axes[1, 0].set_ylabel("Lyapunov exponents (per impact)")
-        axes[1, 0].legend(fontsize=8)
+        legend_outside(axes[1, 0])
     axes[-1, 0].set_xlabel(diag.param)
     fig.tight_layout()
     return fig
@@ -87,7 +87,7 @@ def lyapunov_figure(values, lam, param: str):
     ax.plot(values, lam[:, 0], "-", label=r"$\lambda_1$")
     ax.plot(values, lam[:, 1], "-", label=r"$\lambda_2$")
     ax.axhline(0, color="gray", lw=0.5)
-    ax.set_xlabel(param); ax.set_ylabel("per impact"); ax.legend()
+    ax.set_xlabel(param); ax.set_ylabel("per impact"); legend_outside(ax)
     fig.tight_layout()
     return fig
 
@@ -102,7 +102,7 @@ def branch_figure(branch, param: str):
     ax[0].plot(a["mu"], a["sdot"], "-", color="gray", lw=0.6)
     ax[0].plot(a["mu"][st], a["sdot"][st], ".b", ms=3, label="stable")
     ax[0].plot(a["mu"][~st], a["sdot"][~st], ".r", ms=3, label="unstable")
-    ax[0].set_ylabel(r"$\dot s$ (one point of the orbit)"); ax[0].legend(fontsize=8)
+    ax[0].set_ylabel(r"$\dot s$ (one point of the orbit)"); legend_outside(ax[0])
     mods = np.abs(a["mult_re"] + 1j * a["mult_im"])
     ax[1].semilogy(a["mu"], mods, ".", ms=3); ax[1].axhline(1, color="k", lw=0.5)
     for f in branch.folds + branch.flips:

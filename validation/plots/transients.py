@@ -44,15 +44,20 @@ def uncertainty_figure(res):
         lo = np.minimum(se, 0.999 * f)  # keep the lower bar on the log axis
         eb = ax.errorbar(eps[pos], f[pos], yerr=[lo[pos], se[pos]], fmt=mk, mfc="none" if mk == "s" else None,
                          capsize=2, label=f"n = {n} (bars: sqrt(f(1-f)/{res.n_points}))")
-        ax.set_xscale("log"); ax.set_yscale("log")
         ft = res.fits[n]
         if ft is not None:
             ax.loglog(eps, 10 ** ft.log10_C * eps ** ft.phi, "-", lw=0.8, color=eb[0].get_color(),
                       label=f"fit: phi = {ft.phi:.4f} +- {ft.phi_se_ls:.4f} (boot {ft.phi_se_boot:.4f})")
+    ax.set_xscale("log")
+    if any(np.any(res.fraction(n) > 0) for n in res.ns):
+        ax.set_yscale("log")
+    else:  # no uncertain point at any eps: nothing to draw on a log axis
+        ax.text(0.5, 0.5, "no uncertain points (f = 0 at every eps)", transform=ax.transAxes, ha="center")
     ax.set_xlabel(r"$\epsilon$")
     ax.set_ylabel(r"$f(\epsilon)$")
     ax.set_title(f"Fig. 10: uncertain fraction, {res.n_points} points in the paper's box", fontsize=10)
-    ax.legend(fontsize=8)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
 
@@ -69,8 +74,8 @@ def survival_figure(res):
                     label=f"Eq. (14): <n> = {main.mean_n:.0f}, kappa = {main.kappa:.3f} +- {main.kappa_se_boot:.3f}")
     ax.set_xlabel("n")
     ax.set_ylabel("N(n): orbits still transient")
-    ax.set_title(f"Fig. 11: {res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release_source} "
-                 f"(paper: <n>={PAPER['mean_n'].printed}, kappa={PAPER['kappa'].printed})", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_title(f"Fig. 11: {res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release_source}\n"
+                 f"(paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed})", fontsize=9)
+    ax.legend(fontsize=8, loc="upper right")  # N(n) falls from the upper left: the upper right is empty
     fig.tight_layout()
     return fig

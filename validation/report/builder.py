@@ -9,16 +9,19 @@ error, and makes the command exit non-zero: a failure is reported, never hidden.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
-import json
 import os
 import platform
+import shutil
 import sys
+import tempfile
 import time
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..io import read_json, write_json
 from .verdict import Z_AGREE
 from .document import (Document, Section, check_keys, document_json, render_html, render_markdown,
                        sections_from_json, verdict_counts)
@@ -30,6 +33,9 @@ SECTIONS = [
     "gear_rattle.validation.report.sec_dynamics",
     "gear_rattle.validation.report.sec_transients",
 ]
+
+#: The sections' keys (``--sections``), in report order: each module's ``KEY``, its name after ``sec_``.
+SECTION_KEYS = [m.rsplit(".sec_", 1)[1] for m in SECTIONS]
 
 PROFILES = ("quick", "paper")
 
@@ -57,6 +63,9 @@ class Context:
 
     def say(self, text: str) -> None:
         if self.progress:
+            from ...core.progress import clear_status
+
+            clear_status()
             print(f"[report] {text}", file=sys.stderr, flush=True)
 
 
@@ -125,15 +134,44 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
     """Run the sections and write the report; return ``(path of report.html, all sections ok)``."""
     if profile not in PROFILES:
         raise ValueError(f"profile={profile!r} is out of range: allowed one of {', '.join(PROFILES)}")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    ctx = Context(profile=profile, out_dir=out, seed=seed, progress=progress)
     mods = [importlib.import_module(m) for m in SECTIONS]
     if sections:
         unknown = set(sections) - {m.KEY for m in mods}
         if unknown:
             raise ValueError(f"sections={sorted(unknown)} not known: allowed {', '.join(m.KEY for m in mods)}")
         mods = [m for m in mods if m.KEY in sections]
+    out = Path(out_dir)
+    with staged(out) as stage:
+        path, ok = _run_sections(mods, profile, stage, seed, progress, argv)
+    return out / path.name, ok
+
+
+@contextlib.contextmanager
+def staged(out: Path):
+    """A temporary folder beside ``out`` to write the report into; on success its entries replace those of
+    the same name in ``out`` (created), so that an interrupted or failed run leaves ``out`` as it was.
+    The command line's Ctrl-C (which ends the process at once) removes the folder too
+    (:data:`core._jax.CLEANUP`)."""
+    from ...core import _jax
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    stage = Path(tempfile.mkdtemp(prefix=f".{out.name or 'report'}.partial-", dir=out.parent))
+    _jax.CLEANUP.append(str(stage))
+    try:
+        yield stage
+        out.mkdir(parents=True, exist_ok=True)
+        for entry in sorted(stage.iterdir()):
+            target = out / entry.name
+            if target.is_dir() and not target.is_symlink():
+                shutil.rmtree(target)
+            os.replace(entry, target)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+        _jax.CLEANUP.remove(str(stage))
+
+
+def _run_sections(mods, profile: str, out: Path, seed: int, progress: bool, argv) -> tuple[Path, bool]:
+    ctx = Context(profile=profile, out_dir=out, seed=seed, progress=progress)
     # the commit and the machine are recorded before the run (a commit made while it runs is not its code)
     env = environment()
     t_all = time.perf_counter()
@@ -189,8 +227,8 @@ def write_report(out: Path, header: dict, sections: list[Section]) -> Path:
     (out / "report.md").write_text(render_markdown(doc, out))
     html_path = out / "report.html"
     html_path.write_text(render_html(doc))
-    (out / "summary.json").write_text(json.dumps(summary_json(sections, **header), indent=1))
-    (out / "document.json").write_text(json.dumps(document_json(header, sections, out), indent=1, ensure_ascii=False))
+    write_json(out / "summary.json", summary_json(sections, **header))
+    write_json(out / "document.json", document_json(header, sections, out), ensure_ascii=False)
     return html_path
 
 
@@ -203,5 +241,5 @@ def rerender(out_dir: str | Path) -> Path:
     src = out / "document.json"
     if not src.is_file():
         raise ValueError(f"out_dir={str(out)!r} has no document.json: allowed a folder written by gear-rattle report")
-    header, sections = sections_from_json(json.loads(src.read_text()), out)
+    header, sections = sections_from_json(read_json(src), out)
     return write_report(out, {**header, "rerendered": {"git_commit": git_commit()}}, sections)

@@ -166,13 +166,17 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
         raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
     if n_min_count < 1:
         raise ValueError(f"n_min_count={n_min_count!r} is out of range: allowed >= 1")
+    if n_hi is None and d.size < n_min_count:
+        raise ValueError(f"{d.size} orbits are too few to fit: allowed at least n_min_count={n_min_count} (the fit "
+                         "range ends where fewer than n_min_count orbits are still transient)")
+    auto_hi = "" if n_hi is not None else f" (n_hi: the last n with at least n_min_count={n_min_count} orbits left)"
     n_lo = int(np.median(d)) if n_lo is None else int(n_lo)
     _, N = survival(d, cap)
     n_lo, n_hi = _fit_range(N, n_lo, n_hi, n_min_count)
     if n_hi >= cap and c.any():
         n_hi = cap - 1
     if not (0 <= n_lo < n_hi - 2):
-        raise ValueError(f"fit range n_lo={n_lo}, n_hi={n_hi} is empty: allowed 0 <= n_lo < n_hi - 2")
+        raise ValueError(f"fit range n_lo={n_lo}, n_hi={n_hi} is empty: allowed 0 <= n_lo < n_hi - 2{auto_hi}")
     a, b, se_a, se_b = _fit_once(d, n_lo, n_hi, cap)
     if not b < 0:
         raise ValueError("survival curve does not decay over the fit range")

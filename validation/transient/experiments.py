@@ -43,21 +43,28 @@ def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
 
 # ------------------------------------------------------------------------------------- Fig. 9
 
+def basins_mesh(profile: str, nx: int | None, ny: int | None) -> tuple[int, int]:
+    """The Fig. 9 mesh ``(nx, ny)``: the profile's, ``ny`` with ``nx`` given keeping the profile's ratio
+    ``ny/nx`` (quick 120 x 60: ``nx=121`` gives 121 x 60)."""
+    size = get_profile(profile, "basins")
+    if ny is None:
+        ny = size["ny"] if nx is None else max(1, round(int(nx) * size["ny"] / size["nx"]))
+    return (size["nx"] if nx is None else int(nx)), int(ny)
+
+
 def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, delta=DELTA,
            params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, progress=None, lanes=None) -> BasinsResult:
     """Fig. 9: durations on an ``nx`` x ``ny`` mesh computed once (cap = max(ns)), thresholded at each
-    n: black = duration < n ("short" transients).  ``ny`` defaults to the profile's when ``nx`` is the
-    profile's, else to ``nx``."""
-    size = get_profile(profile, "basins")
-    nx = size["nx"] if nx is None else int(nx)
-    ny = (size["ny"] if nx == size["nx"] else nx) if ny is None else int(ny)
+    n: black = duration < n ("short" transients).  Defaults: the profile's mesh; ``ny`` with ``nx``
+    given keeps the profile's ratio ``ny/nx`` (quick: 120 x 60, so ``nx=121`` gives 121 x 60)."""
+    nx, ny = basins_mesh(profile, nx, ny)
     ns = tuple(sorted(int(n) for n in ns))
     if not ns or ns[0] < 1:
         raise ValueError(f"ns={ns!r} is out of range: allowed integers >= 1")
     T, S = grid(window, nx, ny)
     res = transient_times(T.ravel(), S.ravel(), params, ic_mode=ic_mode, s0=s0, delta=delta, deltas=(delta,),
                           cap=ns[-1], progress=progress, label="basins", lanes=lanes)
-    dur, cens, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"))
+    dur, cens, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"), progress=progress)
     D = dur.reshape(T.shape)
     fractions = {int(n): float(np.mean(D < n)) for n in ns}
     return BasinsResult(params, tuple(window), nx, ny, ns, delta, ic_mode, T, S, D, cens.reshape(T.shape), fractions,
@@ -92,7 +99,7 @@ def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0
     sd = np.concatenate([sA, np.repeat(sA, E), np.repeat(sA, E)])
     res = transient_times(tau, sd, params, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress,
                           label="uncertainty", lanes=lanes)
-    dur, _, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"))
+    dur, _, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"), progress=progress)
     dA = dur[:n_points]
     dB = dur[n_points:n_points * (1 + E)].reshape(n_points, E)
     dC = dur[n_points * (1 + E):].reshape(n_points, E)
@@ -132,7 +139,8 @@ def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta
     fits, release_info = {}, {}
     hit_used = np.empty(res.hit.shape, np.int64)
     for j, d in enumerate(res.deltas):
-        dur, cens, info = release_durations(res, d, source=release, confirm=confirm, stick_time=stick_time)
+        dur, cens, info = release_durations(res, d, source=release, confirm=confirm, stick_time=stick_time,
+                                            progress=progress)
         release_info[f"{d:g}"] = info
         hit_used[:, j] = np.where(cens, -1, dur)
         fits[float(d)] = _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **fit_kw)
@@ -191,7 +199,7 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
         else:
             res = transient_times(T.ravel(), S.ravel(), p, delta=delta, deltas=(delta,), cap=cap, progress=progress,
                                   label=f"stick_time={st:g}", lanes=lanes, stick_time=st)
-            dur, cens, _ = release_durations(res, delta, confirm=confirm, stick_time=st)
+            dur, cens, _ = release_durations(res, delta, confirm=confirm, stick_time=st, progress=progress)
             comp, counts = composed_mask(res, delta), stick_counts(res, delta)
         tp = certified_t_post(p, 0, delta, stick_time=st, confirm=confirm)
         f = _fit_or_note(notes, f"stick_time={st:g}", A.fit_survival, dur, cens, cap=cap, n_boot=n_boot, seed=seed)

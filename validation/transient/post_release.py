@@ -11,8 +11,6 @@ ball arithmetic (:mod:`mapimpl.certified`, docs/release.md).
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 
 from ...core.paper import DELTA
@@ -33,32 +31,48 @@ def decimal_params(params: Params) -> dict:
     return {k: repr(float(getattr(params, k))) for k in ("alpha", "beta", "gamma", "r")}
 
 
-@functools.lru_cache(maxsize=128)
-def _certified(pdec: tuple, wall: int, deltas: tuple, rounding: str, stick_time: float, confirm: bool) -> dict:
+#: The certifications done in this process (the report asks for the same orbit in several experiments).
+_CACHE: dict = {}
+
+
+def _certified(pdec: tuple, wall: int, deltas: tuple, rounding: str, stick_time: float, confirm: bool,
+               progress=None) -> dict:
+    from ...core.progress import Bar, wanted
     from ...mapimpl.certified import certified_release_durations
 
-    rs = certified_release_durations(dict(pdec), wall, deltas, rounding=rounding, confirm=confirm,
-                                     stick_time=stick_time)
+    key = (pdec, wall, deltas, rounding, stick_time, confirm)
+    if key in _CACHE:
+        return _CACHE[key]
+    with Bar(f"certified T_post (wall {wall}, {rounding} parameters)", enabled=wanted(progress),
+             phase="ball arithmetic") as bar:
+        def prog(prec, n, radius):
+            bar.postfix(f"{prec} bits, radius {radius}")
+            bar.update(n)
+
+        rs = certified_release_durations(dict(pdec), wall, deltas, rounding=rounding, confirm=confirm,
+                                         stick_time=stick_time, progress=prog)
     out = {}
     for d, r in rs.items():
         dd = r.to_dict()
         out[d] = {k: dd[k] for k in ("params", "rounding", "wall", "delta", "status", "value", "precision",
                                      "confirmed", "lower_bound", "release_phase", "seconds")}
+    _CACHE[key] = out
     return out
 
 
 def certified_t_post(params: Params, wall: int, delta: float = DELTA, *, deltas=None, rounding: str = "decimal",
-                     stick_time: float = STICK_TIME, confirm: bool = True) -> dict:
+                     stick_time: float = STICK_TIME, confirm: bool = True, progress=None) -> dict:
     """The certified post-release duration of ``wall``'s canonical release orbit at capture distance
     ``delta`` (:func:`mapimpl.certified.certified_release_durations` for :func:`decimal_params`),
     as a dict (``value``, ``status``, ``precision``, ``confirmed``, ``lower_bound``, ``seconds``, ...).
 
     ``deltas``: all the capture distances the caller will ask for (containing ``delta``): one schedule
     of certified runs decides them all (one orbit serves every distance; ``seconds`` is that schedule's
-    time).  Cached per process: the report asks for the same orbit in several experiments."""
+    time).  Cached per process: the report asks for the same orbit in several experiments.  ``progress``:
+    a bar of the certified run's impacts (:mod:`gear_rattle.core.progress`)."""
     ds = tuple(sorted({float(d) for d in (deltas if deltas is not None else ())} | {float(delta)}, reverse=True))
     out = _certified(tuple(sorted(decimal_params(params).items())), int(wall), ds, rounding, float(stick_time),
-                     bool(confirm))
+                     bool(confirm), progress)
     return dict(out[float(delta)])
 
 
@@ -74,7 +88,7 @@ def t_post_value(c: dict) -> tuple[int | None, bool]:
 
 
 def release_durations(res: TransientResult, delta: float, *, source: str = "certified", confirm: bool = True,
-                      stick_time: float = STICK_TIME):
+                      stick_time: float = STICK_TIME, progress=None):
     """``(durations, censored, info)`` of a :class:`TransientResult` at ``delta``, the orbits that stick
     composed with the ``source`` post-release duration of their wall (``first_stick + T_post``).
 
@@ -93,7 +107,7 @@ def release_durations(res: TransientResult, delta: float, *, source: str = "cert
         entry = {"float64_sample": sample}
         if source == "certified":
             c = certified_t_post(res.params, w, float(res.deltas[j]), deltas=tuple(float(x) for x in res.deltas),
-                                 stick_time=stick_time, confirm=confirm)
+                                 stick_time=stick_time, confirm=confirm, progress=progress)
             v, ok = t_post_value(c)
             entry["certified"] = c
             entry["used"], entry["source"] = (v, "certified") if ok else (sample if sample >= 0 else None,
