@@ -129,7 +129,7 @@ def _jaxlib_version() -> tuple[int, int]:
         from jaxlib.version import __version__ as v
         major, minor = (int(x) for x in v.split(".")[:2])
         return major, minor
-    except Exception:  # pragma: no cover - unusual installs
+    except Exception:  # noqa: BLE001  # pragma: no cover - unusual installs: no version, no tuning
         return (0, 0)
 
 
@@ -239,7 +239,7 @@ def use_compilation_cache(path: str | None = None, note=None) -> str | None:
         msg = (f"JAX compilation cache off: cannot write {path!r} ({e.strerror or e}); set {JAX_CACHE_ENV}=0 "
                "to silence this, or to a writable directory")
         if note is None:
-            print(f"gear-rattle: note: {msg}", file=sys.stderr)
+            print(f"gear-rattle: note: {msg}", file=sys.stderr)  # noqa: T201 - the command line's note
         else:
             note(msg)
         return None

@@ -30,7 +30,7 @@ from .core._jax import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS
 
-from importlib import metadata as _metadata  # noqa: E402
+from importlib import metadata as _metadata
 
 try:
     #: The installed distribution's version (``gear-rattle --version``).

@@ -15,12 +15,10 @@ import numpy as np
 
 from ..core import _jax  # noqa: F401
 import jax
-import jax.numpy as jnp
 
-from ..core.status import Status
 from .impact_map import free_flight_start, iterate
 from ..core.checks import check_tau0
-from ..core.state import MapState, Trajectory, make_state, run_in_chunks, sequence_from_states
+from ..core.state import MapState, make_state, run_in_chunks, sequence_from_states
 from ..core.params import Params
 from ..core.results import ImpactSequence
 

@@ -5,9 +5,9 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # commands run as subprocesses keep their compiled kernels in this session's own cache, not the user's
 os.environ.setdefault("GEAR_RATTLE_JAX_CACHE", os.path.join(tempfile.mkdtemp(prefix="gear-rattle-test-"), "jax"))
 
-from hypothesis import settings  # noqa: E402
+from hypothesis import settings
 
-from gear_rattle import use_cpu_devices  # noqa: E402  (imports JAX with float64)
+from gear_rattle import use_cpu_devices  # imports JAX with float64
 
 # the engine tests compare runs on one and on several XLA CPU devices
 use_cpu_devices()

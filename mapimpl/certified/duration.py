@@ -154,7 +154,7 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
             confirmed[d] = True
 
     to_confirm: list[float] = []  # decided by the last run: confirmed (or not) by the next one
-    for i, prec in enumerate(precs):
+    for prec in precs:
         open_ = [d for d in ds if decided[d] is None]
         if not (open_ or to_confirm) or (deadline is not None and time.monotonic() > deadline):
             break

@@ -293,7 +293,7 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one) -> No
                 ij = futures[fut]
                 try:
                     out, secs, cpu = fut.result()
-                except Exception as e:  # noqa: BLE001 - a tile that failed on every allowed try
+                except Exception as e:  # a tile that failed on every allowed try
                     raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} tiles "
                                        "finished are stored: rerun to resume") from e
                 store_one(ij, out, secs, cpu)
