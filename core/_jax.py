@@ -160,6 +160,7 @@ def _add_engine_xla_flags() -> None:
 
 
 def _wanted_cpu_devices(n: int | None) -> int:
+    raw: int | str | None
     if n is not None:
         raw, src = n, "n"
     else:

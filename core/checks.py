@@ -14,7 +14,8 @@ def check_int(name: str, value, lo: int, hi: int, *, strict: bool = False) -> in
     integers are: a value that is stored and compared, e.g. an atlas spec's)."""
     integral = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
     try:
-        v = int(value) if isinstance(value, (numbers.Real, np.number)) else None
+        # (typeshed's numbers.Real has no __int__; every Real converts, Fraction included)
+        v = int(value) if isinstance(value, (numbers.Real, np.integer, np.floating)) else None  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
         v = None
     if v is None or isinstance(value, (bool, np.bool_)) or (strict and not integral):

@@ -144,8 +144,9 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
     decided: dict[float, Attempt | None] = {d: None for d in ds}
     confirmed = {d: False for d in ds}
 
-    def confirm_with(d, b):
+    def confirm_with(d: float, b: Attempt) -> None:
         a = decided[d]
+        assert a is not None, "only a decided distance is confirmed"
         if b.definite:
             if (b.status, b.impacts) != (a.status, a.impacts):
                 raise CertificationError(
@@ -189,7 +190,7 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
         out[d] = ReleaseDuration(
             params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES}, rounding=rounding, wall=wall,
             delta=d, max_impacts=int(max_impacts), target=target.as_dict(), release_phase=phase_text,
-            status=status, value=a.impacts if status == "captured" else None,
+            status=status, value=a.impacts if a is not None and status == "captured" else None,
             precision=a.prec if a is not None else None, confirmed=confirmed[d], lower_bound=lower,
             attempts=attempts[d], seconds=seconds)
     return out

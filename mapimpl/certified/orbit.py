@@ -59,6 +59,12 @@ class CertifiedStep:
     release: arb | None = None
     release_pieces: int = 0
 
+    def landed(self) -> tuple[arb, arb, int, FlightCertificate]:
+        """``(tau, sdot, wall, flight)`` of the next impact; ``ValueError`` for a step stuck forever."""
+        if self.tau is None or self.sdot is None or self.wall is None or self.flight is None:
+            raise ValueError("the step sticks forever: there is no next impact")
+        return self.tau, self.sdot, self.wall, self.flight
+
 
 def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, stick_time: float = STICK_TIME,
                    t_max: float = T_MAX) -> CertifiedStep:
@@ -131,11 +137,12 @@ def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float |
                     break
                 add(n - 1, st.release, wall, None, "release",
                     {"source": "closed form zero of f, certified", "pieces": st.release_pieces})
-            if radius_limit is not None and max(float(st.tau.rad()), float(st.sdot.rad())) > radius_limit:
+            tau1, sdot1, wall1, flight1 = st.landed()
+            if radius_limit is not None and max(float(tau1.rad()), float(sdot1.rad())) > radius_limit:
                 reason = f"radius limit {radius_limit:g} exceeded at impact {n}"
                 break
-            tau, sdot, wall = st.tau, st.sdot, st.wall
-            flights.append(_flight_record(n, st.flight))
+            tau, sdot, wall = tau1, sdot1, wall1
+            flights.append(_flight_record(n, flight1))
             add(n, tau, wall, sdot, "impact", {"source": "certified flight"})
         return CertifiedOrbit(events, status, reason, prec, flights)
 

@@ -54,6 +54,7 @@ multiply-adds are fused, so float64 samples of chaotic orbits depend on them.
 from __future__ import annotations
 
 from functools import partial
+from typing import Any
 
 from ...core import _jax  # noqa: F401
 import jax
@@ -193,7 +194,7 @@ RESULT_FIELDS = dict(n=_I32, status=_I32, nst=_I32, nstk=_I32, th=_F64, sd=_F64,
 
 def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> dict:
     """A block of ``nlanes`` idle lanes."""
-    out = {name: jnp.zeros((nlanes,), dt) for name, dt in LANE_FIELDS.items()}
+    out: dict[str, Any] = {name: jnp.zeros((nlanes,), dt) for name, dt in LANE_FIELDS.items()}
     out["mode"] = jnp.full((nlanes,), MODE_IDLE, _I32)
     out["ic"] = jnp.full((nlanes,), -1, _I32)
     out["obs"] = tuple({name: jnp.broadcast_to(jnp.asarray(init, dt), (nlanes,) + tuple(shape)).astype(dt)
@@ -203,7 +204,7 @@ def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> dict:
 
 def empty_results(m: int, observers: tuple[Observer, ...]) -> dict:
     """Result arrays for ``m`` initial conditions (status NOT_RUN until written)."""
-    res = {name: jnp.zeros((m,), dt) for name, dt in RESULT_FIELDS.items()}
+    res: dict[str, Any] = {name: jnp.zeros((m,), dt) for name, dt in RESULT_FIELDS.items()}
     res["status"] = jnp.full((m,), int(Status.NOT_RUN), _I32)
     res["nstk"] = jnp.full((m,), -1, _I32)
     res["obs"] = tuple({name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0])
