@@ -39,7 +39,7 @@ class MapState(NamedTuple):
     @property
     def tau(self):
         """Elapsed time ``2 pi cycles + theta`` (float64; loses digits for very long orbits)."""
-        return self.cycles * TWO_PI + self.theta
+        return self.cycles.astype(self.theta.dtype) * TWO_PI + self.theta
 
 
 class StepInfo(NamedTuple):

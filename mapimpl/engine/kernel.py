@@ -482,7 +482,8 @@ def _load(lanes, queue, next_ic, n_ic, observers):
                                 jnp.asarray(fields[name][2], fields[name][0]), o[name]) for name in o}
 
     new["obs"] = tuple(reset(o, ob.fields()) for o, ob in zip(lanes["obs"], observers))
-    return new, (next_ic + jnp.sum(take.astype(_I32))).astype(_I32)
+    # (jnp.sum of int32 is int64 under x64: the count is added in int64, as before strict promotion)
+    return new, (next_ic.astype(jnp.int64) + jnp.sum(take.astype(_I32))).astype(_I32)
 
 
 def _store(res, lanes, observers):
