@@ -25,9 +25,9 @@ def check_int(name: str, value, lo: int, hi: int, *, strict: bool = False) -> in
     return v
 
 
-#: Largest |tau0| accepted for an initial state (the transient engine's range too).  The phase
-#: reduction (:func:`mapimpl.flight.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
-#: moderate arguments: at |tau0| = 1e6 its error is below an ulp of tau0 (~1e-10); at 1e19 the
+#: Largest ``|tau0|`` accepted for an initial state (the transient engine's range too).  The phase
+#: reduction (:func:`core.phase.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
+#: moderate arguments: at ``|tau0| = 1e6`` its error is below an ulp of tau0 (~1e-10); at 1e19 the
 #: phase is garbage and at ~6e19 the whole-turn counter overflows.
 TAU0_MAX = 1e6
 

@@ -44,7 +44,7 @@ def forcing_rhs(tau: float, alpha: float, beta: float, gamma: float) -> float:
 
 def reduce_phase(theta: float, cycles: int) -> tuple[float, int]:
     """``theta`` reduced into [0, 2 pi) with the whole turns carried into ``cycles`` (the three-term
-    Cody-Waite reduction of :func:`gear_rattle.mapimpl.flight.reduce_phase`, in Python floats)."""
+    Cody-Waite reduction of :func:`gear_rattle.core.phase.reduce_phase`, in Python floats)."""
     m = math.floor(theta / TWO_PI)
     th = ((theta - m * TWO_PI_HI) - m * TWO_PI_MID) - m * TWO_PI_LO
     adj = 1 if th >= TWO_PI else (-1 if th < 0.0 else 0)

@@ -9,7 +9,7 @@ specification, :mod:`reference.events`, evaluated on JAX arrays:
   ``max(wall ahead, velocity reversal)``, whose first upcrossing is the earlier of the two events
   (diffrax would otherwise give priority to the first triggered leaf of a condition pytree, not to
   the earliest root); the root is located by an ``optimistix.Bisection`` on the step's dense
-  interpolant, then refined to node accuracy (:func:`_segment`), and :func:`reference.events.segment_end`
+  interpolant, then refined to node accuracy (``_segment``), and :func:`reference.events.segment_end`
   says which event it was.  The guard for diffrax issue 507 (two crossings in one step are missed
   by the sign check at step ends) is the spec's missed-crossing rule: beyond-and-back needs a
   velocity reversal, which ends the segment; if the extremum lies *beyond* the wall, the segment is

@@ -11,6 +11,7 @@ for *every* initial state in the input balls:
     has gap exactly 0 at ``t = 0``: on ``(0, h0]`` the factored form ``gap/t`` (moving away:
     ``|v0| - s''([0, h0]) [0, h0]/2``), or ``gap/t^3`` after a release from sticking (``v0 = 0``
     and ``s''(0) = f(tau_release) = 0`` exactly), is shown positive instead;
+
 (a) *a crossing with a unique root*: on the first subinterval ``[t_lo, t_hi]`` that is not
     positive, the gap is negative at ``t_hi`` and its derivative enclosure (``-+ s'(T)``) excludes 0,
     so the gap is strictly monotone there and has exactly one root, the first impact.  The root is
@@ -126,7 +127,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
                                      "(tangential contact?)")
 
 
-#: Working precision of the first Newton iterations of :func:`_refine` (doubled as they converge).
+#: Working precision of the first Newton iterations of ``_refine`` (doubled as they converge).
 NEWTON_START_PREC = 64
 
 

@@ -3,7 +3,7 @@
 :func:`run` takes initial conditions (pre-impact states ``(theta, sdot, wall)``), parameters (one
 set for all, or one per initial condition), observers (:mod:`gear_rattle.mapimpl.engine.observers`)
 and a cap on the impacts per orbit, and returns per initial condition the impacts done, how the
-orbit ended (:class:`gear_rattle.core.status.Orbit`), its sticking episodes, its final state and
+orbit ended (:class:`gear_rattle.core.status.Status`), its sticking episodes, its final state and
 the observers' outputs (:class:`EngineResult`).
 
 How: the initial conditions are split over the devices of JAX's default backend (on the CPU one
@@ -57,7 +57,7 @@ class EngineResult:
     """Per-initial-condition results (flat arrays in input order) of :func:`run`.
 
     ``n``: impacts done (the index of the last pre-impact state reached); ``status``: how the orbit
-    ended (:class:`~gear_rattle.core.status.Orbit` codes); ``nstick``: sticking episodes;
+    ended (:class:`~gear_rattle.core.status.Status` codes); ``nstick``: sticking episodes;
     ``first_stick``: index of the impact whose step first stuck (-1: never); ``theta, sdot, wall,
     cycles``: the last pre-impact state (tau = 2 pi cycles + theta, counted from the start);
     ``obs``: one dict of output arrays per observer.
@@ -106,7 +106,7 @@ def default_lanes(n_per_device: int) -> int:
     """As many lanes as there are orbits per device, up to :func:`cpu_lanes` on the CPU and 65536 on an
     accelerator.  A micro-step has a fixed cost besides its per-lane cost, so narrower blocks only
     lengthen runs of few orbits; the tail of a run, when the queue is dry and few orbits are left,
-    moves to a smaller block (:func:`_drive`).  A multiple of :data:`kernel.LANE_QUANTUM`."""
+    moves to a smaller block (``_drive``).  A multiple of :data:`kernel.LANE_QUANTUM`."""
     top = cpu_lanes() if jax.default_backend() == "cpu" else 65536
     return K.padded_lanes(min(top, max(int(n_per_device), 1)))
 
@@ -150,7 +150,7 @@ def max_kernel_calls(m: int, cap: int, block: int, max_steps: int, every: int = 
     orbits can need, from the engine's own caps: an orbit makes at most ``cap + 1`` arrivals, each
     followed by one flight search of at most :func:`kernel.flight_micro_steps` micro-steps; while the
     queue is not done at least one lane is busy in every micro-step, and an orbit that ends waits at
-    most one block for its lane to be refilled.  :func:`_drive` stops with an error past it: an engine
+    most one block for its lane to be refilled.  ``_drive`` stops with an error past it: an engine
     bug then ends the run instead of hanging it (no valid run comes near the bound)."""
     per_orbit = (int(cap) + 1) * (K.flight_micro_steps(int(max_steps), int(every)) + 1) + int(block)
     return 2 + -(-int(m) * per_orbit // (int(block) * 64))

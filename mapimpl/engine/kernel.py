@@ -7,12 +7,12 @@ lane is done, so a batch of map steps costs the maximum, not the mean, number of
 kernel flattens the search for the next impact into uniform *search micro-steps*, one closed-form
 flight evaluation per lane (:func:`search_step`), driven by a per-lane state machine:
 
-``A``  safe step at ``t_a`` (:func:`mapimpl.finder.safe_step`);
-``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`)
-       and, on a bracket, the first root step from that evaluation;
-``N``  one safeguarded root iteration on the certified bracket (:func:`mapimpl.finder.root_step`);
-``H``  an impact found, waiting for the next arrival pass;
-``L``  a freshly loaded initial condition (its pre-impact state is processed as an arrival).
+* ``A``  safe step at ``t_a`` (:func:`mapimpl.finder.safe_step`);
+* ``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`)
+  and, on a bracket, the first root step from that evaluation;
+* ``N``  one safeguarded root iteration on the certified bracket (:func:`mapimpl.finder.root_step`);
+* ``H``  an impact found, waiting for the next arrival pass;
+* ``L``  a freshly loaded initial condition (its pre-impact state is processed as an arrival).
 
 The modes use disjoint quantities, so they share the search fields (:data:`SEARCH_FIELDS`).  Every few
 micro-steps an *arrival pass* (:func:`arrival`) processes the lanes in ``H`` and ``L``: the observers
@@ -593,7 +593,7 @@ def trace(queue1, k, n_impacts: int, observers=()):
 def flight_micro_steps(max_steps: int = MAX_STEPS, every: int = ARRIVE_EVERY) -> int:
     """An upper bound on the search micro-steps of one flight, from the finder's caps: at most
     ``max_steps`` safe steps (mode ``A``), each followed by at most one bracket test (``B``), then at
-    most :data:`mapimpl.finder._NEWTON_ITERS` root iterations (``N``) and a wait of at most ``every``
+    most ``mapimpl.finder._NEWTON_ITERS`` root iterations (``N``) and a wait of at most ``every``
     micro-steps for the arrival pass (``H``).  (Python integers, or a traced ``max_steps``.)"""
     return 2 * max_steps + _NEWTON_ITERS + every + 2
 

@@ -127,7 +127,7 @@ class TransientResult:
     ``hit[:, j]``: first iteration within ``deltas[j]`` (-1: never, within the cap); for orbits that
     stuck, composed with the post-release orbit (see the module docstring);
     ``n``: iterations the engine performed for the orbit; ``status``: orbit status codes
-    (:class:`~gear_rattle.core.status.Orbit`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...);
+    (:class:`~gear_rattle.core.status.Status`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...);
     ``nstick``: sticking episodes computed; ``first_stick``: impact index at which the orbit first
     stuck (-1: never); ``stick_wall``: its wall (``release="compose"``; 1 = not recorded when followed).  ``release``: per wall that was stuck to, the
     post-release orbit: ``{"wall", "ic", "first_stick", "T_post" (one per delta, -1: beyond the cap)}``.

@@ -26,9 +26,9 @@ and its period is still looked for.  The result of a point depends only on that 
 on the other points of the batch, their number or order (this is what makes the atlas independent of
 tiling and worker count).
 
-Method (the many-orbit engine, :mod:`gear_rattle.mapimpl.engine`: every point is one orbit with its
-own parameters, lanes are refilled as orbits end, nothing runs on the host but the period search)
-------------------------------------------------------------------------------------------------
+**Method** (the many-orbit engine, :mod:`gear_rattle.mapimpl.engine`: every point is one orbit with its
+own parameters, lanes are refilled as orbits end, nothing runs on the host but the period search):
+
 1. ``transient`` map steps (Eqs. 12-13 with the sticking policy);
 2. ``impacts`` steps carrying the tangent map as ``J Q = Q R`` (the engine's
    :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer; the same exponents as

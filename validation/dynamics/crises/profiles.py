@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+#: Run sizes by profile (``"quick"``, ``"paper"``) and analysis (``"r2"``, ``"r1"``, ``"alpha1"``).
 PROFILES = {
     "quick": {
         "r2": {"dr": np.logspace(-5, -3, 4), "orbits": 8, "cap": 40_000, "n_start": 1000},
