@@ -315,16 +315,68 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     """Iterate the impact map from every initial condition until its observers stop it, it reaches
     ``cap`` impacts, or it ends (stuck forever, no impact, step cap); see the module docstring.
 
-    ``theta, sdot, wall``: pre-impact states (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1);
-    ``params``: a :class:`~gear_rattle.core.params.Params` or per-orbit arrays ``(alpha, beta, gamma,
-    r)``; ``stop_at_stick``: stop an orbit at its first sticking episode (status ``STUCK``: every
-    orbit that sticks continues on one post-release orbit, which the caller runs once);
-    ``lanes``: orbits advanced together per device (default :func:`default_lanes`, padded to a
-    multiple of :data:`kernel.LANE_QUANTUM`); ``block``: micro-steps between refills; ``chunk``:
-    initial conditions per kernel launch (default: bounded by memory); ``devices``: a count or list
-    of JAX devices (default all of the default backend); ``progress``: None or True (a bar in impacts
-    when stderr is a terminal), False, or a callable ``(orbits done, orbits)`` instead of the bar
-    (:mod:`gear_rattle.core.progress`).
+    Parameters
+    ----------
+    theta, sdot, wall : array_like
+        Pre-impact states, one per orbit (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1).
+    params : Params or tuple of arrays
+        One :class:`~gear_rattle.core.params.Params` for all orbits, or per-orbit arrays
+        ``(alpha, beta, gamma, r)``.
+    observers : Observer or tuple of Observer, optional
+        What is measured along each orbit and when it stops (:mod:`gear_rattle.mapimpl.engine.observers`).
+    cap : int
+        Most impacts per orbit.
+    stop_at_stick : bool, optional
+        Stop an orbit at its first sticking episode (status ``STUCK``: every orbit that sticks continues
+        on one post-release orbit, which the caller runs once).
+    lanes : int, optional
+        Orbits advanced together per device (default :func:`default_lanes`, padded to a multiple of
+        :data:`kernel.LANE_QUANTUM`).
+    block : int, optional
+        Micro-steps between refills.
+    chunk : int, optional
+        Initial conditions per kernel launch (default: bounded by memory).
+    devices : int or list, optional
+        A count or list of JAX devices (default all of the default backend).
+    progress : bool or callable, optional
+        None or True (a bar in impacts when stderr is a terminal), False, or a callable
+        ``(orbits done, orbits)`` instead of the bar (:mod:`gear_rattle.core.progress`).
+    label : str, optional
+        The progress bar's label.
+    stick_time, t_max, max_steps : optional
+        The sticking policy's and the impact finder's caps (:mod:`mapimpl.sticking`, :mod:`mapimpl.finder`).
+
+    Returns
+    -------
+    EngineResult
+        Per initial condition, in input order: impacts done, status, sticking episodes, the last state
+        and the observers' outputs.  Results do not depend on ``lanes``, ``block``, ``chunk`` or ``devices``.
+
+    Examples
+    --------
+    Eight orbits on Fig. 4's chaotic attractor (alpha = 3, r = 0.9), with their largest Lyapunov
+    exponents (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer, Fig. 4b):
+
+    >>> import numpy as np
+    >>> from gear_rattle.core.params import Params
+    >>> from gear_rattle.mapimpl.engine.driver import run
+    >>> from gear_rattle.mapimpl.engine.observers import Tangent
+    >>> p = Params(3.0, 0.1, 0.1, 0.9)
+    >>> theta, sdot, wall = np.linspace(0.5, 6.0, 8), np.ones(8), np.zeros(8, dtype=int)
+    >>> res = run(theta, sdot, wall, p, Tangent(n_start=100), cap=3000, progress=False)
+    >>> res.status_counts(), res.impacts
+    ({'capped': 8}, 24000)
+    >>> lam1 = res.obs[0]["log_r"][:, 0] / res.obs[0]["n_free"]
+    >>> bool(np.all((0.3 < lam1) & (lam1 < 0.4)))
+    True
+
+    The engine's orbit is the closed-form map's (:func:`mapimpl.orbit.map_orbit`) to rounding:
+
+    >>> from gear_rattle.mapimpl.orbit import map_orbit
+    >>> short = run(theta, sdot, wall, p, cap=50, progress=False)
+    >>> seq = map_orbit(p, theta[3], sdot[3], 50)
+    >>> bool(abs(short.theta[3] - seq.theta[-1]) < 1e-9 and abs(short.sdot[3] - seq.sdot[-1]) < 1e-9)
+    True
     """
     obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
     if not all(isinstance(o, Observer) for o in obs):
