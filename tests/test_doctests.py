@@ -28,6 +28,11 @@ MODULES = (
     "gear_rattle.mapimpl.certified.orbit",
     "gear_rattle.mapimpl.certified.duration",
     "gear_rattle.mapimpl.certified.periodic",
+    "gear_rattle.validation.dynamics.crises.r2",
+    "gear_rattle.validation.dynamics.crises.r1",
+    "gear_rattle.validation.dynamics.crises.alpha1",
+    "gear_rattle.validation.atlas.compute",
+    "gear_rattle.validation.atlas.run",
 )
 
 #: The entry points (module, function) that must have Parameters, Returns and Examples sections.
@@ -43,6 +48,11 @@ ENTRY_POINTS = (
     ("gear_rattle.mapimpl.certified.duration", "certified_release_duration"),
     ("gear_rattle.mapimpl.certified.periodic", "certify_periodic_orbit"),
     ("gear_rattle.mapimpl.certified.periodic", "certify_bifurcation"),
+    ("gear_rattle.validation.dynamics.crises.r2", "locate_r2"),
+    ("gear_rattle.validation.dynamics.crises.r1", "locate_r1"),
+    ("gear_rattle.validation.dynamics.crises.alpha1", "locate_alpha1"),
+    ("gear_rattle.validation.atlas.compute", "compute_tile"),
+    ("gear_rattle.validation.atlas.run", "run_atlas"),
 )
 
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
