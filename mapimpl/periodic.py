@@ -163,7 +163,7 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     x = np.array([float(tau0) % float(TWO_PI), float(sdot0)])
     wall0 = 0 if x[1] > 0 else -1
     res, it, conv = np.inf, 0, False
-    for it in range(1, max_iter + 1):  # noqa: B007 - the count of iterations is returned
+    for it in range(1, max_iter + 1):
         tp, sp, J, walls, stuck, ok = pfold(x[0], x[1], p, int(impacts), wall0)
         if not bool(ok) or bool(stuck):
             break
