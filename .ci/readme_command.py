@@ -1,8 +1,9 @@
 """Print one of the README's two set-up commands, verbatim, for .ci/run to execute literally.
 
-    python3 .ci/readme_command.py main|tests [README.md]
+    python3 .ci/readme_command.py main|tests|docs [README.md]
 
-The README opens with two labelled fenced ``bash`` blocks: ``**Main job**`` and ``**Tests**``.  The
+The README has three labelled fenced ``bash`` blocks: ``**Main job**`` and ``**Tests**`` at the top,
+``**Docs**`` in its section on the documentation site.  The
 command is the single line of the first fenced block after its label; anything else (no label, no
 block, a block of several lines) is an error, so that CI fails if the README's layout changes
 instead of running something else.
@@ -14,7 +15,7 @@ import re
 import sys
 from pathlib import Path
 
-LABELS = {"main": "**Main job**", "tests": "**Tests**"}
+LABELS = {"main": "**Main job**", "tests": "**Tests**", "docs": "**Docs**"}
 
 
 def command(readme: str, which: str) -> str:
@@ -33,6 +34,6 @@ def command(readme: str, which: str) -> str:
 
 if __name__ == "__main__":
     if len(sys.argv) not in (2, 3) or sys.argv[1] not in LABELS:
-        raise SystemExit("usage: readme_command.py main|tests [README.md]")
+        raise SystemExit("usage: readme_command.py main|tests|docs [README.md]")
     path = Path(sys.argv[2] if len(sys.argv) == 3 else Path(__file__).resolve().parents[1] / "README.md")
     print(command(path.read_text(encoding="utf-8"), sys.argv[1]))

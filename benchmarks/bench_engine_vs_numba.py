@@ -44,16 +44,16 @@ from gear_rattle import use_cpu_devices
 
 NCORES = use_cpu_devices()  # before JAX starts: one XLA CPU device per core
 
-import jax  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
-import numba  # noqa: E402
-from scipy import stats  # noqa: E402
+import jax
+import jax.numpy as jnp
+import numba
+from scipy import stats
 
-from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times  # noqa: E402
+from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
 from gear_rattle.core.paper import PAPER_BOX, PAPER_PARAMS
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from numba_kernel import STATUS_NAMES, numba_transients  # noqa: E402
+from numba_kernel import STATUS_NAMES, numba_transients
 
 P = PAPER_PARAMS
 SHORT = 50  # transients shorter than this end identically (no chaotic amplification of ulps)
@@ -314,7 +314,7 @@ def main(argv=None):
                                                       / out["one_core"]["numba"]["evaluations"] * 1e9
                                                       if "one_core" in out else None)
             out["engine_cost_split_one_core"] = sp
-        except Exception as exc:  # the engine's internals changed: report, do not fail the benchmark
+        except Exception as exc:  # noqa: BLE001 - the engine's internals changed: report, do not fail the benchmark
             out["engine_cost_split_one_core"] = f"unavailable: {type(exc).__name__}: {exc}"
     print(_save(out, a.out))
     return 0

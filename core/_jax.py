@@ -129,7 +129,7 @@ def _jaxlib_version() -> tuple[int, int]:
         from jaxlib.version import __version__ as v
         major, minor = (int(x) for x in v.split(".")[:2])
         return major, minor
-    except Exception:  # pragma: no cover - unusual installs
+    except Exception:  # noqa: BLE001  # pragma: no cover - unusual installs: no version, no tuning
         return (0, 0)
 
 
@@ -160,6 +160,7 @@ def _add_engine_xla_flags() -> None:
 
 
 def _wanted_cpu_devices(n: int | None) -> int:
+    raw: int | str | None
     if n is not None:
         raw, src = n, "n"
     else:
@@ -239,7 +240,7 @@ def use_compilation_cache(path: str | None = None, note=None) -> str | None:
         msg = (f"JAX compilation cache off: cannot write {path!r} ({e.strerror or e}); set {JAX_CACHE_ENV}=0 "
                "to silence this, or to a writable directory")
         if note is None:
-            print(f"gear-rattle: note: {msg}", file=sys.stderr)
+            print(f"gear-rattle: note: {msg}", file=sys.stderr)  # noqa: T201 - the command line's note
         else:
             note(msg)
         return None

@@ -14,7 +14,8 @@ def check_int(name: str, value, lo: int, hi: int, *, strict: bool = False) -> in
     integers are: a value that is stored and compared, e.g. an atlas spec's)."""
     integral = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
     try:
-        v = int(value) if isinstance(value, (numbers.Real, np.number)) else None
+        # (typeshed's numbers.Real has no __int__; every Real converts, Fraction included)
+        v = int(value) if isinstance(value, (numbers.Real, np.integer, np.floating)) else None  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
         v = None
     if v is None or isinstance(value, (bool, np.bool_)) or (strict and not integral):
@@ -24,9 +25,9 @@ def check_int(name: str, value, lo: int, hi: int, *, strict: bool = False) -> in
     return v
 
 
-#: Largest |tau0| accepted for an initial state (the transient engine's range too).  The phase
-#: reduction (:func:`mapimpl.flight.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
-#: moderate arguments: at |tau0| = 1e6 its error is below an ulp of tau0 (~1e-10); at 1e19 the
+#: Largest ``|tau0|`` accepted for an initial state (the transient engine's range too).  The phase
+#: reduction (:func:`core.phase.reduce_phase`, a two-term Cody-Waite 2 pi) is exact only for
+#: moderate arguments: at ``|tau0| = 1e6`` its error is below an ulp of tau0 (~1e-10); at 1e19 the
 #: phase is garbage and at ~6e19 the whole-turn counter overflows.
 TAU0_MAX = 1e6
 

@@ -57,7 +57,7 @@ def _check(name: str, ok: bool, value: object) -> None:
         raise ValueError(f"parameter {name}={value!r} is out of range: allowed {RANGES[name]} (finite)")
 
 
-def check_value(name: str, value: float) -> float:
+def check_value(name: str, value: float | str) -> float:
     """Validate one parameter value and return it as a Python float.
 
     Raises ``ValueError`` naming the parameter and its allowed range.

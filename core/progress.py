@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import sys
+from typing import Any
 
 #: Seconds between redraws of a bar.
 MIN_INTERVAL = 0.25
@@ -118,7 +119,7 @@ class Bar:
                          smoothing=0.3, delay=delay, leave=True, bar_format=None if phase is None else PHASE_FORMAT)
         if _clear_for_interrupt not in _jax.CLEAR_LINE:
             _jax.CLEAR_LINE.append(_clear_for_interrupt)
-        self._ticker = None
+        self._ticker: tuple[Any, Any] | None = None  # (threading.Event, threading.Thread)
         self._start_ticker()
 
     @property
@@ -145,6 +146,8 @@ class Bar:
         import threading
 
         stop, b = threading.Event(), self._bar
+        if b is None:
+            return
 
         def tick():
             while not stop.wait(0.5):

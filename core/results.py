@@ -151,7 +151,8 @@ class Track(Protocol):
     ``ValueError`` that names it.
     """
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     def orbit(self, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
               **options) -> ImpactSequence: ...

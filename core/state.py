@@ -9,7 +9,7 @@ turns one into an :class:`~.results.ImpactSequence`.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, TypeAlias
 
 import numpy as np
 
@@ -23,20 +23,23 @@ from .phase import TWO_PI, reduce_phase
 from .results import ImpactSequence
 from .status import Status
 
+#: The arrays of the state records: traced or device JAX arrays, or their host (numpy) copies.
+Array: TypeAlias = jax.Array | np.ndarray
+
 
 class MapState(NamedTuple):
     """Pre-impact state of the map (see module docstring); ``status`` is an orbit status code."""
 
-    theta: jnp.ndarray
-    cycles: jnp.ndarray
-    sdot: jnp.ndarray
-    wall: jnp.ndarray
-    status: jnp.ndarray
+    theta: Array
+    cycles: Array
+    sdot: Array
+    wall: Array
+    status: Array
 
     @property
     def tau(self):
         """Elapsed time ``2 pi cycles + theta`` (float64; loses digits for very long orbits)."""
-        return self.cycles * TWO_PI + self.theta
+        return self.cycles.astype(self.theta.dtype) * TWO_PI + self.theta
 
 
 class StepInfo(NamedTuple):
@@ -48,13 +51,13 @@ class StepInfo(NamedTuple):
     ``steps``: safe steps of the first-impact search; ``jac``: 2x2 Jacobian (0 if stuck).
     """
 
-    stuck: jnp.ndarray
-    stick_tau: jnp.ndarray
-    release_tau: jnp.ndarray
-    dt: jnp.ndarray
-    graze: jnp.ndarray
-    steps: jnp.ndarray
-    jac: jnp.ndarray
+    stuck: Array
+    stick_tau: Array
+    release_tau: Array
+    dt: Array
+    graze: Array
+    steps: Array
+    jac: Array
 
 
 def make_state(tau, sdot, wall=None, status=Status.ACTIVE) -> MapState:

@@ -14,7 +14,7 @@ the reference tracks' event search).  The names shared by the two enums (``NO_IM
 ``STEP_CAP``) have the same values: a flight that ends so ends its orbit with that status.
 
 Kernels carry the integer codes (``jnp.where(ok, Status.ACTIVE, ...)``); results and files carry
-the lower-case names (:attr:`Status.label`: ``"active"``, ``"stuck_forever"``, ... -- part of the
+the lower-case names (:attr:`Coded.label`: ``"active"``, ``"stuck_forever"``, ... -- part of the
 CSV/JSON formats and of the golden suite, unchanged).
 """
 
@@ -23,8 +23,9 @@ from __future__ import annotations
 from enum import IntEnum
 
 
-class _Coded(IntEnum):
-    """An integer code with a file name (:attr:`label`) and a sentence (:attr:`message`)."""
+class Coded(IntEnum):
+    """An integer code with a file name (:attr:`label`) and a sentence (:attr:`message`): the base of
+    :class:`Status` and :class:`FlightOutcome`."""
 
     @property
     def label(self) -> str:
@@ -45,7 +46,7 @@ class _Coded(IntEnum):
         raise ValueError(f"status={label!r} is out of range: allowed one of {', '.join(m.label for m in cls)}")
 
 
-class Status(_Coded):
+class Status(Coded):
     """State of an orbit (the map's ``MapState.status``, the engine's per-orbit result, every track)."""
 
     NOT_RUN = -1
@@ -58,7 +59,7 @@ class Status(_Coded):
     STUCK = 6
 
 
-class FlightOutcome(_Coded):
+class FlightOutcome(Coded):
     """Outcome of a first-impact search."""
 
     HIT = 0

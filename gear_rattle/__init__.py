@@ -30,7 +30,7 @@ from .core._jax import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS
 
-from importlib import metadata as _metadata  # noqa: E402
+from importlib import metadata as _metadata
 
 try:
     #: The installed distribution's version (``gear-rattle --version``).
@@ -57,12 +57,51 @@ def _renamed(old: str, new: str, value, old_value):
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: str = "map",
           s0: float | None = None, progress=False, **solver_options):
-    """Impact sequence of one orbit (:class:`gear_rattle.core.results.ImpactSequence`) on ``track``:
-    impact 0 is the pre-impact state ``(tau0, sdot0)`` (or, with ``s0``, the first impact of the
-    free flight from ``(tau0, s0, sdot0)``), then ``n_impacts`` further impacts.  ``progress``: True
-    for a bar on a terminal (:mod:`gear_rattle.core.progress`).  ``solver_options`` of the numerical
-    tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``, ``max_steps`` (diffrax);
-    the map track takes none."""
+    """Impact sequence of one orbit on ``track``: impact 0, then ``n_impacts`` further impacts.
+
+    Parameters
+    ----------
+    params : Params
+        The model's parameters ``alpha, beta, gamma, r`` of Eq. (3) and the reset of Eq. (11).
+    tau0, sdot0 : float
+        Impact 0 as a pre-impact state (the paper's map variables, Eqs. 12-13): time ``tau0`` and
+        velocity ``sdot0 != 0`` just before the impact (``sdot0 > 0`` hits ``s = 0``, ``sdot0 < 0``
+        hits ``s = -1``); with ``s0``, the free state ``(tau0, s0, sdot0)`` whose flight's first
+        impact is impact 0.
+    n_impacts : int
+        Impacts after impact 0 (an orbit that sticks forever or never lands again ends early).
+    track : {"map", "scipy", "diffrax"}
+        The closed-form impact map (:mod:`gear_rattle.mapimpl.orbit`) or a numerical integration of
+        Eq. (3) (:mod:`gear_rattle.reference`); :data:`TRACKS`.
+    s0 : float, optional
+        A start in free flight, ``-1 <= s0 <= 0``.
+    progress : bool, optional
+        True for a bar on a terminal (:mod:`gear_rattle.core.progress`).
+    **solver_options
+        Of the numerical tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``,
+        ``max_steps`` (diffrax); the map track takes none.
+
+    Returns
+    -------
+    ImpactSequence
+        :class:`gear_rattle.core.results.ImpactSequence`: per event ``n, tau, theta = tau mod 2 pi,
+        wall, sdot, kind`` and the orbit's ``status``.
+
+    Examples
+    --------
+    The same orbit on the closed-form map and on scipy's integration of Eq. (3):
+
+    >>> import gear_rattle as gr
+    >>> p = gr.Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
+    >>> seq = gr.orbit(p, tau0=0.0, sdot0=0.5, n_impacts=10, track="map")
+    >>> seq.wall[:5].tolist()
+    [0, -1, -1, 0, 0]
+    >>> print(f"{seq.tau[10]:.6f}", seq.status)
+    10.831944 active
+    >>> ref = gr.orbit(p, tau0=0.0, sdot0=0.5, n_impacts=10, track="scipy")
+    >>> bool(abs(ref.tau - seq.tau).max() < 1e-8)
+    True
+    """
     from .mapimpl.tracks import orbit as _orbit
 
     return _orbit(track, params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
@@ -70,8 +109,39 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: s
 
 def find_periodic(params: Params, tau0: float, sdot0: float, period: int | None = None, turns: int = 1, *,
                   tol: float = 1e-12, max_iter: int = 60, impacts: int | None = None):
-    """Newton search for a periodic orbit with ``period`` impacts per ``turns`` driving periods
-    (:func:`gear_rattle.mapimpl.periodic.find_periodic`; ``impacts=`` is the old name of ``period``)."""
+    """Newton search for a periodic orbit with ``period`` impacts per ``turns`` driving periods.
+
+    The facade of :func:`gear_rattle.mapimpl.periodic.find_periodic`.
+
+    Parameters
+    ----------
+    params : Params
+        The model's parameters.
+    tau0, sdot0 : float
+        A guess of one pre-impact state of the orbit.
+    period : int
+        Impacts per period, ``>= 1``.
+    turns : int, optional
+        Driving periods (``2 pi``) per period.
+    tol, max_iter : optional
+        Newton's tolerance and most iterations.
+    impacts : int, optional
+        The old name of ``period`` (a DeprecationWarning).
+
+    Returns
+    -------
+    PeriodicOrbit
+        :class:`gear_rattle.mapimpl.periodic.PeriodicOrbit`: the states, walls and Floquet multipliers.
+
+    Examples
+    --------
+    Fig. 2 (alpha = 0.5): the regular motion is a stable orbit of three impacts per period:
+
+    >>> import gear_rattle as gr
+    >>> orb = gr.find_periodic(gr.Params(0.5, 0.1, 0.1, 0.9), 2.034, -0.7343, period=3)
+    >>> orb.converged, orb.walls.tolist(), orb.stable
+    (True, [-1, 0, 0], True)
+    """
     from .mapimpl.periodic import find_periodic as _find
 
     period = _renamed("impacts", "period", period, impacts)
@@ -95,10 +165,33 @@ def lyapunov(params: Params, param: str = "r", values=None, *, n_impacts: int | 
 def transient_times(tau0, sdot0, params: Params | None = None, *, ic_mode: str = "pre-impact", s0=None,
                     delta: float | None = None, deltas=None, cap: int = 20000, release: str = "compose",
                     lanes: int | None = None, progress=None, stick_time: float | None = None, devices=None):
-    """Transient durations until capture by the stable periodic orbit, for many initial conditions
-    (:func:`gear_rattle.mapimpl.engine.transients.transient_times`; default parameters: the paper's
-    Figs. 9-11, alpha = 1.245, beta = gamma = 0.1, r = 0.9).  ``delta``, ``deltas``, ``stick_time``:
-    None for that function's defaults."""
+    """Transient durations until capture by the stable periodic orbit, for many initial conditions.
+
+    The facade of :func:`gear_rattle.mapimpl.engine.transients.transient_times` (the meaning of every
+    argument); ``delta``, ``deltas``, ``stick_time``: None for that function's defaults.
+
+    Parameters
+    ----------
+    tau0, sdot0 : array_like
+        The initial conditions (pre-impact states, or free states with ``ic_mode``/``s0``).
+    params : Params, optional
+        Default: the paper's Figs. 9-11, alpha = 1.245, beta = gamma = 0.1, r = 0.9
+        (:data:`gear_rattle.core.paper.PAPER_PARAMS`).
+    ic_mode, s0, delta, deltas, cap, release, lanes, progress, stick_time, devices : optional
+        As in :func:`gear_rattle.mapimpl.engine.transients.transient_times`.
+
+    Returns
+    -------
+    TransientResult
+        :class:`gear_rattle.mapimpl.engine.transients.TransientResult`.
+
+    Examples
+    --------
+    >>> import numpy as np, gear_rattle as gr
+    >>> res = gr.transient_times(np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, progress=False)
+    >>> res.hit.shape[0]
+    8
+    """
     from .mapimpl.engine.transients import transient_times as _tt
     from .core.paper import PAPER_PARAMS
 

@@ -25,7 +25,7 @@ def states(tau, sdot, wall=None) -> MapState:
 
 
 def _param_axes(p: ParamArrays):
-    return ParamArrays(*(0 if jnp.ndim(x) else None for x in p))
+    return ParamArrays._make(0 if jnp.ndim(x) else None for x in p)  # vmap's in_axes for each parameter
 
 
 @partial(jax.jit, static_argnums=(2,))

@@ -58,8 +58,11 @@ def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | Non
     p = seq.params
     kinds, t_ev, walls, sd = seq.kind, seq.tau, seq.wall, seq.sdot
     # pieces in time order: (grid, kind) with kind "flight" (evaluated below) or a constant state
-    pieces = []
-    fl_t, fl_th, fl_v, fl_w = [], [], [], []
+    pieces: list[tuple] = []
+    fl_t: list[np.ndarray] = []
+    fl_th: list[np.ndarray] = []
+    fl_v: list[np.ndarray] = []
+    fl_w: list[np.ndarray] = []
     for i in range(len(t_ev) - 1):
         t0, t1 = t_ev[i], t_ev[i + 1]
         if t_end is not None and t0 >= t_end:

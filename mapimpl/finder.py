@@ -271,10 +271,51 @@ def root_step(x, g, dg, d2g, lo, hi, m2, m3, k):
 
 
 def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_STEPS) -> Hit:
-    """First impact of the flight leaving ``(tau0, s0, v0)``, ``-1 <= s0 <= 0`` (scalar inputs).
+    """First impact of the flight leaving ``(tau0, s0, v0)``: the certified impact finder.
 
-    ``tau0`` should be reduced mod 2*pi; the returned ``t`` is the flight time.  Use ``jax.vmap``
-    for batches.  See the module docstring for the method and the status codes.
+    The flight is the closed form of Eqs. (7)-(8) (:mod:`mapimpl.flight`); the first root of the gap to
+    either wall is bracketed by certified safe steps and located by safeguarded root iterations (the
+    module docstring: method, guarantees and status codes).  Scalar inputs; use ``jax.vmap`` for batches.
+
+    Parameters
+    ----------
+    tau0 : float
+        Departure phase, reduced to ``[0, 2 pi)``.
+    s0 : float
+        Departure position, ``-1 <= s0 <= 0`` (a wall, or inside the backlash).
+    v0 : float
+        Departure velocity ``sdot`` (after the reset of Eq. 11 when leaving a wall).
+    alpha, beta, gamma : float
+        The parameters of Eq. (3).
+    t_max : float, optional
+        Longest flight searched (status ``NO_IMPACT`` beyond).
+    max_steps : int, optional
+        Most safe steps (status ``STEP_CAP`` beyond).
+
+    Returns
+    -------
+    Hit
+        ``t`` the flight time, ``wall`` (0: ``s = 0``, -1: ``s = -1``), ``v`` the velocity just before
+        the impact, ``status`` (:class:`core.status.FlightOutcome` codes) and ``steps`` (JAX scalars).
+
+    Examples
+    --------
+    From the middle of the backlash, moving up at alpha = 3: the forcing turns the flight back to the
+    lower wall.
+
+    >>> from gear_rattle.core.status import FlightOutcome
+    >>> from gear_rattle.mapimpl.finder import first_impact
+    >>> hit = first_impact(0.0, -0.5, 0.3, 3.0, 0.1, 0.1)
+    >>> print(f"t = {float(hit.t):.8f}, wall {int(hit.wall)}, v = {float(hit.v):.8f}")
+    t = 1.41311122, wall -1, v = -1.74131349
+    >>> FlightOutcome(int(hit.status)).label
+    'hit'
+
+    The position there is the wall's, by Eqs. (7)-(8):
+
+    >>> from gear_rattle.mapimpl.flight import flight
+    >>> print(f"{-0.5 + float(flight(hit.t, 0.0, 0.3, 3.0, 0.1, 0.1).ds):.12f}")
+    -1.000000000000
     """
     tau0, s0, v0 = (jnp.asarray(x, jnp.float64) for x in (tau0, s0, v0))
     t_dep = departure_time(tau0, s0, v0, alpha, beta, gamma)

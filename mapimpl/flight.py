@@ -1,11 +1,11 @@
 """Closed-form free flight between impacts, Eqs. (7)-(8) of the paper, in a cancellation-free form.
 
-Eq. (3) reads ``s'' + beta s' = f(tau) - ... `` with the forcing (right-hand side at rest)
+Eq. (3) reads ``s'' + beta s' = f(tau)`` with the forcing (right-hand side at rest)::
 
     f(tau) = -alpha sin(tau) + alpha beta cos(tau) + gamma,          s'' = f(tau) - beta s'.
 
 From a state ``(tau0, s0, sdot0)`` and elapsed flight time ``t = tau - tau0 >= 0``, Eq. (7) is
-rewritten exactly as
+rewritten exactly as::
 
     s(tau) - s0   = t sdot0 phi1(beta t) + t^2 Q(t),
     Q(t)          = -(alpha/2) sin(tau0) sinc^2(t/2)
@@ -85,7 +85,7 @@ def phi2(x):
 
 
 def sigma(t):
-    """(t - sin t) / t^3, limit 1/6 at t = 0; Taylor series for |t| < 1.5."""
+    """``(t - sin t) / t^3``, limit 1/6 at ``t = 0``; Taylor series for ``|t| < 1.5``."""
     big = jnp.abs(t) >= _SIGMA_T
     tb = jnp.where(big, t, 1.0)
     direct = (tb - jnp.sin(tb)) / (tb * tb * tb)
@@ -171,7 +171,7 @@ def flight_textbook(t, tau0, s0, sdot0, alpha, beta, gamma):
 
 
 def derivative_bounds(t, tau0, sdot0, alpha, beta, gamma):
-    """Bounds on |s''|, |s'''|, |s''''| valid for all flight times ``>= t`` (Eq. 3 differentiated).
+    """Bounds on ``|s''|``, ``|s'''|``, ``|s''''|`` valid for all flight times ``>= t`` (Eq. 3 differentiated).
 
     With ``B = beta (sdot0 - alpha cos tau0) - gamma`` one has
     ``s'' = -alpha sin(tau) - B e^{-beta t}``, ``s''' = -alpha cos(tau) + beta B e^{-beta t}``,

@@ -6,12 +6,12 @@ product ``A = J_1 J_2 ... J_n`` of step Jacobians.  In float64 that product over
 singular value underflows even sooner (``lambda_2 ~ -1``), so the eigenvalues of the raw product are
 useless for the long runs a converged exponent needs.  Here the product is carried as ``Q R``:
 at each step ``J_n Q_{n-1} = Q_n R_n`` (a Givens rotation of the 2x2, on the many-orbit engine:
-:class:`gear_rattle.mapimpl.engine.observers.Tangent`), and
+:class:`gear_rattle.mapimpl.engine.observers.Tangent`), and::
 
     lambda_i = (1/N) sum_n ln |R_n[i, i]|        (per impact, natural log).
 
 The sum ``lambda_1 + lambda_2`` equals ``(1/N) sum ln |det J_n|`` exactly, and the closed form
-``det J = r^2 exp(-beta dt) sdot_n / sdot_{n+1}`` telescopes to
+``det J = r^2 exp(-beta dt) sdot_n / sdot_{n+1}`` telescopes to::
 
     (1/N) sum ln|det J_n| = 2 ln r - beta (tau_N - tau_0)/N + (1/N) ln |sdot_0 / sdot_N|,
 

@@ -15,12 +15,10 @@ import numpy as np
 
 from ..core import _jax  # noqa: F401
 import jax
-import jax.numpy as jnp
 
-from ..core.status import Status
 from .impact_map import free_flight_start, iterate
 from ..core.checks import check_tau0
-from ..core.state import MapState, Trajectory, make_state, run_in_chunks, sequence_from_states
+from ..core.state import MapState, make_state, run_in_chunks, sequence_from_states
 from ..core.params import Params
 from ..core.results import ImpactSequence
 
@@ -73,9 +71,49 @@ def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: flo
     """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13).
 
     Runs in chunks of ``chunk`` impacts (:func:`iterate_chunked`): interruptible with Ctrl-C, and the
-    same result as one scan.  An orbit that ends (stuck forever, no impact) stops early.  ``progress``:
-    None or True for a bar of the impacts on a terminal for runs over a second (default False: none;
-    :mod:`gear_rattle.core.progress`).
+    same result as one scan.  An orbit that ends (stuck forever, no impact) stops early.
+
+    Parameters
+    ----------
+    params : Params
+        The model's parameters.
+    tau0, sdot0 : float
+        Impact 0, a pre-impact state (``sdot0 > 0``: at ``s = 0``; ``sdot0 < 0``: at ``s = -1``), or
+        with ``s0`` the free state ``(tau0, s0, sdot0)`` whose first impact is impact 0.
+    n_impacts : int
+        Impacts after impact 0, ``>= 0``.
+    s0 : float, optional
+        A start in free flight, ``-1 <= s0 <= 0``.
+    chunk : int, optional
+        Impacts per compiled scan.
+    progress : bool, optional
+        None or True for a bar of the impacts on a terminal for runs over a second (default False: none;
+        :mod:`gear_rattle.core.progress`).
+
+    Returns
+    -------
+    ImpactSequence
+        One row per event (impacts, and a ``stick``/``release`` pair per sticking episode), with the
+        orbit's ``status``.
+
+    Examples
+    --------
+    Fig. 4's attractor at alpha = 3, r = 0.9 is chaotic: the impacts alternate irregularly between the
+    walls.
+
+    >>> from gear_rattle.core.params import Params
+    >>> from gear_rattle.mapimpl.orbit import map_orbit
+    >>> seq = map_orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 200)
+    >>> len(seq.n), seq.status, sorted(set(seq.wall.tolist()))
+    (201, 'active', [-1, 0])
+
+    With alpha = 2, gamma = 1, r = 0.5 the bounces accumulate at a wall and the teeth stick: a
+    ``stick`` row, then a ``release`` row where the contact force changes sign (the sticking policy,
+    docs/model.md).
+
+    >>> chatter = map_orbit(Params(2.0, 0.1, 1.0, 0.5), 0.0, 0.5, 150)
+    >>> chatter.n_sticking >= 3, "release" in chatter.kind.tolist()
+    (True, True)
     """
     from ..core.params import check_params
 

@@ -25,7 +25,7 @@ import numpy as np
 from ..core import _jax  # noqa: F401  (float64)
 import jax
 
-from ..core.state import MapState, Trajectory
+from ..core.state import Array, MapState
 from ..core.state import sequence_from_states
 from ..core.phase import TWO_PI_HI, TWO_PI_LO, TWO_PI_MID
 from ..core.checks import check_tau0
@@ -44,7 +44,7 @@ def forcing_rhs(tau: float, alpha: float, beta: float, gamma: float) -> float:
 
 def reduce_phase(theta: float, cycles: int) -> tuple[float, int]:
     """``theta`` reduced into [0, 2 pi) with the whole turns carried into ``cycles`` (the three-term
-    Cody-Waite reduction of :func:`gear_rattle.mapimpl.flight.reduce_phase`, in Python floats)."""
+    Cody-Waite reduction of :func:`gear_rattle.core.phase.reduce_phase`, in Python floats)."""
     m = math.floor(theta / TWO_PI)
     th = ((theta - m * TWO_PI_HI) - m * TWO_PI_MID) - m * TWO_PI_LO
     adj = 1 if th >= TWO_PI else (-1 if th < 0.0 else 0)
@@ -111,10 +111,17 @@ class StepInfo(NamedTuple):
     :func:`mapimpl.orbit.sequence_from_states` reads): the step ``stuck`` to the wall, the elapsed
     times of sticking and release (NaN if none), and the monotone ``segments`` of its flight."""
 
-    stuck: np.ndarray
-    stick_tau: np.ndarray
-    release_tau: np.ndarray
-    segments: np.ndarray
+    stuck: Array
+    stick_tau: Array
+    release_tau: Array
+    segments: Array
+
+
+class Trajectory(NamedTuple):
+    """Stacked pre-impact states and step records of a track's orbit (leading axis: impact 1..n)."""
+
+    states: MapState
+    infos: StepInfo
 
 
 class TrajectoryRecorder:
@@ -142,8 +149,8 @@ class TrajectoryRecorder:
 
     def sequence(self, params: Params, track: str, meta: dict) -> ImpactSequence:
         """The event table of the recorded orbit."""
-        cols = list(zip(*self._states)) or [[]] * 5
-        info = list(zip(*self._infos)) or [[]] * 4
+        cols: list = list(zip(*self._states)) or [[]] * 5
+        info: list = list(zip(*self._infos)) or [[]] * 4
         traj = Trajectory(self._state(*cols),
                           StepInfo(np.asarray(info[0], bool), np.asarray(info[1], np.float64),
                                    np.asarray(info[2], np.float64), np.asarray(info[3], np.int64)))

@@ -9,7 +9,7 @@ specification, :mod:`reference.events`, evaluated on JAX arrays:
   ``max(wall ahead, velocity reversal)``, whose first upcrossing is the earlier of the two events
   (diffrax would otherwise give priority to the first triggered leaf of a condition pytree, not to
   the earliest root); the root is located by an ``optimistix.Bisection`` on the step's dense
-  interpolant, then refined to node accuracy (:func:`_segment`), and :func:`reference.events.segment_end`
+  interpolant, then refined to node accuracy (``_segment``), and :func:`reference.events.segment_end`
   says which event it was.  The guard for diffrax issue 507 (two crossings in one step are missed
   by the sign check at step ends) is the spec's missed-crossing rule: beyond-and-back needs a
   velocity reversal, which ends the segment; if the extremum lies *beyond* the wall, the segment is
@@ -50,7 +50,7 @@ from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
 from ..mapimpl.sticking import decide_stick, released_turns
 from . import events as ev
-from ._common import StepInfo, check_option, forcing_rhs, validate_start
+from ._common import StepInfo, Trajectory, check_option, forcing_rhs, validate_start
 from .events import MAX_SEGMENTS, T_MAX
 
 #: Default tolerances, step bound and per-segment step cap of this track.
@@ -123,7 +123,9 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     args = (theta0, alpha, beta, gamma, sigma, jnp.asarray(watch))
     t_end = opts.t_max if t_end is None else t_end
     controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol, dtmax=opts.dtmax)
-    event = diffrax.Event(_cond, root_finder=optx.Bisection(rtol=ROOT_RTOL, atol=ROOT_ATOL, flip=False),
+    # (mypy reads optimistix's ClassVar `norm` as a field without a default)
+    bisection: optx.Bisection = optx.Bisection(rtol=ROOT_RTOL, atol=ROOT_ATOL, flip=False)  # type: ignore[call-arg]
+    event = diffrax.Event(_cond, root_finder=bisection,
                           direction=ev.DIRECTION > 0)
     sol = diffrax.diffeqsolve(
         _TERM, _SOLVER, t0=t0, t1=t_end, dt0=None, y0=y0, args=args, stepsize_controller=controller,
@@ -246,15 +248,7 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     return new, info
 
 
-class Trajectory(NamedTuple):
-    states: MapState
-    infos: StepInfo
-
-
-@partial(jax.jit, static_argnums=(2, 3))
-def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
-    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled."""
-
+def _scan(state: MapState, p: ParamArrays, n: int, opts: Options) -> Trajectory:
     def body(s, _):
         s1, info = step(s, p, opts)
         return s1, (s1, info)
@@ -264,10 +258,16 @@ def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options()) 
 
 
 @partial(jax.jit, static_argnums=(2, 3))
+def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
+    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled."""
+    return _scan(state, p, n, opts)
+
+
+@partial(jax.jit, static_argnums=(2, 3))
 def batch_iterate(states: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
     """:func:`iterate` vmapped over a batch of initial states (parameters shared or batched)."""
-    axes = ParamArrays(*(0 if jnp.ndim(x) else None for x in p))
-    return jax.vmap(lambda s, q: iterate.__wrapped__(s, q, n, opts), in_axes=(0, axes))(states, p)
+    axes = ParamArrays._make(0 if jnp.ndim(x) else None for x in p)  # vmap's in_axes for each parameter
+    return jax.vmap(lambda s, q: _scan(s, q, n, opts), in_axes=(0, axes))(states, p)
 
 
 @partial(jax.jit, static_argnums=(4,))
@@ -366,7 +366,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     out, w, fstat, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]),
                                        jnp.asarray(int(wall), jnp.int32), p, opts)
     if int(fstat) != FlightOutcome.HIT:
-        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[int(fstat)])
+        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[FlightOutcome(int(fstat))])
     tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
     return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, Status.ACTIVE.label)
 

@@ -163,7 +163,16 @@ def initial_direction(s0, v0, a0):
 def restart_direction(wall, v0):
     """Direction of the flight that leaves ``wall`` with velocity ``v0`` after an impact (``v0 = -r
     sdot``, Eq. 11) or a release (``v0 = 0``): the sign of ``v0``, or away from the wall."""
-    return initial_direction(wall, v0, 0.0)
+    return initial_direction(as_float(wall), v0, 0.0)
+
+
+def as_float(x):
+    """``x`` (a wall index, say) as float64 of its own kind: a Python float, a numpy or a JAX array."""
+    if isinstance(x, (int, float, np.integer, np.floating)):
+        return float(x)
+    if isinstance(x, np.ndarray):
+        return x.astype(np.float64)
+    return jnp.asarray(x, jnp.float64)
 
 
 def start_velocity(sdot, sigma):

@@ -147,18 +147,20 @@ def _events(sigma: float, rhs: Callable | None = None):
     def rev_ev(t, y):
         return ev.reversal_condition(y[1], sigma)
 
-    for f in (wall_ev, rev_ev):
-        f.terminal = ev.TERMINAL
-        f.direction = float(ev.DIRECTION)
     if rhs is None:
-        return [wall_ev, rev_ev]
+        return [_event(wall_ev, ev.TERMINAL), _event(rev_ev, ev.TERMINAL)]
 
     def dip_ev(t, y):
         return ev.dip_condition(rhs(t, y)[1], sigma)
 
-    dip_ev.terminal = False
-    dip_ev.direction = float(ev.DIRECTION)
-    return [wall_ev, rev_ev, dip_ev]
+    return [_event(wall_ev, ev.TERMINAL), _event(rev_ev, ev.TERMINAL), _event(dip_ev, False)]
+
+
+def _event(f, terminal: bool):
+    """``f`` as an event of ``solve_ivp``: its ``terminal`` flag and the crossing direction set as attributes."""
+    f.terminal = terminal
+    f.direction = float(ev.DIRECTION)
+    return f
 
 
 def _hidden_dip(sol, sigma: int, atol: float) -> float | None:
@@ -186,7 +188,8 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
     rhs = _make_rhs(theta0, p, variational)
     y = np.array([s0, v0, 1.0, 0.0, 0.0, 1.0]) if variational else np.array([s0, v0])
     t = 0.0
-    samples = [] if points_per_unit else None
+    ppu = points_per_unit or 0.0
+    samples: list | None = [] if ppu else None
     for seg in range(1, MAX_SEGMENTS + 1):
         # solved from a velocity along sigma (0 after a release, ~0 after a reversal: the reversal
         # condition then starts strictly negative, reference.events.start_velocity)
@@ -206,7 +209,7 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
             return Flight(_STEP_CAP, math.inf, 0, math.nan, None, seg, samples)
         if sol.status == 0:  # reached t_max without an event (OPEN_END)
             if samples is not None:
-                _sample(sol, t, opts.t_max, points_per_unit, samples, y)
+                _sample(sol, t, opts.t_max, ppu, samples, y)
             return Flight(_NO_IMPACT, math.inf, 0, math.nan, None, seg, samples)
         hit = len(sol.t_events[0]) > 0
         k = 0 if hit else 1
@@ -224,7 +227,7 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
                 t_e, y_e = _land(rhs, sol2, float(sol2.t_events[0][-1]),
                                  np.array(sol2.y_events[0][-1], dtype=np.float64), sigma, True, opts)
         if samples is not None:
-            _sample(sol, t, t_e, points_per_unit, samples, y, y_e)
+            _sample(sol, t, t_e, ppu, samples, y, y_e)
         if hit:
             phi = y_e[2:].reshape(2, 2) if variational else None
             return Flight(_HIT, t_e, ev.wall_ahead(sigma), float(y_e[1]), phi, seg, samples)
@@ -298,9 +301,9 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
     if s0 is None:
         sdot, wall = float(sdot0), (ev.UPPER_WALL if sdot0 > 0 else ev.LOWER_WALL)
     else:
-        wall = ev.pre_impact_wall(s0, sdot0, forcing_rhs(theta, p.alpha, p.beta, p.gamma))
-        if wall is not None:  # already a pre-impact state
-            sdot = float(sdot0)
+        w0 = ev.pre_impact_wall(s0, sdot0, forcing_rhs(theta, p.alpha, p.beta, p.gamma))
+        if w0 is not None:  # already a pre-impact state
+            sdot, wall = float(sdot0), w0
         else:
             fl = flight(theta, s0, float(sdot0), p, opts, points_per_unit=points_per_unit)
             record(fl, theta, cycles)

@@ -2,15 +2,25 @@ import os
 import tempfile
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# JAX's strict promotion rules (as diffrax's tests): an implicit rank promotion (broadcasting arrays of
+# different ranks) raises, and so does an implicit dtype promotion between JAX types (int32 + int64,
+# float64 + int32; Python scalars stay weakly typed).  Set in the environment, they hold in the commands
+# the tests run as subprocesses too.
+os.environ["JAX_NUMPY_RANK_PROMOTION"] = "raise"
+os.environ["JAX_NUMPY_DTYPE_PROMOTION"] = "strict"
 # commands run as subprocesses keep their compiled kernels in this session's own cache, not the user's
 os.environ.setdefault("GEAR_RATTLE_JAX_CACHE", os.path.join(tempfile.mkdtemp(prefix="gear-rattle-test-"), "jax"))
 
-from hypothesis import settings  # noqa: E402
+from hypothesis import settings
 
-from gear_rattle import use_cpu_devices  # noqa: E402  (imports JAX with float64)
+from gear_rattle import use_cpu_devices  # imports JAX with float64
 
 # the engine tests compare runs on one and on several XLA CPU devices
 use_cpu_devices()
+
+import jax  # noqa: E402
+
+assert jax.config.jax_numpy_rank_promotion == "raise" and jax.config.jax_numpy_dtype_promotion == "strict"
 
 settings.register_profile("ci", deadline=None, max_examples=40, derandomize=True)
 settings.register_profile("long", deadline=None, max_examples=3000)

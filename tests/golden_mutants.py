@@ -19,7 +19,6 @@ import numpy as np
 
 from gear_rattle.mapimpl import _jax  # noqa: F401  (float64)
 import jax
-import jax.numpy as jnp
 
 from gear_rattle.mapimpl.finder import T_MAX, first_impact
 from gear_rattle.mapimpl.flight import flight

@@ -18,12 +18,12 @@ import pytest
 pytest.importorskip("zarr")
 pytest.importorskip("distributed")
 
-import cloudpickle  # noqa: E402  (a dependency of distributed)
+import cloudpickle  # a dependency of distributed
 
-from gear_rattle.validation.atlas import FIELDS, AtlasSpec, compute_tile  # noqa: E402
-from gear_rattle.validation.atlas.run import run_atlas  # noqa: E402
-from gear_rattle.validation.atlas.store import load_store, open_store  # noqa: E402
-from gear_rattle.validation.cli import main  # noqa: E402
+from gear_rattle.validation.atlas import FIELDS, AtlasSpec, compute_tile
+from gear_rattle.validation.atlas.run import run_atlas
+from gear_rattle.validation.atlas.store import load_store, open_store
+from gear_rattle.validation.cli import main
 
 # the killer task below runs on Dask workers, which cannot import this test module: ship it by value
 cloudpickle.register_pickle_by_value(sys.modules[__name__])

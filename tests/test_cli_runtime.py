@@ -93,7 +93,7 @@ def test_warnings_become_one_line_notes(monkeypatch, capsys):
     def noisy(args):
         for _ in range(3):
             np.float64(1e308) * np.float64(10.0)  # overflow: the same place warns thrice
-        warnings.warn("something else", UserWarning)
+        warnings.warn("something else", UserWarning, stacklevel=1)
         return real_run(args)
 
     monkeypatch.setattr(simulate, "run", noisy)

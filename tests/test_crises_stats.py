@@ -169,3 +169,21 @@ def types_ns(**kw):
     import types
 
     return types.SimpleNamespace(**kw)
+
+
+def test_run_sizes_replace_the_profile_and_name_a_wrong_key():
+    """``sizes`` (locate_r2/r1/alpha1, their doctests) replaces entries of the named profile; a key the
+    analysis does not have is refused by name, and the result's profile says that sizes were replaced."""
+    from gear_rattle.validation.dynamics.crises.profiles import PROFILES, get_profile, label
+
+    pr = get_profile("quick", "r2", {"orbits": 2})
+    assert pr["orbits"] == 2 and pr["cap"] == PROFILES["quick"]["r2"]["cap"]
+    assert PROFILES["quick"]["r2"]["orbits"] == 8  # the table itself is unchanged
+    assert get_profile("quick", "alpha1", {"probe_ics": 16})["probe_ics"] == 16
+    with pytest.raises(ValueError, match=r"sizes=\['orbit'\] is out of range"):
+        get_profile("quick", "r2", {"orbit": 2})
+    with pytest.raises(ValueError, match="probe_ics"):
+        get_profile("quick", "r1", {"probe_ics": 16})
+    with pytest.raises(ValueError, match="profile='fast'"):
+        get_profile("fast", "r2")
+    assert label("quick", None) == "quick" and label("paper", {"cap": 10}) == "paper+sizes"

@@ -7,7 +7,6 @@ Records: Figs. 2, 4 (the 6-impact orbit and its saddle, r2 and the first period 
 
 import decimal
 import json
-import math
 import shutil
 from fractions import Fraction
 

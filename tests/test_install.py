@@ -132,8 +132,9 @@ def test_plain_pytest_collects_every_module():
 
 
 def test_ci_runs_the_readme_commands_literally():
-    """.ci/run executes the README's two commands as extracted by .ci/readme_command.py: the main job
-    (install + quick report) and the tests (install with the test extra + pytest)."""
+    """.ci/run executes the README's three commands as extracted by .ci/readme_command.py: the main job
+    (install + quick report), the tests (install with the test extra + pytest) and the docs (install with
+    the docs extra + the strict Sphinx build)."""
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("readme_command", REPO / ".ci" / "readme_command.py")
@@ -143,7 +144,10 @@ def test_ci_runs_the_readme_commands_literally():
     main_cmd, test_cmd = rc.command(readme, "main"), rc.command(readme, "tests")
     assert "pip install -e ." in main_cmd and "gear-rattle report --profile quick" in main_cmd
     assert 'pip install -e ".[test]"' in test_cmd and "pytest" in test_cmd
+    docs_cmd = rc.command(readme, "docs")
+    assert "docs" in docs_cmd and "python -m sphinx -W -n -b html docs" in docs_cmd
     ci = (REPO / ".ci" / "run").read_text()
     assert 'bash -euo pipefail -c "$MAIN_CMD"' in ci and 'bash -euo pipefail -c "$TEST_CMD"' in ci
+    assert 'bash -euo pipefail -c "$DOCS_CMD"' in ci
     with pytest.raises(SystemExit, match="expected one command"):
         rc.command(readme.replace(main_cmd, main_cmd + "\necho more"), "main")

@@ -153,7 +153,9 @@ LONG_FUNCTIONS_ALLOWED: set[str] = set()
 
 
 def long_functions(repo: Path = REPO, limit: int = MAX_FUNCTION_LINES) -> list[str]:
-    """``path:line name (n lines)`` of every function or method over ``limit`` lines in the package."""
+    """``path:line name (n lines)`` of every function or method over ``limit`` lines in the package.  Its
+    docstring does not count: the numpydoc Parameters/Returns/Examples of an entry point (issue 24, item
+    3) are documentation, not code to read (``engine.run`` is 133 lines with its docstring, 60 without)."""
     out = []
     for folder in ("gear_rattle",) + PACKAGES:
         for path in sorted((repo / folder).rglob("*.py")):
@@ -162,6 +164,10 @@ def long_functions(repo: Path = REPO, limit: int = MAX_FUNCTION_LINES) -> list[s
                 if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                     first = min([node.lineno] + [d.lineno for d in node.decorator_list])
                     n = node.end_lineno - first + 1
+                    body0 = node.body[0]
+                    if (isinstance(body0, ast.Expr) and isinstance(body0.value, ast.Constant)
+                            and isinstance(body0.value.value, str)):
+                        n -= body0.end_lineno - body0.lineno + 1
                     if n > limit and f"{rel}::{node.name}" not in LONG_FUNCTIONS_ALLOWED:
                         out.append(f"{rel}:{node.lineno} {node.name} ({n} lines)")
     return out
@@ -180,6 +186,11 @@ def test_the_length_guard_finds_a_long_function(tmp_path):
     assert long_functions(tmp_path) == []
     (tmp_path / "validation" / "b.py").write_text("\n".join(head + ["        x = 1"] * 99) + "\n")
     assert long_functions(tmp_path) == ["validation/b.py:3 f (101 lines)"]
+    doc = ['        """A docstring', "", "        of four lines.", '        """']  # not counted
+    (tmp_path / "validation" / "b.py").write_text("\n".join(head + doc + ["        x = 1"] * 98) + "\n")
+    assert long_functions(tmp_path) == []
+    (tmp_path / "validation" / "b.py").write_text("\n".join(head + doc + ["        x = 1"] * 99) + "\n")
+    assert long_functions(tmp_path) == ["validation/b.py:3 f (101 lines)"]
 
 
 # ------------------------------------------------------------------------------------------------
@@ -195,7 +206,10 @@ def test_one_check_int():
     from gear_rattle.validation.atlas.spec import AtlasSpec
 
     assert check_int("n", 3.0, 1, 9) == 3 and check_int("n", np.int32(4), 1, 9, strict=True) == 4
-    for v, kw in ((True, {}), ("3", {}), (None, {}), (float("nan"), {}), (3.0, {"strict": True})):
+    # a complex numpy scalar is no integer, even with an integral real part (int() of it warns and drops
+    # the imaginary part: found by mypy)
+    for v, kw in ((True, {}), ("3", {}), (None, {}), (float("nan"), {}), (3.0, {"strict": True}),
+                  (np.complex128(3), {}), (3 + 0j, {})):
         with pytest.raises(ValueError, match="n=.* is not an integer: allowed 1 <= n <= 9"):
             check_int("n", v, 1, 9, **kw)
     for v in (2.5, 0, 10):

@@ -224,7 +224,7 @@ def _check_invariants(p: Params, tau0: float, sdot0: float, n: int) -> None:
     # first sample is the initial state itself (DOP853's interpolant returns y_old exactly at t_old, and
     # the flight's time is the impact's time by the same phase bookkeeping), so equality is exact
     starts = {}
-    for k, (t, s, v, g) in enumerate(zip(d.tau, d.s, d.sdot, d.segment)):
+    for t, s, v, g in zip(d.tau, d.s, d.sdot, d.segment):
         if g >= 0 and g not in starts:
             starts[g] = (t, s, v)
     imp = np.flatnonzero(seq.impacts)

@@ -6,7 +6,6 @@ validation.  The engine itself is tested in test_engine.py.  Paper-scale compari
 import json
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 

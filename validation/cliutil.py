@@ -191,7 +191,7 @@ def note(text: str) -> None:
     from ..core.progress import clear_status
 
     clear_status()
-    print(f"{COMMAND[0]}: note: {' '.join(str(text).split())}", file=sys.stderr)
+    print(f"{COMMAND[0]}: note: {' '.join(str(text).split())}", file=sys.stderr)  # noqa: T201 - the one note writer
 
 
 def _is_terminal(stream) -> bool:
@@ -469,7 +469,8 @@ class _Renamed(argparse.Action):
         super().__init__(option_strings, dest, **kwargs)
 
     def __call__(self, parser, namespace, values, option_string=None):
-        print(f"{parser.prog}: note: {option_string} is deprecated: use {self.new} (same meaning)", file=sys.stderr)
+        print(f"{parser.prog}: note: {option_string} is deprecated: use {self.new} (same meaning)",  # noqa: T201
+              file=sys.stderr)
         setattr(namespace, self.dest, values)
 
 

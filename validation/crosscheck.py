@@ -49,7 +49,7 @@ def _near_graze(theta: float, v: float, wall: int, p: Params, depth: float) -> b
 
 @dataclass
 class OneStep:
-    """Per track: max and median |tau error|, max |sdot error| (vs the map), wall/kind mismatches,
+    """Per track: max and median ``|tau error|``, max ``|sdot error|`` (vs the map), wall/kind mismatches,
     cases compared and cases left out as near-grazing."""
 
     track: str

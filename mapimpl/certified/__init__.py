@@ -33,7 +33,8 @@ from .capture import Target, capture_decision, certified_distance, float64_targe
 from .contact import MAX_EVALS, T_MAX, FlightCertificate, certified_flight, mean_value_impact
 from .duration import (PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
                        certified_release_durations, model_params)
-from .krawczyk import KrawczykResult, krawczyk, refine, verify_box
+# (the function krawczyk stays in its module: re-exported, it would hide the module .krawczyk itself)
+from .krawczyk import KrawczykResult, refine, verify_box
 from .model import PARAM_NAMES, Flight, Model, parameter_ball
 from .noimpact import certify_never_lands, certify_no_impact_orbit
 from .orbit import CertifiedOrbit, CertifiedStep, Event, certified_step, certify_orbit
@@ -51,6 +52,6 @@ __all__ = [
     "CertifiedOrbit", "CertifiedStep", "Event",
     "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",
     "certify_post_release_deltas", "certify_release", "certify_zero", "release_delay", "release_phase",
-    "release_time", "stick_decision", "KrawczykResult", "krawczyk", "refine", "verify_box", "CertifiedBifurcation",
+    "release_time", "stick_decision", "KrawczykResult", "refine", "verify_box", "CertifiedBifurcation",
     "CertifiedPeriodicOrbit", "certify_bifurcation", "certify_periodic_orbit", "floquet", "prove_flights",
 ]

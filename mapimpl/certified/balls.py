@@ -71,8 +71,8 @@ def _decimal(x: arb, digits: int, rounding: str) -> str:
     direction ``rounding`` (``decimal.ROUND_FLOOR`` or ``ROUND_CEILING``)."""
     import decimal
 
-    man, exp = x.man_exp()
-    man, exp = int(man), int(exp)
+    man_f, exp_f = x.man_exp()
+    man, exp = int(man_f), int(exp_f)
     with decimal.localcontext() as c:
         c.prec = max(50, abs(exp) + len(str(abs(man))) + 10)  # exact: man * 2^exp has that many digits
         c.Emax, c.Emin = decimal.MAX_EMAX, decimal.MIN_EMIN

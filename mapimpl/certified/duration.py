@@ -93,7 +93,45 @@ def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int =
                                stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
                                time_budget_s: float | None = None, progress=None) -> ReleaseDuration:
     """``T_post`` of ``wall``'s canonical release orbit for one capture distance ``delta``, certified
-    (see module docstring): :func:`certified_release_durations` for ``(delta,)``."""
+    (see module docstring): :func:`certified_release_durations` for ``(delta,)``.
+
+    Parameters
+    ----------
+    params_decimal : dict, optional
+        The parameters as decimal strings (default the paper's Figs. 9-11, alpha = 1.245).
+    wall : {0, -1}, optional
+        The wall released from.
+    delta : float, optional
+        The capture distance.
+    rounding : {"decimal", "float64"}, optional
+        Exact decimal parameters, or their float64 roundings (:data:`ROUNDINGS`).
+    max_impacts : int, optional
+        Most post-release impacts certified.
+    precisions : sequence of int, optional
+        Working precisions tried in turn until one decides (:data:`PRECISIONS`).
+    confirm : bool, optional
+        Rerun at the next precision and require the same outcome.
+    target : Target, optional
+        The capturing orbit (default: the stable 4-impact orbit, certified).
+    stick_time, radius_limit, time_budget_s, progress : optional
+        The sticking threshold, the largest radius accepted, a time budget and a progress callback.
+
+    Returns
+    -------
+    ReleaseDuration
+        ``status`` (``captured``, ``periodic``, ``stuck_forever``, ``no_capture`` or ``undecided``),
+        ``value`` (``T_post`` when captured), the precision that decided it and a certified lower bound.
+
+    Examples
+    --------
+    The upper wall's release orbit at the paper's printed parameters is captured by the stable 4-impact
+    orbit at post-release impact 824 (``delta = 1e-3``; docs/release.md):
+
+    >>> from gear_rattle.mapimpl.certified.duration import certified_release_duration
+    >>> d = certified_release_duration(wall=0, delta=1e-3, max_impacts=2000)
+    >>> d.status, d.value, d.confirmed
+    ('captured', 824, True)
+    """
     if not (isinstance(delta, numbers.Real) and math.isfinite(delta) and delta > 0):
         raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
     return certified_release_durations(params_decimal, wall, (delta,), rounding=rounding, max_impacts=max_impacts,
@@ -144,8 +182,9 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
     decided: dict[float, Attempt | None] = {d: None for d in ds}
     confirmed = {d: False for d in ds}
 
-    def confirm_with(d, b):
+    def confirm_with(d: float, b: Attempt) -> None:
         a = decided[d]
+        assert a is not None, "only a decided distance is confirmed"
         if b.definite:
             if (b.status, b.impacts) != (a.status, a.impacts):
                 raise CertificationError(
@@ -154,7 +193,7 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
             confirmed[d] = True
 
     to_confirm: list[float] = []  # decided by the last run: confirmed (or not) by the next one
-    for i, prec in enumerate(precs):
+    for prec in precs:
         open_ = [d for d in ds if decided[d] is None]
         if not (open_ or to_confirm) or (deadline is not None and time.monotonic() > deadline):
             break
@@ -189,7 +228,7 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
         out[d] = ReleaseDuration(
             params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES}, rounding=rounding, wall=wall,
             delta=d, max_impacts=int(max_impacts), target=target.as_dict(), release_phase=phase_text,
-            status=status, value=a.impacts if status == "captured" else None,
+            status=status, value=a.impacts if a is not None and status == "captured" else None,
             precision=a.prec if a is not None else None, confirmed=confirmed[d], lower_bound=lower,
             attempts=attempts[d], seconds=seconds)
     return out

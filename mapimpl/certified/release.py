@@ -129,7 +129,7 @@ def check_deltas(deltas) -> tuple:
     if not vals:
         raise ValueError("deltas is empty: allowed one or more finite capture distances > 0")
     for d in vals:
-        if not (isinstance(d, numbers.Real) and math.isfinite(d) and d > 0):
+        if not (isinstance(d, numbers.Real) and math.isfinite(d) and float(d) > 0):
             raise ValueError(f"delta={d!r} is out of range: allowed finite delta > 0")
     return tuple(sorted({float(d) for d in vals}, reverse=True))
 
@@ -196,7 +196,8 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
         raise ValueError(f"max_impacts={max_impacts!r} is out of range: allowed integer >= 1")
     pending = list(check_deltas(deltas))
     t0 = time.monotonic()
-    xs, ys = [], []
+    xs: list[int] = []  # post-release impacts with a nonzero radius, and log2 of that radius
+    ys: list[float] = []
     closest: dict[float, float | None] = {d: None for d in pending}
     walls_stuck: list = []
     n, log2r = 0, -math.inf
@@ -250,21 +251,24 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
                 if progress is not None and n % 50 == 0:
                     progress(prec, n, _radius_text(lr))
                 for d in list(pending):
-                    if captured[d]:
+                    if captured[d] and dist is not None:  # (capture_decision: no distance, no capture)
                         done([d], "captured", f"within delta={d:g} of the target at post-release impact {n}",
                              dist.str(6, radius=True))
                     elif dist is not None:
-                        lb = float(dist.lower())
-                        closest[d] = lb if closest[d] is None else min(closest[d], lb)
+                        lb, so_far = float(dist.lower()), closest[d]
+                        closest[d] = lb if so_far is None else min(so_far, lb)
                 if not pending:
                     return out
                 end = _budget_end(n, max_impacts, deadline)
-                st = None if end else certified_step(model, tau, sdot, cur, prec=prec, stick_time=stick_time)
-                end = end or _stick_end(st, cur, n, walls_stuck, released_from)
                 if end:
                     done(list(pending), *end)
                     return out
-                tau, sdot, cur = st.tau, st.sdot, st.wall
+                st = certified_step(model, tau, sdot, cur, prec=prec, stick_time=stick_time)
+                end = _stick_end(st, cur, n, walls_stuck, released_from)
+                if end:
+                    done(list(pending), *end)
+                    return out
+                tau, sdot, cur, _ = st.landed()
         except CertificationError as e:
             done(list(pending), "failed", f"{e} (impact {n + 1} undecided)")
             return out

@@ -114,7 +114,7 @@ def orbit_residual(x, P: Numbers, shape: Shape) -> list:
 
 def monodromy(x, P: Numbers, shape: Shape) -> list:
     """``M = J_{p-1} ... J_0`` (2x2, a list of rows) from the step Jacobians (module docstring)."""
-    M = None
+    M: list | None = None
     for tau, v, _w, t, _vn, _wn in _legs(x, shape):
         u = -P.r * v
         _, v1, e, e1 = _flight(P, tau, u, t)
@@ -124,6 +124,8 @@ def monodromy(x, P: Numbers, shape: Shape) -> list:
         j12 = P.r * e1 / v1
         J = [[j11, j12], [a1 * j11 - e * a0, P.r * (a1 * e1 / v1 - e)]]
         M = J if M is None else [[J[i][0] * M[0][k] + J[i][1] * M[1][k] for k in range(2)] for i in range(2)]
+    if M is None:
+        raise ValueError(f"shape={shape!r} has no impact: allowed an orbit of one impact or more")
     return M
 
 

@@ -136,8 +136,9 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
 
     (i) ``d f`` changes sign across the ball and ``f'`` excludes 0 on it (:func:`certify_zero`);
     (ii) ``d f > 0`` on ``[tau_impact, tau_rel.lower]``: pieces with the Taylor form
-    ``f(m) + f'(T)[-h, h]`` (adaptive subdivision) until a rest ``[t, lo]`` on which ``d f'`` is
-    certified negative (``d f`` falls monotonically to ``d f(lo) > 0``).
+         ``f(m) + f'(T)[-h, h]`` (adaptive subdivision) until a rest ``[t, lo]`` on which ``d f'`` is
+         certified negative (``d f`` falls monotonically to ``d f(lo) > 0``).
+
     Returns ``(ball, pieces)``: the certified enclosure (the closed-form ball, widened until the
     signs are definite) and the number of pieces of (ii), the monotone rest included.
     """

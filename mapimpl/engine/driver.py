@@ -3,7 +3,7 @@
 :func:`run` takes initial conditions (pre-impact states ``(theta, sdot, wall)``), parameters (one
 set for all, or one per initial condition), observers (:mod:`gear_rattle.mapimpl.engine.observers`)
 and a cap on the impacts per orbit, and returns per initial condition the impacts done, how the
-orbit ended (:class:`gear_rattle.core.status.Orbit`), its sticking episodes, its final state and
+orbit ended (:class:`gear_rattle.core.status.Status`), its sticking episodes, its final state and
 the observers' outputs (:class:`EngineResult`).
 
 How: the initial conditions are split over the devices of JAX's default backend (on the CPU one
@@ -57,7 +57,7 @@ class EngineResult:
     """Per-initial-condition results (flat arrays in input order) of :func:`run`.
 
     ``n``: impacts done (the index of the last pre-impact state reached); ``status``: how the orbit
-    ended (:class:`~gear_rattle.core.status.Orbit` codes); ``nstick``: sticking episodes;
+    ended (:class:`~gear_rattle.core.status.Status` codes); ``nstick``: sticking episodes;
     ``first_stick``: index of the impact whose step first stuck (-1: never); ``theta, sdot, wall,
     cycles``: the last pre-impact state (tau = 2 pi cycles + theta, counted from the start);
     ``obs``: one dict of output arrays per observer.
@@ -106,7 +106,7 @@ def default_lanes(n_per_device: int) -> int:
     """As many lanes as there are orbits per device, up to :func:`cpu_lanes` on the CPU and 65536 on an
     accelerator.  A micro-step has a fixed cost besides its per-lane cost, so narrower blocks only
     lengthen runs of few orbits; the tail of a run, when the queue is dry and few orbits are left,
-    moves to a smaller block (:func:`_drive`).  A multiple of :data:`kernel.LANE_QUANTUM`."""
+    moves to a smaller block (``_drive``).  A multiple of :data:`kernel.LANE_QUANTUM`."""
     top = cpu_lanes() if jax.default_backend() == "cpu" else 65536
     return K.padded_lanes(min(top, max(int(n_per_device), 1)))
 
@@ -150,7 +150,7 @@ def max_kernel_calls(m: int, cap: int, block: int, max_steps: int, every: int = 
     orbits can need, from the engine's own caps: an orbit makes at most ``cap + 1`` arrivals, each
     followed by one flight search of at most :func:`kernel.flight_micro_steps` micro-steps; while the
     queue is not done at least one lane is busy in every micro-step, and an orbit that ends waits at
-    most one block for its lane to be refilled.  :func:`_drive` stops with an error past it: an engine
+    most one block for its lane to be refilled.  ``_drive`` stops with an error past it: an engine
     bug then ends the run instead of hanging it (no valid run comes near the bound)."""
     per_orbit = (int(cap) + 1) * (K.flight_micro_steps(int(max_steps), int(every)) + 1) + int(block)
     return 2 + -(-int(m) * per_orbit // (int(block) * 64))
@@ -315,16 +315,68 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     """Iterate the impact map from every initial condition until its observers stop it, it reaches
     ``cap`` impacts, or it ends (stuck forever, no impact, step cap); see the module docstring.
 
-    ``theta, sdot, wall``: pre-impact states (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1);
-    ``params``: a :class:`~gear_rattle.core.params.Params` or per-orbit arrays ``(alpha, beta, gamma,
-    r)``; ``stop_at_stick``: stop an orbit at its first sticking episode (status ``STUCK``: every
-    orbit that sticks continues on one post-release orbit, which the caller runs once);
-    ``lanes``: orbits advanced together per device (default :func:`default_lanes`, padded to a
-    multiple of :data:`kernel.LANE_QUANTUM`); ``block``: micro-steps between refills; ``chunk``:
-    initial conditions per kernel launch (default: bounded by memory); ``devices``: a count or list
-    of JAX devices (default all of the default backend); ``progress``: None or True (a bar in impacts
-    when stderr is a terminal), False, or a callable ``(orbits done, orbits)`` instead of the bar
-    (:mod:`gear_rattle.core.progress`).
+    Parameters
+    ----------
+    theta, sdot, wall : array_like
+        Pre-impact states, one per orbit (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1).
+    params : Params or tuple of arrays
+        One :class:`~gear_rattle.core.params.Params` for all orbits, or per-orbit arrays
+        ``(alpha, beta, gamma, r)``.
+    observers : Observer or tuple of Observer, optional
+        What is measured along each orbit and when it stops (:mod:`gear_rattle.mapimpl.engine.observers`).
+    cap : int
+        Most impacts per orbit.
+    stop_at_stick : bool, optional
+        Stop an orbit at its first sticking episode (status ``STUCK``: every orbit that sticks continues
+        on one post-release orbit, which the caller runs once).
+    lanes : int, optional
+        Orbits advanced together per device (default :func:`default_lanes`, padded to a multiple of
+        :data:`kernel.LANE_QUANTUM`).
+    block : int, optional
+        Micro-steps between refills.
+    chunk : int, optional
+        Initial conditions per kernel launch (default: bounded by memory).
+    devices : int or list, optional
+        A count or list of JAX devices (default all of the default backend).
+    progress : bool or callable, optional
+        None or True (a bar in impacts when stderr is a terminal), False, or a callable
+        ``(orbits done, orbits)`` instead of the bar (:mod:`gear_rattle.core.progress`).
+    label : str, optional
+        The progress bar's label.
+    stick_time, t_max, max_steps : optional
+        The sticking policy's and the impact finder's caps (:mod:`mapimpl.sticking`, :mod:`mapimpl.finder`).
+
+    Returns
+    -------
+    EngineResult
+        Per initial condition, in input order: impacts done, status, sticking episodes, the last state
+        and the observers' outputs.  Results do not depend on ``lanes``, ``block``, ``chunk`` or ``devices``.
+
+    Examples
+    --------
+    Eight orbits on Fig. 4's chaotic attractor (alpha = 3, r = 0.9), with their largest Lyapunov
+    exponents (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer, Fig. 4b):
+
+    >>> import numpy as np
+    >>> from gear_rattle.core.params import Params
+    >>> from gear_rattle.mapimpl.engine.driver import run
+    >>> from gear_rattle.mapimpl.engine.observers import Tangent
+    >>> p = Params(3.0, 0.1, 0.1, 0.9)
+    >>> theta, sdot, wall = np.linspace(0.5, 6.0, 8), np.ones(8), np.zeros(8, dtype=int)
+    >>> res = run(theta, sdot, wall, p, Tangent(n_start=100), cap=3000, progress=False)
+    >>> res.status_counts(), res.impacts
+    ({'capped': 8}, 24000)
+    >>> lam1 = res.obs[0]["log_r"][:, 0] / res.obs[0]["n_free"]
+    >>> bool(np.all((0.3 < lam1) & (lam1 < 0.4)))
+    True
+
+    The engine's orbit is the closed-form map's (:func:`mapimpl.orbit.map_orbit`) to rounding:
+
+    >>> from gear_rattle.mapimpl.orbit import map_orbit
+    >>> short = run(theta, sdot, wall, p, cap=50, progress=False)
+    >>> seq = map_orbit(p, theta[3], sdot[3], 50)
+    >>> bool(abs(short.theta[3] - seq.theta[-1]) < 1e-9 and abs(short.sdot[3] - seq.sdot[-1]) < 1e-9)
+    True
     """
     obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
     if not all(isinstance(o, Observer) for o in obs):

@@ -7,12 +7,12 @@ lane is done, so a batch of map steps costs the maximum, not the mean, number of
 kernel flattens the search for the next impact into uniform *search micro-steps*, one closed-form
 flight evaluation per lane (:func:`search_step`), driven by a per-lane state machine:
 
-``A``  safe step at ``t_a`` (:func:`mapimpl.finder.safe_step`);
-``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`)
-       and, on a bracket, the first root step from that evaluation;
-``N``  one safeguarded root iteration on the certified bracket (:func:`mapimpl.finder.root_step`);
-``H``  an impact found, waiting for the next arrival pass;
-``L``  a freshly loaded initial condition (its pre-impact state is processed as an arrival).
+* ``A``  safe step at ``t_a`` (:func:`mapimpl.finder.safe_step`);
+* ``B``  bracket test at ``t_b`` (:func:`mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`)
+  and, on a bracket, the first root step from that evaluation;
+* ``N``  one safeguarded root iteration on the certified bracket (:func:`mapimpl.finder.root_step`);
+* ``H``  an impact found, waiting for the next arrival pass;
+* ``L``  a freshly loaded initial condition (its pre-impact state is processed as an arrival).
 
 The modes use disjoint quantities, so they share the search fields (:data:`SEARCH_FIELDS`).  Every few
 micro-steps an *arrival pass* (:func:`arrival`) processes the lanes in ``H`` and ``L``: the observers
@@ -54,6 +54,7 @@ multiply-adds are fused, so float64 samples of chaotic orbits depend on them.
 from __future__ import annotations
 
 from functools import partial
+from typing import Any
 
 from ...core import _jax  # noqa: F401
 import jax
@@ -193,7 +194,7 @@ RESULT_FIELDS = dict(n=_I32, status=_I32, nst=_I32, nstk=_I32, th=_F64, sd=_F64,
 
 def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> dict:
     """A block of ``nlanes`` idle lanes."""
-    out = {name: jnp.zeros((nlanes,), dt) for name, dt in LANE_FIELDS.items()}
+    out: dict[str, Any] = {name: jnp.zeros((nlanes,), dt) for name, dt in LANE_FIELDS.items()}
     out["mode"] = jnp.full((nlanes,), MODE_IDLE, _I32)
     out["ic"] = jnp.full((nlanes,), -1, _I32)
     out["obs"] = tuple({name: jnp.broadcast_to(jnp.asarray(init, dt), (nlanes,) + tuple(shape)).astype(dt)
@@ -203,7 +204,7 @@ def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> dict:
 
 def empty_results(m: int, observers: tuple[Observer, ...]) -> dict:
     """Result arrays for ``m`` initial conditions (status NOT_RUN until written)."""
-    res = {name: jnp.zeros((m,), dt) for name, dt in RESULT_FIELDS.items()}
+    res: dict[str, Any] = {name: jnp.zeros((m,), dt) for name, dt in RESULT_FIELDS.items()}
     res["status"] = jnp.full((m,), int(Status.NOT_RUN), _I32)
     res["nstk"] = jnp.full((m,), -1, _I32)
     res["obs"] = tuple({name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0])
@@ -481,7 +482,8 @@ def _load(lanes, queue, next_ic, n_ic, observers):
                                 jnp.asarray(fields[name][2], fields[name][0]), o[name]) for name in o}
 
     new["obs"] = tuple(reset(o, ob.fields()) for o, ob in zip(lanes["obs"], observers))
-    return new, (next_ic + jnp.sum(take.astype(_I32))).astype(_I32)
+    # (jnp.sum of int32 is int64 under x64: the count is added in int64, as before strict promotion)
+    return new, (next_ic.astype(jnp.int64) + jnp.sum(take.astype(_I32))).astype(_I32)
 
 
 def _store(res, lanes, observers):
@@ -591,7 +593,7 @@ def trace(queue1, k, n_impacts: int, observers=()):
 def flight_micro_steps(max_steps: int = MAX_STEPS, every: int = ARRIVE_EVERY) -> int:
     """An upper bound on the search micro-steps of one flight, from the finder's caps: at most
     ``max_steps`` safe steps (mode ``A``), each followed by at most one bracket test (``B``), then at
-    most :data:`mapimpl.finder._NEWTON_ITERS` root iterations (``N``) and a wait of at most ``every``
+    most ``mapimpl.finder._NEWTON_ITERS`` root iterations (``N``) and a wait of at most ``every``
     micro-steps for the arrival pass (``H``).  (Python integers, or a traced ``max_steps``.)"""
     return 2 * max_steps + _NEWTON_ITERS + every + 2
 

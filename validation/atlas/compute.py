@@ -26,9 +26,9 @@ and its period is still looked for.  The result of a point depends only on that 
 on the other points of the batch, their number or order (this is what makes the atlas independent of
 tiling and worker count).
 
-Method (the many-orbit engine, :mod:`gear_rattle.mapimpl.engine`: every point is one orbit with its
-own parameters, lanes are refilled as orbits end, nothing runs on the host but the period search)
-------------------------------------------------------------------------------------------------
+**Method** (the many-orbit engine, :mod:`gear_rattle.mapimpl.engine`: every point is one orbit with its
+own parameters, lanes are refilled as orbits end, nothing runs on the host but the period search):
+
 1. ``transient`` map steps (Eqs. 12-13 with the sticking policy);
 2. ``impacts`` steps carrying the tangent map as ``J Q = Q R`` (the engine's
    :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer; the same exponents as
@@ -96,7 +96,42 @@ def period(theta: np.ndarray, sdot: np.ndarray, wall: np.ndarray, cycles: np.nda
 
 def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str, np.ndarray]:
     """Largest Lyapunov exponent and period at the points ``(alpha[i], r[i])`` (the atlas's compute seam;
-    contract and method in the module docstring).  ``ValueError`` for mismatched shapes or a bad value."""
+    contract and method in the module docstring).
+
+    Parameters
+    ----------
+    alpha, r : numpy.ndarray
+        The points, float64 arrays of one shape (``alpha >= 0``, ``0 < r <= 1``).
+    spec : AtlasSpec
+        ``beta``, ``gamma``, the initial condition and the lengths (``transient``, ``impacts``,
+        ``period_max``, ``period_tol``).
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        The fields of :data:`FIELDS` (``lambda1``, ``lambda2``, ``period_p``, ``period_m``, ``status``),
+        each with the input's shape.
+
+    Raises
+    ------
+    ValueError
+        For mismatched shapes or a value out of range.
+
+    Examples
+    --------
+    Fig. 2's regular motion (alpha = 0.5: three impacts per driving period, a negative exponent) and
+    Fig. 4's chaos (alpha = 3: a positive exponent, no period), both at r = 0.9:
+
+    >>> import numpy as np
+    >>> from gear_rattle.validation.atlas.compute import compute_tile
+    >>> from gear_rattle.validation.atlas.spec import AtlasSpec
+    >>> spec = AtlasSpec(transient=300, impacts=500, period_max=16)
+    >>> out = compute_tile(np.array([0.5, 3.0]), np.array([0.9, 0.9]), spec)
+    >>> out["period_p"].tolist(), out["period_m"].tolist(), out["status"].tolist()
+    ([3, 0], [1, 0], [0, 0])
+    >>> bool(out["lambda1"][0] < 0 < out["lambda1"][1])
+    True
+    """
     a = np.asarray(alpha, dtype=np.float64)
     rr = np.asarray(r, dtype=np.float64)
     if a.shape != rr.shape:

@@ -3,17 +3,17 @@ finished and a rerun computes only the missing tiles.
 
 Layout of ``STORE/`` (arrays indexed ``[i_r, i_alpha]``; one Zarr chunk per tile):
 
-=================  ==========================  =================================================
-name               shape, chunks, dtype        content
-=================  ==========================  =================================================
-``alpha``, ``r``   (n_alpha,), (n_r,) float64  the grid (:attr:`AtlasSpec.alphas`, ``.rs``)
-``lambda1`` ...    (n_r, n_alpha), tile        the fields of :data:`.compute.FIELDS` (fill values
-                                               NaN / 0 / status -1 where not computed)
-``done``           (tiles_r, tiles_alpha), 1   True once every field of that tile is written
-``tile_seconds``   (tiles_r, tiles_alpha), 1   wall time of the tile's compute on its worker
-``tile_cpu_        (tiles_r, tiles_alpha), 1   CPU time of that worker process meanwhile (all
-seconds``                                      its threads; first tile of a worker: with compile)
-=================  ==========================  =================================================
+=====================  ==========================  =================================================
+name                   shape, chunks, dtype        content
+=====================  ==========================  =================================================
+``alpha``, ``r``       (n_alpha,), (n_r,) float64  the grid (:attr:`AtlasSpec.alphas`, ``.rs``)
+``lambda1`` ...        (n_r, n_alpha), tile        the fields of :data:`.compute.FIELDS` (fill values
+                                                   NaN / 0 / status -1 where not computed)
+``done``               (tiles_r, tiles_alpha), 1   True once every field of that tile is written
+``tile_seconds``       (tiles_r, tiles_alpha), 1   wall time of the tile's compute on its worker
+``tile_cpu_seconds``   (tiles_r, tiles_alpha), 1   CPU time of that worker process meanwhile (all
+                                                   its threads; first tile of a worker: with compile)
+=====================  ==========================  =================================================
 
 Group attributes: ``format`` (:data:`FORMAT`), ``spec`` (:meth:`AtlasSpec.to_dict`), ``tile``
 (``[tile_r, tile_alpha]``) and ``engine`` (:data:`.compute.ENGINE`).  A tile's ``done`` flag is written

@@ -71,7 +71,7 @@ class AtlasSummary:
     ``periodic`` (a period found), ``sticking`` (lambda1 = -inf), ``ended`` (status != 0),
     ``periodic_chaotic`` (a period found but lambda1 > 0: a chaotic transient that ended during the
     measurement); ``period_classes``: the most frequent ``(p, m, count)``; ``paper_lines``: the atlas
-    along the paper's scans (per label, :func:`_line_profile`); ``run``: timing and throughput of the run
+    along the paper's scans (per label, ``_line_profile``); ``run``: timing and throughput of the run
     (None without one); ``store``: where the atlas is (set by the caller).  :meth:`as_dict` is the
     content of ``atlas_summary.json``."""
 

@@ -9,9 +9,6 @@ Two kinds of diagram (:func:`bifurcation_diagram`):
   state at the next (a ``lax.scan`` over the parameter values), which follows one attractor through
   hysteresis and shows the other side of a crisis.
 
-(:func:`advance` and :func:`record`, a vmapped batch of ``lax.scan`` runs, remain for the callers that
-have not moved to the engine yet.)
-
 Transients (``transient`` impacts) are discarded, then ``keep`` impacts are recorded.
 """
 

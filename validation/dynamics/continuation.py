@@ -21,7 +21,7 @@ Bifurcation points: a fold of the branch has ``det(M - I) = 0`` (a multiplier +1
 ``det(M + I) = 0`` (a multiplier -1).  Both are located by Newton on the 3x3 extended system
 ``(G, det(M -/+ I)) = 0`` in ``(tau, sdot, mu)``, with the analytic ``M`` in the residual and the
 3x3 Jacobian by forward-mode autodiff (``jax.jacfwd``, float64) of the same system written in
-``jax.numpy`` (:func:`_extended_residual`: the p-fold map, its step Jacobians and the 2x2 determinant,
+``jax.numpy`` (``_extended_residual``: the p-fold map, its step Jacobians and the 2x2 determinant,
 differentiated through the impact finder's loops).  The Jacobian affects only the convergence rate, not
 the root; forward differences remain as the fallback where the autodiff Jacobian is not finite.
 """
@@ -212,7 +212,7 @@ def _extended_residual(y, base, mu_index, turns, wall, sign, impacts):
     return F, ok & ~stuck
 
 
-#: ``d F / d y`` of :func:`_extended_residual` (forward mode, float64); compiled once per number of impacts.
+#: ``d F / d y`` of ``_extended_residual`` (forward mode, float64); compiled once per number of impacts.
 _extended_jacobian = jax.jit(jax.jacfwd(_extended_residual, has_aux=True), static_argnums=(6,))
 
 
@@ -220,7 +220,7 @@ def locate(params: Params, param: str, kind: str, tau: float, sdot: float, mu: f
            turns: int = 1, tol: float = 1e-11, max_iter: int = 40) -> BifurcationPoint:
     """Newton on the extended system ``(G, det(M - I)) = 0`` (``kind="fold"``) or ``(G, det(M + I)) = 0``
     (``kind="flip"``) from a guess ``(tau, sdot, mu)`` near the bifurcation point.  The Jacobian is
-    ``jax.jacfwd`` of :func:`_extended_residual` (forward differences where it is not finite); the
+    ``jax.jacfwd`` of ``_extended_residual`` (forward differences where it is not finite); the
     first call for a number of impacts compiles it (measured: 15-19 s of CPU for p = 6, against
     ~2 ms per Jacobian afterwards)."""
     if kind not in ("fold", "flip"):

@@ -35,6 +35,7 @@ def newton(fun, y0, max_iter=30, tol=1e-12, fd_h=None, polish_steps=0, jac=None)
     y = np.array(y0, dtype=np.float64)
     res, it = np.inf, 0
     polish = 0
+    y_prev = y  # the point before the last step (a polishing step that did not help goes back to it)
     for it in range(1, max_iter + polish_steps + 1):
         F = fun(y)
         if F is None or not np.all(np.isfinite(F)):

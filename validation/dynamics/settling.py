@@ -151,7 +151,7 @@ def settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, n
 
 def laminar_in_series(sd: np.ndarray, eps: float) -> tuple[float, int, int | None]:
     """In a displayed series sdot_n near a 6-impact orbit: the fraction of impacts with
-    |sdot_{n+6} - sdot_n| < eps, the number of laminar phases (>= MIN_LAMINAR such impacts in a row)
+    ``|sdot_{n+6} - sdot_n| < eps``, the number of laminar phases (>= MIN_LAMINAR such impacts in a row)
     and the index at which the final laminar phase began (None if the series ends in a burst)."""
     lam = np.abs(sd[6:] - sd[:-6]) < eps
     starts, lens = runs(lam)

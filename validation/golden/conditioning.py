@@ -134,7 +134,7 @@ def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | No
         tau, sdot = float(seq.tau[i]), float(seq.sdot[i])
         if kind == "stick":
             sens = stick_sensitivity(p, float(seq.tau[prev]), float(seq.sdot[prev]), tau - float(seq.tau[prev]))
-            record(f"stick row of impact {int(seq.n[i])}", [(n, [sens @ (np.abs(P) @ l)]) for n, P, l in sources])
+            record(f"stick row of impact {int(seq.n[i])}", [(n, [sens @ (np.abs(P) @ loc)]) for n, P, loc in sources])
             continue
         if kind == "release":
             sources, start = [], (float(seq.tau_mod_2pi[i]), 0.0, tau)
@@ -147,11 +147,11 @@ def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | No
             th0, v0, t0 = float(seq.tau_mod_2pi[j]), -p.r * float(seq.sdot[j]), float(seq.tau[j])
             jac = np.asarray(_jacobian(th0, v0, tau - t0, float(seq.tau_mod_2pi[i]), sdot,
                                        (p.alpha, p.beta, p.gamma, p.r)))
-            sources = [(n, jac @ P, l) for n, P, l in sources]
+            sources = [(n, jac @ P, loc) for n, P, loc in sources]
             start = (th0, v0, t0)
         h = flight_height(p, start[0], start[1], tau - start[2])
         sources.append((int(seq.n[i]), np.eye(2), local_error(p, h, tau, sdot)))
-        record(f"impact {int(seq.n[i])}", [(n, np.abs(P) @ l) for n, P, l in sources])
+        record(f"impact {int(seq.n[i])}", [(n, np.abs(P) @ loc) for n, P, loc in sources])
         prev, start = i, None
     return PropagatedError(worst["tau"][0], worst["tau"][1], worst["sdot"][0], worst["sdot"][1])
 

@@ -17,7 +17,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from flint import acb, arb
+from flint import arb
 
 from ...core.params import Params
 from ...mapimpl.certified import jets

@@ -8,7 +8,7 @@ Layout (one folder per case, as in the SBML test suite)::
 
 An implementation under test writes one ``<case-id>.csv`` per case with the header
 ``n,tau,tau_mod_2pi,wall,sdot,kind`` (the :class:`core.results.ImpactSequence` layout; extra
-trailing columns are ignored).  :func:`score_case` compares it with ``expected.csv`` column by column.
+trailing columns are ignored).  :func:`score_file` compares it with ``expected.csv`` column by column.
 This module needs only numpy (no interval library), so ``gear-rattle check`` runs anywhere.
 """
 

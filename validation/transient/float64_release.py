@@ -127,9 +127,9 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
             use = live1 & ~info.stuck
             acc = acc + jnp.where(use, jnp.log(jnp.abs(dg[0])), 0.0)
             Qn = jnp.where(use, Qn * jnp.sign(dg)[None, :], jnp.eye(2))
-            return (s1, Qn, acc, cnt + use, live1), None
+            return (s1, Qn, acc, cnt + use.astype(jnp.int64), live1), None
 
-        c0 = (s, jnp.eye(2), jnp.asarray(0.0), jnp.asarray(0), jnp.asarray(True))
+        c0 = (s, jnp.eye(2), jnp.asarray(0.0), jnp.asarray(0, jnp.int64), jnp.asarray(True))
         (_, _, acc, cnt, live), _ = jax.lax.scan(body, c0, None, length=impacts)
         return acc, cnt, live
 

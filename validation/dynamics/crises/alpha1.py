@@ -42,7 +42,7 @@ from ....core.params import Params
 from ....core.status import Status
 from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
                      orbit_points, per_orbit)
-from .profiles import get_profile
+from .profiles import get_profile, label as _label
 from .results import Alpha1Result
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
 from ....core.paper import DELTA, PAPER_PARAMS
@@ -195,11 +195,44 @@ def _at_paper_alpha1(table: list[dict], goy) -> dict:
             "diagram_impacts_equal": row["T"], "T_law": float(goy.T(PAPER_ALPHA1))}
 
 
-def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int = 0) -> Alpha1Result:
+def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int = 0, *,
+                  sizes: dict | None = None) -> Alpha1Result:
     """Locate the boundary crisis alpha1 (Fig. 8, r = 0.9) from escape times of the pre-crisis chaotic
-    set (module docstring; an :class:`~.results.Alpha1Result`).  Run sizes: :data:`.profiles.PROFILES`
-    ``[profile]["alpha1"]``."""
-    pr = get_profile(profile, "alpha1")
+    set (the module docstring).
+
+    Parameters
+    ----------
+    profile : {"quick", "paper"}, optional
+        Run sizes: :data:`.profiles.PROFILES` ``[profile]["alpha1"]``.
+    branch : Branch, optional
+        The 4-impact branch (default :func:`.orbits.four_impact_branch`): its fold alpha_sn, the saddle
+        orbit at alpha1 and the stable orbit that captures the escapes.
+    progress : optional
+        Unused (the engine runs show their own progress where stderr is a terminal).
+    seed : int, optional
+        Seed of the initial conditions drawn on the chaotic attractor below alpha1.
+    sizes : dict, optional
+        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["alpha1"]``;
+        the result's ``profile`` is then ``"<profile>+sizes"``).
+
+    Returns
+    -------
+    Alpha1Result
+        alpha1 and its error (the crisis-law fit or the bracket), the fits, the bracket and the lifetimes
+        (:class:`~.results.Alpha1Result`).
+
+    Examples
+    --------
+    With tiny run sizes (a rough estimate; the paper profile, docs/dynamics.md):
+
+    >>> from gear_rattle.validation.dynamics.crises.alpha1 import locate_alpha1
+    >>> tiny = {"ics": 8, "settle": 500, "coarse": [1.2442, 1.2465], "fine": [1.5e-5], "cap": 4000,
+    ...         "probe_cap": 4000, "max_probes": 1, "T_deep": 1e3}
+    >>> res = locate_alpha1(sizes=tiny)
+    >>> bool(1.2420 < res.alpha1 < 1.2450), bool(res.alpha_sn < res.alpha1)
+    (True, True)
+    """
+    pr = get_profile(profile, "alpha1", sizes)
     cost = Cost()
     with Timer(cost, "alpha1: 4-impact branch"):
         br = branch or four_impact_branch()
@@ -233,4 +266,4 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
         diagram={"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},
         ics={k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {
             "n": int(ics["theta"].size), "probe_n": int(probe_ics["theta"].size)},
-        cost=cost.as_dict(), profile=profile)
+        cost=cost.as_dict(), profile=_label(profile, sizes))

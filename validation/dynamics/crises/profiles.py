@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+#: Run sizes by profile (``"quick"``, ``"paper"``) and analysis (``"r2"``, ``"r1"``, ``"alpha1"``).
 PROFILES = {
     "quick": {
         "r2": {"dr": np.logspace(-5, -3, 4), "orbits": 8, "cap": 40_000, "n_start": 1000},
@@ -54,8 +55,20 @@ PROFILES = {
 }
 
 
-def get_profile(name: str, part: str) -> dict:
-    """The run sizes of ``part`` (``"r2"``, ``"r1"``, ``"alpha1"``) in profile ``name``."""
+def get_profile(name: str, part: str, sizes: dict | None = None) -> dict:
+    """The run sizes of ``part`` (``"r2"``, ``"r1"``, ``"alpha1"``) in profile ``name``, with the entries of
+    ``sizes`` in place of the profile's (``ValueError`` for a key the part does not have)."""
     if name not in PROFILES:
         raise ValueError(f"profile={name!r} is out of range: allowed one of {tuple(PROFILES)}")
-    return dict(PROFILES[name][part])
+    out = dict(PROFILES[name][part])
+    allowed = set(out) | ({"probe_ics"} if part == "alpha1" else set())  # optional: default ``ics``
+    unknown = sorted(set(sizes or {}) - allowed)
+    if unknown:
+        raise ValueError(f"sizes={unknown} is out of range: allowed keys of {part!r} are {', '.join(sorted(allowed))}")
+    out.update(sizes or {})
+    return out
+
+
+def label(name: str, sizes: dict | None) -> str:
+    """The profile a result records: ``name``, or ``"<name>+sizes"`` where ``sizes`` replaced run sizes."""
+    return f"{name}+sizes" if sizes else name

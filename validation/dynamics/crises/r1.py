@@ -35,7 +35,7 @@ from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
-from .profiles import get_profile
+from .profiles import get_profile, label as _label
 from .results import R1Result
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
                     range_systematic)
@@ -125,10 +125,44 @@ def _arrays(rows):
     return r, k, E, phi
 
 
-def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1) -> R1Result:
-    """Locate the interior crisis r1 (alpha = 3) from band hops (module docstring; an
-    :class:`~.results.R1Result`).  Run sizes: :data:`.profiles.PROFILES` ``[profile]["r1"]``."""
-    pr = get_profile(profile, "r1")
+def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1, *,
+              sizes: dict | None = None) -> R1Result:
+    """Locate the interior crisis r1 (alpha = 3, Figs. 6-7) from band hops (the module docstring).
+
+    Parameters
+    ----------
+    profile : {"quick", "paper"}, optional
+        Run sizes: :data:`.profiles.PROFILES` ``[profile]["r1"]``.
+    branch : Branch, optional
+        The 6-impact branch (default :func:`.orbits.six_impact_branch`): the saddle orbit at r1 gives the
+        crisis exponent.
+    progress : optional
+        Unused (the engine runs show their own progress where stderr is a terminal).
+    seed : int, optional
+        Seed of the initial conditions drawn on the 6-band attractor.
+    sizes : dict, optional
+        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["r1"]``;
+        the result's ``profile`` is then ``"<profile>+sizes"``).
+
+    Returns
+    -------
+    R1Result
+        r1 and its error (the crisis-law fit or the bracket), the fits, the bracket by direct observation
+        and the hop counts (:class:`~.results.R1Result`).
+
+    Examples
+    --------
+    With tiny run sizes (a rough estimate; the paper profile locates r1 to ~1e-6, docs/dynamics.md):
+
+    >>> from gear_rattle.validation.dynamics.crises.r1 import locate_r1
+    >>> tiny = {"ics": 8, "settle": 500, "coarse": [0.7410, 0.7413], "fine": [2e-5], "orbits": 8,
+    ...         "cap": 4000, "probe_orbits": 8, "probe_cap": 4000, "max_probes": 1, "lyap_orbits": 2,
+    ...         "lyap_n": 1000}
+    >>> res = locate_r1(sizes=tiny)
+    >>> bool(0.740 < res.r1 < 0.742), res.method in ("fit", "bracket"), len(res.hops) >= 3
+    (True, True, True)
+    """
+    pr = get_profile(profile, "r1", sizes)
     cost = Cost()
     with Timer(cost, "r1: 6-impact branch"):
         br = branch or six_impact_branch()
@@ -186,4 +220,4 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1)
         clear_lyapunov=window, near={"r": brk.seen, **near_rate.as_dict()}, hops=table,
         paper_fig7={"r": PAPER_R1_FIG7, "below_r1_by": where.value - PAPER_R1_FIG7},
         ics={k_: ics[k_] for k_ in ("r_ref", "settle", "drawn", "rejected")} | {"n": int(ics["theta"].size)},
-        cost=cost.as_dict(), profile=profile)
+        cost=cost.as_dict(), profile=_label(profile, sizes))

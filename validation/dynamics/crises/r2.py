@@ -27,7 +27,7 @@ from ....mapimpl.engine.observers import Laminar
 from ....core.params import Params
 from ..continuation import orbit_states
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
-from .profiles import get_profile
+from .profiles import get_profile, label as _label
 from .results import R2Result
 from .stats import fit_power_law
 from ...paper import PAPER
@@ -80,11 +80,42 @@ def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 200
                         float(eps), int(min_length), int(orbits), int(cap))
 
 
-def locate_r2(profile: str = "quick", branch=None, progress=None) -> R2Result:
+def locate_r2(profile: str = "quick", branch=None, progress=None, *, sizes: dict | None = None) -> R2Result:
     """r2 (fold of the 6-impact orbit, alpha = 3) and the type-I intermittency exponent of the mean
-    laminar length (an :class:`~.results.R2Result`).  Run sizes: :data:`.profiles.PROFILES`
-    ``[profile]["r2"]``."""
-    pr = get_profile(profile, "r2")
+    laminar length (Figs. 4-5; the module docstring).
+
+    Parameters
+    ----------
+    profile : {"quick", "paper"}, optional
+        Run sizes: :data:`.profiles.PROFILES` ``[profile]["r2"]``.
+    branch : Branch, optional
+        The 6-impact branch through r2 (default :func:`.orbits.six_impact_branch`; shared with r1).
+    progress : optional
+        Unused (the engine runs show their own progress where stderr is a terminal).
+    sizes : dict, optional
+        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["r2"]``;
+        the result's ``profile`` is then ``"<profile>+sizes"``).
+
+    Returns
+    -------
+    R2Result
+        r2 (the fold, Newton on the extended system), the laminar statistics and the fitted exponent
+        of ``<l> ~ (r - r2)^slope`` with its errors (:class:`~.results.R2Result`).
+
+    Examples
+    --------
+    With tiny run sizes (three offsets, two orbits of 4000 impacts each: the exponent is rough; the
+    paper profile gives -0.5 within its error, docs/dynamics.md):
+
+    >>> from gear_rattle.validation.dynamics.crises.r2 import locate_r2
+    >>> tiny = {"dr": [1e-4, 3e-4, 1e-3], "orbits": 2, "cap": 4000, "n_start": 200}
+    >>> res = locate_r2(sizes=tiny)
+    >>> print(f"r2 = {res.r2:.10f}", res.profile)
+    r2 = 0.8214404476 quick+sizes
+    >>> bool(res.slope < 0), res.laminar.mean.shape
+    (True, (3,))
+    """
+    pr = get_profile(profile, "r2", sizes)
     cost = Cost()
     with Timer(cost, "r2: 6-impact branch and fold"):
         br = branch or six_impact_branch()
@@ -104,7 +135,7 @@ def locate_r2(profile: str = "quick", branch=None, progress=None) -> R2Result:
     return R2Result(r2=f.mu, fold=f, branch=br, laminar=ls, dr=dr, slope=slope, slope_err=math.hypot(stat, syst),
                     slope_stat=stat, slope_syst=syst, chi2_red=chi2, subranges=subs,
                     paper_fig5={"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu}, cost=cost.as_dict(),
-                    profile=profile)
+                    profile=_label(profile, sizes))
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """The results of the crisis analyses, typed: :class:`R2Result` (:func:`.r2.locate_r2`), :class:`R1Result`
 (:func:`.r1.locate_r1`) and :class:`Alpha1Result` (:func:`.alpha1.locate_alpha1`).
 
-Each :meth:`~_Result.as_dict` gives the data of the result for a file -- every scan row, bracket, fit
+Each result's ``as_dict()`` gives the data of the result for a file -- every scan row, bracket, fit
 and the cost of the engine runs -- and leaves out the objects that are not data (periodic orbits,
 branches, the laminar statistics), as ``data/dynamics/crises.json`` of the report holds them.
 """
