@@ -1,5 +1,13 @@
 import os
+import signal
 import tempfile
+
+# The suite tests what Ctrl-C does.  A shell starts a background job (`pytest &` in a script, a CI runner's
+# detached step) with SIGINT ignored (POSIX), Python keeps it ignored, and then `_thread.interrupt_main()`
+# is a no-op and the commands the tests start inherit the ignored signal: the Ctrl-C tests would fail
+# (the command runs to its end, status 0) for a reason that is not the code's.  Take SIGINT back.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 # JAX's strict promotion rules (as diffrax's tests): an implicit rank promotion (broadcasting arrays of

@@ -65,6 +65,27 @@ def test_ctrl_c_on_a_long_diffrax_simulate(tmp_path):
     assert not (tmp_path / "o.csv").exists()
 
 
+def test_a_command_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
+    """A shell starts `gear-rattle ... &` in a script with SIGINT ignored, so that the terminal's Ctrl-C
+    for the foreground job does not end it; the console script keeps it ignored (as Python does) while
+    it loads and while it runs, instead of installing its own handler (it did: the job ended with 130)."""
+    as_a_background_job = ("import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_IGN); "
+                           "os.execv(sys.executable, [sys.executable, '-m', 'gear_rattle', 'simulate', "
+                           "'--impacts', '300000', '--quiet'])")  # exec keeps an ignored signal ignored
+    p = subprocess.Popen([sys.executable, "-c", as_a_background_job], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         cwd=tmp_path)
+    try:
+        for delay in (0.4, 1.6):  # while JAX loads, then while the command runs
+            time.sleep(delay)
+            p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=300)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 0, err.decode()
+    assert out.startswith(b"n,tau,") and out.count(b"\n") == 300_002
+
+
 def test_console_errors_and_exit_status_unchanged(tmp_path):
     """The worker thread passes the command's status, usage errors (SystemExit) and --version through."""
     run = lambda *a: subprocess.run([sys.executable, "-m", "gear_rattle", *a], capture_output=True, text=True,  # noqa: E731

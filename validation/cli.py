@@ -113,7 +113,8 @@ def _main_in_worker() -> int:
         except BaseException as e:  # noqa: BLE001 - re-raised in the main thread (SystemExit included)
             outcome["exc"] = e
 
-    signal.signal(signal.SIGINT, _jax.exit_interrupted)
+    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # started ignoring it (`cmd &` in a script):
+        signal.signal(signal.SIGINT, _jax.exit_interrupted)  # keep ignoring it, as Python itself does
     worker = threading.Thread(target=work, name="gear-rattle-command", daemon=True)
     worker.start()
     while worker.is_alive():
