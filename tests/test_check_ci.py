@@ -347,3 +347,13 @@ def test_the_ci_jobs_of_the_docs_run(tmp_path, job):
             root = validate_junit(wd / "golden.xml")
             assert [t.get("name") for t in root.iter("testcase") if t.find("failure") is not None] == [broken]
             assert not (wd / "golden-orbits.xml").exists()  # the job stops at the failing step
+
+
+def test_ci_runs_the_light_install_on_the_built_wheel():
+    """.ci/run installs the wheel with --no-deps and numpy alone in a fresh venv and scores a sample directory."""
+    ci = (REPO / ".ci" / "run").read_text()
+    stage = ci.split('stage "light install', 1)[1].split("\nstage ", 1)[0]
+    assert '-m venv "$W/light"' in stage and '--no-deps "$(ls "$W"/dist/gear_rattle-*.whl)" numpy' in stage
+    for cmd in ("gear-rattle --version", "gear-rattle check --suite-version", ".ci/golden_sample.py",
+                "gear-rattle check light-out --junit-xml", "gear-rattle check --orbits light-out-orbits"):
+        assert cmd in stage, cmd
