@@ -118,7 +118,7 @@ def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool,
     if args.json is not None:
         write_text(json_text(doc) + "\n", args.json, "--json")
     if "-" not in (args.json, args.junit_xml):
-        lines = [summary_line(results, orbits)]
+        lines = [summary_line(results, orbits, info.label)]
         if not args.summary:
             lines = [f"suite: {info.line()}", *table(results, orbits), *lines]
         to_stdout("\n".join(lines) + "\n")

@@ -132,13 +132,14 @@ def table(results: list[dict], orbits: bool = False) -> list[str]:
     return [lines[0], "-" * len(lines[0])] + lines[1:]
 
 
-def summary_line(results: list[dict], orbits: bool = False) -> str:
-    """``N/M cases pass (...)``, and the failing ids: ``; failing: a, b``."""
+def summary_line(results: list[dict], orbits: bool = False, suite: str = "") -> str:
+    """``N/M cases pass (suite ...; digits ...)``, and the failing ids: ``; failing: a, b`` (``suite``:
+    the suite's version label, so that ``--summary`` alone says what was scored against)."""
     n_pass = sum(r["passed"] for r in results)
     what = "orbits and bifurcation points" if orbits else "cases"
     scale = ("min over values of -log10 of the error relative to the scale" if orbits
              else "min over rows of -log10 relative error")
-    line = f"{n_pass}/{len(results)} {what} pass (digits: {scale}, capped at 17)"
+    line = f"{n_pass}/{len(results)} {what} pass ({f'golden suite {suite}; ' if suite else ''}digits: {scale}, capped at 17)"
     failing = [r["id"] for r in results if not r["passed"]]
     return line + (f"; failing: {', '.join(failing)}" if failing else "")
 
