@@ -74,8 +74,9 @@ def needs_jax(args: argparse.Namespace) -> bool:
 
 
 def suite_header(args: argparse.Namespace, folder: Path, part: str):
-    """The :class:`golden.version.SuiteInfo` of the suite scored (``folder``: its cases or orbits); with
-    ``--suite-version`` the lines to print, with ``--require-suite`` the check that it is that version."""
+    """The :class:`golden.version.SuiteInfo` of the suite scored (``folder``: its cases or orbits), for the
+    header and the reports; with ``--require-suite VERSION`` a one-line error unless it is that version
+    with its files unmodified."""
     from ..golden.version import suite_info
 
     try:
