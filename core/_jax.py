@@ -1,7 +1,8 @@
 """The project's JAX set-up.
 
 Importing any ``gear_rattle`` module switches JAX to float64 (``jax_enable_x64``): every kernel
-computes in double precision.  Nothing else happens on import.
+computes in double precision.  Nothing else happens on import, and JAX itself is not imported here
+(:func:`float64_jax`): ``gear-rattle check`` and ``import gear_rattle`` run with numpy alone.
 
 :func:`use_cpu_devices` is the opt-in second half, called by the command line (and by tests and
 benchmarks) before JAX starts:
@@ -89,14 +90,26 @@ def _guard_command_line_start() -> None:
 
 _guard_command_line_start()
 
-import jax  # noqa: E402
 
-jax.config.update("jax_enable_x64", True)
+def float64_jax() -> None:
+    """JAX in float64 without importing it: ``jax_enable_x64`` at once where JAX is already imported,
+    else ``JAX_ENABLE_X64=1`` in the environment, which JAX reads when it is imported (and which the
+    processes this one starts inherit).  Called when this module is imported, so that every module
+    of the package that imports JAX, after it, computes in float64."""
+    jax = sys.modules.get("jax")
+    if jax is not None and hasattr(jax, "config"):
+        jax.config.update("jax_enable_x64", True)
+    else:
+        os.environ["JAX_ENABLE_X64"] = "1"
+
+
+float64_jax()
 
 
 def positive(x):
     """``x > 0`` for float64 ``x``, decided on its bits: true for a positive subnormal too, which XLA on
     the CPU compares as zero (see the module docstring).  Works on host values and inside jit."""
+    import jax
     import jax.numpy as jnp
 
     return jax.lax.bitcast_convert_type(jnp.asarray(x, jnp.float64), jnp.int64) > 0
@@ -191,6 +204,8 @@ def use_cpu_devices(n: int | None = None) -> int:
     ``--xla_force_host_platform_device_count`` or on JAX versions without ``jax_num_cpu_devices``
     (before 0.5).  Raises ``ValueError`` for a bad ``n`` or environment value.
     """
+    import jax
+
     want = _wanted_cpu_devices(n)
     _add_engine_xla_flags()
     if "xla_force_host_platform_device_count" in os.environ.get("XLA_FLAGS", ""):
@@ -244,6 +259,8 @@ def use_compilation_cache(path: str | None = None, note=None) -> str | None:
         else:
             note(msg)
         return None
+    import jax
+
     jax.config.update("jax_compilation_cache_dir", path)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
     # worker processes this one starts (the atlas's Dask workers) read JAX's own variables

@@ -33,12 +33,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from . import _jax  # noqa: F401  (enables float64)
-import jax.numpy as jnp
+
+if TYPE_CHECKING:  # JAX is imported where arrays are made, not on import (``gear-rattle check``: numpy only)
+    import jax.numpy as jnp
 
 #: Largest magnitude of alpha, beta and gamma (see the module docstring: where the float64 map is valid).
 PARAM_MAX = 1e10
@@ -117,6 +119,8 @@ class Params:
 
     def arrays(self) -> ParamArrays:
         """The parameters as float64 JAX scalars, for the kernels."""
+        import jax.numpy as jnp
+
         return ParamArrays(*(jnp.asarray(v, dtype=jnp.float64) for v in (self.alpha, self.beta, self.gamma, self.r)))
 
     def replace(self, **changes: float) -> "Params":
@@ -129,6 +133,8 @@ class Params:
 
 def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:
     """Validate (broadcastable) arrays of parameters; raise ``ValueError`` naming the first bad one."""
+    import jax.numpy as jnp
+
     out = []
     for name, v in (("alpha", alpha), ("beta", beta), ("gamma", gamma), ("r", r)):
         a = np.asarray(v, dtype=np.float64)

@@ -20,7 +20,9 @@ This module is a small facade over the most used entry points::
     seq = gr.orbit(p, tau0=0.0, sdot0=0.5, n_impacts=1000, track="map")
 
 Importing it switches JAX to float64 and changes nothing else (no device split, no matplotlib
-backend): :func:`use_cpu_devices` opts in to one XLA CPU device per core before JAX starts.
+backend): :func:`use_cpu_devices` opts in to one XLA CPU device per core before JAX starts.  It does
+not import JAX itself (numpy only): JAX is imported where a computation first needs it, so that
+``gear-rattle check`` runs with numpy alone (docs/golden.md, "Using the suite in CI").
 """
 
 from __future__ import annotations

@@ -90,7 +90,7 @@ def test_check_fails_a_huge_phase(tmp_path, capsys, value):
     out = capsys.readouterr().out
     assert out.splitlines()[-1].startswith(f"0/{len(ids)} cases pass")
     # the phase digits (4th column of the table) are those of the phase the value denotes: ~0
-    phase_digits = [float(line.split()[3]) for line in out.splitlines()[2:-1]]
+    phase_digits = [float(line.split()[3]) for line in out.splitlines()[3:-1]]  # suite line, header, rule
     assert len(phase_digits) == len(ids) and max(phase_digits) < 3, phase_digits
 
 
@@ -124,7 +124,7 @@ def test_note_names_the_first_and_the_worst_failing_line(tmp_path, capsys):
     with open(f, "w", newline="") as fh:
         csv.writer(fh, lineterminator="\n").writerows(rows)
     assert main(["check", str(d), "--cases", cid]) == 1
-    note = capsys.readouterr().out.splitlines()[2]
+    note = capsys.readouterr().out.splitlines()[3]  # after the suite line, the header and the rule
     assert "first failing: tau at line 4 (|error| 3e-09, 3 x tolerance)" in note
     assert "worst: tau at line 9 (|error| 5e-07, 500 x tolerance)" in note
 

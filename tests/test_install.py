@@ -113,7 +113,9 @@ def test_version_and_python_dash_m():
     """``gear-rattle --version`` and ``python -m gear_rattle`` (from outside the repository)."""
     v = subprocess.run([sys.executable, "-m", "gear_rattle", "--version"], capture_output=True, text=True,
                        cwd=Path("/").resolve(), timeout=120)
-    assert v.returncode == 0 and v.stdout.strip() == f"gear-rattle {gear_rattle.__version__}"
+    from gear_rattle.validation.golden.version import SUITE_VERSION
+
+    assert v.returncode == 0 and v.stdout.strip() == f"gear-rattle {gear_rattle.__version__} (golden suite {SUITE_VERSION})"
     assert gear_rattle.__version__ != "0+unknown"
     h = subprocess.run([sys.executable, "-m", "gear_rattle", "--help"], capture_output=True, text=True, timeout=120)
     assert h.returncode == 0 and h.stdout.startswith("usage: gear-rattle")

@@ -18,7 +18,7 @@ import warnings
 from ..core import _jax, progress
 from ..core._jax import use_compilation_cache, use_cpu_devices
 from .cliutil import COMMAND, CliError, CommandFailed
-from .extras import MissingExtra
+from .extras import FULL_INSTALL, MissingExtra, require_full_install
 
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
 COMMAND_MODULES = [
@@ -67,21 +67,54 @@ class _Parser(argparse.ArgumentParser):
         return {}
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every registered subcommand."""
+def build_parser(only: list[str] | None = None) -> argparse.ArgumentParser:
+    """The argument parser with every registered subcommand; with ``only`` (subcommand names), the
+    options of those subcommands alone are added (:func:`command_word`: the command line adds the
+    options of the command it runs -- some import JAX to state their limits).  A subcommand whose options
+    need a package that a light install lacks is one line naming it (:func:`extras.require_full_install`)."""
     parser = _Parser(prog="gear-rattle", description="Gear-rattling impact model (de Souza et al. 2004): "
                      "simulation, cross-validation and reproduction of the paper.")
     from gear_rattle import __version__
 
-    parser.add_argument("--version", action="version", version=f"gear-rattle {__version__}")
+    from .golden.version import version_line
+
+    parser.add_argument("--version", action="version", version=f"gear-rattle {__version__} ({version_line()})")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for name in COMMAND_MODULES:
         mod = importlib.import_module(name)
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.__doc__)
-        mod.add_arguments(p)
-        p.set_defaults(_run=mod.run)
+        if only is not None and mod.NAME not in only:
+            continue
+        try:
+            mod.add_arguments(p)
+        except ModuleNotFoundError as e:
+            if (e.name or "").split(".")[0] in FULL_INSTALL:
+                require_full_install("this command")
+            raise
+        p.set_defaults(_run=mod.run, _needs_jax=getattr(mod, "needs_jax", None))
     return parser
+
+
+def command_word(argv: list[str]) -> list[str]:
+    """The subcommand named in ``argv`` (the first word that is not an option: ``gear-rattle`` itself
+    has no option that takes a value), as a list for :func:`build_parser`'s ``only``; ``[]`` if none."""
+    return next(([a] for a in argv if not a.startswith("-")), [])
+
+
+def _start_jax(args: argparse.Namespace, console: bool) -> None:
+    """Before a command that computes with JAX (a module's ``needs_jax(args)``, default: every command):
+    one line naming the packages a light install lacks (:func:`extras.require_full_install`), then
+    the engine's XLA CPU devices and, in the console script, the compilation cache.  ``gear-rattle
+    check`` scoring files needs none of it: it runs with numpy alone."""
+    if args._needs_jax is not None and not args._needs_jax(args):
+        return
+    require_full_install("this command")
+    # the command line (not the library) spreads the engine over one XLA CPU device per core and, as a
+    # process of its own, keeps compiled kernels in a per-user cache ($GEAR_RATTLE_JAX_CACHE=0: off)
+    use_cpu_devices()
+    if console:
+        use_compilation_cache()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -156,18 +189,16 @@ class _WarningNotes:
 def _run_command(argv: list[str] | None, console: bool) -> int:
     command = None
     try:
-        parser = build_parser()
+        only = command_word(sys.argv[1:] if argv is None else list(argv))
+        command = only[0] if only else None
+        parser = build_parser(only)
         args = parser.parse_args(argv)
         command = args.command
         _jax.INTERRUPTED[0] = f"gear-rattle {command}: interrupted"
         COMMAND[0] = f"gear-rattle {command}"
         if not getattr(args, "quiet", False):  # until the first bar, note or result (a terminal only)
             progress.status(f"gear-rattle {command}: starting (loading libraries)")
-        # the command line (not the library) spreads the engine over one XLA CPU device per core and, as a
-        # process of its own, keeps compiled kernels in a per-user cache ($GEAR_RATTLE_JAX_CACHE=0: off)
-        use_cpu_devices()
-        if console:
-            use_compilation_cache()
+        _start_jax(args, console)
         rc = int(args._run(args) or 0)
         progress.clear_status()
         return rc

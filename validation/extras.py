@@ -30,3 +30,25 @@ def require(module: str, extra: str, purpose: str) -> ModuleType:
     except ImportError:
         raise MissingExtra(f"{purpose} needs the optional dependency {module}: "
                            f"pip install \"gear-rattle[{extra}]\"") from None
+
+
+#: What the full install adds to numpy (pyproject.toml's ``dependencies``, by import name): a light
+#: install (``pip install --no-deps gear-rattle numpy``) scores files with ``gear-rattle check`` only.
+FULL_INSTALL = ("jax", "jaxlib", "scipy", "diffrax", "optimistix", "equinox", "matplotlib", "flint", "tqdm")
+
+
+def require_full_install(what: str) -> None:
+    """:class:`MissingExtra` (one line: what is missing and ``pip install gear-rattle``) where a module
+    of :data:`FULL_INSTALL` cannot be found -- a light install -- before ``what`` computes anything."""
+    import importlib.util
+
+    missing = []
+    for m in FULL_INSTALL:
+        try:
+            if importlib.util.find_spec(m) is None:
+                missing.append(m)
+        except (ImportError, ValueError):  # blocked in sys.modules (None), or a broken install
+            missing.append(m)
+    if missing:
+        raise MissingExtra(f"{what} needs {', '.join(missing)} (not installed; this install scores files with "
+                           "`gear-rattle check` only): pip install gear-rattle")

@@ -9,11 +9,12 @@ with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scor
 from __future__ import annotations
 
 import argparse
+import time
 from functools import partial
 from pathlib import Path
 
-from ..cliutil import CliError, check_input_path, to_stdout
-from .check import read_outputs, write_output
+from ..cliutil import CliError, check_input_path
+from .check import read_outputs, report, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -31,11 +32,13 @@ def _self_values(records, write: str | None) -> dict:
 
 def run_orbits(args: argparse.Namespace) -> int:
     """The ``--orbits`` mode of ``check`` (arguments validated by ``check.run`` first)."""
-    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, load_records, read_values, score, summary_table
+    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, load_records, read_values, score
+    from ..golden.results import orbit_result
 
     if args.self_check and args.track != "map":
         raise CliError("--orbits --self scores the map track's float64 solvers: --track must be map")
     folder = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_ORBITS
+    info = suite_header(args, folder, "orbits")
     try:
         records = load_records(folder, args.cases)
     except MalformedFile as e:
@@ -50,7 +53,9 @@ def run_orbits(args: argparse.Namespace) -> int:
                               MalformedFile)
         if values is None:
             return 2
-    scores = [score(rec, values[rec.id]) for rec in records]
-    table = summary_table(scores)
-    to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
-    return 0 if all(s.passed for s in scores) else 1
+    results, times = [], {}
+    for rec in records:
+        t0 = time.perf_counter()
+        results.append(orbit_result(rec, score(rec, values[rec.id])))
+        times[rec.id] = time.perf_counter() - t0
+    return report(args, results, info, orbits=True, times=times)

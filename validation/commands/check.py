@@ -10,12 +10,19 @@ With --self, our own track (--track map|scipy|diffrax) is run on every case and 
 
 With --orbits, PATH holds one <id>.json per certified periodic orbit or bifurcation point of
 validation/golden/orbits (points, multipliers, value; docs/golden.md), scored against the records'
-enclosures; --orbits --self scores our float64 Newton solvers."""
+enclosures; --orbits --self scores our float64 Newton solvers.
+
+For CI (docs/golden.md, "Using the suite in CI"): --junit-xml FILE (one testcase per case or record)
+and --json FILE (strict JSON) besides the table; the header names the suite's version and digest;
+--suite-version prints them (exit 1 if the suite's files differ from the recorded version's) and
+--require-suite VERSION refuses to score (exit 2) any other version or modified files.  Scoring
+files needs numpy alone (pip install --no-deps gear-rattle numpy); --self needs the full install."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 from functools import partial
 from pathlib import Path
 
@@ -42,8 +49,81 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--orbits", action="store_true",
                    help="score periodic orbits and bifurcation points (one <id>.json per record of "
                         "validation/golden/orbits, or --self) instead of impact sequences")
-    p.add_argument("--summary", action="store_true", help="print only the summary line of the table")
+    p.add_argument("--summary", action="store_true",
+                   help="print only the summary line of the table (it names the failing cases)")
+    p.add_argument("--json", default=None, metavar="FILE",
+                   help="also write the results as strict JSON to FILE ('-': stdout, instead of the table): "
+                        "the suite's version and digest, per case id, level, passed, digits per column, worst "
+                        "|error| / tolerance, first failing row (default: none)")
+    p.add_argument("--junit-xml", default=None, metavar="FILE",
+                   help="also write a JUnit XML report to FILE (one testcase per case or orbit record, a failure "
+                        "with the note and the digits for each failing one; the suite's version and digest as "
+                        "properties; default: none)")
+    p.add_argument("--suite-version", action="store_true",
+                   help="print the suite's version and the digests of its files (with --suite DIR: of DIR, and "
+                        "whether they match the recorded version's; exit 1 if not), then exit; PATH not needed")
+    p.add_argument("--require-suite", default=None, metavar="VERSION",
+                   help="refuse to score (exit 2) unless the suite is VERSION with its files unmodified "
+                        "(pinning a suite version in CI; default: any)")
     p.add_argument("--quiet", action="store_true", help="no progress bars (notes and errors still go to stderr)")
+
+
+def needs_jax(args: argparse.Namespace) -> bool:
+    """Only ``--self`` computes (our own tracks): scoring files needs numpy alone (the light install)."""
+    return bool(args.self_check) and not args.suite_version
+
+
+def suite_header(args: argparse.Namespace, folder: Path, part: str):
+    """The :class:`golden.version.SuiteInfo` of the suite scored (``folder``: its cases or orbits), for the
+    header and the reports; with ``--require-suite VERSION`` a one-line error unless it is that version
+    with its files unmodified."""
+    from ..golden.version import suite_info
+
+    try:
+        info = suite_info(folder, part)
+    except OSError as e:
+        raise CliError(f"--suite: cannot read {str(folder)!r}: {e.strerror or e}") from None
+    if args.require_suite is not None and not (info.version == args.require_suite and info.matches):
+        raise CliError(f"--require-suite {args.require_suite}: the suite is {info.label} "
+                       f"({info.part} {info.folder}, {info.digest})")
+    return info
+
+
+def suite_version(args: argparse.Namespace) -> int:
+    """``--suite-version``: the version and digests of the suite (or of ``--suite DIR``); exit 1 where
+    the files differ from the recorded version's."""
+    from ..golden.version import PARTS, recorded
+
+    if args.suite is not None:
+        part = "orbits" if args.orbits else "cases"
+        infos = [suite_header(args, check_input_path(args.suite, "--suite", directory=True), part)]
+    else:
+        infos = [suite_header(args, folder, part) for part, folder in PARTS.items()]
+    lines = [info.line() for info in infos]
+    if args.suite is None:
+        lines.append(f"suite digest {recorded().get('digest')}")
+    to_stdout("\n".join(lines) + "\n")
+    return 0 if all(i.matches for i in infos) else 1
+
+
+def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool, times: dict) -> int:
+    """The table (or its summary line) on stdout, ``--json`` and ``--junit-xml``; the exit status."""
+    from ..cliutil import write_text
+    from ..golden.results import document, junit_xml, summary_line, table
+    from ..io import json_text
+
+    source = f"our {args.track} track" if args.self_check else str(args.path)
+    doc = document(results, info.as_dict(), orbits=orbits, source=source)
+    if args.junit_xml is not None:
+        write_text(junit_xml(doc, times), args.junit_xml, "--junit-xml")
+    if args.json is not None:
+        write_text(json_text(doc) + "\n", args.json, "--json")
+    if "-" not in (args.json, args.junit_xml):
+        lines = [summary_line(results, orbits, info.label)]
+        if not args.summary:
+            lines = [f"suite: {info.line()}", *table(results, orbits), *lines]
+        to_stdout("\n".join(lines) + "\n")
+    return 0 if all(r["passed"] for r in results) else 1
 
 
 def write_output(path: Path, write, *args) -> str:
@@ -95,9 +175,17 @@ def _self_outputs(cases, track: str, write: str | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence, \
-        summary_table
+    from ..cliutil import check_distinct, check_output_file
+    from ..golden.results import case_result
+    from ..golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence
 
+    if args.suite_version:
+        return suite_version(args)
+    for option in ("--json", "--junit-xml"):
+        check_output_file(getattr(args, option[2:].replace("-", "_")), option)
+    check_distinct(**{"--json": args.json, "--junit-xml": args.junit_xml})
+    if args.json == "-" and args.junit_xml == "-":
+        raise CliError("--json - and --junit-xml - both name stdout: allowed one of them")
     if args.self_check and args.path is not None:
         raise CliError("give either PATH or --self, not both")
     if not args.self_check and args.path is None:
@@ -111,6 +199,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_orbits(args)
     suite = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_SUITE
+    info = suite_header(args, suite, "cases")
     try:
         cases = load_suite(suite, args.cases)
     except MalformedFile as e:
@@ -125,12 +214,12 @@ def run(args: argparse.Namespace) -> int:
                                MalformedFile)
         if outputs is None:
             return 2
-    scores = []
+    results, times = [], {}
     for case in cases:
+        t0 = time.perf_counter()
         try:
-            scores.append(score_sequence(case, outputs[case.id]))
+            results.append(case_result(case, score_sequence(case, outputs[case.id])))
         except MalformedFile as e:
             raise CliError(str(e)) from None
-    table = summary_table(scores)
-    to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
-    return 0 if all(s.passed for s in scores) else 1
+        times[case.id] = time.perf_counter() - t0
+    return report(args, results, info, orbits=False, times=times)

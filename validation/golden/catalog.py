@@ -69,9 +69,12 @@ def case_entry(folder: Path) -> dict:
 
 def build_index(suite: Path) -> dict:
     """The index of every case folder under ``suite`` (sorted by id)."""
+    from .version import suite_block
+
     folders = sorted(p for p in Path(suite).iterdir() if (p / "settings.json").is_file())
     return {
         "format": "gear-rattle golden suite index, version 1",
+        "suite": suite_block(suite),
         "fields": {
             "level": "1, 2 or 3 (see levels)", "tags": "situations the case exercises",
             "catches": "bug classes the case exists to catch (see bug_classes)",

@@ -1,0 +1,204 @@
+"""What ``gear-rattle check`` reports: the aligned text table, the summary line, the JSON document and
+the JUnit XML file (docs/golden.md, "Using the suite in CI").
+
+Each scored case or orbit record becomes one plain result (:func:`case_result`, :func:`orbit_result`):
+``id``, ``level``, ``passed``, ``digits`` per column, ``worst_over_tolerance`` (the largest
+``|error| / tolerance`` over the scored values: < 1 passes) and ``first_failing`` (where the first
+failure is: a file line and column for a case, a column for an orbit record), with the ``note`` of
+the table.  The reports are built from those results only, so the impact cases and the orbit
+records share them.  Only the standard library is used here (the scores come from :mod:`.suite` and
+:mod:`.orbit_suite`).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import xml.etree.ElementTree as ET
+
+#: Columns of the impact cases compared with tolerances (:data:`suite.TOLERANCE_COLUMNS`) and exactly.
+CASE_COLUMNS = ("tau", "tau_mod_2pi", "sdot")
+EXACT_COLUMNS = ("n", "wall", "kind")
+#: Column order of a case file (:data:`suite.COLUMNS`): the first failing column in file order.
+FILE_COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
+#: Columns of an orbit record (:data:`orbit_suite.COLUMNS`).
+ORBIT_COLUMNS = ("tau_mod_2pi", "sdot", "multipliers", "value")
+#: The level of every orbit record (docs/golden.md: periodic orbits and bifurcation points are level 2).
+ORBIT_LEVEL = 2
+#: The JSON document's format name.
+FORMAT = "gear-rattle check results, version 1"
+
+
+def _finite(x: float | None) -> float | None:
+    return None if x is None or not math.isfinite(x) else float(x)
+
+
+def _case_worst_over_tolerance(score, tolerances: dict) -> float | None:
+    """The largest ``|error| / tolerance`` over the tolerance columns; None where not comparable (a wrong
+    number of events).  From a column's own field where the scorer gives it, else from its largest
+    error (exact where the tolerance is absolute only, as in every case of the suite)."""
+    if not score.columns:
+        return None
+    worst = 0.0
+    for c in CASE_COLUMNS:
+        col = score.columns.get(c)
+        if col is None:
+            continue
+        given = getattr(col, "worst_over_tolerance", None)
+        if given is not None:
+            ratio = given
+        elif not col.passed:
+            ratio = col.worst_ratio
+        elif tolerances[c].get("rel", 0) == 0:
+            ratio = col.max_error / max(tolerances[c]["abs"], 1e-300)
+        else:  # a relative tolerance: the ratio of a passing column is below 1, not known here
+            return None
+        worst = max(worst, ratio)
+    return worst
+
+
+def _case_first_failing(score) -> dict | None:
+    """``{"line": L, "column": C}`` of the first failing value (smallest line, then file order)."""
+    given = getattr(score, "first_failing", None)
+    if given is not None:
+        return given
+    bad = [c for c in score.columns.values() if not c.passed and c.first_row >= 0]
+    if not bad:
+        return None
+    first = min(bad, key=lambda c: (c.first_row, FILE_COLUMNS.index(c.column)))
+    return {"line": first.first_row + 2, "column": first.column}  # line 1 is the header
+
+
+def case_result(case, score) -> dict:
+    """The result of one impact case (``case``: :class:`suite.Case`, ``score``: :class:`suite.CaseScore`)."""
+    level = getattr(score, "level", None) or case.settings.get("level")
+    cols = score.columns
+    return {
+        "id": score.case, "level": level, "passed": bool(score.passed),
+        "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in CASE_COLUMNS},
+        "exact_columns_match": bool(cols) and all(c in cols and cols[c].passed for c in EXACT_COLUMNS),
+        "worst_over_tolerance": _finite(_case_worst_over_tolerance(score, case.tolerances)),
+        "first_failing": None if score.passed else _case_first_failing(score),
+        "note": score.message,
+    }
+
+
+def orbit_result(record, score) -> dict:
+    """The result of one orbit record (:class:`orbit_suite.Record`, :class:`orbit_suite.OrbitScore`)."""
+    cols = score.columns
+    ratios = [c.error / max(c.tolerance, 1e-300) for c in cols.values()]
+    bad = [c for c in ORBIT_COLUMNS if c in cols and not cols[c].passed]
+    return {
+        "id": score.id, "level": getattr(score, "level", None) or ORBIT_LEVEL, "passed": bool(score.passed),
+        "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in ORBIT_COLUMNS},
+        "worst_over_tolerance": _finite(max(ratios)) if ratios else None,
+        "first_failing": None if score.passed else ({"column": bad[0]} if bad else None),
+        "note": score.message,
+    }
+
+
+# ------------------------------------------------------------------------------------------ text
+
+
+def aligned(rows: list[list[str]], right: set[int]) -> list[str]:
+    """Lines of ``rows`` (the first is the header) in columns as wide as their widest cell, two spaces
+    apart (columns in ``right`` right-aligned; the last column is not padded)."""
+    widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
+    out = []
+    for r in rows:
+        cells = [c.rjust(w) if k in right else (c if k == len(r) - 1 else c.ljust(w))
+                 for k, (c, w) in enumerate(zip(r, widths))]
+        out.append("  ".join(cells).rstrip())
+    return out
+
+
+def _digits_cell(d: float | None) -> str:
+    return "-" if d is None else f"{d:.1f}"
+
+
+def table(results: list[dict], orbits: bool = False) -> list[str]:
+    """The table's lines: header, rule, one line per result (columns aligned for any id length)."""
+    cols = ORBIT_COLUMNS if orbits else CASE_COLUMNS
+    names = {"tau_mod_2pi": "tau%2pi", "multipliers": "mult"}
+    head = ["orbit / bifurcation point" if orbits else "case", "result", *(names.get(c, c) for c in cols)]
+    head += ["note"] if orbits else ["n/wall/kind", "note"]
+    rows = [head]
+    for r in results:
+        row = [r["id"], "PASS" if r["passed"] else "FAIL", *(_digits_cell(r["digits"][c]) for c in cols)]
+        if not orbits:
+            row.append("ok" if r["exact_columns_match"] else "MISMATCH")
+        rows.append(row + [r["note"]])
+    lines = aligned(rows, right=set(range(2, 2 + len(cols))))
+    return [lines[0], "-" * len(lines[0])] + lines[1:]
+
+
+def summary_line(results: list[dict], orbits: bool = False, suite: str = "") -> str:
+    """``N/M cases pass (suite ...; digits ...)``, and the failing ids: ``; failing: a, b`` (``suite``:
+    the suite's version label, so that ``--summary`` alone says what was scored against)."""
+    n_pass = sum(r["passed"] for r in results)
+    what = "orbits and bifurcation points" if orbits else "cases"
+    scale = ("min over values of -log10 of the error relative to the scale" if orbits
+             else "min over rows of -log10 relative error")
+    line = f"{n_pass}/{len(results)} {what} pass ({f'golden suite {suite}; ' if suite else ''}digits: {scale}, capped at 17)"
+    failing = [r["id"] for r in results if not r["passed"]]
+    return line + (f"; failing: {', '.join(failing)}" if failing else "")
+
+
+# ------------------------------------------------------------------------------------------ files
+
+
+def document(results: list[dict], suite: dict, *, orbits: bool, source: str) -> dict:
+    """The JSON document of ``--json``: the format, the suite (name, version, digests), what was
+    scored (``source``: the output directory or our own track), the counts and the results."""
+    return {
+        "format": FORMAT, "suite": suite, "scored": "orbits" if orbits else "cases", "source": source,
+        "tests": len(results), "passed": sum(r["passed"] for r in results),
+        "failed": sum(not r["passed"] for r in results), "results": results,
+    }
+
+
+#: Characters XML 1.0 does not allow (a file name may hold them): replaced by U+FFFD in the JUnit file.
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _x(text: str) -> str:
+    return _NOT_XML.sub("\ufffd", text)
+
+
+def _failure_text(r: dict) -> str:
+    digits = ", ".join(f"{c} {_digits_cell(d)}" for c, d in r["digits"].items())
+    lines = [r["note"], f"digits: {digits}"]
+    if r["worst_over_tolerance"] is not None:
+        lines.append(f"worst |error| / tolerance: {r['worst_over_tolerance']:.3g}")
+    if r["first_failing"]:
+        lines.append("first failing: " + ", ".join(f"{k} {v}" for k, v in r["first_failing"].items()))
+    return "\n".join(lines)
+
+
+def junit_xml(doc: dict, times: dict | None = None) -> str:
+    """The JUnit XML text of ``--junit-xml`` for a :func:`document`: ``<testsuites>`` holding one
+    ``<testsuite>`` (the suite's name, version and digests as ``<properties>``) with one ``<testcase>``
+    per case or record (``classname`` the suite and the kind, ``name`` the id, ``time`` seconds spent
+    scoring it, from ``times``) and a ``<failure message type>`` holding the note and the digits for
+    each failing one -- the layout of the JUnit schema that Jenkins, GitLab and the GitHub test
+    reporters read."""
+    suite = doc["suite"]
+    times = times or {}
+    name = _x(f"{suite['name']} {suite['label']} ({doc['scored']})")
+    total = sum(times.values())
+    attrs = {"tests": str(doc["tests"]), "failures": str(doc["failed"]), "errors": "0", "time": f"{total:.6f}"}
+    root = ET.Element("testsuites", {"name": "gear-rattle check", **attrs})
+    ts = ET.SubElement(root, "testsuite", {"name": name, **attrs, "skipped": "0"})
+    props = ET.SubElement(ts, "properties")
+    for key in ("name", "version", "label", "part", "digest", "recorded_digest", "digest_matches", "folder"):
+        ET.SubElement(props, "property", {"name": f"suite.{key}", "value": _x(str(suite.get(key)))})
+    ET.SubElement(props, "property", {"name": "source", "value": _x(doc["source"])})
+    classname = f"gear-rattle.golden.{doc['scored']}"
+    for r in doc["results"]:
+        tc = ET.SubElement(ts, "testcase", {"classname": classname, "name": _x(r["id"]),
+                                            "time": f"{times.get(r['id'], 0.0):.6f}"})
+        if not r["passed"]:
+            f = ET.SubElement(tc, "failure", {"message": _x(r["note"] or "failed"), "type": "golden.mismatch"})
+            f.text = _x(_failure_text(r))
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -1,0 +1,146 @@
+"""The golden suite's version and content digest (docs/golden.md, "Versions of the suite").
+
+The suite -- the case folders of ``cases/`` and the records of ``orbits/`` -- has a semantic version,
+:data:`SUITE_VERSION`, and a content digest; ``cases/index.json`` records both (its ``suite`` block,
+written by :func:`catalog.build_index`), ``gear-rattle check`` prints them in its header, its JSON
+and JUnit reports, and ``gear-rattle check --suite-version`` / ``gear-rattle --version``.
+
+**The digest of a folder** (:func:`folder_digest`): SHA-256 over its suite files -- every file
+``*.json`` or ``*.csv`` at depth 1 or 2 except the top-level ``index.json`` (which records the
+digest), i.e. ``<case-id>/settings.json``, ``expected.csv``, ``provenance.json`` and ``<id>.json``
+-- in the order of their relative paths (``/``-separated, compared as UTF-8 bytes); each file adds
+its relative path in UTF-8, a NUL byte, its size in bytes as decimal ASCII, a NUL byte, then its
+bytes.  **The suite's digest** is the SHA-256 of ``cases:<hex>\\norbits:<hex>\\n`` (the two folders'
+hex digests).  Digests are written ``sha256:<64 hex digits>``.
+
+**The version** changes with every change of a suite file: MAJOR when an output that passed the
+previous version can fail this one (an expected value or row count changed, a tolerance tightened,
+a case or record removed), MINOR when cases or records are added or tolerances loosened (what passed
+still passes), PATCH when only provenance or notes changed (every verdict the same).  A test
+(tests/test_check_ci.py) fails when the files change without the digest in ``index.json``, the version
+and the changelog of docs/golden.md changing with them.  Only the standard library is used here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+#: The suite's semantic version: raise it, and add its changelog entry to docs/golden.md ("Versions
+#: of the suite"), whenever a file of ``cases/`` or ``orbits/`` changes; then regenerate
+#: ``cases/index.json`` (``python -m gear_rattle.validation.golden.generate`` or :func:`catalog.write_index`).
+SUITE_VERSION = "1.0.0"
+#: The suite's name in reports.
+SUITE_NAME = "gear-rattle golden suite"
+#: The folders of the suite (beside each other in the package: ``validation/golden/``).
+GOLDEN = Path(__file__).resolve().parent
+PARTS = {"cases": GOLDEN / "cases", "orbits": GOLDEN / "orbits"}
+#: The index file: not part of the digest (it records it).
+INDEX_NAME = "index.json"
+SUFFIXES = (".json", ".csv")
+
+
+def suite_files(folder: str | Path) -> list[str]:
+    """The relative paths of ``folder``'s suite files, in the digest's order (module docstring)."""
+    folder = Path(folder)
+    found = []
+    for p in list(folder.iterdir()) + [q for d in folder.iterdir() if d.is_dir() for q in d.iterdir()]:
+        rel = p.relative_to(folder).as_posix()
+        if p.is_file() and p.suffix in SUFFIXES and rel != INDEX_NAME:
+            found.append(rel)
+    return sorted(found, key=lambda r: r.encode("utf-8"))
+
+
+def folder_digest(folder: str | Path) -> str:
+    """``sha256:<hex>`` of ``folder``'s suite files (module docstring); ``OSError`` if unreadable."""
+    folder = Path(folder)
+    h = hashlib.sha256()
+    for rel in suite_files(folder):
+        data = (folder / rel).read_bytes()
+        h.update(rel.encode("utf-8") + b"\0" + str(len(data)).encode("ascii") + b"\0")
+        h.update(data)
+    return "sha256:" + h.hexdigest()
+
+
+def combined_digest(cases: str, orbits: str | None) -> str:
+    """The suite's digest from its two folders' digests (module docstring)."""
+    text = f"cases:{cases.removeprefix('sha256:')}\norbits:{(orbits or '').removeprefix('sha256:')}\n"
+    return "sha256:" + hashlib.sha256(text.encode("ascii")).hexdigest()
+
+
+def suite_block(cases: str | Path) -> dict:
+    """The ``suite`` block of ``cases/index.json``: name, version and the digests, computed from the
+    case folder ``cases`` and the ``orbits`` folder beside it (None where there is none)."""
+    cases = Path(cases)
+    orbits = cases.parent / "orbits"
+    d_cases = folder_digest(cases)
+    d_orbits = folder_digest(orbits) if orbits.is_dir() else None
+    return {"name": SUITE_NAME, "version": SUITE_VERSION, "digest": combined_digest(d_cases, d_orbits),
+            "cases_digest": d_cases, "orbits_digest": d_orbits,
+            "digest_rule": "sha256 over each file (*.json, *.csv at depth 1-2 but index.json), sorted by relative "
+                           "path: path, NUL, size, NUL, bytes; the suite's: sha256 of 'cases:<hex>\\norbits:<hex>\\n' "
+                           "(docs/golden.md, Versions of the suite)"}
+
+
+def recorded(index: str | Path | None = None) -> dict:
+    """The ``suite`` block recorded in an ``index.json`` (default: the package's); ``{}`` if it has none
+    or cannot be read."""
+    path = Path(index) if index is not None else PARTS["cases"] / INDEX_NAME
+    try:
+        block = json.loads(path.read_text(encoding="utf-8")).get("suite")
+    except (OSError, ValueError, AttributeError):
+        return {}
+    return block if isinstance(block, dict) else {}
+
+
+@dataclass
+class SuiteInfo:
+    """What a run was scored against: ``part`` (``cases`` or ``orbits``) read from ``folder``, its
+    computed ``digest``, and the ``version`` and ``recorded_digest`` of the index that describes it."""
+
+    part: str
+    folder: Path
+    digest: str
+    version: str
+    recorded_digest: str | None
+
+    @property
+    def matches(self) -> bool:
+        """Whether the folder's files are the recorded version's, byte for byte."""
+        return self.digest == self.recorded_digest
+
+    @property
+    def label(self) -> str:
+        """``1.0.0`` or, for files that differ from the recorded version's, ``1.0.0+modified``."""
+        return self.version if self.matches else f"{self.version}+modified"
+
+    def line(self) -> str:
+        """One line for check's header and ``--suite-version``."""
+        state = ("matches the digest recorded for this version" if self.matches else
+                 f"DIFFERS from the digest recorded for {self.version} ({self.recorded_digest})")
+        return f"{SUITE_NAME} {self.label}: {self.part} {self.folder} {self.digest} ({state})"
+
+    def as_dict(self) -> dict:
+        return {"name": SUITE_NAME, "version": self.version, "label": self.label, "part": self.part,
+                "folder": str(self.folder), "digest": self.digest, "recorded_digest": self.recorded_digest,
+                "digest_matches": self.matches}
+
+
+def suite_info(folder: str | Path, part: str) -> SuiteInfo:
+    """:class:`SuiteInfo` of a ``cases`` or ``orbits`` folder: its digest, computed, and the version
+    recorded in the ``index.json`` beside it (a case folder's own; an orbit folder's ``../cases``), else
+    the package's; ``OSError`` if the folder cannot be read."""
+    if part not in PARTS:
+        raise ValueError(f"part={part!r} is out of range: allowed one of {', '.join(PARTS)}")
+    folder = Path(folder)
+    index = folder / INDEX_NAME if part == "cases" else folder.parent / "cases" / INDEX_NAME
+    block = recorded(index) or recorded()
+    return SuiteInfo(part, folder, folder_digest(folder), str(block.get("version", "unversioned")),
+                     block.get(f"{part}_digest"))
+
+
+def version_line() -> str:
+    """``golden suite 1.0.0`` (the package's recorded version) for ``gear-rattle --version``."""
+    return f"golden suite {recorded().get('version', 'unversioned')}"
