@@ -13,7 +13,7 @@ from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_input_path, to_stdout
-from .check import read_outputs, write_output
+from .check import no_selection, read_outputs, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -31,26 +31,28 @@ def _self_values(records, write: str | None) -> dict:
 
 def run_orbits(args: argparse.Namespace) -> int:
     """The ``--orbits`` mode of ``check`` (arguments validated by ``check.run`` first)."""
-    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, load_records, read_values, score, summary_table
+    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, MissingFile, load_records, no_output_score, \
+        read_values, score, summary_table
 
     if args.self_check and args.track != "map":
         raise CliError("--orbits --self scores the map track's float64 solvers: --track must be map")
     folder = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_ORBITS
     try:
-        records = load_records(folder, args.cases)
+        records = load_records(folder, args.cases, args.level)
     except MalformedFile as e:
         raise CliError(f"orbit suite: {e}") from None
     if not records:
-        raise CliError(f"orbit suite {str(folder)!r} has no records")
+        raise no_selection("orbit suite", args, folder)
     if args.self_check:
         values = _self_values(records, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
         values = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
-                              MalformedFile)
+                              MalformedFile, MissingFile)
         if values is None:
             return 2
-    scores = [score(rec, values[rec.id]) for rec in records]
+    scores = [no_output_score(rec, root / f"{rec.id}.json") if values[rec.id] is None else score(rec, values[rec.id])
+              for rec in records]
     table = summary_table(scores)
     to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
     return 0 if all(s.passed for s in scores) else 1

@@ -3,8 +3,9 @@
 PATH is a directory holding one <case-id>.csv per case, in the impact-sequence layout
 (header n,tau,tau_mod_2pi,wall,sdot,kind; extra trailing columns are ignored). Each case passes when
 every row matches: n, wall and kind exactly, tau, tau_mod_2pi (circular) and sdot within the case's
-absolute/relative tolerances. Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
-input (missing file or column, wrong header, non-numeric value).
+absolute/relative tolerances; a missing file fails its case ("no output"). --cases and --level select
+cases (repeated, they add up). Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
+input (missing column, wrong header, a field or file outside the format; one line per file).
 
 With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead.
 
@@ -28,9 +29,16 @@ HELP = "score another implementation's output against the golden conformance sui
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", nargs="?", default=None,
                    help="directory with one <case-id>.csv per case (default: none; omit with --self)")
+    from ..golden.paths import DEFAULT_ORBITS, DEFAULT_SUITE
+
     p.add_argument("--suite", default=None,
-                   help="suite directory (default: validation/golden/cases, with --orbits validation/golden/orbits)")
-    p.add_argument("--cases", nargs="+", default=None, metavar="ID", help="only these case ids (default: all)")
+                   help=f"suite directory (default: the copy installed with this package, {DEFAULT_SUITE}; "
+                        f"with --orbits {DEFAULT_ORBITS})")
+    p.add_argument("--cases", nargs="+", action="extend", default=None, metavar="ID",
+                   help="only these case (or orbit record) ids; repeated, the lists add up (default: all)")
+    p.add_argument("--level", action="extend", type=_levels, default=None, metavar="L[,L...]",
+                   help="only the cases of these levels, e.g. 1,2 (1, 2 or 3; repeated, they add up; orbit records "
+                        "are level 2; with --cases: the cases in both; default: all)")
     p.add_argument("--self", dest="self_check", action="store_true",
                    help="run our own track on every case and score it")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
@@ -46,6 +54,28 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bars (notes and errors still go to stderr)")
 
 
+def _levels(text: str) -> list[int]:
+    """``--level 1,2``: a comma-separated list of levels (argparse type)."""
+    from ..golden.suite import LEVELS
+
+    out = []
+    for part in text.split(","):
+        if part.strip() not in [str(v) for v in LEVELS]:
+            raise argparse.ArgumentTypeError(f"{text!r}: allowed levels {', '.join(map(str, LEVELS))}, "
+                                             "comma-separated (e.g. 1,2)")
+        out.append(int(part))
+    return out
+
+
+def no_selection(what: str, args: argparse.Namespace, where) -> CliError:
+    """The error when the selection holds nothing."""
+    how = " and ".join(x for x in (f"--cases {' '.join(args.cases)}" if args.cases else "",
+                                   f"--level {','.join(map(str, sorted(set(args.level))))}" if args.level else "")
+                       if x)
+    return CliError(f"{what} {str(where)!r} has no {'record' if 'orbit' in what else 'case'}"
+                    + (f" selected by {how}" if how else ""))
+
+
 def write_output(path: Path, write, *args) -> str:
     """Write one ``--out`` file with ``write(path, *args)`` (one of :mod:`validation.io`'s writers; an OS
     error is a one-line usage error); returns its path."""
@@ -55,16 +85,20 @@ def write_output(path: Path, write, *args) -> str:
     return str(path)
 
 
-def read_outputs(reads: dict, malformed) -> dict | None:
-    """``{id: read()}`` for ``reads = {id: read}`` (each reads one file); where files are malformed
-    (``malformed``: the exception class), each is reported on one line of stderr and ``None`` is
-    returned (exit status 2)."""
+def read_outputs(reads: dict, malformed, missing=None) -> dict | None:
+    """``{id: read()}`` for ``reads = {id: read}`` (each reads one file); where a file is missing
+    (``missing``: its exception class) the value is ``None`` (a failing case, "no output"); where files
+    are malformed (``malformed``: the exception class), each is reported on one line of stderr and
+    ``None`` is returned (exit status 2)."""
     out, errors = {}, []
     for key, read in reads.items():
         try:
             out[key] = read()
         except malformed as e:
-            errors.append(str(e))
+            if missing is not None and isinstance(e, missing):
+                out[key] = None
+            else:
+                errors.append(str(e))
     for e in errors:
         e = " ".join(e.split())
         print(f"gear-rattle check: error: {e if len(e) <= 500 else e[:500] + ' ... (cut)'}", file=sys.stderr)
@@ -95,8 +129,8 @@ def _self_outputs(cases, track: str, write: str | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence, \
-        summary_table
+    from ..golden.suite import DEFAULT_SUITE, MalformedFile, MissingFile, load_suite, no_output_score, \
+        read_sequence, score_sequence, summary_table
 
     if args.self_check and args.path is not None:
         raise CliError("give either PATH or --self, not both")
@@ -112,25 +146,21 @@ def run(args: argparse.Namespace) -> int:
         return run_orbits(args)
     suite = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_SUITE
     try:
-        cases = load_suite(suite, args.cases)
+        cases = load_suite(suite, args.cases, args.level)
     except MalformedFile as e:
         raise CliError(f"suite: {e}") from None
     if not cases:
-        raise CliError(f"suite {str(suite)!r} has no cases")
+        raise no_selection("suite", args, suite)
     if args.self_check:
         outputs = _self_outputs(cases, args.track, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
         outputs = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
-                               MalformedFile)
+                               MalformedFile, MissingFile)
         if outputs is None:
             return 2
-    scores = []
-    for case in cases:
-        try:
-            scores.append(score_sequence(case, outputs[case.id]))
-        except MalformedFile as e:
-            raise CliError(str(e)) from None
+    scores = [no_output_score(case, root / f"{case.id}.csv") if outputs[case.id] is None
+              else score_sequence(case, outputs[case.id]) for case in cases]
     table = summary_table(scores)
     to_stdout((table if not args.summary else table.splitlines()[-1]) + "\n")
     return 0 if all(s.passed for s in scores) else 1
