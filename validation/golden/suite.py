@@ -381,8 +381,10 @@ def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScor
     diff = np.where(np.isnan(diff), np.inf, diff)
     allowed = tol["abs"] + tol["rel"] * np.abs(np.where(mask, e, 0.0))
     ratio = np.where(mask, diff / np.maximum(allowed, 1e-300), 0.0)
-    # pass/fail exactly (rationals), not by the rounded float64 differences above
-    failing = np.array([i for i in np.nonzero(mask)[0]
+    # pass/fail exactly (rationals), not by the rounded float64 differences above; those decide only
+    # rows certainly inside (1e-9 below the tolerance: the roundings are ~1e-16 relative)
+    near = mask & ~((diff < allowed * (1.0 - 1e-9)) & (allowed > 1e-280))
+    failing = np.array([i for i in np.nonzero(near)[0]
                         if outside_tolerance(float(a[i]), float(e[i]), tol, c == "tau_mod_2pi")], dtype=np.int64)
     ok = failing.size == 0
     worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if not ok else -1)
