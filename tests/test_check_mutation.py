@@ -42,7 +42,7 @@ mpmath = pytest.importorskip("mpmath")
 # ------------------------------------------------------------------------------------------------
 # docs/golden.md, "What check reads", restated
 
-MAX_BYTES, MAX_JSON_BYTES, MAX_LINES = 8 * 1024 * 1024, 1024 * 1024, 100_000
+MAX_BYTES, MAX_JSON_BYTES, MAX_LINES = 2 * 1024 * 1024, 256 * 1024, 20_000
 MAX_FIELD, MAX_COLUMNS, MAX_INT_DIGITS = 1000, 100, 18
 MAX_DEPTH, MAX_STRING, MAX_NUMBER = 32, 10_000, 100
 COLUMNS = ["n", "tau", "tau_mod_2pi", "wall", "sdot", "kind"]

@@ -27,7 +27,7 @@ MAX_STRING = 10_000
 #: Longest number literal, in characters.
 MAX_NUMBER = 100
 #: Largest JSON file, in bytes (the text layer's own limit is larger).
-MAX_JSON_BYTES = 1024 * 1024
+MAX_JSON_BYTES = 256 * 1024
 
 _WS = re.compile(r"[ \t\n\r]*")
 _NUMBER = re.compile(r"-?(?:0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?")

@@ -18,6 +18,7 @@ phases are compared on the circle.  Only numpy is needed here: scoring runs anyw
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -25,9 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .jsonformat import read_json
+from .jsonformat import JsonDoc, read_json
 from .paths import DEFAULT_ORBITS
-from .jsonformat import JsonDoc
 from .suite import DIGITS_CAP, MalformedFile, MissingFile, circular_distance_exact, read_suite_json, select_ids
 
 __all__ = ["DEFAULT_ORBITS", "MalformedFile", "MissingFile"]  # re-exported
@@ -53,9 +53,15 @@ class Record:
     tolerances: dict
 
 
+def _show(x) -> str:
+    """A value as JSON writes it (``true``, ``null``, ``"1.5"``), cut to 60 characters."""
+    text = json.dumps(x)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def _num(doc: JsonDoc, where: tuple, x) -> float:
     if isinstance(x, bool) or not isinstance(x, (int, float)):
-        raise doc.error(where, f"{x!r} is not a finite number")
+        raise doc.error(where, f"{_show(x)} is not a finite number" if x is not None else "missing (a number is needed)")
     return float(x)
 
 
@@ -155,7 +161,7 @@ def values_from_doc(doc: JsonDoc) -> Values:
                          _num(doc, ("points", i, "sdot"), p.get("sdot"))])
             w = p.get("wall")
             if w not in (0, -1) or isinstance(w, bool):
-                raise doc.error(("points", i, "wall"), f"{w!r} is not 0 or -1")
+                raise doc.error(("points", i, "wall"), f"{_show(w)} is not 0 or -1")
             walls.append(int(w))
         out.points, out.walls = np.array(rows), np.array(walls, dtype=np.int64)
     if "multipliers" in d:

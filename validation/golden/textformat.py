@@ -15,10 +15,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-#: Largest file read, in bytes (8 MiB): a case has tens of rows (about 100 bytes each).
-MAX_BYTES = 8 * 1024 * 1024
+#: Largest file read, in bytes (2 MiB): a case has tens of rows (about 100 bytes each).
+MAX_BYTES = 2 * 1024 * 1024
 #: Most lines in a file (blank lines included).
-MAX_LINES = 100_000
+MAX_LINES = 20_000
 #: Characters no file may hold (LF is the line end; CR is allowed only directly before LF).
 FORBIDDEN = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\u2028\u2029\ufeff]|\r(?!\n)")
 
