@@ -205,7 +205,7 @@ def _one_line_error(capsys, *needles):
     assert "Traceback" not in err[0]
 
 
-@pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric", "missing_file",
+@pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric",
                                   "bad_kind", "empty_sdot_on_impact"])
 def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kind):
     _, out = map_outputs
@@ -225,9 +225,6 @@ def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kin
     elif kind == "non_numeric":
         lines[4] = lines[4].replace(lines[4].split(",")[4], "fast", 1)
         needles += ["line 5", "sdot", "fast"]
-    elif kind == "missing_file":
-        f.unlink()
-        needles += ["missing file"]
     elif kind == "bad_kind":
         lines[3] = lines[3].rsplit(",", 1)[0] + ",bounce"
         needles += ["line 4", "bounce"]
@@ -236,8 +233,7 @@ def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kin
         p[4] = ""
         lines[2] = ",".join(p)
         needles += ["line 3", "sdot"]
-    if f.exists():
-        f.write_text("\n".join(lines) + "\n")
+    f.write_text("\n".join(lines) + "\n")
     capsys.readouterr()
     assert main(["check", str(d), "--cases", cid]) == 2
     _one_line_error(capsys, *needles)

@@ -202,11 +202,13 @@ def test_check_orbits_usage_errors(tmp_path, capsys, argv, needle):
     assert len(err) == 1 and needle in err[0]
 
 
-def test_check_orbits_missing_files_are_listed(tmp_path, capsys):
+def test_check_orbits_missing_files_fail_their_records(tmp_path, capsys):
+    """Issue 30 item 5: a missing file is a failing record ("no output"); the others are scored."""
     d = _perfect(tmp_path / "out", ids=IDS[:3])
-    assert main(["check", "--orbits", str(d)]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == len(IDS) - 3 and all("missing file" in e for e in err)
+    assert main(["check", "--orbits", str(d)]) == 1
+    out = capsys.readouterr()
+    assert out.err == "" and f"3/{len(IDS)} orbits and bifurcation points pass" in out.out
+    assert out.out.count("no output") == len(IDS) - 3
 
 
 def test_a_copy_of_the_suite_is_used_with_suite(tmp_path, capsys):

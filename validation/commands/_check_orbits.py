@@ -14,7 +14,7 @@ from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
-from .check import read_outputs, report, suite_header, write_output
+from .check import no_selection, read_outputs, report, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -32,7 +32,8 @@ def _self_values(records, write: str | None) -> dict:
 
 def run_orbits(args: argparse.Namespace) -> int:
     """The ``--orbits`` mode of ``check`` (arguments validated by ``check.run`` first)."""
-    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, load_records, read_values, score
+    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, MissingFile, load_records, no_output_score, \
+        read_values, score
     from ..golden.results import orbit_result
 
     if args.self_check and args.track != "map":
@@ -40,22 +41,24 @@ def run_orbits(args: argparse.Namespace) -> int:
     folder = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_ORBITS
     info = suite_header(args, folder, "orbits")
     try:
-        records = load_records(folder, args.cases)
+        records = load_records(folder, args.cases, args.level)
     except MalformedFile as e:
         raise CliError(f"orbit suite: {e}") from None
     if not records:
-        raise CliError(f"orbit suite {str(folder)!r} has no records")
+        raise no_selection("orbit suite", args, folder)
     if args.self_check:
         values = _self_values(records, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
         values = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
-                              MalformedFile)
+                              MalformedFile, MissingFile)
         if values is None:
             return 2
     results, times = [], {}
     for rec in records:
         t0 = time.perf_counter()
-        results.append(orbit_result(rec, score(rec, values[rec.id])))
+        got = (no_output_score(rec, root / f"{rec.id}.json") if values[rec.id] is None
+               else score(rec, values[rec.id]))
+        results.append(orbit_result(rec, got))
         times[rec.id] = time.perf_counter() - t0
     return report(args, results, info, orbits=True, times=times)

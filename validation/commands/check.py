@@ -3,8 +3,9 @@
 PATH is a directory holding one <case-id>.csv per case, in the impact-sequence layout
 (header n,tau,tau_mod_2pi,wall,sdot,kind; extra trailing columns are ignored). Each case passes when
 every row matches: n, wall and kind exactly, tau, tau_mod_2pi (circular) and sdot within the case's
-absolute/relative tolerances. Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
-input (missing file or column, wrong header, non-numeric value).
+absolute/relative tolerances; a missing file fails its case ("no output"). --cases and --level select
+cases (repeated, they add up). Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
+input (missing column, wrong header, a field or file outside the format; one line per file).
 
 With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead.
 
@@ -35,9 +36,16 @@ HELP = "score another implementation's output against the golden conformance sui
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", nargs="?", default=None,
                    help="directory with one <case-id>.csv per case (default: none; omit with --self)")
+    from ..golden.paths import DEFAULT_ORBITS, DEFAULT_SUITE
+
     p.add_argument("--suite", default=None,
-                   help="suite directory (default: validation/golden/cases, with --orbits validation/golden/orbits)")
-    p.add_argument("--cases", nargs="+", default=None, metavar="ID", help="only these case ids (default: all)")
+                   help=f"suite directory (default: the copy installed with this package, {DEFAULT_SUITE}; "
+                        f"with --orbits {DEFAULT_ORBITS})")
+    p.add_argument("--cases", nargs="+", action="extend", default=None, metavar="ID",
+                   help="only these case (or orbit record) ids; repeated, the lists add up (default: all)")
+    p.add_argument("--level", action="extend", type=_levels, default=None, metavar="L[,L...]",
+                   help="only the cases of these levels, e.g. 1,2 (1, 2 or 3; repeated, they add up; orbit records "
+                        "are level 2; with --cases: the cases in both; default: all)")
     p.add_argument("--self", dest="self_check", action="store_true",
                    help="run our own track on every case and score it")
     p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
@@ -126,6 +134,28 @@ def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool,
     return 0 if all(r["passed"] for r in results) else 1
 
 
+def _levels(text: str) -> list[int]:
+    """``--level 1,2``: a comma-separated list of levels (argparse type)."""
+    from ..golden.suite import LEVELS
+
+    out = []
+    for part in text.split(","):
+        if part.strip() not in [str(v) for v in LEVELS]:
+            raise argparse.ArgumentTypeError(f"{text!r}: allowed levels {', '.join(map(str, LEVELS))}, "
+                                             "comma-separated (e.g. 1,2)")
+        out.append(int(part))
+    return out
+
+
+def no_selection(what: str, args: argparse.Namespace, where) -> CliError:
+    """The error when the selection holds nothing."""
+    how = " and ".join(x for x in (f"--cases {' '.join(args.cases)}" if args.cases else "",
+                                   f"--level {','.join(map(str, sorted(set(args.level))))}" if args.level else "")
+                       if x)
+    return CliError(f"{what} {str(where)!r} has no {'record' if 'orbit' in what else 'case'}"
+                    + (f" selected by {how}" if how else ""))
+
+
 def write_output(path: Path, write, *args) -> str:
     """Write one ``--out`` file with ``write(path, *args)`` (one of :mod:`validation.io`'s writers; an OS
     error is a one-line usage error); returns its path."""
@@ -135,16 +165,20 @@ def write_output(path: Path, write, *args) -> str:
     return str(path)
 
 
-def read_outputs(reads: dict, malformed) -> dict | None:
-    """``{id: read()}`` for ``reads = {id: read}`` (each reads one file); where files are malformed
-    (``malformed``: the exception class), each is reported on one line of stderr and ``None`` is
-    returned (exit status 2)."""
+def read_outputs(reads: dict, malformed, missing=None) -> dict | None:
+    """``{id: read()}`` for ``reads = {id: read}`` (each reads one file); where a file is missing
+    (``missing``: its exception class) the value is ``None`` (a failing case, "no output"); where files
+    are malformed (``malformed``: the exception class), each is reported on one line of stderr and
+    ``None`` is returned (exit status 2)."""
     out, errors = {}, []
     for key, read in reads.items():
         try:
             out[key] = read()
         except malformed as e:
-            errors.append(str(e))
+            if missing is not None and isinstance(e, missing):
+                out[key] = None
+            else:
+                errors.append(str(e))
     for e in errors:
         e = " ".join(e.split())
         print(f"gear-rattle check: error: {e if len(e) <= 500 else e[:500] + ' ... (cut)'}", file=sys.stderr)
@@ -177,7 +211,8 @@ def _self_outputs(cases, track: str, write: str | None):
 def run(args: argparse.Namespace) -> int:
     from ..cliutil import check_distinct, check_output_file
     from ..golden.results import case_result
-    from ..golden.suite import DEFAULT_SUITE, MalformedFile, load_suite, read_sequence, score_sequence
+    from ..golden.suite import DEFAULT_SUITE, MalformedFile, MissingFile, load_suite, no_output_score, \
+        read_sequence, score_sequence
 
     if args.suite_version:
         return suite_version(args)
@@ -201,25 +236,29 @@ def run(args: argparse.Namespace) -> int:
     suite = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_SUITE
     info = suite_header(args, suite, "cases")
     try:
-        cases = load_suite(suite, args.cases)
+        cases = load_suite(suite, args.cases, args.level)
     except MalformedFile as e:
         raise CliError(f"suite: {e}") from None
     if not cases:
-        raise CliError(f"suite {str(suite)!r} has no cases")
+        raise no_selection("suite", args, suite)
     if args.self_check:
         outputs = _self_outputs(cases, args.track, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
         outputs = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
-                               MalformedFile)
+                               MalformedFile, MissingFile)
         if outputs is None:
             return 2
     results, times = [], {}
     for case in cases:
         t0 = time.perf_counter()
-        try:
-            results.append(case_result(case, score_sequence(case, outputs[case.id])))
-        except MalformedFile as e:
-            raise CliError(str(e)) from None
+        if outputs[case.id] is None:
+            got = no_output_score(case, root / f"{case.id}.csv")
+        else:
+            try:
+                got = score_sequence(case, outputs[case.id])
+            except MalformedFile as e:
+                raise CliError(str(e)) from None
+        results.append(case_result(case, got))
         times[case.id] = time.perf_counter() - t0
     return report(args, results, info, orbits=False, times=times)

@@ -21,14 +21,18 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
 
-from .suite import DIGITS_CAP, MalformedFile, circular_distance, select_ids
+from .jsonformat import JsonDoc, read_json
+from .paths import DEFAULT_ORBITS
+from .suite import DIGITS_CAP, MalformedFile, MissingFile, circular_distance_exact, read_suite_json, select_ids
 
-#: Where the committed records live.
-DEFAULT_ORBITS = Path(__file__).resolve().parent / "orbits"
+__all__ = ["DEFAULT_ORBITS", "MalformedFile", "MissingFile"]  # re-exported
+#: The level of every record (docs/golden.md: periodic orbits and bifurcation points are level 2).
+LEVEL = 2
 KINDS = ("periodic-orbit", "fold", "period-doubling")
 COLUMNS = ("tau_mod_2pi", "sdot", "multipliers", "value")
 TWO_PI = 2.0 * math.pi
@@ -49,62 +53,69 @@ class Record:
     tolerances: dict
 
 
-def _read_json(path: Path) -> dict:
-    try:
-        d = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise MalformedFile(f"{path}: missing file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise MalformedFile(f"{path}: cannot read: {e}") from None
-    except json.JSONDecodeError as e:
-        raise MalformedFile(f"{path}: line {e.lineno}: invalid JSON: {e.msg}") from None
-    if not isinstance(d, dict):
-        raise MalformedFile(f"{path}: line 1: expected a JSON object")
-    return d
+def _show(x) -> str:
+    """A value as JSON writes it (``true``, ``null``, ``"1.5"``), cut to 60 characters."""
+    text = json.dumps(x)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _num(x, path, where: str) -> float:
-    if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
-        raise MalformedFile(f"{path}: {where}: {x!r} is not a finite number")
+def _num(doc: JsonDoc, where: tuple, x) -> float:
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        raise doc.error(where, f"{_show(x)} is not a finite number" if x is not None else "missing (a number is needed)")
     return float(x)
 
 
-def _pair(x, path, where: str) -> tuple[float, float]:
+def _pair(doc: JsonDoc, where: tuple, x) -> tuple[float, float]:
     if not (isinstance(x, list) and len(x) == 2):
-        raise MalformedFile(f"{path}: {where}: expected an interval [lo, hi]")
-    lo, hi = (_num(v, path, where) for v in x)
+        raise doc.error(where, "expected an interval [lo, hi]")
+    lo, hi = (_num(doc, where + (i,), v) for i, v in enumerate(x))
     if not lo <= hi:
-        raise MalformedFile(f"{path}: {where}: lo > hi")
+        raise doc.error(where, "lo > hi")
     return lo, hi
+
+
+def _objects(doc: JsonDoc, key: str, what: str) -> list:
+    """``doc.value[key]``: a non-empty list of objects (``what`` names their keys)."""
+    items = doc.value.get(key)
+    if not (isinstance(items, list) and items):
+        raise doc.error((key,), "expected a non-empty list")
+    for i, p in enumerate(items):
+        if not isinstance(p, dict):
+            raise doc.error((key, i), f"expected an object with {what}")
+    return items
 
 
 def load_record(path: str | Path) -> Record:
     """Load and validate one golden record."""
     path = Path(path)
-    d = _read_json(path)
+    doc = read_suite_json(path)
+    d = doc.value
     for k in ("id", "kind", "params", "impacts_per_period", "turns", "points", "multipliers", "tolerances"):
         if k not in d:
-            raise MalformedFile(f"{path}: missing key {k!r}")
+            raise doc.error((), f"missing key {k!r}")
     if d["kind"] not in KINDS:
-        raise MalformedFile(f"{path}: kind {d['kind']!r} is not one of {', '.join(KINDS)}")
-    pts = np.array([[*_pair(p.get("tau_mod_2pi"), path, f"points[{i}].tau_mod_2pi"),
-                     *_pair(p.get("sdot"), path, f"points[{i}].sdot")] for i, p in enumerate(d["points"])])
-    walls = np.array([p.get("wall") for p in d["points"]])
-    if pts.shape != (d["impacts_per_period"], 4) or not np.isin(walls, (0, -1)).all():
-        raise MalformedFile(f"{path}: points: expected {d['impacts_per_period']} points with wall 0 or -1")
-    mult = np.array([[*_pair(m.get("re"), path, f"multipliers[{i}].re"), *_pair(m.get("im"), path, f"multipliers[{i}].im")]
-                     for i, m in enumerate(d["multipliers"])])
+        raise doc.error(("kind",), f"{d['kind']!r} is not one of {', '.join(KINDS)}")
+    points = _objects(doc, "points", "tau_mod_2pi, sdot, wall")
+    pts = np.array([[*_pair(doc, ("points", i, "tau_mod_2pi"), p.get("tau_mod_2pi")),
+                     *_pair(doc, ("points", i, "sdot"), p.get("sdot"))] for i, p in enumerate(points)])
+    walls = [p.get("wall") for p in points]
+    if len(points) != d["impacts_per_period"] or any(w not in (0, -1) or isinstance(w, bool) for w in walls):
+        raise doc.error(("points",), f"expected {d['impacts_per_period']!r} points with wall 0 or -1")
+    mult = np.array([[*_pair(doc, ("multipliers", i, "re"), m.get("re")),
+                      *_pair(doc, ("multipliers", i, "im"), m.get("im"))]
+                     for i, m in enumerate(_objects(doc, "multipliers", "re, im"))])
     value = None
     if d["kind"] != "periodic-orbit":
         if "value" not in d or d.get("parameter") not in ("r", "alpha"):
-            raise MalformedFile(f"{path}: a {d['kind']} needs 'parameter' (r or alpha) and 'value'")
-        value = _pair(d["value"], path, "value")
+            raise doc.error((), f"a {d['kind']} needs 'parameter' (r or alpha) and 'value'")
+        value = _pair(doc, ("value",), d["value"])
     tol = d["tolerances"]
     need = ("tau_mod_2pi", "sdot", "multipliers") + (("value",) if value is not None else ())
     for c in need:
-        if not (isinstance(tol.get(c), (int, float)) and tol[c] >= 0):
-            raise MalformedFile(f"{path}: tolerances[{c!r}] must be a number >= 0")
-    return Record(d["id"], d["kind"], d, pts, walls.astype(np.int64), mult, value, dict(tol))
+        if not (isinstance(tol, dict) and isinstance(tol.get(c), (int, float)) and not isinstance(tol[c], bool)
+                and tol[c] >= 0):
+            raise doc.error(("tolerances", c), "must be a number >= 0")
+    return Record(d["id"], d["kind"], d, pts, np.array(walls, dtype=np.int64), mult, value, dict(tol))
 
 
 def record_ids(folder: str | Path = DEFAULT_ORBITS) -> list[str]:
@@ -114,8 +125,12 @@ def record_ids(folder: str | Path = DEFAULT_ORBITS) -> list[str]:
     return sorted(p.stem for p in folder.glob("*.json"))
 
 
-def load_records(folder: str | Path = DEFAULT_ORBITS, ids: list[str] | None = None) -> list[Record]:
-    """Every record of a folder (or the listed ids)."""
+def load_records(folder: str | Path = DEFAULT_ORBITS, ids: list[str] | None = None,
+                 levels: list[int] | None = None) -> list[Record]:
+    """Every record of a folder (or the listed ids); none when ``levels`` is given without
+    :data:`LEVEL` (every record is level 2)."""
+    if levels and LEVEL not in levels:
+        return []
     return [load_record(Path(folder) / f"{i}.json") for i in select_ids(record_ids(folder), ids, folder, "orbit")]
 
 
@@ -135,38 +150,34 @@ class Values:
     value: float | None = None
 
 
-def values_from_dict(d, path: str) -> Values:
+def values_from_doc(doc: JsonDoc) -> Values:
     """Validate an implementation's values (the layout of the module docstring)."""
-    if not isinstance(d, dict):
-        raise MalformedFile(f"{path}: line 1: expected a JSON object")
-    out = Values(path)
+    d = doc.value
+    out = Values(doc.path)
     if "points" in d:
-        if not (isinstance(d["points"], list) and d["points"]):
-            raise MalformedFile(f"{path}: points: expected a non-empty list")
         rows, walls = [], []
-        for i, p in enumerate(d["points"]):
-            if not isinstance(p, dict):
-                raise MalformedFile(f"{path}: points[{i}]: expected an object with tau_mod_2pi, sdot, wall")
-            rows.append([_num(p.get("tau_mod_2pi"), path, f"points[{i}].tau_mod_2pi"),
-                         _num(p.get("sdot"), path, f"points[{i}].sdot")])
+        for i, p in enumerate(_objects(doc, "points", "tau_mod_2pi, sdot, wall")):
+            rows.append([_num(doc, ("points", i, "tau_mod_2pi"), p.get("tau_mod_2pi")),
+                         _num(doc, ("points", i, "sdot"), p.get("sdot"))])
             w = p.get("wall")
             if w not in (0, -1) or isinstance(w, bool):
-                raise MalformedFile(f"{path}: points[{i}].wall: {w!r} is not 0 or -1")
-            walls.append(w)
+                raise doc.error(("points", i, "wall"), f"{_show(w)} is not 0 or -1")
+            walls.append(int(w))
         out.points, out.walls = np.array(rows), np.array(walls, dtype=np.int64)
     if "multipliers" in d:
-        if not (isinstance(d["multipliers"], list) and d["multipliers"]):
-            raise MalformedFile(f"{path}: multipliers: expected a non-empty list")
         zs = []
-        for i, m in enumerate(d["multipliers"]):
-            if not isinstance(m, dict):
-                raise MalformedFile(f"{path}: multipliers[{i}]: expected an object with re, im")
-            zs.append(complex(_num(m.get("re"), path, f"multipliers[{i}].re"),
-                              _num(m.get("im", 0.0), path, f"multipliers[{i}].im")))
-        out.multipliers = np.array(zs)
+        for i, m in enumerate(_objects(doc, "multipliers", "re, im")):
+            zs.append((_num(doc, ("multipliers", i, "re"), m.get("re")),
+                       _num(doc, ("multipliers", i, "im"), m.get("im", 0.0))))
+        out.multipliers = np.array([complex(*z) for z in zs])
     if "value" in d:
-        out.value = _num(d["value"], path, "value")
+        out.value = _num(doc, ("value",), d["value"])
     return out
+
+
+def values_from_dict(d: dict, path: str) -> Values:
+    """:func:`values_from_doc` for values held in memory (our own solvers)."""
+    return values_from_doc(JsonDoc(path, "", d, {}))
 
 
 def required(rec: Record) -> tuple:
@@ -176,12 +187,11 @@ def required(rec: Record) -> tuple:
 
 def read_values(path: str | Path, rec: Record | None = None) -> Values:
     """Read and validate an implementation's file (with ``rec``: the keys it requires must be there)."""
-    path = Path(path)
-    d = _read_json(path)
-    missing = [k for k in (required(rec) if rec is not None else ()) if k not in d]
+    doc = read_json(path)  # MissingFile when there is none: check scores it as "no output"
+    missing = [k for k in (required(rec) if rec is not None else ()) if k not in doc.value]
     if missing:
-        raise MalformedFile(f"{path}: missing key {missing[0]!r} (a {rec.kind} needs {', '.join(required(rec))})")
-    return values_from_dict(d, str(path))
+        raise doc.error((), f"missing key {missing[0]!r} (a {rec.kind} needs {', '.join(required(rec))})")
+    return values_from_doc(doc)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -199,28 +209,55 @@ class Column:
 
 @dataclass
 class OrbitScore:
+    """The score of one record; ``level`` is :data:`LEVEL`, ``no_output`` true when the file is missing."""
+
     id: str
     passed: bool
     columns: dict = field(default_factory=dict)
     message: str = ""
+    level: int = LEVEL
+    no_output: bool = False
+
+    @property
+    def column_digits(self) -> dict:
+        """Digits of accuracy per scored column."""
+        return {k: c.digits for k, c in self.columns.items()}
+
+    @property
+    def worst_ratio(self) -> float | None:
+        """The largest error / tolerance over the scored columns (``None`` when none was scored)."""
+        ratios = [c.error / c.tolerance if c.tolerance > 0 else (math.inf if c.error > 0 else 0.0)
+                  for c in self.columns.values()]
+        return max(ratios) if ratios else None
 
 
-def _dist(x, lo, hi, circular=False):
-    x, lo, hi = (np.asarray(a, float) for a in (x, lo, hi))
-    if circular:
-        mid = (lo + hi) / 2
-        return np.maximum(circular_distance(x, mid) - (hi - lo) / 2, 0.0)
-    return np.maximum(np.maximum(lo - x, x - hi), 0.0)
+def no_output_score(rec: Record, path) -> OrbitScore:
+    """The score of a record whose output file is missing: it fails ("no output"), the run goes on."""
+    return OrbitScore(rec.id, False, {}, f"no output ({path} missing)", LEVEL, True)
 
 
-def _digits(err: np.ndarray, scale: float) -> float:
-    worst = float(np.max(err)) / scale if err.size else 0.0
+def _dist(x, lo, hi, circular=False) -> list:
+    """The exact distance (rationals) of each float64 ``x`` to its interval ``[lo, hi]`` (on the
+    circle: to the arc of the interval)."""
+    out = []
+    for xi, a, b in zip(*(np.asarray(v, float).ravel() for v in (x, lo, hi))):
+        fx, fa, fb = Fraction(float(xi)), Fraction(float(a)), Fraction(float(b))
+        if circular:
+            out.append(max(circular_distance_exact(fx - (fa + fb) / 2) - (fb - fa) / 2, Fraction(0)))
+        else:
+            out.append(max(fa - fx, fx - fb, Fraction(0)))
+    return out
+
+
+def _digits(err: list, scale: float) -> float:
+    worst = float(max(err)) / scale if err else 0.0
     return DIGITS_CAP if worst <= 0 else float(min(DIGITS_CAP, -math.log10(worst)))
 
 
-def _column(name: str, err: np.ndarray, tol: float, scale: float) -> Column:
-    e = float(np.max(err)) if err.size else 0.0
-    return Column(name, bool(e <= tol), e, tol, _digits(err, scale))
+def _column(name: str, err: list, tol: float, scale: float) -> Column:
+    """Passes when the largest error is at most the tolerance, decided exactly."""
+    e = max(err) if err else Fraction(0)
+    return Column(name, bool(e <= Fraction(tol)), float(e), tol, _digits(err, scale))
 
 
 def _score_points(rec: Record, got: Values, cols: dict) -> str:
@@ -234,7 +271,7 @@ def _score_points(rec: Record, got: Values, cols: dict) -> str:
             continue
         et = _dist(got.points[idx, 0], rec.points[:, 0], rec.points[:, 1], circular=True)
         es = _dist(got.points[idx, 1], rec.points[:, 2], rec.points[:, 3])
-        if best is None or max(et.max(), es.max()) < max(best[0].max(), best[1].max()):
+        if best is None or max(et + es) < max(best[0] + best[1]):
             best = (et, es)
     if best is None:
         return "the walls of the points match no rotation of the record's walls"
@@ -250,8 +287,8 @@ def _score_multipliers(rec: Record, got: Values, cols: dict) -> str:
     best = None
     for perm in ([0, 1], [1, 0]) if m.shape[0] == 2 else [list(range(m.shape[0]))]:
         z = got.multipliers[perm]
-        e = np.maximum(_dist(z.real, m[:, 0], m[:, 1]), _dist(z.imag, m[:, 2], m[:, 3]))
-        if best is None or e.max() < best.max():
+        e = [max(u, v) for u, v in zip(_dist(z.real, m[:, 0], m[:, 1]), _dist(z.imag, m[:, 2], m[:, 3]))]
+        if best is None or max(e) < max(best):
             best = e
     cols["multipliers"] = _column("multipliers", best, rec.tolerances["multipliers"],
                                   max(1.0, float(np.abs(m).max())))
