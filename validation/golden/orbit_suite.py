@@ -316,14 +316,3 @@ def score(rec: Record, got: Values) -> OrbitScore:
     return OrbitScore(rec.id, not msgs, cols, "; ".join(msgs))
 
 
-def summary_table(scores: list[OrbitScore]) -> str:
-    """Plain-text table: record, verdict, digits per column (``-``: not scored), first problem."""
-    head = f"{'orbit / bifurcation point':<40} {'result':<6} {'tau%2pi':>7} {'sdot':>6} {'mult':>6} {'value':>6}  note"
-    lines = [head, "-" * len(head)]
-    for s in scores:
-        d = [f"{s.columns[c].digits:.1f}" if c in s.columns else "-" for c in COLUMNS]
-        lines.append(f"{s.id:<40} {'PASS' if s.passed else 'FAIL':<6} {d[0]:>7} {d[1]:>6} {d[2]:>6} {d[3]:>6}  {s.message}")
-    n_pass = sum(s.passed for s in scores)
-    lines.append(f"{n_pass}/{len(scores)} orbits and bifurcation points pass (digits: min over values of -log10 "
-                 f"of the error relative to the scale, capped at {DIGITS_CAP:g})")
-    return "\n".join(lines)

@@ -6,8 +6,8 @@ Each scored case or orbit record becomes one plain result (:func:`case_result`, 
 ``|error| / tolerance`` over the scored values: < 1 passes) and ``first_failing`` (where the first
 failure is: a file line and column for a case, a column for an orbit record), with the ``note`` of
 the table.  The reports are built from those results only, so the impact cases and the orbit
-records share them.  Only the standard library is used here (the scores come from :mod:`.suite` and
-:mod:`.orbit_suite`).
+records share them (the scores, columns and levels come from :mod:`.suite` and :mod:`.orbit_suite`;
+numpy and the standard library only, as the light install has).
 """
 
 from __future__ import annotations
@@ -16,15 +16,11 @@ import math
 import re
 import xml.etree.ElementTree as ET
 
-#: Columns of the impact cases compared with tolerances (:data:`suite.TOLERANCE_COLUMNS`) and exactly.
-CASE_COLUMNS = ("tau", "tau_mod_2pi", "sdot")
-EXACT_COLUMNS = ("n", "wall", "kind")
-#: Column order of a case file (:data:`suite.COLUMNS`): the first failing column in file order.
-FILE_COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
-#: Columns of an orbit record (:data:`orbit_suite.COLUMNS`).
-ORBIT_COLUMNS = ("tau_mod_2pi", "sdot", "multipliers", "value")
-#: The level of every orbit record (docs/golden.md: periodic orbits and bifurcation points are level 2).
-ORBIT_LEVEL = 2
+# The columns and levels are the scorers' own (one definition each): the tolerance columns, the exact
+# columns and the file order of a case; the columns and the level of an orbit record.
+from .orbit_suite import COLUMNS as ORBIT_COLUMNS, LEVEL as ORBIT_LEVEL
+from .suite import COLUMNS as FILE_COLUMNS, EXACT_COLUMNS, TOLERANCE_COLUMNS as CASE_COLUMNS
+
 #: The JSON document's format name.
 FORMAT = "gear-rattle check results, version 1"
 

@@ -426,20 +426,6 @@ def score_file(case: Case, path: str | Path) -> CaseScore:
     return score_sequence(case, got)
 
 
-def summary_table(scores: list[CaseScore]) -> str:
-    """Plain-text table: case, verdict, digits per tolerance column, exact-column check, message."""
-    head = f"{'case':<30} {'result':<6} {'tau':>6} {'tau%2pi':>7} {'sdot':>6}  n/wall/kind  note"
-    lines = [head, "-" * len(head)]
-    for s in scores:
-        d = [s.columns[c].digits if c in s.columns else 0.0 for c in TOLERANCE_COLUMNS]
-        ex = "ok" if all(c in s.columns and s.columns[c].passed for c in EXACT_COLUMNS) else "MISMATCH"
-        lines.append(f"{s.case:<30} {'PASS' if s.passed else 'FAIL':<6} {d[0]:6.1f} {d[1]:7.1f} {d[2]:6.1f}  "
-                     f"{ex:<11}  {s.message}")
-    n_pass = sum(s.passed for s in scores)
-    lines.append(f"{n_pass}/{len(scores)} cases pass (digits: min over rows of -log10 relative error, "
-                 f"capped at {DIGITS_CAP:g})")
-    return "\n".join(lines)
-
 
 def sequence_from_impacts(seq, path: str = "<memory>") -> Sequence:
     """A :class:`Sequence` from a :class:`core.results.ImpactSequence` (any track)."""
