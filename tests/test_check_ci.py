@@ -97,6 +97,28 @@ def _props(root) -> dict:
     return {p.get("name"): p.get("value") for p in root.iter("property")}
 
 
+def test_a_malformed_output_is_an_error_in_the_reports(tmp_path, capsys):
+    """A malformed file is exit 2 with one line on stderr, and the CI reports are still written: that
+    case an <error> (not a failure), the others not scored (fails on the code before: no file written)."""
+    out, _ = golden_sample.write_sample(GOLDEN, tmp_path / "out")
+    bad = "0002-chaotic-fig3"
+    f = out / f"{bad}.csv"
+    lines = f.read_text().splitlines()
+    f.write_text("\n".join([lines[0] + ",tau"] + [ln + ",0" for ln in lines[1:]]) + "\n")  # tau twice
+    junit, js = tmp_path / "golden.xml", tmp_path / "golden.json"
+    assert main(["check", str(out), "--junit-xml", str(junit), "--json", str(js)]) == 2
+    cap = capsys.readouterr()
+    assert cap.out == "" and len(cap.err.strip().splitlines()) == 1 and bad in cap.err
+    root = validate_junit(junit)
+    errors = [t.get("name") for t in root.iter("testcase") if t.find("error") is not None]
+    assert errors == [bad] and int(root.get("errors")) == 1
+    doc = _strict_json(js)
+    assert (doc["errors"], doc["passed"], doc["failed"]) == (1, 0, len(CASES) - 1)
+    res = {r["id"]: r for r in doc["results"]}
+    assert res[bad]["malformed"] is True and "tau" in res[bad]["note"]
+    assert all(not r["passed"] for r in doc["results"])
+
+
 def test_junit_and_json_of_the_impact_cases(tmp_path, capsys):
     broken = "0007-chatter-sticking"
     out, _ = golden_sample.write_sample(GOLDEN, tmp_path / "out", broken)

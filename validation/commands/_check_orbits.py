@@ -14,7 +14,7 @@ from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
-from .check import no_selection, read_outputs, report, suite_header, write_output
+from .check import no_selection, read_outputs, report, report_malformed, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -50,10 +50,10 @@ def run_orbits(args: argparse.Namespace) -> int:
         values = _self_values(records, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
-        values = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
-                              MalformedFile, MissingFile)
-        if values is None:
-            return 2
+        values, errors = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
+                                      MalformedFile, MissingFile)
+        if errors:
+            return report_malformed(args, records, errors, info, orbits=True)
     results, times = [], {}
     for rec in records:
         t0 = time.perf_counter()

@@ -114,7 +114,8 @@ def suite_version(args: argparse.Namespace) -> int:
     return 0 if all(i.matches for i in infos) else 1
 
 
-def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool, times: dict) -> int:
+def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool, times: dict,
+           table_to_stdout: bool = True) -> int:
     """The table (or its summary line) on stdout, ``--json`` and ``--junit-xml``; the exit status."""
     from ..cliutil import write_text
     from ..golden.results import document, junit_xml, summary_line, table
@@ -126,7 +127,7 @@ def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool,
         write_text(junit_xml(doc, times), args.junit_xml, "--junit-xml")
     if args.json is not None:
         write_text(json_text(doc) + "\n", args.json, "--json")
-    if "-" not in (args.json, args.junit_xml):
+    if table_to_stdout and "-" not in (args.json, args.junit_xml):
         lines = [summary_line(results, orbits, info.label)]
         if not args.summary:
             lines = [f"suite: {info.line()}", *table(results, orbits), *lines]
@@ -165,12 +166,13 @@ def write_output(path: Path, write, *args) -> str:
     return str(path)
 
 
-def read_outputs(reads: dict, malformed, missing=None) -> dict | None:
-    """``{id: read()}`` for ``reads = {id: read}`` (each reads one file); where a file is missing
-    (``missing``: its exception class) the value is ``None`` (a failing case, "no output"); where files
-    are malformed (``malformed``: the exception class), each is reported on one line of stderr and
-    ``None`` is returned (exit status 2)."""
-    out, errors = {}, []
+def read_outputs(reads: dict, malformed, missing=None) -> tuple[dict, dict]:
+    """``({id: read()}, {id: problem})`` for ``reads = {id: read}`` (each reads one file): where a file
+    is missing (``missing``: its exception class) the value is ``None`` (a failing case, "no output");
+    where a file is malformed (``malformed``: the exception class) its one-line problem is reported on
+    stderr and kept in the second mapping (the run's exit status is then 2, and ``--json`` and
+    ``--junit-xml`` list it as an error)."""
+    out, errors = {}, {}
     for key, read in reads.items():
         try:
             out[key] = read()
@@ -178,11 +180,23 @@ def read_outputs(reads: dict, malformed, missing=None) -> dict | None:
             if missing is not None and isinstance(e, missing):
                 out[key] = None
             else:
-                errors.append(str(e))
-    for e in errors:
-        e = " ".join(e.split())
-        print(f"gear-rattle check: error: {e if len(e) <= 500 else e[:500] + ' ... (cut)'}", file=sys.stderr)
-    return None if errors else out
+                text = " ".join(str(e).split())
+                errors[key] = text if len(text) <= 500 else text[:500] + " ... (cut)"
+    for e in errors.values():
+        print(f"gear-rattle check: error: {e}", file=sys.stderr)
+    return out, errors
+
+
+def report_malformed(args: argparse.Namespace, items, errors: dict, info, *, orbits: bool) -> int:
+    """Exit status 2 for malformed output files (each already named on stderr); ``--json`` and
+    ``--junit-xml`` are still written, each malformed file an error and the others not scored."""
+    from ..golden.results import malformed_result
+
+    if args.json is None and args.junit_xml is None:
+        return 2
+    results = [malformed_result(item.id, getattr(item, "level", None), errors.get(item.id), orbits) for item in items]
+    report(args, results, info, orbits=orbits, times={}, table_to_stdout=False)
+    return 2
 
 
 def _self_outputs(cases, track: str, write: str | None):
@@ -245,10 +259,10 @@ def run(args: argparse.Namespace) -> int:
         outputs = _self_outputs(cases, args.track, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
-        outputs = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
-                               MalformedFile, MissingFile)
-        if outputs is None:
-            return 2
+        outputs, errors = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
+                                       MalformedFile, MissingFile)
+        if errors:
+            return report_malformed(args, cases, errors, info, orbits=False)
     results, times = [], {}
     for case in cases:
         t0 = time.perf_counter()

@@ -93,6 +93,21 @@ def orbit_result(record, score) -> dict:
     }
 
 
+def malformed_result(id_: str, level: int | None, problem: str | None, orbits: bool = False) -> dict:
+    """The result of a case or record when output files are malformed (exit status 2): its own file's
+    problem (``problem``, one line naming file, line and column) is an error; where its file was read
+    but another was malformed (``problem`` None) it is not scored."""
+    cols = ORBIT_COLUMNS if orbits else CASE_COLUMNS
+    out = {"id": id_, "level": level or (ORBIT_LEVEL if orbits else None), "passed": False,
+           "digits": {c: None for c in cols}}
+    if not orbits:
+        out["exact_columns_match"] = False
+    out.update({"worst_over_tolerance": None, "first_failing": None,
+                "malformed": problem is not None,
+                "note": problem if problem is not None else "not scored: other output files are malformed"})
+    return out
+
+
 # ------------------------------------------------------------------------------------------ text
 
 
@@ -146,10 +161,11 @@ def summary_line(results: list[dict], orbits: bool = False, suite: str = "") -> 
 def document(results: list[dict], suite: dict, *, orbits: bool, source: str) -> dict:
     """The JSON document of ``--json``: the format, the suite (name, version, digests), what was
     scored (``source``: the output directory or our own track), the counts and the results."""
+    errors = sum(bool(r.get("malformed")) for r in results)
     return {
         "format": FORMAT, "suite": suite, "scored": "orbits" if orbits else "cases", "source": source,
         "tests": len(results), "passed": sum(r["passed"] for r in results),
-        "failed": sum(not r["passed"] for r in results), "results": results,
+        "failed": sum(not r["passed"] for r in results) - errors, "errors": errors, "results": results,
     }
 
 
@@ -182,7 +198,8 @@ def junit_xml(doc: dict, times: dict | None = None) -> str:
     times = times or {}
     name = _x(f"{suite['name']} {suite['label']} ({doc['scored']})")
     total = sum(times.values())
-    attrs = {"tests": str(doc["tests"]), "failures": str(doc["failed"]), "errors": "0", "time": f"{total:.6f}"}
+    attrs = {"tests": str(doc["tests"]), "failures": str(doc["failed"]), "errors": str(doc.get("errors", 0)),
+             "time": f"{total:.6f}"}
     root = ET.Element("testsuites", {"name": "gear-rattle check", **attrs})
     ts = ET.SubElement(root, "testsuite", {"name": name, **attrs, "skipped": "0"})
     props = ET.SubElement(ts, "properties")
@@ -193,7 +210,10 @@ def junit_xml(doc: dict, times: dict | None = None) -> str:
     for r in doc["results"]:
         tc = ET.SubElement(ts, "testcase", {"classname": classname, "name": _x(r["id"]),
                                             "time": f"{times.get(r['id'], 0.0):.6f}"})
-        if not r["passed"]:
+        if r.get("malformed"):
+            e = ET.SubElement(tc, "error", {"message": _x(r["note"]), "type": "golden.malformed"})
+            e.text = _x(r["note"])
+        elif not r["passed"]:
             f = ET.SubElement(tc, "failure", {"message": _x(r["note"] or "failed"), "type": "golden.mismatch"})
             f.text = _x(_failure_text(r))
     ET.indent(root)
