@@ -39,6 +39,10 @@ T_MAX = 400.0
 MAX_EVALS = 200_000
 
 
+class NoContactError(CertificationError):
+    """Proven: the flight reaches no wall within ``t_max`` (both gaps positive on ``[0, t_max]``)."""
+
+
 @dataclass
 class FlightCertificate:
     """What one certified flight proved."""
@@ -107,6 +111,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
     ------
     CertificationError
         When the first contact cannot be proven (e.g. a tangential contact); never loops.
+        :class:`NoContactError` (a subclass) when it is proven that no wall is reached within ``t_max``.
 
     Examples
     --------
@@ -144,7 +149,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
         if evals >= max_evals:
             raise CertificationError(f"interval budget exhausted at flight time {float(t):.17g}")
         if t > tmax:
-            raise CertificationError(f"no wall contact within t_max={t_max}")
+            raise NoContactError(f"no wall contact within t_max={t_max}")
         tb = t + h
         g = {w: fl.gap_enclosure(w, t, tb) for w in (0, -1)}
         evals += 2
