@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from flint import arb
+from flint import arb, ctx
 
 from ..sticking import STICK_TIME
-from .balls import PREC, exact, mod_two_pi, precision
+from .balls import PREC, CertificationError, exact, mod_two_pi, precision
 from .contact import T_MAX, FlightCertificate, certified_flight, mean_value_impact
 from .model import Model
 from .sticking import certify_release, release_time, stick_decision
@@ -83,11 +83,24 @@ class Departure:
 
 
 def certified_departure(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int,
-                        stick_time: float = STICK_TIME) -> Departure:
+                        stick_time: float = STICK_TIME, decide_prec: int | None = None) -> Departure:
     """The first half of a map step from the pre-impact state ``(tau, sdot)`` on ``wall``: the reset
     ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy, the jump to the accumulation point and
     the release at the canonical phase (:func:`release_time`, certified by :func:`certify_release`)
-    with ``sdot = 0``; or stuck forever (``start`` None)."""
+    with ``sdot = 0``; or stuck forever (``start`` None).  ``decide_prec``: first try the policy's
+    decision at that (lower) precision; a bounce proven there is a bounce (the balls enclose the
+    exact values at any precision), anything else is decided again at the current precision."""
+    if decide_prec is not None and decide_prec < ctx.prec:
+        full = ctx.prec
+        ctx.prec = decide_prec
+        try:
+            bounce = stick_decision(model, tau, wall, sdot, stick_time) is None
+        except CertificationError:
+            bounce = False
+        finally:
+            ctx.prec = full
+        if bounce:
+            return Departure(tau, -model.r * sdot, False)
     dec = stick_decision(model, tau, wall, sdot, stick_time)
     if dec is None:
         return Departure(tau, -model.r * sdot, False)

@@ -14,12 +14,15 @@ nearest float64 is the one of the exact value or its neighbour.  A ball wider th
 exponent), so an orbit of ``N`` impacts needs about ``N`` bits.  An attempt at ``prec`` bits runs from the
 exact start until it certifies every requested impact or fails at an impact (a decision it cannot make, a
 ball too wide); the next attempt restarts *from the start* (a wider ball cannot be made narrower later)
-at ``max(2 prec, growth x N + margin)`` bits, ``growth`` the bits lost per impact measured by the failed
-attempt, up to ``max_prec`` (:data:`MAX_TRACK_PREC`).  The best attempt's certified prefix is kept.
+at ``1.15 growth x N + 128`` bits, ``growth`` the bits lost per impact measured by the failed attempt,
+but between ``1.25 prec`` and ``4 prec`` (twice ``prec`` where it failed within 32 impacts), up to
+``max_prec`` (:data:`MAX_TRACK_PREC`; :func:`_next_prec`).  The best attempt's certified prefix is kept.
 Within an attempt each step runs at a working precision just above what its inputs still carry
 (:func:`working_precision`): the radius grows from ``2^-prec`` and a step whose balls carry ``b`` bits is
-computed with ``b + GUARD_BITS`` (rounding adds ``2^-GUARD_BITS`` of the radius), so a long chaotic orbit
-costs about half of a run at the full precision.
+computed with ``b + GUARD_BITS`` (rounding adds ``2^-GUARD_BITS`` of the radius), but never with more
+than the rest of the orbit needs at the growth an earlier attempt measured (after a transient ends in a
+stable orbit the radius shrinks again); a long chaotic orbit so costs about half of a run at the full
+precision.
 
 **Endings** (``status``): ``active`` (every requested impact), ``stuck_forever`` (the policy proves the
 tooth stays stuck: a ``stick`` row, no release), ``no_impact`` (the flight after the last impact, or a
@@ -55,12 +58,15 @@ START_PREC = PREC
 MAX_TRACK_PREC = 1 << 15
 #: Bits kept beyond a step's inputs (:func:`working_precision`), and the least working precision.
 GUARD_BITS, MIN_WORK_PREC = 64, 128
+#: Precision of the covering proof of a flight (:func:`_flight`).
+COVER_PREC = 128
 #: A ball is narrow enough when its radius is at most ``ulp / TIGHT_ULPS`` (at the scale ``max(|x|, 2^-60)``).
 TIGHT_ULPS = 16
 #: The smallest magnitude whose ulp scales the acceptance (values nearer 0 are held to ``ulp(2^-60)``).
 TIGHT_FLOOR = 2.0 ** -60
-#: Bits the next attempt adds beyond the estimate ``growth x impacts``.
-MARGIN_BITS = 128
+#: Bits the next attempt adds beyond the estimate ``growth x impacts``, and the impacts over which an
+#: attempt must have measured its growth for the estimate to be used (:func:`_next_prec`).
+MARGIN_BITS, GROWTH_IMPACTS = 128, 32
 #: The reason of an attempt stopped by a ball too wide (more precision would narrow it).
 WIDE = "its enclosure is wider than float64's resolution"
 #: Columns of the bounds, after :data:`core.results.COLUMNS`.
@@ -186,25 +192,38 @@ def _tight(x: arb) -> bool:
     return bool(x.rad() <= arb(math.ulp(max(m, TIGHT_FLOOR)) / TIGHT_ULPS))
 
 
+def _log2_upper(x: arb) -> float:
+    """``log2`` of the exact nonnegative ball end ``x`` (a radius), from its mantissa and exponent: no
+    logarithm at the working precision (``-inf`` for 0)."""
+    man, exp = x.mid().man_exp()
+    man = int(man)
+    if man == 0:
+        return -math.inf
+    return int(exp) + man.bit_length()
+
+
 def _bits_left(*balls: arb) -> float:
-    """Bits of the balls still meaningful: ``-log2(radius / max(|mid|, 1))`` of the widest (inf if exact)."""
+    """Bits of the balls still meaningful: about ``-log2(radius / max(|mid|, 1))`` of the widest (inf if
+    exact); an estimate within one bit, which only chooses a working precision."""
     worst = math.inf
     for b in balls:
-        r = b.rad()
-        if r.is_zero():
+        lr = _log2_upper(b.rad())
+        if lr == -math.inf:
             continue
         scale = max(abs(float(b.mid())), 1.0)
-        worst = min(worst, -float((r / scale).log() / arb(2).log()))
+        worst = min(worst, math.log2(scale) - lr)
     return worst
 
 
-def working_precision(prec: int, bits_left: float) -> int:
+def working_precision(prec: int, bits_left: float, cap: int | None = None) -> int:
     """The precision of a step whose inputs carry ``bits_left`` bits: ``bits_left + GUARD_BITS`` rounded up
-    to a multiple of 64, between :data:`MIN_WORK_PREC` and ``prec``."""
+    to a multiple of 64, between :data:`MIN_WORK_PREC` and ``prec``, and at most ``cap`` (the bits the rest
+    of the orbit needs, where an earlier attempt measured its growth)."""
+    top = prec if cap is None else min(prec, cap)
     if not math.isfinite(bits_left):
-        return prec
+        return max(MIN_WORK_PREC, top)
     w = int(math.ceil((bits_left + GUARD_BITS) / 64.0)) * 64
-    return max(MIN_WORK_PREC, min(prec, w))
+    return max(MIN_WORK_PREC, min(top, w))
 
 
 @dataclass
@@ -220,8 +239,10 @@ class _Run:
 
 
 def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, prec: int, stick_time: float,
-             t_max: float, tick) -> _Run:
-    """One attempt at ``prec`` bits from the exact start (see the module docstring)."""
+             t_max: float, tick, growth_hint: float | None = None) -> _Run:
+    """One attempt at ``prec`` bits from the exact start (see the module docstring); ``growth_hint``: the
+    bits lost per impact an earlier attempt measured (the working precision then stays below what the rest
+    of the orbit needs at that rate, :func:`working_precision`)."""
     events: list[Event] = []
     bits0 = float(prec)
     log_bits: list[tuple[int, float]] = []
@@ -263,10 +284,12 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
         log_bits.append((0, min(bits0, _bits_left(tau, sdot))))
         tick(0, prec)
         for n in range(1, n_impacts + 1):
-            work = working_precision(prec, _bits_left(tau, sdot))
+            cap = None if growth_hint is None else _bits_for(growth_hint, n_impacts - n + 1) + GUARD_BITS
+            work = working_precision(prec, _bits_left(tau, sdot), cap)
             try:
                 with precision(work):
-                    dep = certified_departure(model, tau, sdot, wall, prec=work, stick_time=stick_time)
+                    dep = certified_departure(model, tau, sdot, wall, prec=work, stick_time=stick_time,
+                                              decide_prec=COVER_PREC)
                     rows = []
                     if dep.stick is not None:
                         rows.append(Event(n - 1, dep.stick, mod_two_pi(dep.stick), wall, None, "stick"))
@@ -278,16 +301,18 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
                     if dep.rel is not None:
                         rows.append(Event(n - 1, dep.rel, mod_two_pi(dep.rel), wall, None, "release"))
                     try:
-                        c = certified_flight(model, dep.start, float(wall), dep.v0, release=dep.release,
-                                             prec=work, t_max=t_max)
+                        c = _flight(model, dep.start, float(wall), dep.v0, dep.release, work, t_max)
                     except NoContactError:
                         reason = _no_impact_reason(model, dep.start, float(wall), dep.v0, dep.release, work, t_max,
                                                    f"the flight after impact {n - 1}")
                         if not accept(rows):
                             return stopped(n, WIDE + " (a stick/release row)")
                         return _Run(events, n - 1, True, "no_impact", reason, growth())
-                    new_tau, new_v = mean_value_impact(model, c, dep.start, float(wall), dep.v0, dep.release, work,
-                                                       t_max)
+                    if dep.release or (dep.start.is_exact() and dep.v0.is_exact()):
+                        new_tau, new_v = c.t + dep.start, c.v  # (_flight refined it at the working precision)
+                    else:
+                        new_tau, new_v = mean_value_impact(model, c, dep.start, float(wall), dep.v0, dep.release,
+                                                           work, t_max, lean=True)
                     rows.append(Event(n, new_tau, mod_two_pi(new_tau), c.wall, new_v, "impact"))
             except CertificationError as e:
                 return stopped(n, str(e))
@@ -297,6 +322,24 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
             log_bits.append((n, _bits_left(tau, sdot)))
             tick(n, prec)
     return _Run(events, n_impacts, True, "active", "n_impacts reached", growth())
+
+
+def _flight(model: Model, start: arb, s0: float, v0: arb, release: bool, work: int, t_max: float):
+    """The certificate of a flight for the step: the covering proof (no earlier contact, the crossing) at
+    :data:`COVER_PREC` bits, which the gaps of a flight away from a graze need, and at the working precision
+    where that does not decide; the root is refined at the working precision where the impact's enclosure
+    comes from it (a release, exact inputs), else the mean-value form refines the midpoint's root
+    (:func:`.contact.mean_value_impact`) and the box's enclosure only bounds its Jacobian."""
+    direct = release or (start.is_exact() and v0.is_exact())
+    if work > COVER_PREC and not direct:
+        try:
+            with precision(COVER_PREC):
+                return certified_flight(model, start, s0, v0, release=release, prec=COVER_PREC, t_max=t_max)
+        except NoContactError:
+            raise
+        except CertificationError:
+            pass  # e.g. a near-tangency that needs more bits: the working precision decides
+    return certified_flight(model, start, s0, v0, release=release, prec=work, t_max=t_max)
 
 
 def _no_impact_reason(model: Model, start: arb, s0: float, v0: arb, release: bool, prec: int, t_max: float,
@@ -316,12 +359,22 @@ def _no_impact_reason(model: Model, start: arb, s0: float, v0: arb, release: boo
 
 
 def _next_prec(prec: int, run: _Run, n_impacts: int, max_prec: int) -> int:
-    """The next precision of the schedule: at least twice ``prec``; where the attempt measured its bits lost
-    per impact, enough for every requested impact (``growth x n_impacts + MARGIN_BITS``)."""
-    want = 2 * prec
-    if math.isfinite(run.growth) and run.growth > 0:
-        want = max(want, int(math.ceil(run.growth * 1.15 * n_impacts)) + MARGIN_BITS)
+    """The next precision of the schedule.  Where the attempt measured its bits lost per impact over at
+    least :data:`GROWTH_IMPACTS` impacts: enough for every requested impact, ``1.15 x growth x n_impacts +
+    MARGIN_BITS``, but at most 4 ``prec`` (a chaotic transient that ends in a stable orbit loses bits only
+    until it ends: the estimate from its start can be far too high) and at least ``1.25 prec``; else (a
+    failure near the start: a tangency, a release) twice ``prec``.  Rounded up to a multiple of 64, at most
+    ``max_prec``."""
+    if math.isfinite(run.growth) and run.growth > 0 and run.reached >= GROWTH_IMPACTS:
+        want = max(int(1.25 * prec), min(4 * prec, _bits_for(run.growth, n_impacts)))
+    else:
+        want = 2 * prec
     return min(max_prec, int(math.ceil(want / 64.0)) * 64)
+
+
+def _bits_for(growth: float, impacts: int) -> int:
+    """Bits that ``impacts`` impacts losing ``growth`` bits each need: ``1.15 growth impacts + MARGIN_BITS``."""
+    return int(math.ceil(growth * 1.15 * impacts)) + MARGIN_BITS
 
 
 def _check_prec(name: str, value) -> int:
@@ -409,6 +462,7 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     best: _Run | None = None
     best_prec = prec
     last_tick = [0.0]
+    hint: float | None = None
 
     def tick(done: int, bits: int) -> None:
         now = time.monotonic()
@@ -423,7 +477,7 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     with bar:
         while True:
             ta = time.monotonic()
-            run = _attempt(params, tau0, sdot0, n_impacts, s0, prec, float(stick_time), float(t_max), tick)
+            run = _attempt(params, tau0, sdot0, n_impacts, s0, prec, float(stick_time), float(t_max), tick, hint)
             attempts.append(Attempt(prec, run.reached, run.complete, "" if run.complete else run.reason, run.growth,
                                     time.monotonic() - ta))
             if best is None or run.complete or run.reached >= best.reached:
@@ -431,6 +485,8 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
             if run.complete or prec >= max_prec:
                 break
             prec = _next_prec(prec, run, n_impacts, max_prec)
+            if math.isfinite(run.growth) and run.growth > 0 and run.reached >= GROWTH_IMPACTS:
+                hint = run.growth
     assert best is not None
     first = None if best.complete else best.reached + 1
     reason = best.reason
