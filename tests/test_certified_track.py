@@ -158,12 +158,20 @@ def test_the_precision_limit_gives_a_certified_prefix_and_the_first_uncertified_
     assert e.value.sequence.certified["complete"] is False and len(e.value.sequence.tau) == k
 
 
+def test_the_flight_horizon_is_the_map_tracks():
+    from gear_rattle.mapimpl.certified.track import MAP_T_MAX
+    from gear_rattle.mapimpl.finder import T_MAX
+
+    assert MAP_T_MAX == T_MAX
+
+
 def test_working_precision_follows_the_bits_left():
     assert working_precision(2048, math.inf) == 2048
     assert working_precision(2048, 1000.0) == 1088
     assert working_precision(2048, 10.0) == 128
     assert working_precision(256, 1000.0) == 256
     assert working_precision(2048, 1000.0, cap=500) == 500 and working_precision(2048, math.inf, cap=64) == 128
+    assert working_precision(64, 1000.0) == 64 and working_precision(64, math.inf) == 64
 
 
 def test_free_flight_start():

@@ -15,14 +15,16 @@ exponent), so an orbit of ``N`` impacts needs about ``N`` bits.  An attempt at `
 exact start until it certifies every requested impact or fails at an impact (a decision it cannot make, a
 ball too wide); the next attempt restarts *from the start* (a wider ball cannot be made narrower later)
 at ``1.15 growth x N + 128`` bits, ``growth`` the bits lost per impact measured by the failed attempt,
-but between ``1.25 prec`` and ``4 prec`` (twice ``prec`` where it failed within 32 impacts), up to
-``max_prec`` (:data:`MAX_TRACK_PREC`; :func:`_next_prec`).  The best attempt's certified prefix is kept.
+at least ``1.25 prec`` and, where the attempt covered less than a fifth of the orbit, at most ``4 prec``
+(twice ``prec`` where it failed within 32 impacts), up to ``max_prec`` (:data:`MAX_TRACK_PREC`;
+:func:`_next_prec`).  The best attempt's certified prefix is kept.
 Within an attempt each step runs at a working precision just above what its inputs still carry
 (:func:`working_precision`): the radius grows from ``2^-prec`` and a step whose balls carry ``b`` bits is
 computed with ``b + GUARD_BITS`` (rounding adds ``2^-GUARD_BITS`` of the radius), but never with more
 than the rest of the orbit needs at the growth an earlier attempt measured (after a transient ends in a
-stable orbit the radius shrinks again); a long chaotic orbit so costs about half of a run at the full
-precision.
+stable orbit the radius shrinks again).  The covering proof of a flight runs at :data:`COVER_PREC` bits
+and the impact's root is refined by one interval Newton step at the working precision
+(:func:`.contact.refine_from`).
 
 **Endings** (``status``): ``active`` (every requested impact), ``stuck_forever`` (the policy proves the
 tooth stays stuck: a ``stick`` row, no release), ``no_impact`` (the flight after the last impact, or a
@@ -44,13 +46,16 @@ from flint import arb
 
 from ...core.params import Params
 from ...core.results import ImpactSequence
-from ..finder import T_MAX as MAP_T_MAX
 from ..sticking import STICK_TIME
 from .balls import MAX_PREC, PREC, CertificationError, exact, float_bounds, mod_two_pi, nearest_float, precision
 from .contact import NoContactError, certified_flight, mean_value_impact
 from .model import Model
 from .orbit import Event, certified_departure
 
+#: The flight horizon of the map track (:data:`mapimpl.finder.T_MAX`, restated: the certified track does not
+#: import the float64 kernels; a test checks they agree): a flight proven to reach no wall within it ends
+#: the orbit with ``no_impact``, as on the other tracks.
+MAP_T_MAX = 2000.0
 #: The first precision of the schedule (bits).
 START_PREC = PREC
 #: Highest precision the schedule reaches by default (bits): about 30 000 impacts of a chaotic orbit
@@ -195,11 +200,11 @@ def _tight(x: arb) -> bool:
 def _log2_upper(x: arb) -> float:
     """``log2`` of the exact nonnegative ball end ``x`` (a radius), from its mantissa and exponent: no
     logarithm at the working precision (``-inf`` for 0)."""
-    man, exp = x.mid().man_exp()
-    man = int(man)
+    man_f, exp_f = x.mid().man_exp()
+    man = int(man_f)
     if man == 0:
         return -math.inf
-    return int(exp) + man.bit_length()
+    return int(exp_f) + man.bit_length()
 
 
 def _bits_left(*balls: arb) -> float:
@@ -217,13 +222,14 @@ def _bits_left(*balls: arb) -> float:
 
 def working_precision(prec: int, bits_left: float, cap: int | None = None) -> int:
     """The precision of a step whose inputs carry ``bits_left`` bits: ``bits_left + GUARD_BITS`` rounded up
-    to a multiple of 64, between :data:`MIN_WORK_PREC` and ``prec``, and at most ``cap`` (the bits the rest
-    of the orbit needs, where an earlier attempt measured its growth)."""
-    top = prec if cap is None else min(prec, cap)
+    to a multiple of 64, at least :data:`MIN_WORK_PREC`, at most ``cap`` (the bits the rest of the orbit
+    needs, where an earlier attempt measured its growth; not below :data:`MIN_WORK_PREC`) and never above
+    ``prec``."""
+    top = prec if cap is None else min(prec, max(cap, MIN_WORK_PREC))
     if not math.isfinite(bits_left):
-        return max(MIN_WORK_PREC, top)
+        return top
     w = int(math.ceil((bits_left + GUARD_BITS) / 64.0)) * 64
-    return max(MIN_WORK_PREC, min(top, w))
+    return min(top, max(MIN_WORK_PREC, w))
 
 
 @dataclass
@@ -361,12 +367,14 @@ def _no_impact_reason(model: Model, start: arb, s0: float, v0: arb, release: boo
 def _next_prec(prec: int, run: _Run, n_impacts: int, max_prec: int) -> int:
     """The next precision of the schedule.  Where the attempt measured its bits lost per impact over at
     least :data:`GROWTH_IMPACTS` impacts: enough for every requested impact, ``1.15 x growth x n_impacts +
-    MARGIN_BITS``, but at most 4 ``prec`` (a chaotic transient that ends in a stable orbit loses bits only
-    until it ends: the estimate from its start can be far too high) and at least ``1.25 prec``; else (a
+    MARGIN_BITS``, and at least ``1.25 prec``; at most 4 ``prec`` where the attempt covered less than a
+    fifth of the orbit (a chaotic transient that ends in a stable orbit loses bits only until it ends: an
+    estimate from its start can be far too high); else (a
     failure near the start: a tangency, a release) twice ``prec``.  Rounded up to a multiple of 64, at most
     ``max_prec``."""
     if math.isfinite(run.growth) and run.growth > 0 and run.reached >= GROWTH_IMPACTS:
-        want = max(int(1.25 * prec), min(4 * prec, _bits_for(run.growth, n_impacts)))
+        est = _bits_for(run.growth, n_impacts)
+        want = max(int(1.25 * prec), est if 5 * run.reached >= n_impacts else min(4 * prec, est))
     else:
         want = 2 * prec
     return min(max_prec, int(math.ceil(want / 64.0)) * 64)

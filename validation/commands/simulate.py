@@ -84,5 +84,6 @@ def _run_certified(args: argparse.Namespace, params) -> int:
         _finish(args, seq)
         return 0
     write_output(args, seq)  # the certified prefix only (no plot of a partial orbit)
+    k = run.impacts_certified
     raise CommandFailed(f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
-                        f"{run.impacts_certified} certified impacts before it")
+                        f"{k} certified impact{'' if k == 1 else 's'} before it")
