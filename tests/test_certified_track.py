@@ -233,10 +233,17 @@ def test_bad_input_names_the_parameter():
         gr.orbit(FIG3, 0.0, 0.5, 3, track="euler")
 
 
-def test_progress_reports_impacts():
+def test_progress_reports_impacts_and_the_bar_shows_the_precision(monkeypatch, capsys):
     seen = []
     certified_orbit(FIG3, 0.0, 0.5, 5, progress=lambda done, total: seen.append((done, total)))
     assert seen and seen[-1] == (5, 5)
+    from gear_rattle.core import progress as P
+
+    monkeypatch.setattr(P, "stderr_is_terminal", lambda: True)
+    with P.Bar("certified orbit") as bar:
+        certified_orbit(FIG3, 0.0, 0.5, 5, progress=bar)
+    err = capsys.readouterr().err
+    assert "certified orbit" in err and "5.00/5.00" in err and "320 bits" in err
 
 
 def test_cli_csv_columns_and_json(tmp_path, capsys):

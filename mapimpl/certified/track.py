@@ -415,7 +415,8 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
         The flight horizon: a flight proven to reach no wall within it ends the orbit (``no_impact``).
     progress : optional
         None/True: a bar of the impacts and the precision on a terminal; False: none; a callable
-        ``progress(done, total)`` (:mod:`gear_rattle.core.progress`).
+        ``progress(done, total)`` (:mod:`gear_rattle.core.progress`; ``done`` starts again at each
+        attempt of the schedule; a :class:`~gear_rattle.core.progress.Bar` also shows the precision).
 
     Returns
     -------
@@ -478,6 +479,8 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
             return
         last_tick[0] = now
         if user is not None:
+            if isinstance(user, Bar):  # the caller's bar shows the precision too
+                user.postfix(f"{bits} bits")
             user(done, n_impacts)
         bar.postfix(f"{bits} bits")
         bar.update(done, n_impacts)
