@@ -84,7 +84,7 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: s
     **solver_options
         Of the numerical tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``,
         ``max_steps`` (diffrax); the map track takes none; the certified track ``stick_time``, ``prec``,
-        ``max_prec`` (the precision schedule's start and limit, bits) and ``t_max``.
+        ``max_prec`` (the precision schedule's start and limit, bits), ``t_max`` and ``time_budget_s``.
 
     Returns
     -------

@@ -165,6 +165,16 @@ def test_the_flight_horizon_is_the_map_tracks():
     assert MAP_T_MAX == T_MAX
 
 
+def test_a_time_budget_stops_the_schedule_with_a_certified_prefix():
+    run = certified_orbit(PAPER_PARAMS, 3.2, 0.3, 5000, time_budget_s=0.3, progress=False)
+    assert not run.complete and run.status == "uncertified" and "the time budget is spent (0.3 s)" in run.reason
+    k = run.first_uncertified
+    assert k == run.impacts_certified and list(run.rows["n"]) == list(range(k)) and k < 5000
+    assert run.seconds < 5.0  # one step past the deadline at most, and no further attempt
+    with pytest.raises(ValueError, match="time_budget_s=0"):
+        certified_orbit(FIG3, 0.0, 0.5, 3, time_budget_s=0)
+
+
 def test_working_precision_follows_the_bits_left():
     assert working_precision(2048, math.inf) == 2048
     assert working_precision(2048, 1000.0) == 1088

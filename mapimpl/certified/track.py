@@ -74,6 +74,8 @@ TIGHT_FLOOR = 2.0 ** -60
 MARGIN_BITS, GROWTH_IMPACTS = 128, 32
 #: The reason of an attempt stopped by a ball too wide (more precision would narrow it).
 WIDE = "its enclosure is wider than float64's resolution"
+#: The reason of an attempt stopped by the time budget.
+TIME_OUT = "the time budget is spent"
 #: Columns of the bounds, after :data:`core.results.COLUMNS`.
 BOUND_COLUMNS = ("tau_lo", "tau_hi", "tau_mod_2pi_lo", "tau_mod_2pi_hi", "sdot_lo", "sdot_hi")
 
@@ -245,7 +247,7 @@ class _Run:
 
 
 def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, prec: int, stick_time: float,
-             t_max: float, tick, growth_hint: float | None = None) -> _Run:
+             t_max: float, tick, growth_hint: float | None = None, deadline: float | None = None) -> _Run:
     """One attempt at ``prec`` bits from the exact start (see the module docstring); ``growth_hint``: the
     bits lost per impact an earlier attempt measured (the working precision then stays below what the rest
     of the orbit needs at that rate, :func:`working_precision`)."""
@@ -290,6 +292,8 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
         log_bits.append((0, min(bits0, _bits_left(tau, sdot))))
         tick(0, prec)
         for n in range(1, n_impacts + 1):
+            if deadline is not None and time.monotonic() > deadline:
+                return stopped(n, TIME_OUT)
             cap = None if growth_hint is None else _bits_for(growth_hint, n_impacts - n + 1) + GUARD_BITS
             work = working_precision(prec, _bits_left(tau, sdot), cap)
             try:
@@ -393,7 +397,7 @@ def _check_prec(name: str, value) -> int:
 
 def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: float | None = None,
                     stick_time: float = STICK_TIME, prec: int = START_PREC, max_prec: int = MAX_TRACK_PREC,
-                    t_max: float = MAP_T_MAX, progress=None) -> CertifiedRun:
+                    t_max: float = MAP_T_MAX, time_budget_s: float | None = None, progress=None) -> CertifiedRun:
     """The certified orbit: impact 0 and ``n_impacts`` further impacts, every row proven (module docstring).
 
     Parameters
@@ -413,6 +417,9 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
         The first precision of the schedule and its limit (bits, ``64 .. 65536``).
     t_max : float, optional
         The flight horizon: a flight proven to reach no wall within it ends the orbit (``no_impact``).
+    time_budget_s : float, optional
+        Wall-time budget of the whole schedule: past it the attempt under way stops and no other starts
+        (``uncertified``, the reason says so; the certified prefix is kept).
     progress : optional
         None/True: a bar of the impacts and the precision on a terminal; False: none; a callable
         ``progress(done, total)`` (:mod:`gear_rattle.core.progress`; ``done`` starts again at each
@@ -463,10 +470,13 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     prec = min(prec, max_prec)
     if not (isinstance(t_max, (int, float)) and math.isfinite(t_max) and t_max > 0):
         raise ValueError(f"t_max={t_max!r} is out of range: allowed finite t_max > 0")
+    if time_budget_s is not None and not (isinstance(time_budget_s, (int, float)) and time_budget_s > 0):
+        raise ValueError(f"time_budget_s={time_budget_s!r} is out of range: allowed time_budget_s > 0")
     p64 = params if isinstance(params, _P) else Model(params).params
     user = sink(progress)
     bar = Bar("certified orbit", total=n_impacts, enabled=wanted(progress), delay=1.0)
     t0 = time.monotonic()
+    deadline = None if time_budget_s is None else t0 + float(time_budget_s)
     attempts: list[Attempt] = []
     best: _Run | None = None
     best_prec = prec
@@ -488,12 +498,13 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     with bar:
         while True:
             ta = time.monotonic()
-            run = _attempt(params, tau0, sdot0, n_impacts, s0, prec, float(stick_time), float(t_max), tick, hint)
+            run = _attempt(params, tau0, sdot0, n_impacts, s0, prec, float(stick_time), float(t_max), tick, hint,
+                           deadline)
             attempts.append(Attempt(prec, run.reached, run.complete, "" if run.complete else run.reason, run.growth,
                                     time.monotonic() - ta))
             if best is None or run.complete or run.reached >= best.reached:
                 best, best_prec = run, prec
-            if run.complete or prec >= max_prec:
+            if run.complete or prec >= max_prec or run.reason == TIME_OUT:
                 break
             prec = _next_prec(prec, run, n_impacts, max_prec)
             if math.isfinite(run.growth) and run.growth > 0 and run.reached >= GROWTH_IMPACTS:
@@ -501,7 +512,11 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     assert best is not None
     first = None if best.complete else best.reached + 1
     reason = best.reason
-    if not best.complete:
+    if not best.complete and attempts[-1].reason == TIME_OUT:
+        reason = (f"{TIME_OUT} ({time_budget_s:g} s) at {attempts[-1].prec} bits; the best attempt ({best_prec} bits) "
+                  f"stopped: {best.reason}" if best_prec != attempts[-1].prec else
+                  f"{TIME_OUT} ({time_budget_s:g} s) at {best_prec} bits")
+    elif not best.complete:
         reason = (f"the precision limit ({max_prec} bits) is reached and {best.reason}"
                   if best.reason.startswith(WIDE) else f"{best.reason} (at {best_prec} bits; the precision limit is "
                                                        f"{max_prec} bits)")
@@ -542,7 +557,7 @@ __all__ = ["START_PREC", "MAX_TRACK_PREC", "GUARD_BITS", "MIN_WORK_PREC", "TIGHT
 
 
 #: The options of the certified track in :func:`mapimpl.tracks.orbit` (those of :func:`certified_orbit`).
-TRACK_OPTIONS = ("stick_time", "prec", "max_prec", "t_max")
+TRACK_OPTIONS = ("stick_time", "prec", "max_prec", "t_max", "time_budget_s")
 
 
 def track_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, progress=None,
