@@ -192,6 +192,23 @@ def test_free_flight_start():
     assert np.abs(seq.tau - run.rows["tau"]).max() < 1e-13
 
 
+@pytest.mark.parametrize("params, s0, status", [
+    (Params(0.0, 0.1, 0.5, 0.9), 0.0, "stuck_forever"),   # pressed into s = 0 at rest, never released
+    (Params(1.0, 0.1, 0.5, 0.9), 0.0, "active"),          # pressed into s = 0: sticks at once, released
+    (Params(1.0, 0.1, -0.5, 0.9), 0.0, "active"),         # pulled away from s = 0: a flight from rest
+    (Params(1.0, 0.1, 0.5, 0.9), -1.0, "active"),         # pulled away from s = -1
+])
+def test_a_start_at_rest_on_a_wall_is_the_map_tracks(params, s0, status):
+    """Both failed before (the departure from rest was not certified): impact 0 at once where the force
+    presses (sdot 0, then the policy), a flight from rest where it pulls; the map lies within 1e-13
+    (measured 2.1e-14)."""
+    run = certified_orbit(params, 0.0, 0.0, 6, s0=s0, progress=False)
+    seq = gr.orbit(params, 0.0, 0.0, 6, s0=s0, track="map")
+    assert run.complete and run.status == status == seq.status
+    assert list(run.rows["kind"]) == list(seq.kind) and list(run.rows["wall"]) == list(seq.wall)
+    assert np.nanmax(np.abs(run.rows["tau"] - seq.tau)) < 1e-13
+
+
 def test_sticking_stuck_forever_and_no_impact_endings():
     chatter = certified_orbit(Params(2.0, 0.1, 1.0, 0.5), 0.0, 0.5, 40, progress=False)
     kinds = list(chatter.rows["kind"])

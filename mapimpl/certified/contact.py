@@ -69,6 +69,9 @@ def _departure(fl: Flight, start_wall: int, release: bool, prec: int) -> arb:
         if release:
             # v0 = 0 and s''(0) = f(tau_release) = 0 exactly: gap / t^3 = sign (j(0)/6 + s''''(xi) t/24)
             fac = sign * (fl.j(zero) / 6 + fl.snap(I) * I / 24)
+        elif fl.v0.is_zero():
+            # at rest, pulled away from the wall: gap / t^2 = sign s''(xi) / 2
+            fac = sign * fl.a(I) / 2
         else:
             fac = sign * (fl.v0 + fl.a(I) * I / 2)
         if fac > 0 and fl.gap_enclosure(far, zero, h0) > 0:

@@ -277,6 +277,10 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
             if s0 is None:
                 tau, sdot = exact(tau0), exact(sdot0)
                 wall = 0 if sdot0 > 0 else -1
+            elif sdot0 == 0.0 and s0 in (0.0, -1.0) and (1 if s0 == 0.0 else -1) * model.forcing(exact(tau0)) > 0:
+                # at rest on a wall that the force presses into: the contact is at once (the map track's
+                # rule), impact 0 with sdot 0, and the sticking policy decides what follows
+                tau, sdot, wall = exact(tau0), arb(0), (0 if s0 == 0.0 else -1)
             else:
                 try:
                     c = certified_flight(model, exact(tau0), s0, exact(sdot0), prec=prec, t_max=t_max)
