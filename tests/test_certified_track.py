@@ -223,6 +223,11 @@ def test_sticking_stuck_forever_and_no_impact_endings():
     none = certified_orbit(Params(0.0, 0.1, 0.0, 0.9), 0.0, 0.01, 5, progress=False)
     assert none.complete and none.status == "no_impact" and len(none.rows["tau"]) == 1
     assert "T_MAX=2000" in none.reason and "for all t > 0" in none.reason
+    # the map's flight horizon: gamma = 1e-6 drifts back to s = 0 only after ~9000 time units, beyond
+    # T_MAX = 2000 (no_impact on the map track too)
+    horizon = certified_orbit(Params(0.0, 0.1, 1e-6, 0.9), 0.0, 0.01, 3, progress=False)
+    assert horizon.status == "no_impact" == gr.orbit(Params(0.0, 0.1, 1e-6, 0.9), 0.0, 0.01, 3).status
+    assert "within T_MAX=2000 (certified)" in horizon.reason and "for all t" not in horizon.reason
     # a free-flight start that reaches no wall: no rows at all (the map's header-only file)
     free = certified_orbit(Params(0.0, 0.1, 0.0, 0.9), 0.0, 0.0, 5, s0=-0.5, progress=False)
     assert free.complete and free.status == "no_impact" and len(free.rows["tau"]) == 0
