@@ -72,16 +72,21 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: s
         impact is impact 0.
     n_impacts : int
         Impacts after impact 0 (an orbit that sticks forever or never lands again ends early).
-    track : {"map", "scipy", "diffrax"}
-        The closed-form impact map (:mod:`gear_rattle.mapimpl.orbit`) or a numerical integration of
-        Eq. (3) (:mod:`gear_rattle.reference`); :data:`TRACKS`.
+    track : {"map", "scipy", "diffrax", "certified"}
+        The closed-form impact map (:mod:`gear_rattle.mapimpl.orbit`), a numerical integration of
+        Eq. (3) (:mod:`gear_rattle.reference`; :data:`TRACKS`), or the certified track
+        (:mod:`gear_rattle.mapimpl.certified.track`: every row proven in ball arithmetic, the values the
+        float64 nearest to the exact ones and float64 bounds in ``seq.bounds``; it raises
+        :class:`~gear_rattle.mapimpl.certified.track.UncertifiedOrbit`, holding the certified prefix, where
+        no precision up to its limit certifies every impact).
     s0 : float, optional
         A start in free flight, ``-1 <= s0 <= 0``.
     progress : bool, optional
         True for a bar on a terminal (:mod:`gear_rattle.core.progress`).
     **solver_options
         Of the numerical tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``,
-        ``max_steps`` (diffrax); the map track takes none.
+        ``max_steps`` (diffrax); the map track takes none; the certified track ``stick_time``, ``prec``,
+        ``max_prec`` (the precision schedule's start and limit, bits), ``t_max`` and ``time_budget_s``.
 
     Returns
     -------

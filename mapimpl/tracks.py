@@ -4,7 +4,10 @@
 * ``map`` -- the closed form (:mod:`mapimpl`): :func:`mapimpl.orbit.map_orbit`, and the analytic
   Jacobian of Eqs. (12)-(13) from :func:`mapimpl.impact_map.step`;
 * ``scipy`` and ``diffrax`` -- Eq. (3) integrated numerically (:mod:`reference`), imported on first
-  use (diffrax is heavy; a missing integrator shows up as ``ImportError`` from :func:`get`).
+  use (diffrax is heavy; a missing integrator shows up as ``ImportError`` from :func:`get`);
+* ``certified`` (:func:`orbit` only, :data:`ORBIT_TRACKS`) -- the orbit in ball arithmetic, every row
+  proven, with float64 bounds (:func:`mapimpl.certified.track.track_orbit`); it has no float64 step
+  Jacobian, so it is not a :class:`core.results.Track` of :data:`TRACKS`.
 
 All return :class:`core.results.ImpactSequence` and :class:`core.results.StepJacobian`.
 """
@@ -26,6 +29,9 @@ from .orbit import initial_state, map_orbit
 from ..core.checks import start_wall
 from ..core.params import Params
 from ..core.results import TRACKS, ImpactSequence, StepJacobian, Track, TrackFunctions
+
+#: The tracks :func:`orbit` takes: :data:`TRACKS` and the certified track.
+ORBIT_TRACKS = TRACKS + ("certified",)
 
 #: Where the numerical tracks live (each module defines ``TRACK``).
 _MODULES = {"scipy": "gear_rattle.reference.scipy_track", "diffrax": "gear_rattle.reference.diffrax_track"}
@@ -80,12 +86,19 @@ def get(track: str) -> Track:
 
 def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
           **options) -> ImpactSequence:
-    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`); every
-    track takes ``progress=`` (:mod:`gear_rattle.core.progress`), the numerical ones their solver
-    options.  ``TypeError`` when ``params`` is not a :class:`Params`."""
+    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`, or the
+    certified track: one of :data:`ORBIT_TRACKS`); every track takes ``progress=``
+    (:mod:`gear_rattle.core.progress`), the numerical ones their solver options, the certified one
+    :data:`mapimpl.certified.track.TRACK_OPTIONS`.  ``TypeError`` when ``params`` is not a :class:`Params`."""
     from ..core.params import check_params
 
     check_params(params)
+    if track == "certified":
+        from .certified.track import track_orbit
+
+        return track_orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
+    if track not in TRACKS:
+        raise ValueError(f"track={track!r} is out of range: allowed one of {', '.join(ORBIT_TRACKS)}")
     return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
 
 
@@ -95,4 +108,4 @@ def step_jacobian(track: str, params: Params, tau: float, sdot: float, wall: int
     return get(track).step_jacobian(params, tau, sdot, wall, **options)
 
 
-__all__ = ["TRACKS", "MAP", "get", "orbit", "step_jacobian"]
+__all__ = ["TRACKS", "ORBIT_TRACKS", "MAP", "get", "orbit", "step_jacobian"]

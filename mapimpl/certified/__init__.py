@@ -13,6 +13,7 @@ Modules, bottom up:
 :mod:`.contact`    the first wall contact of a flight, certified (:func:`certified_flight`)
 :mod:`.sticking`   the sticking policy in balls: stick or bounce, the release time
 :mod:`.orbit`      one certified map step (Eqs. 11-13) and certified impact sequences
+:mod:`.track`      the certified track on demand: any orbit, a precision schedule, float64 bounds
 :mod:`.noimpact`   orbits that end with a flight proven never to land (``no_impact``, ``gamma = 0``)
 :mod:`.capture`    the capture target of Figs. 9-11 and the certified capture decision
 :mod:`.release`    one certified run of the canonical release orbit at one precision
@@ -27,29 +28,31 @@ A new certified computation is a new module here, built on :mod:`.model`, :mod:`
 :mod:`.orbit` (or :mod:`.krawczyk` for a zero of an analytic system).
 """
 
-from .balls import (MAX_PREC, PREC, CertificationError, decimal_interval, exact, mod_two_pi, nearest_float, precision,
-                    span, upper_float)
+from .balls import (MAX_PREC, PREC, CertificationError, decimal_interval, exact, float_bounds, mod_two_pi, nearest_float,
+                    precision, span, upper_float)
 from .capture import Target, capture_decision, certified_distance, float64_target
-from .contact import MAX_EVALS, T_MAX, FlightCertificate, certified_flight, mean_value_impact
+from .contact import MAX_EVALS, T_MAX, FlightCertificate, NoContactError, certified_flight, mean_value_impact
 from .duration import (PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
                        certified_release_durations, model_params)
 # (the function krawczyk stays in its module: re-exported, it would hide the module .krawczyk itself)
 from .krawczyk import KrawczykResult, refine, verify_box
 from .model import PARAM_NAMES, Flight, Model, parameter_ball
 from .noimpact import certify_never_lands, certify_no_impact_orbit
-from .orbit import CertifiedOrbit, CertifiedStep, Event, certified_step, certify_orbit
+from .orbit import CertifiedOrbit, CertifiedStep, Departure, Event, certified_departure, certified_step, certify_orbit
 from .periodic import (CertifiedBifurcation, CertifiedPeriodicOrbit, certify_bifurcation, certify_periodic_orbit,
                        floquet, prove_flights)
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, certify_post_release, certify_post_release_deltas
+from .track import CertifiedRun, CertifiedSequence, UncertifiedOrbit, certified_orbit
 from .sticking import certify_release, certify_zero, release_delay, release_phase, release_time, stick_decision
 
 __all__ = [
-    "MAX_PREC", "PREC", "CertificationError", "decimal_interval", "exact", "mod_two_pi", "nearest_float", "precision", "span",
+    "MAX_PREC", "PREC", "CertificationError", "decimal_interval", "exact", "float_bounds", "mod_two_pi", "nearest_float", "precision", "span",
     "upper_float", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
-    "T_MAX", "FlightCertificate", "certified_flight", "mean_value_impact", "PRECISIONS",
+    "T_MAX", "FlightCertificate", "NoContactError", "certified_flight", "mean_value_impact", "PRECISIONS",
     "ROUNDINGS", "ReleaseDuration", "certified_release_duration", "certified_release_durations", "model_params",
     "PARAM_NAMES", "Flight", "Model", "parameter_ball", "certify_never_lands", "certify_no_impact_orbit",
-    "CertifiedOrbit", "CertifiedStep", "Event",
+    "CertifiedOrbit", "CertifiedStep", "Departure", "Event", "certified_departure",
+    "CertifiedRun", "CertifiedSequence", "UncertifiedOrbit", "certified_orbit",
     "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",
     "certify_post_release_deltas", "certify_release", "certify_zero", "release_delay", "release_phase",
     "release_time", "stick_decision", "KrawczykResult", "refine", "verify_box", "CertifiedBifurcation",

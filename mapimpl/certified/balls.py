@@ -51,6 +51,21 @@ def upper_float(x: arb) -> float:
     return math.nextafter(u, math.inf)
 
 
+def float_bounds(x: arb) -> tuple[float, float]:
+    """The float64 interval ``[lo, hi]`` that contains the ball ``x``, as narrow as float64 allows:
+    ``lo`` is the largest float64 ``<=`` every point of ``x``, ``hi`` the smallest ``>=`` (each end
+    rounded outward exactly, so at most one ulp beyond the ball's end)."""
+    if not x.is_finite():
+        raise ValueError(f"x={x!r} is out of range: allowed a finite ball")
+    lo_end, hi_end = x.lower(), x.upper()
+    lo, hi = float(lo_end), float(hi_end)
+    while arb(lo) > lo_end:  # float() may round the exact end either way: step outward until it is below
+        lo = math.nextafter(lo, -math.inf)
+    while arb(hi) < hi_end:
+        hi = math.nextafter(hi, math.inf)
+    return lo, hi
+
+
 def nearest_float(x: arb) -> float:
     """The float64 nearest to the ball's midpoint (40-digit decimal, then correctly rounded)."""
     return float(x.mid().str(45, radius=False))

@@ -39,6 +39,10 @@ T_MAX = 400.0
 MAX_EVALS = 200_000
 
 
+class NoContactError(CertificationError):
+    """Proven: the flight reaches no wall within ``t_max`` (both gaps positive on ``[0, t_max]``)."""
+
+
 @dataclass
 class FlightCertificate:
     """What one certified flight proved."""
@@ -65,6 +69,9 @@ def _departure(fl: Flight, start_wall: int, release: bool, prec: int) -> arb:
         if release:
             # v0 = 0 and s''(0) = f(tau_release) = 0 exactly: gap / t^3 = sign (j(0)/6 + s''''(xi) t/24)
             fac = sign * (fl.j(zero) / 6 + fl.snap(I) * I / 24)
+        elif fl.v0.is_zero():
+            # at rest, pulled away from the wall: gap / t^2 = sign s''(xi) / 2
+            fac = sign * fl.a(I) / 2
         else:
             fac = sign * (fl.v0 + fl.a(I) * I / 2)
         if fac > 0 and fl.gap_enclosure(far, zero, h0) > 0:
@@ -107,6 +114,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
     ------
     CertificationError
         When the first contact cannot be proven (e.g. a tangential contact); never loops.
+        :class:`NoContactError` (a subclass) when it is proven that no wall is reached within ``t_max``.
 
     Examples
     --------
@@ -144,7 +152,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
         if evals >= max_evals:
             raise CertificationError(f"interval budget exhausted at flight time {float(t):.17g}")
         if t > tmax:
-            raise CertificationError(f"no wall contact within t_max={t_max}")
+            raise NoContactError(f"no wall contact within t_max={t_max}")
         tb = t + h
         g = {w: fl.gap_enclosure(w, t, tb) for w in (0, -1)}
         evals += 2
@@ -234,10 +242,66 @@ def _refine(fl: Flight, w: int, lo: arb, hi: arb, prec: int) -> arb:
         eps = eps * 2
     raise CertificationError("root refinement failed")
 
+def refine_from(fl: Flight, w: int, lo: arb, hi: arb, prec: int, x0: arb) -> arb:
+    """The unique root of ``gap_w`` in the certified bracket ``[lo, hi]`` (as :func:`_refine`), from a
+    start ``x0`` already accurate to :data:`LEAN_START_PREC` bits, at about one gap evaluation at ``prec``.
+
+    Newton on exact midpoints at a precision that doubles from there up to about ``prec / 2`` (Newton
+    squares the error), then one *interval* Newton step at ``prec``: with ``X = [x - e, x + e]`` inside
+    the bracket, ``N = x - gap(x) / gap'(X)`` (``gap(x)`` at ``prec``, ``gap'(X)`` at half of it: ``X`` is
+    ``2^(-prec/2)`` wide, so ``N`` is ``2^-prec`` wide).  ``N`` inside ``X`` proves that ``X`` holds
+    exactly one root, in ``N`` (Moore's interval Newton theorem; the gap is monotone on the bracket
+    anyway).  :func:`_refine` where Newton leaves the bracket or the step does not contract."""
+    x = arb(x0.mid())
+    half = prec // 2 + 32
+    work = min(LEAN_START_PREC, half)
+    old_prec = ctx.prec
+    try:
+        for _ in range(200):
+            ctx.prec = work
+            g, d = fl.gap(w, x).mid(), fl.gap_rate(w, x).mid()
+            if d.is_zero():
+                return _refine(fl, w, lo, hi, prec)
+            xn = (x - g / d).mid()
+            if not (xn > lo and xn < hi):
+                return _refine(fl, w, lo, hi, prec)
+            step, x = abs(xn - x), xn
+            if step < arb(2) ** (-(work // 2)) * (abs(x) + 1):
+                if work >= half:
+                    break
+                work = min(2 * work, half)
+        else:
+            return _refine(fl, w, lo, hi, prec)
+        ctx.prec = prec
+        gx = fl.gap(w, x)
+        # X around x of about the distance to the root (Newton's correction at prec): N is then as narrow
+        # as gap(x) / gap'(X) allows, 2^-prec (a wider X would widen N by e * gap'' / gap')
+        ctx.prec = half
+        e = 4 * abs(gx.mid() / fl.gap_rate(w, x).mid()) + arb(2) ** (-(prec - 24)) * (abs(x) + 1)
+        ctx.prec = prec
+        e = arb(upper_float(e)) if float(e) > 1e-300 else arb(e.upper())
+        for _ in range(8):
+            X = span(x - e, x + e)
+            if X.lower() > lo and X.upper() < hi:
+                ctx.prec = half
+                dX = fl.gap_rate(w, X)
+                ctx.prec = prec
+                if not dX.contains(0):
+                    N = x - gx / dX
+                    if N.lower() > X.lower() and N.upper() < X.upper():
+                        return N
+            e = e * 16
+    finally:
+        ctx.prec = old_prec
+    return _refine(fl, w, lo, hi, prec)
+
+
+#: Bits a start of :func:`refine_from` must carry.
+LEAN_START_PREC = 96
 
 
 def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: float, v0: arb, release: bool,
-                      prec: int, t_max: float) -> tuple[arb, arb]:
+                      prec: int, t_max: float, *, lean: bool = False) -> tuple[arb, arb]:
     """Tighter enclosure of the impact ``(tau1, v1)`` over the input box by the mean-value form.
 
     ``c_box`` certified the flight for *every* state in the box (same wall, no earlier contact,
@@ -250,7 +314,10 @@ def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: flo
 
     evaluated with ``t`` and ``v1`` in their box enclosures.  The result is intersected with the
     direct (box) enclosure; both are rigorous.  Without it the boxes grow by the *absolute values*
-    of every partial derivative of every term (a factor ~50 per impact at alpha = 3).
+    of every partial derivative of every term (a factor ~50 per impact at alpha = 3).  ``lean``: the
+    midpoint's root by :func:`refine_from`, started from the box's root (``c_box`` may then come from a
+    lower precision: its enclosures only bound the Jacobian; the certified track,
+    :mod:`.track`).
     """
     crude_tau, crude_v = tau0 + c_box.t, c_box.v
     if release or (tau0.is_exact() and v0.is_exact()):
@@ -262,18 +329,24 @@ def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: flo
     # the gap in the root bracket) holds for it, so only its root needs narrowing
     fl_pt = Flight(model, m_tau, exact(s0), m_v)
     lo, hi = c_box.root_bracket
-    t_pt = _refine(fl_pt, c_box.wall, lo, hi, prec)
+    t_pt = refine_from(fl_pt, c_box.wall, lo, hi, prec, c_box.t) if lean else _refine(fl_pt, c_box.wall, lo, hi, prec)
     v_pt = fl_pt.v(t_pt)
-    b = model.beta
-    t, v1 = c_box.t, c_box.v
-    em1 = (-b * t).expm1()
-    e, e1 = em1 + 1, -em1 / b
-    a0 = model.forcing(tau0) - b * v0
-    a1 = model.forcing(tau0 + t) - b * v1
-    dt_tau = (v0 + e1 * a0) / v1
-    dt_v = -e1 / v1
-    dv_tau = a1 * dt_tau - e * a0
-    dv_v = a1 * dt_v + e
+    full = ctx.prec
+    if lean:  # the Jacobian multiplies the box's radius: a few digits of it suffice
+        ctx.prec = min(full, LEAN_START_PREC)
+    try:
+        b = model.beta
+        t, v1 = c_box.t, c_box.v
+        em1 = (-b * t).expm1()
+        e, e1 = em1 + 1, -em1 / b
+        a0 = model.forcing(tau0) - b * v0
+        a1 = model.forcing(tau0 + t) - b * v1
+        dt_tau = (v0 + e1 * a0) / v1
+        dt_v = -e1 / v1
+        dv_tau = a1 * dt_tau - e * a0
+        dv_v = a1 * dt_v + e
+    finally:
+        ctx.prec = full
     rt, rv = tau0.rad(), v0.rad()
     d_tau, d_v = span(-rt, rt), span(-rv, rv)
     mv_tau = m_tau + t_pt + dt_tau * d_tau + dt_v * d_v

@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from flint import arb
+from flint import arb, ctx
 
 from ..sticking import STICK_TIME
-from .balls import PREC, exact, mod_two_pi, precision
+from .balls import PREC, CertificationError, exact, mod_two_pi, precision
 from .contact import T_MAX, FlightCertificate, certified_flight, mean_value_impact
 from .model import Model
 from .sticking import certify_release, release_time, stick_decision
@@ -66,28 +66,63 @@ class CertifiedStep:
         return self.tau, self.sdot, self.wall, self.flight
 
 
+@dataclass
+class Departure:
+    """How the flight after a pre-impact state leaves its wall under the sticking policy, certified:
+    ``start, v0, release`` (the departure time and velocity balls; ``release``: from rest at a zero of
+    the contact force); ``stick``: the policy stick time ``tau_n + t_acc`` (``None``: it bounced);
+    ``rel``: the certified release time (``None``: bounced); ``pieces``: of the release proof.
+    ``start`` is ``None`` when the tooth sticks forever."""
+
+    start: arb | None
+    v0: arb | None
+    release: bool
+    stick: arb | None = None
+    rel: arb | None = None
+    pieces: int = 0
+
+
+def certified_departure(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int,
+                        stick_time: float = STICK_TIME, decide_prec: int | None = None) -> Departure:
+    """The first half of a map step from the pre-impact state ``(tau, sdot)`` on ``wall``: the reset
+    ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy, the jump to the accumulation point and
+    the release at the canonical phase (:func:`release_time`, certified by :func:`certify_release`)
+    with ``sdot = 0``; or stuck forever (``start`` None).  ``decide_prec``: first try the policy's
+    decision at that (lower) precision; a bounce proven there is a bounce (the balls enclose the
+    exact values at any precision), anything else is decided again at the current precision."""
+    if decide_prec is not None and decide_prec < ctx.prec:
+        full = ctx.prec
+        ctx.prec = decide_prec
+        try:
+            bounce = stick_decision(model, tau, wall, sdot, stick_time) is None
+        except CertificationError:
+            bounce = False
+        finally:
+            ctx.prec = full
+        if bounce:
+            return Departure(tau, -model.r * sdot, False)
+    dec = stick_decision(model, tau, wall, sdot, stick_time)
+    if dec is None:
+        return Departure(tau, -model.r * sdot, False)
+    t_acc, delay = dec
+    stick = tau + t_acc
+    if delay is None:
+        return Departure(None, None, False, stick)
+    start, pieces = certify_release(model, tau, release_time(model, tau, wall), wall, prec)
+    return Departure(start, arb(0), True, stick, start, pieces)
+
+
 def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, stick_time: float = STICK_TIME,
                    t_max: float = T_MAX) -> CertifiedStep:
-    """Apply the impact map to the pre-impact state ``(tau, sdot)`` on ``wall`` (balls): the reset
-    ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy, the jump to the accumulation point
-    and the release at the canonical phase (:func:`release_time`, certified by
-    :func:`certify_release`) with ``sdot = 0``; then the certified first impact (Eqs. 7-8) with the
-    mean-value enclosure (:func:`mean_value_impact`)."""
-    dec = stick_decision(model, tau, wall, sdot, stick_time)
-    stick = rel = None
-    pieces = 0
-    if dec is None:
-        start, v0, release = tau, -model.r * sdot, False
-    else:
-        t_acc, delay = dec
-        stick = tau + t_acc
-        if delay is None:
-            return CertifiedStep(None, None, None, None, stick)
-        start, pieces = certify_release(model, tau, release_time(model, tau, wall), wall, prec)
-        rel, v0, release = start, arb(0), True
-    c = certified_flight(model, start, float(wall), v0, release=release, prec=prec, t_max=t_max)
-    new_tau, c.v = mean_value_impact(model, c, start, float(wall), v0, release, prec, t_max)
-    return CertifiedStep(new_tau, c.v, c.wall, c, stick, rel, pieces)
+    """Apply the impact map to the pre-impact state ``(tau, sdot)`` on ``wall`` (balls): the departure
+    (:func:`certified_departure`: the reset, or the sticking policy's stick and release), then the
+    certified first impact (Eqs. 7-8) with the mean-value enclosure (:func:`mean_value_impact`)."""
+    dep = certified_departure(model, tau, sdot, wall, prec=prec, stick_time=stick_time)
+    if dep.start is None or dep.v0 is None:
+        return CertifiedStep(None, None, None, None, dep.stick)
+    c = certified_flight(model, dep.start, float(wall), dep.v0, release=dep.release, prec=prec, t_max=t_max)
+    new_tau, c.v = mean_value_impact(model, c, dep.start, float(wall), dep.v0, dep.release, prec, t_max)
+    return CertifiedStep(new_tau, c.v, c.wall, c, dep.stick, dep.rel, dep.pieces)
 
 
 def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,

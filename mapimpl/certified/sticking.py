@@ -24,6 +24,10 @@ def stick_decision(model: Model, tau: arb, wall: int, sdot: arb, stick_time: flo
     """
     d = 1 if wall == 0 else -1
     f_in = d * model.forcing(tau)
+    if f_in.is_zero():
+        # exactly zero (e.g. alpha = gamma = 0): not pressing, or pressing with t_acc = 2 u / 0 = inf
+        # (mapimpl.sticking's rule): it bounces either way
+        return None
     if f_in > 0:
         pressing = True
     elif f_in < 0:

@@ -3,13 +3,21 @@ before the impact, kind) plus stick/release rows under the sticking policy.
 
 The initial state (--tau0, --sdot0) is the state just before an impact (sdot0 > 0 hits s = 0,
 sdot0 < 0 hits s = -1), as in the paper; with --s0 it is a free-flight state instead.
+
+``--track certified`` proves every row in ball arithmetic (:mod:`mapimpl.certified.track`): the values are
+the float64 nearest to the exact ones, followed by the float64 bounds ``tau_lo ... sdot_hi`` that contain
+them.  Its precision rises by itself up to ``--max-precision``; where that does not certify every impact,
+the certified rows alone are written (a prefix: the JSON says so in ``certified``) and the command ends with
+one line naming the first impact not certified and why, exit status 1.
 """
 
 from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_IMPACTS, add_output_options, add_param_args, check_outputs, nonneg_int, note, params_from, progress_arg,
+from ...mapimpl.certified.balls import MAX_PREC
+from ...mapimpl.certified.track import MAX_TRACK_PREC
+from ..cliutil import (MAX_IMPACTS, CliError, CommandFailed, add_output_options, int_range, add_param_args, check_outputs, nonneg_int, note, params_from, progress_arg,
                        real, tau0_type, write_output, write_plot)
 
 NAME = "simulate"
@@ -24,8 +32,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
     p.add_argument("--impacts", type=nonneg_int("--impacts", MAX_IMPACTS), default=1000,
                    help=f"impacts after impact 0, 0 to {MAX_IMPACTS} (default 1000)")
-    p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
-                   help="which track computes the orbit (default map)")
+    p.add_argument("--track", choices=("map", "scipy", "diffrax", "certified"), default="map",
+                   help="which track computes the orbit (default map; certified: every row proven, with float64 bounds)")
+    p.add_argument("--max-precision", type=int_range("--max-precision", 64, MAX_PREC), default=None,
+                   help=f"--track certified: the precision limit in bits, 64 to {MAX_PREC} (default {MAX_TRACK_PREC}); "
+                        "the precision starts at 320 bits (or the limit) and rises until every impact is certified")
     add_output_options(p, output="the events", plot="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
     p.add_argument("--plot-span", type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4), default=50.0,
                    help="time span of the plot in tau units, 0 < span <= 1e4 (default 50.0)")
@@ -35,8 +46,18 @@ def run(args: argparse.Namespace) -> int:
     from ...mapimpl.tracks import orbit
 
     params = params_from(args)
+    if args.max_precision is not None and args.track != "certified":
+        raise CliError("--max-precision: allowed with --track certified only")
     check_outputs(args)
+    if args.track == "certified":
+        return _run_certified(args, params)
     seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0, progress=progress_arg(args))
+    _finish(args, seq)
+    return 0
+
+
+def _finish(args: argparse.Namespace, seq) -> None:
+    """The plot, the output and the note of an orbit that ended early."""
     fig = None
     if args.plot:  # drawn before anything is written
         from ..plots import time_series_figure
@@ -49,4 +70,20 @@ def run(args: argparse.Namespace) -> int:
                "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
         note(f"the orbit ended after {int(seq.impacts.sum()) - 1} impacts (status {seq.status}: {why})")
     write_plot(args, fig, dpi=110)
-    return 0
+
+
+def _run_certified(args: argparse.Namespace, params) -> int:
+    """``--track certified``: the certified orbit, or its certified prefix and one line, exit status 1."""
+    from ...mapimpl.certified.track import certified_orbit
+
+    limit = MAX_TRACK_PREC if args.max_precision is None else args.max_precision
+    run = certified_orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit,
+                          progress=progress_arg(args))
+    seq = run.sequence()
+    if run.complete:
+        _finish(args, seq)
+        return 0
+    write_output(args, seq)  # the certified prefix only (no plot of a partial orbit)
+    k = run.impacts_certified
+    raise CommandFailed(f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
+                        f"{k} certified impact{'' if k == 1 else 's'} before it")
