@@ -17,7 +17,8 @@ import warnings
 
 from ..core import _jax, progress
 from ..core._jax import use_compilation_cache, use_cpu_devices
-from .cliutil import COMMAND, CliError, CommandFailed
+from .cliutil import COMMAND, CliError, CommandFailed, output_fault
+from .io.atomic import outputs
 from .extras import MissingExtra
 
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
@@ -113,8 +114,9 @@ def _main_in_worker() -> int:
         except BaseException as e:  # noqa: BLE001 - re-raised in the main thread (SystemExit included)
             outcome["exc"] = e
 
-    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # started ignoring it (`cmd &` in a script):
-        signal.signal(signal.SIGINT, _jax.exit_interrupted)  # keep ignoring it, as Python itself does
+    for sig in _jax.EXIT_SIGNALS:  # SIGINT and SIGTERM: one line, 130 or 143
+        if signal.getsignal(sig) is not signal.SIG_IGN:  # started ignoring it (`cmd &` in a script):
+            signal.signal(sig, _jax.exit_interrupted)  # keep ignoring it, as Python itself does
     worker = threading.Thread(target=work, name="gear-rattle-command", daemon=True)
     worker.start()
     while worker.is_alive():
@@ -168,7 +170,8 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         use_cpu_devices()
         if console:
             use_compilation_cache()
-        rc = int(args._run(args) or 0)
+        with outputs(command, _out_folder(args), None if argv is None else ["gear-rattle", *argv]):  # every file renamed into place at the end, together
+            rc = int(args._run(args) or 0)
         progress.clear_status()
         return rc
     except (ValueError, CliError, MissingExtra) as e:
@@ -187,6 +190,18 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except OSError as e:  # a file system fault outside the writers' own messages: one line as well
+        progress.clear_status()
+        fault = output_fault(e)
+        print(f"gear-rattle {command}: error: {fault}", file=sys.stderr)
+        return 1 if isinstance(fault, CommandFailed) else 2
+
+
+def _out_folder(args: argparse.Namespace) -> str | None:
+    """The ``--out`` folder whose manifest names the run (validation/io/atomic.py); the atlas keeps its own
+    store records instead."""
+    out = getattr(args, "out", None)
+    return out if isinstance(out, str) and args.command != "atlas" else None
 
 
 if __name__ == "__main__":
