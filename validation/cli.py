@@ -94,7 +94,11 @@ def main(argv: list[str] | None = None) -> int:
     command is doing -- loading JAX, compiling (XLA holds the thread for seconds), computing -- and ends
     the process with one line and status 130 (:func:`core._jax.exit_interrupted`).  Threads and
     processes the command starts inherit the blocked signal: the atlas's Dask workers do not see the
-    terminal's Ctrl-C (they exit with this process).  The console script also turns on the persistent
+    terminal's Ctrl-C (they exit with this process).  SIGTERM ends it the same way with status 143; it is
+    not blocked in the worker (sent to one process, it must still reach the atlas's Dask worker
+    processes from their nanny), so the main thread takes it at its next 0.1 s wake-up at the latest.
+    The command's files are renamed into place together when it returns (:func:`.io.atomic.outputs`;
+    the signal handler waits for those renames).  The console script also turns on the persistent
     compilation cache (:func:`core._jax.use_compilation_cache`).  Called with ``argv`` (tests, other
     programs), the command runs in the calling thread, a KeyboardInterrupt returns 130, and JAX's
     configuration is left as the caller has it (no cache).  Python warnings become one-line notes on
