@@ -460,3 +460,50 @@ def test_a_read_only_file_system_is_one_line_before_computing(tmp_path, capsys):
             assert "Read-only file system" in err and out == "", err
     finally:
         subprocess.run(["umount", str(where)], capture_output=True)
+
+
+MID_COMMIT = r'''
+import os, signal, sys, threading, time
+from pathlib import Path
+from gear_rattle.core import _jax
+from gear_rattle.validation.io import atomic
+
+out = Path(sys.argv[1])
+slow = atomic._replace
+def replace(tmp, target):  # 0.2 s per rename: the signal lands between two of them
+    time.sleep(0.2)
+    slow(tmp, target)
+atomic._replace = replace
+signal.signal(signal.SIGTERM, _jax.exit_interrupted)
+def work():
+    with atomic.outputs("check", out, argv=["test"]):
+        for i in range(5):
+            atomic.write_text_atomic(out / f"f{i}.csv", f"new {i}\n")
+        print("renaming", flush=True)
+threading.Thread(target=work, daemon=True).start()
+while True:
+    time.sleep(0.05)
+'''
+
+
+def test_sigterm_between_two_renames_waits_for_the_last(tmp_path):
+    """The handler takes the writer's lock: a SIGTERM sent while a command's files are being renamed in
+    (each rename slowed to 0.2 s here) ends the process only after the last one, with the manifest
+    complete -- never a folder that mixes two runs."""
+    out = tmp_path / "c"
+    out.mkdir()
+    for i in range(5):
+        (out / f"f{i}.csv").write_text("earlier\n")
+    p = subprocess.Popen([sys.executable, "-c", MID_COMMIT, str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         env=ENV)
+    try:
+        assert p.stdout.readline() == b"renaming\n"
+        time.sleep(0.5)  # two or three files renamed
+        p.send_signal(signal.SIGTERM)
+        _, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 143 and err == b"gear-rattle: terminated\n", err
+    assert [(out / f"f{i}.csv").read_text() for i in range(5)] == [f"new {i}\n" for i in range(5)]
+    assert atomic.read_manifest(out, "check")["complete"] is True and _partials(out) == []
