@@ -507,3 +507,36 @@ def test_sigterm_between_two_renames_waits_for_the_last(tmp_path):
     assert p.returncode == 143 and err == b"gear-rattle: terminated\n", err
     assert [(out / f"f{i}.csv").read_text() for i in range(5)] == [f"new {i}\n" for i in range(5)]
     assert atomic.read_manifest(out, "check")["complete"] is True and _partials(out) == []
+
+
+def test_basins_stopped_while_plotting_leaves_every_earlier_file(tmp_path, monkeypatch, capsys):
+    """basins killed mid-run left a new basins.json beside the old figure: its data files were written
+    before the figure was drawn.  Now all three go in together at the end, or none (here a Ctrl-C while
+    the figure is drawn; the computation is stubbed)."""
+    import numpy as np
+
+    import gear_rattle.validation.plots.transients as plots
+    import gear_rattle.validation.transient.experiments as E
+
+    class Stub:
+        notes = ()
+
+        def arrays(self):
+            return {"durations": np.arange(4.0)}
+
+        def summary(self):
+            return {"stub": True}
+
+    def interrupted(res):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(E, "basins", lambda **kw: Stub())
+    monkeypatch.setattr(plots, "basins_figure", interrupted)
+    out = tmp_path / "b"
+    out.mkdir()
+    for name in ("basins.npz", "basins.json", "fig9_basins.png"):
+        (out / name).write_bytes(EARLIER)
+    rc, _, err = run_cli(["basins", "--nx", "2", "--ny", "2", "--quiet", "--out", str(out)], capsys)
+    assert rc == 130 and err.strip() == "gear-rattle basins: interrupted", err
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == dict.fromkeys(
+        ("basins.npz", "basins.json", "fig9_basins.png"), EARLIER)
