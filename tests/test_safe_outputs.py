@@ -540,3 +540,66 @@ def test_basins_stopped_while_plotting_leaves_every_earlier_file(tmp_path, monke
     assert rc == 130 and err.strip() == "gear-rattle basins: interrupted", err
     assert {p.name: p.read_bytes() for p in out.iterdir()} == dict.fromkeys(
         ("basins.npz", "basins.json", "fig9_basins.png"), EARLIER)
+
+
+REPORT_DRIVER = r'''
+import os, sys, time, types
+sys.path.insert(0, os.environ["TESTS_DIR"])
+import reportfake
+from gear_rattle.validation.report import builder
+
+def section(ctx):
+    sec = reportfake.fake_section(ctx)
+    if os.environ.get("SLOW"):
+        print("staged", flush=True)
+        time.sleep(60)
+    return sec
+
+mod = types.ModuleType("fake_section_module")
+mod.KEY, mod.TITLE, mod.build = "fake", "Fake section (test)", section
+sys.modules[mod.__name__] = mod
+builder.SECTIONS = [mod.__name__]
+builder.environment = lambda: {"python": "test"}
+sys.argv = ["gear-rattle", "report", "--quiet", "--out", sys.argv[1]]
+from gear_rattle.validation.cli import main
+sys.exit(main())
+'''
+
+
+def test_report_killed_while_staged_leaves_out_as_it_was_and_no_debris(tmp_path):
+    """The console script's report (a fake section that waits once its figure is staged): SIGTERM ends it
+    with one line and 143, the staging folder removed, --out untouched; SIGKILL leaves the staging
+    folder, which the next report into the same --out removes.  Before: SIGTERM and SIGKILL both left a
+    .OUT.partial-* folder (up to 824 KB) that nothing removed."""
+    out = tmp_path / "r"
+    (out / "figures").mkdir(parents=True)
+    (out / "figures" / "mine.png").write_bytes(b"the user's")
+    (out / "report.html").write_bytes(EARLIER)
+    env = dict(ENV, TESTS_DIR=str(Path(__file__).parent))
+
+    def state():
+        return sorted((str(p.relative_to(tmp_path)), p.read_bytes() if p.is_file() else None)
+                      for p in tmp_path.rglob("*"))
+
+    before = state()
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        p = subprocess.Popen([sys.executable, "-c", REPORT_DRIVER, str(out)], env=dict(env, SLOW="1"),
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        try:
+            assert p.stdout.readline() == b"staged\n"
+            assert _partials(tmp_path)  # the staging folder, inside --out
+            p.send_signal(sig)
+            _, err = p.communicate(timeout=60)
+        finally:
+            if p.poll() is None:
+                p.kill()
+        if sig == signal.SIGTERM:
+            assert p.returncode == 143 and err == b"gear-rattle report: terminated\n", err
+            assert state() == before
+        else:
+            assert p.returncode == -signal.SIGKILL
+            assert _partials(tmp_path) and [x for x in state() if ".partial-" not in x[0]] == before
+    done = subprocess.run([sys.executable, "-c", REPORT_DRIVER, str(out)], env=env, capture_output=True)
+    assert done.returncode == 0, done.stderr
+    assert _partials(tmp_path) == [] and (out / "figures" / "mine.png").read_bytes() == b"the user's"
+    assert (out / "report.html").read_bytes() != EARLIER and (out / "figures" / "fake.png").exists()
