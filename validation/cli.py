@@ -17,8 +17,9 @@ import warnings
 
 from ..core import _jax, progress
 from ..core._jax import use_compilation_cache, use_cpu_devices
-from .cliutil import COMMAND, CliError, CommandFailed
+from .cliutil import COMMAND, CliError, CommandFailed, output_fault
 from .extras import FULL_INSTALL, MissingExtra, require_full_install
+from .io.atomic import outputs
 
 #: Subcommand modules, in the order shown by ``gear-rattle --help``.
 COMMAND_MODULES = [
@@ -126,7 +127,11 @@ def main(argv: list[str] | None = None) -> int:
     command is doing -- loading JAX, compiling (XLA holds the thread for seconds), computing -- and ends
     the process with one line and status 130 (:func:`core._jax.exit_interrupted`).  Threads and
     processes the command starts inherit the blocked signal: the atlas's Dask workers do not see the
-    terminal's Ctrl-C (they exit with this process).  The console script also turns on the persistent
+    terminal's Ctrl-C (they exit with this process).  SIGTERM ends it the same way with status 143; it is
+    not blocked in the worker (sent to one process, it must still reach the atlas's Dask worker
+    processes from their nanny), so the main thread takes it at its next 0.1 s wake-up at the latest.
+    The command's files are renamed into place together when it returns (:func:`.io.atomic.outputs`;
+    the signal handler waits for those renames).  The console script also turns on the persistent
     compilation cache (:func:`core._jax.use_compilation_cache`).  Called with ``argv`` (tests, other
     programs), the command runs in the calling thread, a KeyboardInterrupt returns 130, and JAX's
     configuration is left as the caller has it (no cache).  Python warnings become one-line notes on
@@ -146,8 +151,9 @@ def _main_in_worker() -> int:
         except BaseException as e:  # noqa: BLE001 - re-raised in the main thread (SystemExit included)
             outcome["exc"] = e
 
-    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # started ignoring it (`cmd &` in a script):
-        signal.signal(signal.SIGINT, _jax.exit_interrupted)  # keep ignoring it, as Python itself does
+    for sig in _jax.EXIT_SIGNALS:  # SIGINT and SIGTERM: one line, 130 or 143
+        if signal.getsignal(sig) is not signal.SIG_IGN:  # started ignoring it (`cmd &` in a script):
+            signal.signal(sig, _jax.exit_interrupted)  # keep ignoring it, as Python itself does
     worker = threading.Thread(target=work, name="gear-rattle-command", daemon=True)
     worker.start()
     while worker.is_alive():
@@ -199,7 +205,9 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         if not getattr(args, "quiet", False):  # until the first bar, note or result (a terminal only)
             progress.status(f"gear-rattle {command}: starting (loading libraries)")
         _start_jax(args, console)
-        rc = int(args._run(args) or 0)
+        # every file the command writes is renamed into place at the end, together (io.atomic)
+        with outputs(command, _out_folder(args), None if argv is None else ["gear-rattle", *argv]):
+            rc = int(args._run(args) or 0)
         progress.clear_status()
         return rc
     except (ValueError, CliError, MissingExtra) as e:
@@ -218,6 +226,18 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except OSError as e:  # a file system fault outside the writers' own messages: one line as well
+        progress.clear_status()
+        fault = output_fault(e)
+        print(f"gear-rattle {command}: error: {fault}", file=sys.stderr)
+        return 1 if isinstance(fault, CommandFailed) else 2
+
+
+def _out_folder(args: argparse.Namespace) -> str | None:
+    """The ``--out`` folder whose manifest names the run (validation/io/atomic.py); the atlas keeps its own
+    store records instead."""
+    out = getattr(args, "out", None)
+    return out if isinstance(out, str) and args.command != "atlas" else None
 
 
 if __name__ == "__main__":

@@ -207,7 +207,9 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
     written, and ``... | cat`` or ``> result.json`` for the same JSON on stdout)."""
     from ..core.progress import clear_status
     from .io import json_text
+    from .io.atomic import commit_pending
 
+    commit_pending()  # the files are in place before the result says where they are
     clear_status()
     if not _is_terminal(sys.stdout):
         to_stdout(json_text(result) + "\n")
@@ -241,9 +243,16 @@ def to_stdout(text: str) -> None:
 
 def _nearest_existing(path: Path) -> Path:
     p = path
-    while not p.exists() and p != p.parent:
+    while not _exists(p) and p != p.parent:
         p = p.parent
     return p
+
+
+def _exists(p: Path) -> bool:
+    try:
+        return p.exists()
+    except OSError:  # a name the system refuses (too long): it does not exist
+        return False
 
 
 def _check_creatable_in(path: Path, option: str, shown: Path | None = None) -> None:
@@ -266,6 +275,26 @@ def _check_creatable_in(path: Path, option: str, shown: Path | None = None) -> N
 def _check_not_empty(path: str, option: str, what: str) -> None:
     if not str(path).strip():
         raise CliError(f"{option}={path!r} is empty: allowed {what}")
+    _check_name_lengths(Path(path), option)
+
+
+def _check_name_lengths(path: Path, option: str) -> None:
+    """Every name in ``path`` within the file system's limit (``NAME_MAX``, 255 bytes on Linux), and the
+    whole within ``PATH_MAX``: a name the operating system would refuse is one line before computing."""
+    anc = _nearest_existing(path.absolute().parent)
+    try:
+        name_max, path_max = os.pathconf(anc, "PC_NAME_MAX"), os.pathconf(anc, "PC_PATH_MAX")
+    except (OSError, ValueError):
+        name_max, path_max = 255, 4096
+    for part in path.parts:
+        n = len(os.fsencode(part))
+        if n > name_max:
+            shown = part if len(part) <= 40 else part[:20] + "..." + part[-12:]
+            raise CliError(f"{option}: the name {shown!r} is {n} bytes long: allowed at most {name_max} bytes per "
+                           "name (the file system's limit)")
+    n = len(os.fsencode(str(path.absolute())))
+    if n >= path_max:
+        raise CliError(f"{option}: the path is {n} bytes long: allowed less than {path_max} bytes")
 
 
 def plot_formats() -> dict:
@@ -365,25 +394,48 @@ def check_distinct(**files: str | None) -> None:
 
 @contextlib.contextmanager
 def writing(option: str, path: str | None):
-    """Turn an OSError while writing an output into a one-line error naming the option."""
+    """Turn an OSError while writing an output into a one-line error naming the option and the path
+    (:func:`output_fault`)."""
     try:
         yield
     except OSError as e:
-        where = e.filename if getattr(e, "filename", None) else path
-        raise CliError(f"{option}: cannot write {str(where)!r}: {e.strerror or e}") from None
+        raise output_fault(e, option, path) from None
+
+
+def output_fault(e: OSError, option: str | None = None, path=None) -> Exception:
+    """The one-line error of an OSError met writing an output: a :class:`CommandFailed` (exit 1) when the
+    device failed (disk full, quota, I/O error, file too large), a :class:`CliError` (exit 2) when the
+    operating system refused the path (too long, invalid, permission, read-only, not a directory); the
+    message names the option (where known) and the path, and says that an earlier file is kept (the
+    output writer renames a whole new file into place or nothing, validation/io/atomic.py)."""
+    from .io.atomic import DEVICE_ERRNOS, STAGING_NAME
+
+    where = e.filename if getattr(e, "filename", None) else path
+    where_s = str(where)
+    name = Path(where_s).name
+    if STAGING_NAME.match(name):  # the writer's temporary file: name the target
+        where_s = str(Path(where_s).parent / STAGING_NAME.match(name)["base"])  # type: ignore[index]
+    what = f"{option}: cannot write" if option else "cannot write"
+    text = f"{what} {where_s!r}: {e.strerror or e}"
+    if e.errno in DEVICE_ERRNOS:
+        return CommandFailed(f"{text} (nothing written: an earlier file of that name is kept as it was)")
+    return CliError(text)
 
 
 def write_text(text: str, output: str | None, option: str = "--output") -> None:
-    """Write to a file (parents created) or to stdout when ``output`` is None or '-'."""
+    """Write to a file (parents created; atomically, validation/io/atomic.py) or to stdout when ``output``
+    is None or '-'."""
+    from .io.atomic import write_text_atomic
+
     if output in (None, "-"):
         to_stdout(text)
         return
-    write_file(option, output, lambda path: Path(path).write_text(text))
+    write_file(option, output, lambda path: write_text_atomic(path, text))
 
 
 def write_file(option: str, path, write) -> None:
-    """``write(path)`` (one of :mod:`validation.io`'s writers) with the parent directory created;
-    errors name the option."""
+    """``write(path)`` (one of :mod:`validation.io`'s writers, all atomic) with the parent directory
+    created; errors name the option."""
     with writing(option, str(path)):
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         write(path)

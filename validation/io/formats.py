@@ -12,6 +12,9 @@ pyplot).
 * **NPZ** (:func:`write_npz`): :func:`numpy.savez_compressed` into exactly the path given (numpy
   appends ``.npz`` to a file name without it; this writer does not).
 
+Every writer writes through :func:`.atomic.write_atomic`: beside the target, flushed, renamed into
+place (a kill leaves the earlier file or the new one, whole).
+
 Analyses never write files: they return typed results, and the commands and the report write them
 with these functions (docs/architecture.md).
 """
@@ -24,6 +27,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
+
+from .atomic import write_atomic, write_text_atomic
 
 
 def jsonable(x):
@@ -69,9 +74,7 @@ def nan_from_null(x):
 
 def write_json(path, obj, indent: int | None = 1, ensure_ascii: bool = True) -> Path:
     """Write :func:`json_text` of ``obj`` (and a final newline) to ``path`` (UTF-8); returns the path."""
-    p = Path(path)
-    p.write_text(json_text(obj, indent, ensure_ascii) + "\n", encoding="utf-8")
-    return p
+    return write_text_atomic(path, json_text(obj, indent, ensure_ascii) + "\n")
 
 
 def _cell(v) -> str:
@@ -113,21 +116,16 @@ def csv_columns(columns: Mapping[str, Sequence]) -> tuple[list[str], Iterable[tu
 
 def write_csv(path, header: Sequence[str], rows: Iterable[Sequence]) -> Path:
     """Write :func:`csv_text` to ``path``; returns the path."""
-    p = Path(path)
-    p.write_text(csv_text(header, rows))
-    return p
+    return write_text_atomic(path, csv_text(header, rows))
 
 
 def write_npz(path, **arrays) -> Path:
     """:func:`numpy.savez_compressed` of ``arrays`` into exactly ``path``; returns the path."""
-    p = Path(path)
-    with open(p, "wb") as fh:
-        np.savez_compressed(fh, **arrays)
-    return p
+    return write_atomic(path, lambda fh: np.savez_compressed(fh, **arrays))
 
 
 def save_figure(fig, path, dpi: int = 110) -> Path:
     """``fig.savefig(path, dpi=dpi)`` (format from the extension); returns the path."""
-    fig.savefig(path, dpi=dpi)
-    return Path(path)
+    fmt = Path(path).suffix[1:].lower() or None
+    return write_atomic(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
 

@@ -9,19 +9,17 @@ error, and makes the command exit non-zero: a failure is reported, never hidden.
 
 from __future__ import annotations
 
-import contextlib
 import importlib
 import os
 import platform
-import shutil
 import sys
-import tempfile
 import time
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..io import read_json, write_json
+from ..io.atomic import DEVICE_ERRNOS, outputs, read_manifest, staged, write_text_atomic
 from .verdict import Z_AGREE
 from .document import (Document, Section, check_keys, document_json, render_html, render_markdown,
                        sections_from_json, verdict_counts)
@@ -141,33 +139,9 @@ def build_report(profile: str = "quick", out_dir: str | Path = "report", section
             raise ValueError(f"sections={sorted(unknown)} not known: allowed {', '.join(m.KEY for m in mods)}")
         mods = [m for m in mods if m.KEY in sections]
     out = Path(out_dir)
-    with staged(out) as stage:
+    with staged(out, "report") as stage:  # every file moved into out at the end; nothing else there touched
         path, ok = _run_sections(mods, profile, stage, seed, progress, argv)
     return out / path.name, ok
-
-
-@contextlib.contextmanager
-def staged(out: Path):
-    """A temporary folder beside ``out`` to write the report into; on success its entries replace those of
-    the same name in ``out`` (created), so that an interrupted or failed run leaves ``out`` as it was.
-    The command line's Ctrl-C (which ends the process at once) removes the folder too
-    (:data:`core._jax.CLEANUP`)."""
-    from ...core import _jax
-
-    out.parent.mkdir(parents=True, exist_ok=True)
-    stage = Path(tempfile.mkdtemp(prefix=f".{out.name or 'report'}.partial-", dir=out.parent))
-    _jax.CLEANUP.append(str(stage))
-    try:
-        yield stage
-        out.mkdir(parents=True, exist_ok=True)
-        for entry in sorted(stage.iterdir()):
-            target = out / entry.name
-            if target.is_dir() and not target.is_symlink():
-                shutil.rmtree(target)
-            os.replace(entry, target)
-    finally:
-        shutil.rmtree(stage, ignore_errors=True)
-        _jax.CLEANUP.remove(str(stage))
 
 
 def _run_sections(mods, profile: str, out: Path, seed: int, progress: bool, argv) -> tuple[Path, bool]:
@@ -182,6 +156,8 @@ def _run_sections(mods, profile: str, out: Path, seed: int, progress: bool, argv
         try:
             sec = m.build(ctx)
         except Exception as e:  # keep going, report the failure
+            if isinstance(e, OSError) and e.errno in DEVICE_ERRNOS:  # a full disk ends the report in one line
+                raise
             sec = Section(m.KEY, m.TITLE, ok=False, error=f"{type(e).__name__}: {e}\n{traceback.format_exc(limit=6)}")
         sec.seconds = time.perf_counter() - t0
         ctx.say(f"{m.TITLE}: {'ok' if sec.ok else 'FAILED'} in {sec.seconds:.1f} s")
@@ -224,9 +200,9 @@ def write_report(out: Path, header: dict, sections: list[Section]) -> Path:
     """Write report.md, report.html, summary.json and document.json in ``out``; return report.html's path."""
     check_keys(sections)
     doc = compose(header, sections)
-    (out / "report.md").write_text(render_markdown(doc, out))
+    write_text_atomic(out / "report.md", render_markdown(doc, out))
     html_path = out / "report.html"
-    html_path.write_text(render_html(doc))
+    write_text_atomic(html_path, render_html(doc))
     write_json(out / "summary.json", summary_json(sections, **header))
     write_json(out / "document.json", document_json(header, sections, out), ensure_ascii=False)
     return html_path
@@ -241,5 +217,7 @@ def rerender(out_dir: str | Path) -> Path:
     src = out / "document.json"
     if not src.is_file():
         raise ValueError(f"out_dir={str(out)!r} has no document.json: allowed a folder written by gear-rattle report")
+    read_manifest(out, "report")  # a folder whose files mix two runs is refused (ValueError naming it)
     header, sections = sections_from_json(read_json(src), out)
-    return write_report(out, {**header, "rerendered": {"git_commit": git_commit()}}, sections)
+    with outputs("report", out, merge=True):  # the four files together, the manifest updated
+        return write_report(out, {**header, "rerendered": {"git_commit": git_commit()}}, sections)
