@@ -25,6 +25,7 @@ rounding (the tracks agree on subnormal inputs: tests/test_extremes.py).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
@@ -45,6 +46,10 @@ def command_line_process() -> bool:
 INTERRUPTED = ["gear-rattle: interrupted"]
 #: Folders a Ctrl-C removes before the process ends (a report's staging folder: nothing half-written stays).
 CLEANUP: list[str] = []
+
+#: Files removed by :func:`exit_interrupted` before the process ends (an atlas store's lock file: the
+#: next run then finds no stale lock).
+CLEANUP_FILES: list[str] = []
 #: What clears a progress bar from the terminal line before the Ctrl-C line (set by
 #: :class:`core.progress.Bar`); without one, the line is cleared when stderr is a terminal.
 CLEAR_LINE: list = []
@@ -69,6 +74,9 @@ def exit_interrupted(signum=None, frame=None) -> None:
 
         for folder in list(CLEANUP):
             shutil.rmtree(folder, ignore_errors=True)
+        for name in list(CLEANUP_FILES):
+            with contextlib.suppress(OSError):
+                os.unlink(name)
     except Exception:  # noqa: BLE001 - never keep the process from ending
         pass
     try:
