@@ -357,6 +357,8 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
             os.killpg(p.pid, signal.SIGKILL)
     assert rc == 130 and err.strip() == "gear-rattle atlas: interrupted", err
     assert latency < 2.0, f"Ctrl-C acted after {latency:.2f} s"  # measured 0.05-0.07 s (see test_interrupt)
+    # the store's lock goes with it (issue 29): the next run finds no stale lock to take over
+    assert (tmp_path / "o" / "atlas.zarr").is_dir() and not (tmp_path / "o" / "atlas.zarr.lock").exists()
 
 
 def test_local_cluster_with_port_8787_taken_says_nothing():
