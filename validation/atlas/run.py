@@ -450,7 +450,7 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeo
                     raise _lost(client, run)
                 if n > 0:
                     if alone_since is not None:
-                        note(f"{n} worker(s) connected again: computing")
+                        note(f"{n} worker(s) connected: computing")
                     alone_since = None
                 elif alone_since is None:
                     alone_since = now

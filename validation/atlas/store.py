@@ -225,6 +225,13 @@ def _check_meta(p: Path, zarr, attrs: dict, want: dict | None) -> None:
         raise _damaged(p, "its grid (alpha, r) differs from its spec")
 
 
+def _remove(p: Path) -> None:
+    try:
+        shutil.rmtree(p)
+    except OSError as e:
+        raise StoreWriteError(f"store {str(p)!r} cannot be replaced: {e.strerror or e}") from None
+
+
 def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = False) -> AtlasStore:
     """Open the atlas store at ``path`` for ``spec`` and ``tile``, creating it if absent.
 
@@ -251,12 +258,12 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
                 raise ValueError(f"store {str(p)!r} exists and is not an atlas store: allowed a new path or an "
                                  "existing atlas store")
         elif attrs.get("creating"):  # its creation was interrupted (under the lock): start again
-            shutil.rmtree(p)
+            _remove(p)
         else:
             if attrs.get("format") == FORMAT:
                 _check_meta(p, zarr, attrs, want)
             if overwrite:
-                shutil.rmtree(p)
+                _remove(p)
             else:
                 have = {k: attrs.get(k) for k in want}
                 if have["format"] != FORMAT:
@@ -271,8 +278,12 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
                 g = zarr.open_group(str(p), mode="r+")
                 st = AtlasStore(str(p), spec, tile, g)
                 st.damaged = st.verify()
-                for d in st.damaged:
-                    forget(st.path, g, d.tile, ("done", "checksum", *CHECKED))
+                try:
+                    for d in st.damaged:
+                        forget(st.path, g, d.tile, ("done", "checksum", *CHECKED))
+                except OSError as e:
+                    raise StoreWriteError(f"store {str(p)!r}: cannot delete a damaged tile's chunks: "
+                                          f"{e.strerror or e}") from None
                 return st
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
