@@ -186,7 +186,7 @@ def test_spec_mismatch_refused(tmp_path):
     path = str(tmp_path / "a.zarr")
     st = open_store(path, SMALL, (2, 2))
     assert st.group["lambda1"].chunks == (2, 2) and st.group.attrs["spec"] == SMALL.to_dict()
-    st.group["done"][0, 0] = True
+    st.write_tile(0, 0, {k: np.full((2, 2), 1, dt) for k, (dt, _) in FIELDS.items()})
     other = AtlasSpec(**{**SMALL.to_dict(), "impacts": 600})
     with pytest.raises(ValueError, match=r"different spec .*impacts 500 \(store\) != 600"):
         open_store(path, other, (2, 2))
@@ -305,26 +305,31 @@ def test_tile_is_fitted_to_the_grid_and_bounded(tmp_path):
     assert fit_tile(big, 1024) == (1024, 1024) and 1024 * 1024 == MAX_TILE_POINTS
     with pytest.raises(ValueError, match=r"tile=100000 is out of range on a 2000 x 2000 grid"):
         fit_tile(big, 100000)
-    # a store made before tiles were fitted (its tile larger than the grid) still resumes
+    # a store of the format before checksums (issue 29; also the one before tiles were fitted) is not
+    # resumed -- its tiles cannot be verified -- but recognised: --overwrite replaces it
     old = open_store(str(tmp_path / "old.zarr"), SMALL, (3, 4))
-    old.group.attrs["tile"] = [16, 16]
-    assert open_store(str(tmp_path / "old.zarr"), SMALL, (16, 16)).tile == (16, 16)
+    old.group.attrs.put({"format": "gear-rattle-atlas/1", "spec": SMALL.to_dict(), "tile": [16, 16],
+                         "engine": old.group.attrs["engine"]})
+    with pytest.raises(ValueError, match=r"format 'gear-rattle-atlas/1' of an older version, without checksums"):
+        open_store(str(tmp_path / "old.zarr"), SMALL, (16, 16))
+    assert open_store(str(tmp_path / "old.zarr"), SMALL, (16, 16), overwrite=True).tile == (3, 4)
 
 
-@pytest.mark.parametrize("args, what", [
-    (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler='tcp://127.0.0.1:1': cannot connect"),
-    (["--alpha-lo", "1e308", "--alpha-hi", "1e308"], "--alpha-lo=1e+308 is out of range: allowed 0 <= alpha <= 1e10"),
-    (["--alpha-hi", "1e11"], "--alpha-hi=100000000000.0 is out of range"),
-    (["--store", "/proc/s.zarr"], "--store: cannot create '/proc/s.zarr': directory '/proc': it does not accept new files"),
-    (["--n-alpha", "2000", "--n-r", "2000", "--tile", "100000"], "--tile=100000 is out of range on a 2000 x 2000 grid"),
+@pytest.mark.parametrize("args, what, status", [
+    (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler='tcp://127.0.0.1:1': cannot connect", 3),
+    (["--alpha-lo", "1e308", "--alpha-hi", "1e308"], "--alpha-lo=1e+308 is out of range: allowed 0 <= alpha <= 1e10", 2),
+    (["--alpha-hi", "1e11"], "--alpha-hi=100000000000.0 is out of range", 2),
+    (["--store", "/proc/s.zarr"], "--store: cannot create '/proc/s.zarr': directory '/proc': it does not accept new files", 2),
+    (["--n-alpha", "2000", "--n-r", "2000", "--tile", "100000"], "--tile=100000 is out of range on a 2000 x 2000 grid", 2),
 ])
-def test_cli_failures_leave_nothing_behind(args, what, tmp_path, capsys):
+def test_cli_failures_leave_nothing_behind(args, what, status, tmp_path, capsys):
     """Issue 23 item 12: each of these left a store or the --out folder behind and printed internal
-    messages ("arange: cannot compute length"); now: one line naming the option, nothing created."""
+    messages ("arange: cannot compute length"); now: one line naming the option, nothing created.  A
+    scheduler that does not answer is a lost cluster, exit status 3, not a usage error (issue 29)."""
     out = tmp_path / "o"
     rc = main(CLI_SMALL[:-2] + ["--scheduler", "serial", "--out", str(out)] + args)
     err = capsys.readouterr().err
-    assert rc == 2 and err.count("\n") == 1 and what in err, err
+    assert rc == status and err.count("\n") == 1 and what in err, err
     assert list(tmp_path.iterdir()) == []
 
 
@@ -352,6 +357,8 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
             os.killpg(p.pid, signal.SIGKILL)
     assert rc == 130 and err.strip() == "gear-rattle atlas: interrupted", err
     assert latency < 2.0, f"Ctrl-C acted after {latency:.2f} s"  # measured 0.05-0.07 s (see test_interrupt)
+    # the store's lock goes with it (issue 29): the next run finds no stale lock to take over
+    assert (tmp_path / "o" / "atlas.zarr").is_dir() and not (tmp_path / "o" / "atlas.zarr.lock").exists()
 
 
 def test_local_cluster_with_port_8787_taken_says_nothing():

@@ -18,12 +18,14 @@ dies (killed, out of memory) costs only its running tile: Dask reruns it on anot
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import logging
 import os
 import signal
 import socket
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -32,13 +34,25 @@ import numpy as np
 from ...core import _jax
 from .compute import compute_tile
 from ..extras import require
+from .lock import StoreLock, holder_text
 from .spec import AtlasSpec
-from .store import AtlasStore, fit_tile, open_store, tile_slices
+from .store import AtlasStore, StoreWriteError, fit_tile, open_store, tile_slices
 
 ComputeFn = Callable[[np.ndarray, np.ndarray, AtlasSpec], dict]
 
 #: How long to wait for a remote scheduler.
 CONNECT_TIMEOUT_S = 20
+
+#: Default of ``timeout``: seconds a run waits with no worker connected before it gives up.
+WORKER_TIMEOUT_S = 300.0
+
+#: Seconds between two looks at the cluster (finished tiles are taken as they come, between looks).
+POLL_S = 0.1
+
+
+class ClusterLost(RuntimeError):
+    """The Dask cluster is gone: the scheduler does not answer or was lost, or no worker came back within
+    ``timeout`` seconds (the command line: one line, exit status 3)."""
 
 
 def import_distributed():
@@ -134,7 +148,8 @@ class AtlasRun:
 
 
 def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "local", workers: int | None = None,
-              overwrite: bool = False, compute: ComputeFn = compute_tile, progress=None) -> AtlasRun:
+              overwrite: bool = False, compute: ComputeFn = compute_tile, progress=None,
+              timeout: float = WORKER_TIMEOUT_S, lock: StoreLock | None = None, note=None) -> AtlasRun:
     """Compute the tiles of ``spec`` missing from the Zarr ``store`` and write each as it finishes.
 
     An interrupted call keeps every stored tile; calling again resumes.  Nothing is created before the
@@ -159,6 +174,16 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
         The compute seam (default :func:`.compute.compute_tile`).
     progress : callable, optional
         ``progress(done, total)``, called after every stored tile.
+    timeout : float, optional
+        Seconds to wait while no worker is connected to the scheduler (a note says that it waits), then
+        give up with :class:`ClusterLost` (default :data:`WORKER_TIMEOUT_S`, 300 s).
+    lock : StoreLock, optional
+        The store's lock, held by the caller until it is done with the store (acquired here if it is
+        not held yet; the caller releases it).  Without it, this call takes the lock for its duration.
+        A store whose lock another process holds is refused (:class:`.lock.StoreBusy`).
+    note : callable, optional
+        ``note(text)`` for what the caller should know: a stale lock taken over, a damaged tile computed
+        again, waiting for workers (default: :func:`warnings.warn`).
 
     Returns
     -------
@@ -168,8 +193,14 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
     Raises
     ------
     ValueError
-        For a bad argument, a store made otherwise (without ``overwrite``), or a scheduler that does not
-        answer (naming ``scheduler``).
+        For a bad argument, a store made otherwise (without ``overwrite``) or a damaged store's metadata.
+    StoreBusy
+        Another process writes the store (one line naming the holder).
+    StoreWriteError
+        The store cannot be written (disk full, ...): the tiles finished are stored.
+    ClusterLost
+        A scheduler that does not answer or was lost (naming ``scheduler``), or no worker for ``timeout``
+        seconds.
 
     Examples
     --------
@@ -192,15 +223,26 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
     """
     check_scheduler(scheduler, workers)
     fit_tile(spec, tile)
+    if isinstance(timeout, bool) or not isinstance(timeout, (int, float, np.integer, np.floating)) \
+            or not 0 < timeout <= 1e7:
+        raise ValueError(f"timeout={timeout!r} is out of range: allowed 0 < timeout <= 1e7 seconds")
+    note = note if note is not None else _warn
     client = cluster = None
+    own_lock = lock is None
+    lock = StoreLock(store) if lock is None else lock
 
     def shut():
         _shutdown(client, cluster)
+        if own_lock:
+            lock.release()
 
     if scheduler not in ("serial", "local"):
         client = _connect(scheduler)  # before the store is created
     try:
+        _take(lock, note)
         st = open_store(store, spec, tile, overwrite=overwrite)
+        for d in st.damaged:
+            note(f"store {store!r}: {d}: computing it again")
         tile = st.tile
         todo = st.missing()
         nt = st.n_tiles
@@ -226,10 +268,31 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
             cluster, client = _local_cluster(run.workers)
         else:
             run.workers = len(client.scheduler_info().get("workers", {}))
-        _run_dask(spec, tile, todo, client, compute, run, store_one)
+        _run_dask(spec, tile, todo, client, compute, run, store_one, timeout, note)
         return run
     finally:
         shut()
+
+
+def _warn(text: str) -> None:
+    warnings.warn(text, UserWarning, stacklevel=3)
+
+
+def _take(lock: StoreLock, note) -> None:
+    """Acquire ``lock`` if not held; note a stale lock taken over, or a file system without locks."""
+    if lock.held:
+        return
+    try:
+        lock.acquire()
+    except OSError as e:
+        raise StoreWriteError(f"store {lock.store!r}: cannot create its lock {str(lock.path)!r}: "
+                              f"{e.strerror or e}") from None
+    if lock.stale is not None:
+        note(f"store {lock.store!r}: took over the lock of a writer that ended without releasing it (killed?): "
+             f"{holder_text(lock.stale)}; its stored tiles are checked")
+    if lock.unsupported is not None:
+        note(f"store {lock.store!r}: its file system does not lock files ({lock.unsupported}): a second writer "
+             "would not be noticed")
 
 
 def _shutdown(client, cluster) -> None:
@@ -249,7 +312,7 @@ def _connect(scheduler: str):
         with _quiet_dask():
             return distributed.Client(scheduler, timeout=CONNECT_TIMEOUT_S)
     except (OSError, TimeoutError, ValueError) as e:
-        raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e})") from None
+        raise ClusterLost(f"scheduler={scheduler!r}: cannot connect ({e})") from None
 
 
 def _probe(scheduler: str) -> None:
@@ -263,18 +326,26 @@ def _probe(scheduler: str) -> None:
     except ValueError:
         raise ValueError(f"scheduler={scheduler!r} is out of range: allowed an address such as tcp://host:8786") from None
     except OSError as e:
-        raise ValueError(f"scheduler={scheduler!r}: cannot connect ({e.strerror or e})") from None
+        raise ClusterLost(f"scheduler={scheduler!r}: cannot connect ({e.strerror or e})") from None
+
+
+_QUIET = ("distributed", "tornado", "bokeh", "asyncio")
 
 
 @contextlib.contextmanager
 def _quiet_dask():
-    """Dask's own log records of this process (the client, the cluster's scheduler and nannies) below
-    CRITICAL are dropped while a run starts, computes and shuts down: a failure reaches the caller as an
-    exception (one line on the command line), an interruption as KeyboardInterrupt."""
-    loggers = [logging.getLogger(name) for name in ("distributed", "tornado", "bokeh")]
+    """Dask's own log records of this process (the client, the cluster's scheduler and nannies) are
+    dropped while a run starts, computes and shuts down, CRITICAL included ("Failed to reconnect to
+    scheduler", a lost scheduler's tracebacks): a failure reaches the caller as an exception (one line on
+    the command line), an interruption as KeyboardInterrupt.  Every logger of those libraries is set,
+    not only their roots: Dask's configuration gives some of them (``distributed.client``) levels of
+    their own."""
+    names = [n for n in list(logging.root.manager.loggerDict)
+             if n.split(".")[0] in _QUIET] + list(_QUIET)
+    loggers = [logging.getLogger(name) for name in dict.fromkeys(names)]
     levels = [lg.level for lg in loggers]
     for lg in loggers:
-        lg.setLevel(logging.CRITICAL)
+        lg.setLevel(logging.CRITICAL + 1)
     try:
         yield
     finally:
@@ -324,7 +395,27 @@ def _start_resource_tracker(quiet: bool) -> None:
         os.close(null)
 
 
-def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one) -> None:
+def _n_workers(client) -> int | None:
+    """Workers connected to the scheduler; None when the client has lost the scheduler."""
+    if client.status != "running":
+        return None
+    try:
+        return len(client.scheduler_info(n_workers=-1).get("workers", {}))
+    except (OSError, TimeoutError):
+        return None
+
+
+def _lost(client, run: AtlasRun, why: str = "") -> ClusterLost:
+    addr = getattr(client, "scheduler", None)
+    addr = getattr(addr, "address", None) or run.scheduler
+    return ClusterLost(f"lost the Dask scheduler {addr}{' (' + why + ')' if why else ''}; the "
+                       f"{len(run.computed)} tiles finished are stored: rerun to resume")
+
+
+def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeout: float, note) -> None:
+    """Submit every tile of ``todo`` and store each as it finishes; meanwhile watch the cluster: a lost
+    scheduler, or no worker for ``timeout`` seconds (after a note that it waits), ends the run with
+    :class:`ClusterLost`."""
     distributed = import_distributed()
     futures = {}
     with _quiet_dask():
@@ -334,14 +425,40 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one) -> No
                 fut = client.submit(_worker_task, compute, a, r, spec, pure=False,
                                     key=f"atlas-tile-{ij[0]}-{ij[1]}-{os.getpid()}-{time.monotonic_ns()}")
                 futures[fut] = ij
-            for fut in distributed.as_completed(list(futures)):
-                ij = futures[fut]
-                try:
-                    out, secs, cpu = fut.result()
-                except Exception as e:  # a tile that failed on every allowed try
-                    raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} tiles "
-                                       "finished are stored: rerun to resume") from e
-                store_one(ij, out, secs, cpu)
+            pending = distributed.as_completed(list(futures))
+            alone_since, next_look = None, 0.0
+            while not pending.is_empty():
+                batch = pending.next_batch(block=False)
+                for fut in batch:
+                    ij = futures[fut]
+                    try:
+                        out, secs, cpu = fut.result()
+                    except (Exception, asyncio.CancelledError) as e:  # a tile that failed on every try
+                        if fut.cancelled() or client.status != "running":
+                            raise _lost(client, run) from None
+                        raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} "
+                                           "tiles finished are stored: rerun to resume") from e
+                    store_one(ij, out, secs, cpu)
+                now = time.monotonic()
+                if batch or now < next_look:
+                    if not batch:
+                        time.sleep(POLL_S)
+                    continue
+                next_look = now + 1.0
+                n = _n_workers(client)
+                if n is None:
+                    raise _lost(client, run)
+                if n > 0:
+                    if alone_since is not None:
+                        note(f"{n} worker(s) connected: computing")
+                    alone_since = None
+                elif alone_since is None:
+                    alone_since = now
+                    note(f"no worker is connected to the scheduler: waiting for one (at most {timeout:g} s, "
+                         "--timeout)")
+                elif now - alone_since > timeout:
+                    raise ClusterLost(f"no worker connected to the scheduler for {timeout:g} s (--timeout): gave "
+                                      f"up; the {len(run.computed)} tiles finished are stored: rerun to resume")
         finally:
             for fut in futures:
                 fut.cancel()

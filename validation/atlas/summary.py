@@ -109,6 +109,7 @@ def _run_record(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun) -> 
     out = {
         "scheduler": run.scheduler, "workers": run.workers, "tile": list(run.store.tile),
         "tiles_computed": len(run.computed), "tiles_resumed": run.skipped,
+        "tiles_damaged": [list(d.tile) for d in run.store.damaged],
         "points_computed": run.points_computed, "impacts_per_point": spec.impacts_per_point,
         "wall_seconds": run.seconds,
         "throughput (points x impacts / s, wall, start-up and compile included)": run.throughput,

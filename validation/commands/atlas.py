@@ -11,9 +11,13 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 from pathlib import Path
 
-from ..cliutil import CliError, add_output_options, nonneg_int, positive_int, tau0_type
+from ..cliutil import CliError, CommandFailed, add_output_options, nonneg_int, positive_int, real, tau0_type
+
+#: Exit status of a lost Dask cluster: the scheduler does not answer or was lost, or no worker for --timeout.
+EXIT_CLUSTER_LOST = 3
 
 NAME = "atlas"
 HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
@@ -23,6 +27,7 @@ _FIELD = re.compile(r"^(alpha_lo|alpha_hi|n_alpha|r_lo|r_hi|n_r|tau0|sdot0|trans
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..atlas.run import WORKER_TIMEOUT_S
     from ..atlas.spec import MAX_GRID, MAX_IMPACTS, MAX_PERIOD, AtlasSpec
 
     d = AtlasSpec()
@@ -58,6 +63,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "scheduler such as tcp://host:8786 (default local)")
     r.add_argument("--workers", type=positive_int("--workers", 1024), default=None,
                    help="worker processes of the local cluster, 1 to 1024 (default: one per core)")
+    r.add_argument("--timeout", type=real("--timeout", lo=0.0, hi=1e7, lo_open=True), default=WORKER_TIMEOUT_S,
+                   metavar="SECONDS", help="give up (exit status 3) after this many seconds with no Dask worker "
+                   f"connected, 0 < SECONDS <= 1e7 (default {WORKER_TIMEOUT_S:g})")
     add_output_options(r, out=("atlas", "directory for atlas.png and atlas_summary.json (default atlas)"))
 
 
@@ -76,7 +84,9 @@ def run(args: argparse.Namespace) -> int:
                          args.period_tol)
     except ValueError as e:
         raise _option_names(e) from None
-    from ..atlas.run import check_scheduler, import_distributed, run_atlas
+    from ..atlas.lock import StoreBusy, StoreLock
+    from ..atlas.run import ClusterLost, check_scheduler, import_distributed, run_atlas
+    from ..atlas.store import StoreWriteError
     from ..atlas.store import fit_tile, import_zarr, load_store
     from ..atlas.summary import summarise
     from ..cliutil import check_output_dir, check_outputs, print_result
@@ -99,21 +109,32 @@ def run(args: argparse.Namespace) -> int:
     check_output_dir(store, "--store" if args.store is not None else "--out")
     from ...core.progress import Bar
 
-    with Bar("atlas", unit="tiles", enabled=not args.quiet,
-             phase="starting workers" if args.scheduler == "local" else "starting") as bar:
-        try:
-            res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
-                            progress=bar)
-        except ValueError as e:
-            raise _option_names(e) from None
-        except RuntimeError as e:
-            raise CliError(str(e)) from None
+    from ..cliutil import COMMAND, note
+
+    lock = StoreLock(store)  # taken by run_atlas once the scheduler answers; held until the store is read
     try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise CliError(f"--out: cannot create directory {str(out)!r}: {e.strerror}") from None
-    st = load_store(store)
-    data = st.read()
+        with Bar("atlas", unit="tiles", enabled=not args.quiet,
+                 phase="starting workers" if args.scheduler == "local" else "starting") as bar:
+            try:
+                res = run_atlas(spec, store, (args.tile, args.tile), args.scheduler, args.workers, args.overwrite,
+                                progress=bar, timeout=args.timeout, lock=lock, note=note)
+            except ClusterLost as e:  # not a usage error: its own status, one line (cliutil's format)
+                print(f"{COMMAND[0]}: error: {_option_names(ValueError(str(e)))}", file=sys.stderr)
+                return EXIT_CLUSTER_LOST
+            except ValueError as e:
+                raise _option_names(e) from None
+            except (StoreBusy, StoreWriteError) as e:
+                raise CommandFailed(str(e)) from None
+            except RuntimeError as e:
+                raise CliError(str(e)) from None
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise CliError(f"--out: cannot create directory {str(out)!r}: {e.strerror}") from None
+        st = load_store(store)
+        data = st.read()
+    finally:
+        lock.release()
     summary = summarise(data, spec, res)
     summary.store = store
     write_json(out / "atlas_summary.json", summary.as_dict())
