@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import argparse
 
-from ...mapimpl.certified.balls import MAX_PREC
-from ...mapimpl.certified.track import MAX_TRACK_PREC
 from ..cliutil import (MAX_IMPACTS, CliError, CommandFailed, add_output_options, int_range, add_param_args, check_outputs, nonneg_int, note, params_from, progress_arg,
                        real, tau0_type, write_output, write_plot)
 
@@ -25,6 +23,11 @@ HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    # the certified track's limits come from its module (python-flint: a light install lacks it, and the
+    # command line imports every command's module to list it)
+    from ...mapimpl.certified.balls import MAX_PREC
+    from ...mapimpl.certified.track import MAX_TRACK_PREC
+
     add_param_args(p)
     p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time tau0, |tau0| <= 1e6 (default 0.0)")
     p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial pre-impact velocity, finite (> 0 hits s = 0, < 0 hits s = -1; with --s0 any) (default 0.5)")
@@ -74,7 +77,7 @@ def _finish(args: argparse.Namespace, seq) -> None:
 
 def _run_certified(args: argparse.Namespace, params) -> int:
     """``--track certified``: the certified orbit, or its certified prefix and one line, exit status 1."""
-    from ...mapimpl.certified.track import certified_orbit
+    from ...mapimpl.certified.track import MAX_TRACK_PREC, certified_orbit
 
     limit = MAX_TRACK_PREC if args.max_precision is None else args.max_precision
     run = certified_orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit,
