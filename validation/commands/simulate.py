@@ -78,6 +78,7 @@ def _finish(args: argparse.Namespace, seq) -> None:
 def _run_certified(args: argparse.Namespace, params) -> int:
     """``--track certified``: the certified orbit, or its certified prefix and one line, exit status 1."""
     from ...mapimpl.certified.track import MAX_TRACK_PREC, certified_orbit
+    from ..io.atomic import commit_pending
 
     limit = MAX_TRACK_PREC if args.max_precision is None else args.max_precision
     run = certified_orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit,
@@ -87,6 +88,7 @@ def _run_certified(args: argparse.Namespace, params) -> int:
         _finish(args, seq)
         return 0
     write_output(args, seq)  # the certified prefix only (no plot of a partial orbit)
+    commit_pending()  # a whole file, kept although the command fails (io.atomic discards on failure)
     k = run.impacts_certified
     raise CommandFailed(f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
                         f"{k} certified impact{'' if k == 1 else 's'} before it")
