@@ -196,8 +196,10 @@ def check_array(name: str, value, lo: float = -math.inf, hi: float = math.inf, *
     if ndim is not None and a.ndim > ndim:
         raise InputTypeError(f"{name} has shape {a.shape}: allowed {shape_words}{words}")
     a = np.atleast_1d(a).ravel()
-    if not 1 <= a.size <= max_size:
-        raise ValueError(f"{name} has {a.size} values: allowed 1 <= size <= {max_size} of {words}")
+    if a.size == 0:
+        raise ValueError(f"{name} is empty: allowed 1 to {max_size} {words}")
+    if a.size > max_size:
+        raise ValueError(f"{name} has {a.size} values: allowed at most {max_size} {words}")
     with np.errstate(invalid="ignore"):
         bad = ~np.isfinite(a) | (a < lo) | (a > hi)
         if nonzero:
