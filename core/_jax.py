@@ -198,21 +198,19 @@ def _add_engine_xla_flags() -> None:
 
 
 def _wanted_cpu_devices(n: int | None) -> int:
-    raw: int | str | None
+    from .checks import check_int
+
     if n is not None:
-        raw, src = n, "n"
-    else:
-        raw, src = os.environ.get(CPU_DEVICES_ENV), CPU_DEVICES_ENV
-        if raw is None:
-            try:
-                return max(1, len(os.sched_getaffinity(0)))
-            except (AttributeError, OSError):  # pragma: no cover - non-Linux
-                return max(1, os.cpu_count() or 1)
+        return check_int("n", n, 1, 1024)
+    raw, src = os.environ.get(CPU_DEVICES_ENV), CPU_DEVICES_ENV
+    if raw is None:
+        try:
+            return max(1, len(os.sched_getaffinity(0)))
+        except (AttributeError, OSError):  # pragma: no cover - non-Linux
+            return max(1, os.cpu_count() or 1)
     try:
         v = int(raw)
     except (TypeError, ValueError):
-        v = 0
-    if isinstance(raw, float) and raw != v:
         v = 0
     if not 1 <= v <= 1024:
         raise ValueError(f"{src}={raw!r} is out of range: allowed an integer 1 <= {src} <= 1024")

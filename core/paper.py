@@ -27,5 +27,8 @@ PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
 DELTA = 1e-3
 #: The capture distances recorded alongside :data:`DELTA` (Fig. 11's sensitivity to the rule).
 DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
+#: Largest capture distance accepted anywhere (``0 < delta <= MAX_DELTA``): a distance the size of the
+#: phase space would capture every orbit at once.
+MAX_DELTA = 10.0
 
-__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG3_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS"]
+__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG3_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS", "MAX_DELTA"]

@@ -82,6 +82,18 @@ def check_value(name: str, value: float | str) -> float:
     return x
 
 
+def check_param(name: str, value) -> float:
+    """One parameter given as a number (a :class:`Params` field, or ``alpha, beta, gamma, r`` of a
+    low-level function): ``TypeError`` (:class:`core.checks.InputTypeError`) for a str, bool, None,
+    complex or non-scalar value -- no silent coercion of ``'3'`` -- else :func:`check_value`."""
+    from .checks import _not_a_number, InputTypeError
+
+    if _not_a_number(value):
+        raise InputTypeError(f"parameter {name}={value!r} is a {type(value).__name__}: allowed a real number, "
+                             f"{RANGES[name]}")
+    return check_value(name, float(value))
+
+
 def check_params(params, name: str = "params") -> "Params":
     """``params`` if it is a :class:`Params`; ``TypeError`` naming the argument otherwise (a dict of
     values is not validated parameters: ``Params(**d)`` makes one)."""
@@ -111,11 +123,7 @@ class Params:
 
     def __post_init__(self) -> None:
         for name in ("alpha", "beta", "gamma", "r"):
-            value = getattr(self, name)
-            if isinstance(value, (str, bytes, bool, complex)) or value is None:  # no silent coercion of '3'
-                raise TypeError(f"Params: {name}={value!r} is a {type(value).__name__}: allowed a real number, "
-                                f"{RANGES[name]}")
-            object.__setattr__(self, name, check_value(name, value))
+            object.__setattr__(self, name, check_param(name, getattr(self, name)))
 
     def arrays(self) -> ParamArrays:
         """The parameters as float64 JAX scalars, for the kernels."""

@@ -71,7 +71,8 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: s
         hits ``s = -1``); with ``s0``, the free state ``(tau0, s0, sdot0)`` whose flight's first
         impact is impact 0.
     n_impacts : int
-        Impacts after impact 0 (an orbit that sticks forever or never lands again ends early).
+        Impacts after impact 0, ``0 <= n_impacts <= 1e7`` (every impact is kept in memory; an orbit that
+        sticks forever or never lands again ends early).
     track : {"map", "scipy", "diffrax", "certified"}
         The closed-form impact map (:mod:`gear_rattle.mapimpl.orbit`), a numerical integration of
         Eq. (3) (:mod:`gear_rattle.reference`; :data:`TRACKS`), or the certified track
@@ -93,6 +94,12 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, *, track: s
     ImpactSequence
         :class:`gear_rattle.core.results.ImpactSequence`: per event ``n, tau, theta = tau mod 2 pi,
         wall, sdot, kind`` and the orbit's ``status``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For an argument out of range or of the wrong type, naming it and its range
+        (:mod:`gear_rattle.core.checks`), before anything is computed.
 
     Examples
     --------
@@ -127,11 +134,12 @@ def find_periodic(params: Params, tau0: float, sdot0: float, period: int | None 
     tau0, sdot0 : float
         A guess of one pre-impact state of the orbit.
     period : int
-        Impacts per period, ``>= 1``.
+        Impacts per period, ``1 <= period <= 100000``.
     turns : int, optional
-        Driving periods (``2 pi``) per period.
+        Driving periods (``2 pi``) per period, ``1 <= turns <= 100000``.
     tol, max_iter : optional
-        Newton's tolerance and most iterations.
+        Newton's tolerance on the residual, ``1e-15 <= tol <= 1e-6``, and most iterations,
+        ``1 <= max_iter <= 10000``.
     impacts : int, optional
         The old name of ``period`` (a DeprecationWarning).
 
@@ -149,24 +157,25 @@ def find_periodic(params: Params, tau0: float, sdot0: float, period: int | None 
     >>> orb.converged, orb.walls.tolist(), orb.stable
     (True, [-1, 0, 0], True)
     """
-    from .mapimpl.periodic import find_periodic as _find
+    from .mapimpl.periodic import check_newton, find_periodic as _find
 
     period = _renamed("impacts", "period", period, impacts)
-    if period is None:
-        raise TypeError("find_periodic() missing the argument period (impacts per orbit)")
+    check_newton(period, turns, tol, max_iter, names=("period", "turns"))  # named as here
     return _find(params, tau0, sdot0, period, turns, tol=tol, max_iter=max_iter)
 
 
 def lyapunov(params: Params, param: str = "r", values=None, *, n_impacts: int | None = None, transient: int = 1000,
              tau0: float = 0.0, sdot0: float = 0.5, progress=None, n: int | None = None):
     """Lyapunov exponents of the impact map (QR method) at ``values`` of ``param`` (default: the
-    value in ``params``), averaged over ``n_impacts`` impacts (default 20000) after ``transient``; see
-    :func:`gear_rattle.mapimpl.lyapunov.lyapunov` (``n=`` is the old name of ``n_impacts``)."""
-    from .mapimpl.lyapunov import lyapunov as _lyap
+    value in ``params``), averaged over ``n_impacts`` impacts (default 20000, at most 5e7) after ``transient``
+    (at most 5e7); see :func:`gear_rattle.mapimpl.lyapunov.lyapunov` (``n=`` is the old name of
+    ``n_impacts``) and :func:`~gear_rattle.mapimpl.lyapunov.check_arguments` (the ranges)."""
+    from .mapimpl.lyapunov import check_arguments, lyapunov as _lyap
 
     n_impacts = _renamed("n", "n_impacts", n_impacts, n)
-    return _lyap(params, param, values, n=20000 if n_impacts is None else n_impacts, transient=transient, tau0=tau0,
-                 sdot0=sdot0, progress=progress)
+    n_impacts = 20000 if n_impacts is None else n_impacts
+    check_arguments(params, param, values, n_impacts, transient, tau0, sdot0, names=("params", "n_impacts"))
+    return _lyap(params, param, values, n=n_impacts, transient=transient, tau0=tau0, sdot0=sdot0, progress=progress)
 
 
 def transient_times(tau0, sdot0, params: Params | None = None, *, ic_mode: str = "pre-impact", s0=None,

@@ -44,6 +44,8 @@ import jax.numpy as jnp
 
 from .flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
 from ..core.status import FlightOutcome
+from ..core.checks import check_int, check_real, check_tau0, is_traced
+from ..core.params import check_param
 
 
 #: Longest flight searched (in units of tau) before giving up with NO_IMPACT.
@@ -270,12 +272,27 @@ def root_step(x, g, dg, d2g, lo, hi, m2, m3, k):
     return xn, lo_n, hi_n, conv | (k_new >= _NEWTON_ITERS), k_new
 
 
+def check_flight(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_STEPS) -> None:
+    """The arguments of :func:`first_impact` called with concrete values (:mod:`core.checks`):
+    ``|tau0| <= 1e6``, ``-1 <= s0 <= 0``, a finite ``v0``, ``alpha, beta, gamma`` in the ranges of
+    :class:`~gear_rattle.core.params.Params`, ``0 < t_max <= 1e6``, ``1 <= max_steps <= 1e6``."""
+    check_tau0(tau0)
+    check_real("s0", s0, -1.0, 0.0)
+    check_real("v0", v0)
+    for name, value in (("alpha", alpha), ("beta", beta), ("gamma", gamma)):
+        check_param(name, value)
+    check_real("t_max", t_max, 0.0, 1e6, lo_open=True)
+    check_int("max_steps", max_steps, 1, 1_000_000)
+
+
 def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_STEPS) -> Hit:
     """First impact of the flight leaving ``(tau0, s0, v0)``: the certified impact finder.
 
     The flight is the closed form of Eqs. (7)-(8) (:mod:`mapimpl.flight`); the first root of the gap to
     either wall is bracketed by certified safe steps and located by safeguarded root iterations (the
     module docstring: method, guarantees and status codes).  Scalar inputs; use ``jax.vmap`` for batches.
+    Called with concrete values (not under ``jit``/``vmap``) it checks them first (:func:`check_flight`:
+    ``ValueError``/``TypeError`` naming the argument); traced, its caller has checked them.
 
     Parameters
     ----------
@@ -288,9 +305,9 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
     alpha, beta, gamma : float
         The parameters of Eq. (3).
     t_max : float, optional
-        Longest flight searched (status ``NO_IMPACT`` beyond).
+        Longest flight searched (status ``NO_IMPACT`` beyond), ``0 < t_max <= 1e6``.
     max_steps : int, optional
-        Most safe steps (status ``STEP_CAP`` beyond).
+        Most safe steps (status ``STEP_CAP`` beyond), ``1 <= max_steps <= 1e6``.
 
     Returns
     -------
@@ -317,6 +334,8 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
     >>> print(f"{-0.5 + float(flight(hit.t, 0.0, 0.3, 3.0, 0.1, 0.1).ds):.12f}")
     -1.000000000000
     """
+    if not is_traced(tau0, s0, v0, alpha, beta, gamma, t_max, max_steps):  # a call from Python: check it
+        check_flight(tau0, s0, v0, alpha, beta, gamma, t_max, max_steps)
     tau0, s0, v0 = (jnp.asarray(x, jnp.float64) for x in (tau0, s0, v0))
     t_dep = departure_time(tau0, s0, v0, alpha, beta, gamma)
 

@@ -33,7 +33,7 @@ from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ..core.checks import check_int, check_tau0
+from ..core.checks import MAX_AVERAGED, MAX_VALUES, check_array, check_choice, check_int, check_start
 from ..core.params import DIAGRAM_PARAMS, Params, param_arrays
 from ..core.state import make_state
 from ..core.status import Status
@@ -83,24 +83,37 @@ class LyapunovResult:
                          bool(self.active[i])] for i, v in enumerate(self.values)]
 
 
+def check_arguments(base, param, values, n, transient, tau0, sdot0, names: tuple[str, str] = ("base", "n")):
+    """The arguments of :func:`lyapunov`, checked (:mod:`core.checks`) and returned as
+    ``(param, values, n, transient, tau0, sdot0)``: ``param`` in ``("r", "alpha")``, ``values`` a 1-D
+    sequence of at most ``MAX_VALUES`` (2e4) allowed values of it (default: ``base``'s),
+    ``1 <= n <= MAX_AVERAGED`` and ``0 <= transient <= MAX_AVERAGED`` (5e7 impacts), a pre-impact start
+    ``(tau0, sdot0)``.  ``names``: the names of ``base`` and ``n`` in the caller (the facade's
+    ``params`` and ``n_impacts``)."""
+    from ..core.params import check_params
+
+    check_params(base, names[0])
+    check_choice("param", param, DIAGRAM_PARAMS)
+    n = check_int(names[1], n, 1, MAX_AVERAGED)
+    transient = check_int("transient", transient, 0, MAX_AVERAGED)
+    tau0, sdot0, _ = check_start(tau0, sdot0)
+    values = check_array("values", [getattr(base, param)] if values is None else values, max_size=MAX_VALUES)
+    try:
+        param_arrays(base, param, values)
+    except ValueError as e:
+        raise ValueError(f"values: {e}") from None
+    return param, values, n, transient, tau0, sdot0
+
+
 def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transient: int = 1000, tau0: float = 0.0,
              sdot0: float = 0.5, progress=None) -> LyapunovResult:
     """Lyapunov exponents (QR method) of the orbit from ``(tau0, sdot0)`` at each value of ``param``
     (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts: one orbit per value on the
     many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer).  ``values``:
-    default the value of ``param`` in ``base`` (one orbit)."""
-    from ..core.params import check_params
-
-    check_params(base, "base")
-    n = check_int("n", n, 1, 50_000_000)
-    transient = check_int("transient", transient, 0, 50_000_000)
-    if not (np.isfinite(sdot0) and sdot0 != 0.0 and np.isfinite(tau0)):
-        raise ValueError(f"sdot0={sdot0!r} is out of range: allowed finite sdot0 != 0 (and finite tau0)")
-    check_tau0(tau0)
-    if values is None and param in DIAGRAM_PARAMS:
-        values = [getattr(base, param)]
-    p = param_arrays(base, param, values)  # ValueError for another param
-    values = np.atleast_1d(np.asarray(values, dtype=np.float64))
+    default the value of ``param`` in ``base`` (one orbit).  The arguments and their ranges:
+    :func:`check_arguments` (``ValueError``/``TypeError`` naming the argument)."""
+    param, values, n, transient, tau0, sdot0 = check_arguments(base, param, values, n, transient, tau0, sdot0)
+    p = param_arrays(base, param, values)
     m = values.size
     res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
               tuple(p), Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
@@ -124,8 +137,12 @@ def raw_product_overflow(params: Params, n: int = 5000, tau0: float = 0.0, sdot0
                          transient: int = 1000) -> int | None:
     """First impact count at which the paper's raw product ``J_n ... J_1`` overflows to inf/NaN in
     float64 along the orbit (None if it does not within ``n``): the reason for the QR method."""
+    from ..core.params import check_params
+
     n = check_int("n", n, 1, 10_000_000)
-    p = params.arrays()
+    transient = check_int("transient", transient, 0, 10_000_000)
+    tau0, sdot0, _ = check_start(tau0, sdot0)
+    p = check_params(params).arrays()
     st = make_state(jnp.asarray(tau0), jnp.asarray(sdot0))
     st = jax.jit(lambda s, pp: jax.lax.fori_loop(0, transient, lambda _, x: step(x, pp)[0], s))(st, p)
 

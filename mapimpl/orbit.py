@@ -11,13 +11,12 @@ analysis and the CLI run on any track.
 
 from __future__ import annotations
 
-import numpy as np
 
 from ..core import _jax  # noqa: F401
 import jax
 
 from .impact_map import free_flight_start, iterate
-from ..core.checks import check_tau0
+from ..core.checks import MAX_IMPACTS, check_int, check_start
 from ..core.state import MapState, make_state, run_in_chunks, sequence_from_states
 from ..core.params import Params
 from ..core.results import ImpactSequence
@@ -33,6 +32,9 @@ _free_start_jit = jax.jit(free_flight_start)
 #: chunks, and one compilation serves every orbit length.
 CHUNK = 1024
 
+#: Largest ``chunk`` of :func:`map_orbit` (one compiled scan of that many steps).
+MAX_CHUNK = 1 << 20
+
 
 def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = None) -> MapState:
     """Initial pre-impact map state.
@@ -42,16 +44,9 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
     ambiguous).  With ``-1 <= s0 <= 0`` it is a free-flight state and the first impact is searched.
     ``|tau0| <= TAU0_MAX`` (1e6) in both cases: beyond it the phase reduction loses the phase.
     """
-    tau0 = check_tau0(tau0)
+    tau0, sdot0, s0 = check_start(tau0, sdot0, s0)
     if s0 is None:
-        if not np.isfinite(sdot0) or sdot0 == 0.0:
-            raise ValueError(f"initial sdot0={sdot0!r} is out of range: a pre-impact state needs sdot0 != 0 "
-                             "(> 0 hits s = 0, < 0 hits s = -1)")
         return make_state(tau0, sdot0)
-    if not (np.isfinite(s0) and -1.0 <= s0 <= 0.0):
-        raise ValueError(f"initial s0={s0!r} is out of range: allowed -1 <= s0 <= 0")
-    if not np.isfinite(sdot0):
-        raise ValueError(f"initial sdot0={sdot0!r} is out of range: allowed a finite real")
     if (s0 == 0.0 and sdot0 > 0.0) or (s0 == -1.0 and sdot0 < 0.0):
         # on a wall moving into it: the pre-impact state itself (the flight from it hits at t = 0), decided
         # here on the host, where a subnormal sdot0 keeps its sign (XLA would see 0: _jax.positive)
@@ -81,11 +76,11 @@ def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: flo
         Impact 0, a pre-impact state (``sdot0 > 0``: at ``s = 0``; ``sdot0 < 0``: at ``s = -1``), or
         with ``s0`` the free state ``(tau0, s0, sdot0)`` whose first impact is impact 0.
     n_impacts : int
-        Impacts after impact 0, ``>= 0``.
+        Impacts after impact 0, ``0 <= n_impacts <= MAX_IMPACTS`` (1e7: every impact is kept in memory).
     s0 : float, optional
         A start in free flight, ``-1 <= s0 <= 0``.
     chunk : int, optional
-        Impacts per compiled scan.
+        Impacts per compiled scan, ``1 <= chunk <= 2**20``.
     progress : bool, optional
         None or True for a bar of the impacts on a terminal for runs over a second (default False: none;
         :mod:`gear_rattle.core.progress`).
@@ -95,6 +90,11 @@ def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: flo
     ImpactSequence
         One row per event (impacts, and a ``stick``/``release`` pair per sticking episode), with the
         orbit's ``status``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For an argument out of range or of the wrong type (:mod:`gear_rattle.core.checks`), naming it.
 
     Examples
     --------
@@ -118,9 +118,9 @@ def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: flo
     from ..core.params import check_params
 
     check_params(params)
-    if isinstance(n_impacts, bool) or int(n_impacts) != n_impacts or int(n_impacts) < 0:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer n_impacts >= 0")
+    n_impacts = check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
+    chunk = check_int("chunk", chunk, 1, MAX_CHUNK)
     first = initial_state(params, tau0, sdot0, s0)
-    traj = iterate_chunked(first, params, int(n_impacts), chunk, progress=progress)
+    traj = iterate_chunked(first, params, n_impacts, chunk, progress=progress)
     return sequence_from_states(params, first, traj, track="map",
                                 meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)})

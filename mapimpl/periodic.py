@@ -20,6 +20,7 @@ import jax
 import jax.numpy as jnp
 
 from ..core.phase import TWO_PI
+from ..core.checks import MAX_ITER, MAX_PERIOD, check_int, check_start, check_tol
 from ..core.status import Status
 from .impact_map import step
 from ..core.state import make_state
@@ -96,6 +97,19 @@ class PeriodicOrbit:
         return d
 
 
+#: Loosest Newton tolerance of :func:`find_periodic`: above it the "orbit" would be the guess.
+MAX_TOL = 1e-6
+
+
+def check_newton(impacts, turns, tol, max_iter, names: tuple[str, str] = ("impacts", "turns")):
+    """The shape and the solver settings of :func:`find_periodic`, checked (:mod:`core.checks`):
+    ``1 <= impacts, turns <= MAX_PERIOD``, ``TOL_FLOOR <= tol <= MAX_TOL`` (1e-15 .. 1e-6),
+    ``1 <= max_iter <= MAX_ITER`` (1e4); ``names``: the names of the first two arguments (the facade's
+    ``period``)."""
+    return (check_int(names[0], impacts, 1, MAX_PERIOD), check_int(names[1], turns, 1, MAX_PERIOD),
+            check_tol("tol", tol, MAX_TOL), check_int("max_iter", max_iter, 1, MAX_ITER))
+
+
 def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns: int = 1,
                   tol: float = 1e-12, max_iter: int = 60) -> PeriodicOrbit:
     """Newton search for an orbit with ``impacts`` impacts per ``turns`` driving periods.
@@ -111,13 +125,13 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     tau0, sdot0 : float
         A guess of one pre-impact state (e.g. the end of a long run on the attractor).
     impacts : int
-        Impacts per period, ``>= 1``.
+        Impacts per period, ``1 <= impacts <= 100000``.
     turns : int, optional
         Driving periods (``2 pi``) per period, ``>= 1``.
     tol : float, optional
-        Newton's tolerance on the max-norm of ``G``.
+        Newton's tolerance on the max-norm of ``G``, ``1e-15 <= tol <= 1e-6``.
     max_iter : int, optional
-        Most Newton iterations.
+        Most Newton iterations, ``1 <= max_iter <= 10000``.
 
     Returns
     -------
@@ -127,7 +141,8 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     Raises
     ------
     ValueError
-        For ``impacts`` or ``turns`` out of range.
+        For an argument out of range (``impacts``, ``turns`` up to 1e5, ``tol``, ``max_iter``, a guess
+        that is not finite, ``sdot0 = 0``), naming it; ``TypeError`` for one of the wrong type.
 
     Examples
     --------
@@ -149,18 +164,12 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     >>> print(f"{np.prod(orb.multipliers).real:.12f} {0.9 ** 6 * np.exp(-0.2 * np.pi):.12f}")
     0.283517444618 0.283517444618
     """
-    from ..core.checks import check_int
     from ..core.params import check_params
 
     p = check_params(params).arrays()
-    impacts = check_int("impacts", impacts, 1, 100_000)
-    turns = check_int("turns", turns, 1, 100_000)
-    for name, v in (("tau0", tau0), ("sdot0", sdot0)):
-        if isinstance(v, (str, bytes, bool)) or not np.isfinite(float(v)):
-            raise ValueError(f"{name}={v!r} is out of range: allowed a finite number")
-    if float(sdot0) == 0.0:
-        raise ValueError("sdot0=0.0 is out of range: allowed sdot0 != 0 (a pre-impact velocity)")
-    x = np.array([float(tau0) % float(TWO_PI), float(sdot0)])
+    impacts, turns, tol, max_iter = check_newton(impacts, turns, tol, max_iter)
+    tau0, sdot0, _ = check_start(tau0, sdot0)
+    x = np.array([tau0 % float(TWO_PI), sdot0])
     wall0 = 0 if x[1] > 0 else -1
     res, it, conv = np.inf, 0, False
     for it in range(1, max_iter + 1):

@@ -30,10 +30,15 @@ from ..core import _jax  # noqa: F401
 import jax.numpy as jnp
 
 from .flight import forcing_rate_sc, forcing_sc
+from ..core.checks import check_real, check_tau0, check_wall, is_traced
+from ..core.params import check_param
 from ..core.phase import TWO_PI, reduce_phase
 
 #: Predicted chatter accumulation time below which the tooth is stuck to the wall (units of tau).
 STICK_TIME = 1e-6
+
+#: Largest ``stick_time`` accepted (the jump's error grows as ``t_acc^2``: 1e-4 in time at this bound).
+MAX_STICK_TIME = 1e-2
 
 
 def wall_direction(wall):
@@ -52,7 +57,15 @@ def release_phase(wall, alpha, beta, gamma):
     at the same phase with ``sdot = 0``, so all of them continue on *one* post-release orbit (bit for
     bit, whatever their own sticking phase).  ``never``: the force never changes sign
     (``|gamma| >= R`` on the pressing side): stuck forever.
+
+    Called with concrete values (not under ``jit``), ``wall`` must be 0 or -1 and ``alpha, beta, gamma``
+    in the ranges of :class:`~gear_rattle.core.params.Params` (``ValueError``/``TypeError`` naming the
+    argument); traced, its caller has checked them.
     """
+    if not is_traced(wall, alpha, beta, gamma):
+        check_wall("wall", wall)
+        for name, value in (("alpha", alpha), ("beta", beta), ("gamma", gamma)):
+            check_param(name, value)
     R = alpha * jnp.sqrt(1.0 + beta * beta)
     phi = jnp.arctan(beta)
     Rs = jnp.where(R > 0.0, R, 1.0)
@@ -90,8 +103,23 @@ class StickDecision(NamedTuple):
     phase: jnp.ndarray
 
 
+def check_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> None:
+    """The arguments of :func:`decide_stick` (:mod:`core.checks`): a phase ``|theta| <= 1e6``, ``wall``
+    0 or -1, a finite ``sdot``, parameters in the ranges of :class:`~gear_rattle.core.params.Params` and
+    ``0 <= stick_time <= MAX_STICK_TIME``."""
+    check_tau0(theta, "theta")
+    check_wall("wall", wall)
+    check_real("sdot", sdot)
+    for name, value in (("alpha", alpha), ("beta", beta), ("gamma", gamma), ("r", r)):
+        check_param(name, value)
+    check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+
+
 def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:
-    """Apply the sticking policy to an impact at phase ``theta`` on ``wall`` with pre-impact ``sdot``."""
+    """Apply the sticking policy to an impact at phase ``theta`` on ``wall`` with pre-impact ``sdot``.
+    Called with concrete values it checks them first (:func:`check_stick`)."""
+    if not is_traced(theta, wall, sdot, alpha, beta, gamma, r, stick_time):
+        check_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time)
     return decide_stick_sc(theta, jnp.sin(theta), jnp.cos(theta), wall, sdot, alpha, beta, gamma, r, stick_time)
 
 

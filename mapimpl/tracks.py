@@ -25,9 +25,9 @@ import jax
 from ..core.status import Status
 from .impact_map import step
 from ..core.state import make_state
-from .orbit import initial_state, map_orbit
-from ..core.checks import start_wall
-from ..core.params import Params
+from .orbit import map_orbit
+from ..core.checks import MAX_IMPACTS, check_choice, check_int, check_start, start_wall
+from ..core.params import Params, check_params
 from ..core.results import TRACKS, ImpactSequence, StepJacobian, Track, TrackFunctions
 
 #: The tracks :func:`orbit` takes: :data:`TRACKS` and the certified track.
@@ -57,9 +57,8 @@ def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None
     with the analytic Jacobian of :func:`mapimpl.impact_map.step` (implicit differentiation of the
     impact condition; 0 if the step sticks)."""
     _no_options(options)
-    if not isinstance(params, Params):
-        raise ValueError(f"params={params!r} is out of range: allowed a core.params.Params")
-    initial_state(params, tau, sdot)  # validates tau and sdot
+    check_params(params)
+    tau, sdot, _ = check_start(tau, sdot, None, ("tau", "sdot"))
     wall = start_wall(wall, sdot)
     new, info = _step_jit(make_state(tau, sdot, wall), params.arrays())
     stuck, status = bool(info.stuck), int(new.status)
@@ -77,8 +76,7 @@ MAP = TrackFunctions("map", _map_orbit, _map_step_jacobian)
 def get(track: str) -> Track:
     """The :class:`~core.results.Track` named ``track`` (one of :data:`TRACKS`); ``ValueError``
     for an unknown name, ``ImportError`` when its integrator is not installed."""
-    if track not in TRACKS:
-        raise ValueError(f"track={track!r} is out of range: allowed one of {', '.join(TRACKS)}")
+    check_choice("track", track, TRACKS)
     if track == "map":
         return MAP
     return importlib.import_module(_MODULES[track]).TRACK
@@ -89,22 +87,28 @@ def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int,
     """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`, or the
     certified track: one of :data:`ORBIT_TRACKS`); every track takes ``progress=``
     (:mod:`gear_rattle.core.progress`), the numerical ones their solver options, the certified one
-    :data:`mapimpl.certified.track.TRACK_OPTIONS`.  ``TypeError`` when ``params`` is not a :class:`Params`."""
-    from ..core.params import check_params
-
+    :data:`mapimpl.certified.track.TRACK_OPTIONS`.  ``TypeError`` when ``params`` is not a :class:`Params`;
+    ``ValueError``/``TypeError`` naming the argument for a bad start or count (:mod:`core.checks`:
+    ``0 <= n_impacts <= MAX_IMPACTS``, 1e7), before any track is loaded."""
+    check_choice("track", track, ORBIT_TRACKS)
     check_params(params)
+    check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
+    check_start(tau0, sdot0, s0)
     if track == "certified":
         from .certified.track import track_orbit
 
         return track_orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
-    if track not in TRACKS:
-        raise ValueError(f"track={track!r} is out of range: allowed one of {', '.join(ORBIT_TRACKS)}")
     return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
 
 
 def step_jacobian(track: str, params: Params, tau: float, sdot: float, wall: int | None = None,
                   **options) -> StepJacobian:
-    """One impact-to-impact step with its Jacobian on the chosen track (:meth:`Track.step_jacobian`)."""
+    """One impact-to-impact step with its Jacobian on the chosen track (:meth:`Track.step_jacobian`); the
+    arguments are checked first (:mod:`core.checks`), naming them."""
+    check_choice("track", track, TRACKS)
+    check_params(params)
+    check_start(tau, sdot, None, ("tau", "sdot"))
+    start_wall(wall, sdot)
     return get(track).step_jacobian(params, tau, sdot, wall, **options)
 
 

@@ -28,8 +28,8 @@ import jax
 from ..core.state import Array, MapState
 from ..core.state import sequence_from_states
 from ..core.phase import TWO_PI_HI, TWO_PI_LO, TWO_PI_MID
-from ..core.checks import check_tau0
-from ..core.params import Params
+from ..core.checks import MAX_IMPACTS, check_int, check_real, check_start
+from ..core.params import Params, check_params
 from ..core.results import ImpactSequence
 from ..mapimpl.sticking import STICK_TIME, decide_stick
 
@@ -54,35 +54,18 @@ def reduce_phase(theta: float, cycles: int) -> tuple[float, int]:
 
 
 def check_option(name: str, value: float, lo: float, hi: float) -> float:
-    """Validate a numerical option: ``lo < value <= hi``; ``ValueError`` names it and the range."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"option {name}={value!r} is not a number: allowed {lo:g} < {name} <= {hi:g}") from None
-    if not (math.isfinite(x) and lo < x <= hi):
-        raise ValueError(f"option {name}={value!r} is out of range: allowed {lo:g} < {name} <= {hi:g}")
-    return x
+    """A numerical solver option: a finite float with ``lo < value <= hi`` (:func:`core.checks.check_real`)."""
+    return check_real(name, value, lo, hi, lo_open=True)
 
 
-def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None) -> int:
-    """Validate the arguments of an ``orbit`` call (same rules and messages as :func:`mapimpl.orbit.map_orbit`)."""
-    if not isinstance(params, Params):
-        raise ValueError(f"params={params!r} is out of range: allowed a core.params.Params")
-    try:
-        n = int(n_impacts)
-    except (TypeError, ValueError):
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer >= 0") from None
-    if n < 0 or n != n_impacts:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed n_impacts >= 0")
-    check_tau0(tau0)  # the map's range (the phase reduction is exact only for moderate tau)
-    if not np.isfinite(sdot0):
-        raise ValueError(f"initial sdot0={sdot0!r} is out of range: allowed any finite real")
-    if s0 is None:
-        if sdot0 == 0.0:
-            raise ValueError(f"initial sdot0={sdot0!r} is out of range: a pre-impact state needs sdot0 != 0 "
-                             "(> 0 hits s = 0, < 0 hits s = -1)")
-    elif not (np.isfinite(s0) and -1.0 <= s0 <= 0.0):
-        raise ValueError(f"initial s0={s0!r} is out of range: allowed -1 <= s0 <= 0")
+def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None,
+                   names: tuple[str, str] = ("tau0", "sdot0")) -> int:
+    """Validate the arguments of an ``orbit`` call (the rules and messages of :func:`mapimpl.orbit.map_orbit`:
+    :mod:`core.checks`; ``names`` of tau0 and sdot0 as in :func:`core.checks.check_start`); returns
+    ``n_impacts`` as an int."""
+    check_params(params)
+    n = check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
+    check_start(tau0, sdot0, s0, names)
     return n
 
 

@@ -44,7 +44,7 @@ import optimistix as optx
 from ..core.phase import reduce_phase
 from ..core.state import MapState, make_state
 from ..core.state import run_in_chunks, sequence_from_states
-from ..core.checks import start_wall
+from ..core.checks import TAU0_MAX, check_array, check_int, start_wall
 from ..core.params import ParamArrays, Params
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
@@ -79,7 +79,7 @@ class Options(NamedTuple):
 def options(rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
             max_steps: int = MAX_STEPS) -> Options:
     """Validated :class:`Options`; ``ValueError`` names a bad option and its range."""
-    ms = int(check_option("max_steps", max_steps, 0.0, 1e7))
+    ms = check_int("max_steps", max_steps, 1, 10_000_000)
     return Options(check_option("rtol", rtol, 1e-15, 1e-3), check_option("atol", atol, 0.0, 1e-3),
                    check_option("dtmax", dtmax, 0.0, 10.0), check_option("t_max", t_max, 0.0, 1e6), ms)
 
@@ -317,10 +317,8 @@ def batch_orbit(params: Params, tau0, sdot0, n_impacts: int, **opt) -> Trajector
 
     Returns the stacked :class:`Trajectory` (leading axis: batch, then impact index 1..n).
     """
-    tau0 = np.atleast_1d(np.asarray(tau0, dtype=np.float64))
-    sdot0 = np.atleast_1d(np.asarray(sdot0, dtype=np.float64))
-    if not (np.all(np.isfinite(tau0)) and np.all(np.isfinite(sdot0)) and np.all(sdot0 != 0.0)):
-        raise ValueError("initial tau0/sdot0 are out of range: allowed finite values with sdot0 != 0")
+    tau0 = check_array("tau0", tau0, -TAU0_MAX, TAU0_MAX)
+    sdot0 = check_array("sdot0", sdot0, nonzero=True, max_size=tau0.size)
     n = validate_start(params, 0.0, 1.0, n_impacts, None)
     return batch_iterate(make_state(tau0, sdot0), params.arrays(), n, options(**opt))
 
@@ -349,7 +347,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     """``d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` by ``jax.jacfwd`` through the event solve and the
     reset (Eq. 11).  A step that sticks (shared policy) forgets its input: ``J = 0`` (the next state
     is the impact after the release, NaN if stuck forever); a flight without impact gives NaN."""
-    validate_start(params, tau_n, sdot_n, 1, None)
+    validate_start(params, tau_n, sdot_n, 1, None, ("tau_n", "sdot_n"))
     opts = options(**opt)
     wall = start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(jnp.asarray(float(tau_n)), jnp.asarray(0, jnp.int64))

@@ -395,7 +395,7 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     forgets its input (``J = 0``, as in the map).
     """
     opts = Options(rtol, atol, max_step, t_max)
-    validate_start(params, tau_n, sdot_n, 1, None)
+    validate_start(params, tau_n, sdot_n, 1, None, ("tau_n", "sdot_n"))
     p = params
     wall = start_wall(wall, sdot_n)
     theta, cycles = reduce_phase(float(tau_n), 0)

@@ -168,7 +168,7 @@ def test_flight_proof_rejects_a_duration_past_the_first_contact():
     (lambda: certify_periodic_orbit(FIG2, [1.0], [0.0]), "nonzero"),
     (lambda: certify_periodic_orbit(FIG2, [1.0], [0.5], turns=0), "turns"),
     (lambda: certify_bifurcation("cusp", FIG4, "r", [1.0], [0.5], 0.8), "kind"),
-    (lambda: certify_bifurcation("fold", FIG4, "beta", [1.0], [0.5], 0.8), "parameter"),
+    (lambda: certify_bifurcation("fold", FIG4, "beta", [1.0], [0.5], 0.8), "name='beta'"),  # the argument's name
     (lambda: unwrap([0.0, 3.0, 6.0, 2.0]), "driving period"),
     (lambda: Shape(()), "walls"),
 ])

@@ -337,7 +337,7 @@ def test_library_arguments_name_themselves():
         gr.lyapunov(p, param="bogus")
     with pytest.raises(ValueError, match="tau0=nan"):
         gr.find_periodic(p, math.nan, 0.5, 6)
-    with pytest.raises(TypeError, match="base is a dict"):
+    with pytest.raises(TypeError, match="params is a dict"):  # the facade's name (mapimpl.lyapunov's is base)
         gr.lyapunov({"alpha": 3})
     with pytest.warns(DeprecationWarning, match="period"):
         gr.find_periodic(Params(3.0, 0.1, 0.1, 0.8), 6.0246, 0.8276, impacts=6)

@@ -175,7 +175,7 @@ def real(name: str, *, lo: float | None = None, hi: float | None = None, lo_open
 
 def tau0_type(name: str = "--tau0"):
     """argparse type of an initial time: finite, ``|tau0| <= TAU0_MAX`` (the library's range,
-    :func:`mapimpl.orbit.check_tau0`)."""
+    :func:`core.checks.check_tau0`)."""
     return real(name, max_abs=TAU0_MAX)
 
 

@@ -12,6 +12,8 @@ from contextlib import contextmanager
 
 from flint import arb, ctx
 
+from ...core.checks import InputTypeError, check_int
+
 #: Default working precision in bits (about 96 decimal digits).
 PREC = 320
 #: Highest working precision accepted (bits).
@@ -22,11 +24,26 @@ class CertificationError(RuntimeError):
     """The enclosure could not be certified (ambiguous decision, grazing, budget exhausted)."""
 
 
+def check_prec(bits, name: str = "prec") -> int:
+    """A working precision in bits (the argument ``name``): an integer ``64 <= bits <= MAX_PREC``
+    (:func:`core.checks.check_int`)."""
+    return check_int(name, bits, 64, MAX_PREC, strict=True)
+
+
+def check_ball(name: str, x) -> arb:
+    """``x`` if it is a finite ball (``arb``); ``TypeError`` (:class:`core.checks.InputTypeError`) for
+    another type, ``ValueError`` for a ball that is not finite, naming ``name``."""
+    if not isinstance(x, arb):
+        raise InputTypeError(f"{name}={x!r} is a {type(x).__name__}: allowed a finite ball (flint.arb)")
+    if not x.is_finite():
+        raise ValueError(f"{name}={x!r} is out of range: allowed a finite ball (flint.arb)")
+    return x
+
+
 @contextmanager
 def precision(bits: int):
     """Temporarily set python-flint's working precision."""
-    if not (isinstance(bits, int) and not isinstance(bits, bool) and 64 <= bits <= MAX_PREC):
-        raise ValueError(f"prec={bits!r} is out of range: allowed integer 64 <= prec <= {MAX_PREC}")
+    bits = check_prec(bits)
     old = ctx.prec
     ctx.prec = bits
     try:
@@ -101,8 +118,6 @@ def decimal_interval(x: arb, digits: int = 20) -> tuple[str, str]:
     ``[lo, hi]`` contains the ball ``x`` (the ball's ends rounded outward, exactly)."""
     import decimal
 
-    if not (isinstance(digits, int) and 1 <= digits <= 1000):
-        raise ValueError(f"digits={digits!r} is out of range: allowed an integer 1 <= digits <= 1000")
-    if not x.is_finite():
-        raise ValueError(f"x={x!r} is out of range: allowed a finite ball")
+    check_int("digits", digits, 1, 1000, strict=True)
+    check_ball("x", x)
     return _decimal(x.lower(), digits, decimal.ROUND_FLOOR), _decimal(x.upper(), digits, decimal.ROUND_CEILING)

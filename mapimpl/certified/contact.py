@@ -30,7 +30,8 @@ from dataclasses import dataclass, field
 
 from flint import arb, ctx
 
-from .balls import PREC, CertificationError, exact, span, upper_float
+from ...core.checks import InputTypeError, check_int, check_real
+from .balls import PREC, CertificationError, check_ball, check_prec, exact, span, upper_float
 from .model import Flight, Model
 
 #: Longest flight searched (tau units), as the map's ``T_MAX`` order of magnitude for golden cases.
@@ -81,6 +82,22 @@ def _departure(fl: Flight, start_wall: int, release: bool, prec: int) -> arb:
                              "(moving into the wall, or pressed into it at rest)")
 
 
+def check_flight_args(model, tau0, s0, v0, release, prec, t_max, max_evals) -> None:
+    """The arguments of :func:`certified_flight` (:mod:`core.checks`): a :class:`~.model.Model`, finite
+    balls ``tau0`` and ``v0``, ``-1 <= s0 <= 0``, a bool ``release``, ``64 <= prec <= 65536``,
+    ``0 < t_max <= 1e6``, ``1 <= max_evals <= 1e8``."""
+    if not isinstance(model, Model):
+        raise InputTypeError(f"model is a {type(model).__name__}: allowed a mapimpl.certified.model.Model")
+    check_ball("tau0", tau0)
+    check_real("s0", s0, -1.0, 0.0)
+    check_ball("v0", v0)
+    if not isinstance(release, bool):
+        raise InputTypeError(f"release={release!r} is a {type(release).__name__}: allowed True or False")
+    check_prec(prec)
+    check_real("t_max", t_max, 0.0, 1e6, lo_open=True)
+    check_int("max_evals", max_evals, 1, 100_000_000)
+
+
 def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bool = False,
                      prec: int = PREC, t_max: float = T_MAX, max_evals: int = MAX_EVALS) -> FlightCertificate:
     """First wall contact of the flight leaving ``(tau0, s0, v0)``, certified (see module docstring).
@@ -98,11 +115,11 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
     release : bool, optional
         A departure from sticking (``v0 = 0`` at a zero of the contact force).
     prec : int, optional
-        Working precision in bits.
+        Working precision in bits, ``64 <= prec <= 65536``.
     t_max : float, optional
-        Longest flight searched.
+        Longest flight searched, ``0 < t_max <= 1e6``.
     max_evals : int, optional
-        Most interval evaluations.
+        Most interval evaluations, ``1 <= max_evals <= 1e8``.
 
     Returns
     -------
@@ -131,6 +148,7 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
     >>> print(cert.t.str(12, radius=False), bool(cert.t.rad() < 1e-13))
     1.41311122496 True
     """
+    check_flight_args(model, tau0, s0, v0, release, prec, t_max, max_evals)
     s0_b = exact(s0)
     fl = Flight(model, tau0, s0_b, v0)
     start_wall = 0 if s0 == 0.0 else (-1 if s0 == -1.0 else None)

@@ -8,15 +8,16 @@ printed (``arb("1.245")``) or their exact float64 roundings (``rounding="float64
 
 from __future__ import annotations
 
-import math
-import numbers
 import time
 from dataclasses import asdict, dataclass
 
-from ...core.paper import DELTA, PAPER_DECIMAL
+from collections.abc import Mapping, Sequence
+
+from ...core.checks import MAX_IMPACTS as MAX_ORBIT_IMPACTS, InputTypeError, check_choice, check_int, check_real, check_wall
+from ...core.paper import DELTA, MAX_DELTA, PAPER_DECIMAL
 from ...core.params import Params
-from ..sticking import STICK_TIME
-from .balls import MAX_PREC, CertificationError, precision
+from ..sticking import MAX_STICK_TIME, STICK_TIME
+from .balls import MAX_PREC, CertificationError, check_prec, precision
 from .capture import Target, float64_target
 from .model import PARAM_NAMES, Model
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, check_deltas, certify_post_release_deltas
@@ -75,8 +76,7 @@ class ReleaseDuration:
 def model_params(params_decimal: dict, rounding: str):
     """The parameters for :class:`.model.Model`: the decimal strings themselves (``"decimal"``) or
     the float64 numbers they round to (``"float64"``, exact binary values)."""
-    if rounding not in ROUNDINGS:
-        raise ValueError(f"rounding={rounding!r} is out of range: allowed one of {', '.join(ROUNDINGS)}")
+    check_choice("rounding", rounding, ROUNDINGS)
     missing = [k for k in PARAM_NAMES if k not in params_decimal]
     if missing or len(params_decimal) != len(PARAM_NAMES):
         raise ValueError(f"params_decimal={params_decimal!r}: allowed exactly the keys {', '.join(PARAM_NAMES)}")
@@ -132,8 +132,7 @@ def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int =
     >>> d.status, d.value, d.confirmed
     ('captured', 824, True)
     """
-    if not (isinstance(delta, numbers.Real) and math.isfinite(delta) and delta > 0):
-        raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
+    delta = check_real("delta", delta, 0.0, MAX_DELTA, lo_open=True)
     return certified_release_durations(params_decimal, wall, (delta,), rounding=rounding, max_impacts=max_impacts,
                                        precisions=precisions, confirm=confirm, target=target, stick_time=stick_time,
                                        radius_limit=radius_limit, time_budget_s=time_budget_s,
@@ -160,17 +159,29 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
     ``time_budget_s``: wall-time budget of the whole schedule (an attempt past it fails, later ones are
     skipped).  ``progress(prec, n, radius)``: see :func:`.release.certify_post_release`.
     """
+    check_choice("rounding", rounding, ROUNDINGS)
+    if not isinstance(params_decimal, Mapping):
+        raise InputTypeError(f"params_decimal is a {type(params_decimal).__name__}: allowed a mapping of alpha, beta, "
+                             "gamma, r to decimal strings")
     pm = model_params(params_decimal, rounding)
     p64 = model_params(params_decimal, "float64")
+    wall = check_wall("wall", wall)
     ds = check_deltas(deltas)
-    precs = [int(p) for p in precisions]
+    max_impacts = check_int("max_impacts", max_impacts, 1, MAX_ORBIT_IMPACTS)
+    if isinstance(precisions, (str, bytes)) or not isinstance(precisions, Sequence):
+        raise InputTypeError(f"precisions={precisions!r} is a {type(precisions).__name__}: allowed a non-empty "
+                             f"increasing list of bits, 64 <= prec <= {MAX_PREC}")
+    precs = [check_prec(p) for p in precisions]
     if not precs or any(b <= a for a, b in zip(precs, precs[1:])):
         raise ValueError(f"precisions={precisions!r} is out of range: allowed a non-empty increasing list of bits")
-    for p in precs:
-        if not 64 <= p <= MAX_PREC:
-            raise ValueError(f"precisions: {p} is out of range: allowed 64 <= prec <= {MAX_PREC}")
-    if time_budget_s is not None and not time_budget_s > 0:
-        raise ValueError(f"time_budget_s={time_budget_s!r} is out of range: allowed > 0")
+    if not isinstance(confirm, bool):
+        raise InputTypeError(f"confirm={confirm!r} is a {type(confirm).__name__}: allowed True or False")
+    if target is not None and not isinstance(target, Target):
+        raise InputTypeError(f"target is a {type(target).__name__}: allowed None or a certified capture Target")
+    stick_time = check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+    radius_limit = check_real("radius_limit", radius_limit, 0.0, 1.0, lo_open=True)
+    if time_budget_s is not None:
+        time_budget_s = check_real("time_budget_s", time_budget_s, 0.0, lo_open=True)
     if target is None:
         target = float64_target(p64)
     t0 = time.monotonic()

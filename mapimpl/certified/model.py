@@ -16,8 +16,11 @@ numbers (a :class:`Params`) or exact decimals (``{"alpha": "1.245", ...}``, ball
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from flint import arb
 
+from ...core.checks import InputTypeError
 from ...core.params import Params
 from .balls import exact, span
 
@@ -29,20 +32,20 @@ def parameter_ball(name: str, value) -> arb:
     """A parameter as a ball at the current precision: a float is the exact binary number it holds,
     a string is the exact *decimal* it spells (``"1.245"``: a ball of radius ~2^-prec around
     1.245, which no float holds).  Validated with the ranges of :mod:`core.params`."""
-    from ...core.params import check_value
+    from ...core.params import RANGES, check_param, check_value
 
     if isinstance(value, str):
         text = value.strip()
         try:
             x = float(text)
         except ValueError:
-            raise ValueError(f"parameter {name}={value!r} is not a decimal number") from None
+            raise ValueError(f"parameter {name}={value!r} is not a decimal number: allowed {RANGES[name]}") from None
         check_value(name, x)
         ball = arb(text)
         if not ball.is_finite():
-            raise ValueError(f"parameter {name}={value!r} is not a finite decimal number")
+            raise ValueError(f"parameter {name}={value!r} is not a finite decimal number: allowed {RANGES[name]}")
         return ball
-    return exact(check_value(name, value))
+    return exact(check_param(name, value))
 
 
 class Model:
@@ -60,6 +63,9 @@ class Model:
         if isinstance(params, Params):
             values = {k: getattr(params, k) for k in PARAM_NAMES}
         else:
+            if not isinstance(params, Mapping):
+                raise InputTypeError(f"params is a {type(params).__name__}: allowed a gear_rattle.Params or a mapping "
+                                     f"of {', '.join(PARAM_NAMES)} to floats or decimal strings")
             values = dict(params)
             missing = [k for k in PARAM_NAMES if k not in values]
             extra = [k for k in values if k not in PARAM_NAMES]

@@ -8,13 +8,13 @@ the enclosures of the previous impact, so the error bounds propagate from impact
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from flint import arb, ctx
 
-from ..sticking import STICK_TIME
-from .balls import PREC, CertificationError, exact, mod_two_pi, precision
+from ...core.checks import MAX_IMPACTS, check_int, check_real, check_start
+from ..sticking import MAX_STICK_TIME, STICK_TIME
+from .balls import PREC, CertificationError, check_prec, exact, mod_two_pi, precision
 from .contact import T_MAX, FlightCertificate, certified_flight, mean_value_impact
 from .model import Model
 from .sticking import certify_release, release_time, stick_decision
@@ -142,17 +142,17 @@ def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float |
         Impact 0: the pre-impact initial state (``s0`` None; exact), or with ``s0`` the free state
         ``(tau0, s0, sdot0)`` whose first impact is impact 0.
     n_impacts : int
-        Impacts after impact 0.
+        Impacts after impact 0, ``0 <= n_impacts <= 1e7``.
     s0 : float, optional
-        A start in free flight.
+        A start in free flight, ``-1 <= s0 <= 0``.
     prec : int, optional
-        Working precision in bits.
+        Working precision in bits, ``64 <= prec <= 65536``.
     stick_time : float, optional
         The sticking policy's threshold (:data:`mapimpl.sticking.STICK_TIME`).
     radius_limit : float, optional
-        Stop when a radius exceeds it (the last certified event within the limit is kept).
+        Stop when a radius exceeds it (the last certified event within the limit is kept), ``0 < radius_limit <= 1``.
     t_max : float, optional
-        Longest flight searched.
+        Longest flight searched, ``0 < t_max <= 1e6``.
 
     Returns
     -------
@@ -175,12 +175,13 @@ def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float |
     >>> all(abs(float(e.tau) - t) <= float(e.tau.rad()) + 1e-14 for e, t in zip(cert.events, seq.tau))
     True
     """
-    if int(n_impacts) < 0:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed n_impacts >= 0")
-    if not (math.isfinite(tau0) and math.isfinite(sdot0)):
-        raise ValueError("initial tau0 and sdot0 must be finite")
-    if radius_limit is not None and not radius_limit > 0:
-        raise ValueError(f"radius_limit={radius_limit!r} is out of range: allowed > 0")
+    n_impacts = check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
+    tau0, sdot0, s0 = check_start(tau0, sdot0, s0)
+    check_prec(prec)
+    stick_time = check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+    if radius_limit is not None:
+        radius_limit = check_real("radius_limit", radius_limit, 0.0, 1.0, lo_open=True)
+    t_max = check_real("t_max", t_max, 0.0, 1e6, lo_open=True)
     with precision(prec):
         model = Model(params)
         events: list[Event] = []

@@ -34,9 +34,10 @@ from dataclasses import dataclass, field
 
 from flint import acb, arb
 
-from ...core.params import check_value
+from ...core.checks import MAX_PERIOD, TAU0_MAX, check_array, check_choice, check_int
+from ...core.params import check_param, check_value
 from ..sticking import STICK_TIME
-from .balls import PREC, CertificationError, mod_two_pi, precision
+from .balls import PREC, CertificationError, check_prec, mod_two_pi, precision
 from .contact import FlightCertificate, certified_flight
 from .krawczyk import KrawczykResult, krawczyk
 from .model import Model
@@ -155,13 +156,17 @@ def _orbit(model: Model, P: Numbers, shape: Shape, x: list, res: KrawczykResult,
     return CertifiedPeriodicOrbit(model, shape, tau, sdot, dur, M, floquet(M), res, flights)
 
 
-def _start(tau, sdot, turns: int):
-    tau, sdot = list(tau), list(sdot)
-    if len(tau) != len(sdot) or not tau:
+def _start(tau, sdot, turns: int, prec: int):
+    """The guess checked (:mod:`core.checks`: 1-D sequences of at most ``MAX_PERIOD`` phases
+    ``|tau| <= 1e6`` and velocities ``sdot != 0`` of equal length, ``1 <= turns <= MAX_PERIOD``, the
+    precision) as ``(shape, x0)``."""
+    tau = check_array("tau", tau, -TAU0_MAX, TAU0_MAX, max_size=MAX_PERIOD).tolist()
+    sdot = check_array("sdot", sdot, nonzero=True, max_size=MAX_PERIOD,
+                       allowed="finite, nonzero pre-impact velocities").tolist()
+    if len(tau) != len(sdot):
         raise ValueError(f"tau and sdot must be non-empty and of equal length (got {len(tau)}, {len(sdot)})")
-    if any(not (math.isfinite(float(v)) and float(v) != 0.0) for v in sdot):
-        raise ValueError(f"sdot={list(sdot)!r} is out of range: allowed finite, nonzero pre-impact velocities")
-    shape = Shape(tuple(0 if float(v) > 0 else -1 for v in sdot), int(turns))
+    check_prec(prec)
+    shape = Shape(tuple(0 if float(v) > 0 else -1 for v in sdot), check_int("turns", turns, 1, MAX_PERIOD))
     x0 = []
     for t, v in zip(unwrap(tau, shape.turns), sdot):
         x0 += [t, float(v)]
@@ -180,9 +185,9 @@ def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PRE
         The guess: the p pre-impact phases and velocities of one period (e.g. from the float64
         :func:`mapimpl.periodic.find_periodic`); the signs of ``sdot`` give the walls.
     turns : int, optional
-        Driving periods per period.
+        Driving periods per period, ``1 <= turns <= 100000``.
     prec : int, optional
-        Working precision in bits.
+        Working precision in bits, ``64 <= prec <= 65536``.
 
     Returns
     -------
@@ -206,7 +211,7 @@ def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PRE
     >>> all(abs(z) < 1 for z in o.multipliers)  # stable
     True
     """
-    shape, x0 = _start(tau, sdot, turns)
+    shape, x0 = _start(tau, sdot, turns, prec)
     with precision(prec):
         model = Model(params)
         P = Numbers(model)
@@ -232,9 +237,9 @@ def certify_bifurcation(kind: str, params, name: str, tau, sdot, mu: float, turn
     mu : float
         The guess of the parameter's value.
     turns : int, optional
-        Driving periods per period.
+        Driving periods per period, ``1 <= turns <= 100000``.
     prec : int, optional
-        Working precision in bits.
+        Working precision in bits, ``64 <= prec <= 65536``.
 
     Returns
     -------
@@ -254,11 +259,13 @@ def certify_bifurcation(kind: str, params, name: str, tau, sdot, mu: float, turn
     >>> print(f"r2 = {float(b.value):.14f}", bool(b.value.rad() < 1e-80))
     r2 = 0.82144044758015 True
     """
-    if kind not in SIGMA:
-        raise ValueError(f"kind={kind!r} is out of range: allowed one of {tuple(SIGMA)}")
-    if name not in MU_NAMES:
-        raise ValueError(f"parameter {name!r} is out of range: allowed one of {MU_NAMES}")
-    shape, x0 = _start(tau, sdot, turns)
+    check_choice("kind", kind, tuple(SIGMA))
+    check_choice("name", name, MU_NAMES)
+    shape, x0 = _start(tau, sdot, turns, prec)
+    try:
+        mu = check_param(name, mu)
+    except ValueError as e:  # InputTypeError too: named as the argument it is
+        raise type(e)(f"mu: {e}") from None
     with precision(prec):
         base = Model(params)
         res = krawczyk(lambda y: extended_residual(y, base, shape, name, kind), x0 + [float(mu)])

@@ -39,13 +39,13 @@ CLI: ``python -m gear_rattle.validation.commands.release [--rounding both] [--pr
 from __future__ import annotations
 
 import math
-import numbers
 import time
 from dataclasses import dataclass, field
 
 from flint import arb
 
-from ...core.paper import DELTA
+from ...core.checks import check_array, check_real
+from ...core.paper import DELTA, MAX_DELTA
 from ..sticking import STICK_TIME
 from .balls import CertificationError, mod_two_pi, nearest_float, precision, span
 from .capture import Target, capture_decision, certified_distance
@@ -125,13 +125,9 @@ def _radius_text(log2r: float) -> str:
 
 def check_deltas(deltas) -> tuple:
     """The distinct capture distances of ``deltas`` (a number or a sequence), largest first."""
-    vals = [deltas] if isinstance(deltas, numbers.Real) else list(deltas)
-    if not vals:
-        raise ValueError("deltas is empty: allowed one or more finite capture distances > 0")
-    for d in vals:
-        if not (isinstance(d, numbers.Real) and math.isfinite(d) and float(d) > 0):
-            raise ValueError(f"delta={d!r} is out of range: allowed finite delta > 0")
-    return tuple(sorted({float(d) for d in vals}, reverse=True))
+    d = check_array("deltas", deltas, 0.0, MAX_DELTA, nonzero=True, max_size=1000,
+                    allowed=f"finite capture distances 0 < delta <= {MAX_DELTA:g}")
+    return tuple(sorted(set(d.tolist()), reverse=True))
 
 
 def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, delta: float = DELTA,
@@ -146,8 +142,7 @@ def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, de
     ``progress(prec, n, radius)``: called every 50 impacts (``radius``: decimal text).  At most ``max_impacts`` impacts; every
     flight has the interval budget of :func:`.contact.certified_flight`: the attempt always ends.
     """
-    if not (isinstance(delta, numbers.Real) and math.isfinite(delta) and delta > 0):
-        raise ValueError(f"delta={delta!r} is out of range: allowed finite delta > 0")
+    delta = check_real("delta", delta, 0.0, MAX_DELTA, lo_open=True)
     return certify_post_release_deltas(params, wall, prec=prec, target=target, deltas=(delta,),
                                        max_impacts=max_impacts, stick_time=stick_time, radius_limit=radius_limit,
                                        deadline=deadline, progress=progress, record=record)[float(delta)]

@@ -46,8 +46,9 @@ from flint import arb
 
 from ...core.params import Params
 from ...core.results import ImpactSequence
-from ..sticking import STICK_TIME
-from .balls import MAX_PREC, PREC, CertificationError, exact, float_bounds, mod_two_pi, nearest_float, precision
+from ...core.checks import MAX_IMPACTS, check_int, check_real, check_start
+from ..sticking import MAX_STICK_TIME, STICK_TIME
+from .balls import PREC, check_prec, CertificationError, exact, float_bounds, mod_two_pi, nearest_float, precision
 from .contact import NoContactError, certified_flight, mean_value_impact
 from .model import Model
 from .orbit import Event, certified_departure
@@ -393,12 +394,6 @@ def _bits_for(growth: float, impacts: int) -> int:
     return int(math.ceil(growth * 1.15 * impacts)) + MARGIN_BITS
 
 
-def _check_prec(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not 64 <= value <= MAX_PREC:
-        raise ValueError(f"{name}={value!r} is out of range: allowed an integer 64 <= {name} <= {MAX_PREC}")
-    return value
-
-
 def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: float | None = None,
                     stick_time: float = STICK_TIME, prec: int = START_PREC, max_prec: int = MAX_TRACK_PREC,
                     t_max: float = MAP_T_MAX, time_budget_s: float | None = None, progress=None) -> CertifiedRun:
@@ -412,7 +407,7 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     tau0, sdot0 : float
         Impact 0 as a pre-impact state (``sdot0 != 0``), or with ``s0`` the free state ``(tau0, s0, sdot0)``.
     n_impacts : int
-        Impacts after impact 0, ``>= 0``.
+        Impacts after impact 0, ``0 <= n_impacts <= 1e7`` (:data:`core.checks.MAX_IMPACTS`).
     s0 : float, optional
         A start in free flight, ``-1 <= s0 <= 0``.
     stick_time : float, optional
@@ -448,34 +443,16 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     from ...core.params import Params as _P
     from ...core.progress import Bar, sink, wanted
 
-    if isinstance(n_impacts, bool) or not isinstance(n_impacts, (int, np.integer)) or n_impacts < 0:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer n_impacts >= 0")
-    n_impacts = int(n_impacts)
-    for name, v in (("tau0", tau0), ("sdot0", sdot0)):
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v):
-            raise ValueError(f"initial {name}={v!r} is out of range: allowed a finite real")
-    if abs(tau0) > 1e6:
-        raise ValueError(f"initial tau0={tau0!r} is out of range: allowed |tau0| <= 1e6")
-    tau0, sdot0 = float(tau0), float(sdot0)
-    if s0 is None:
-        if sdot0 == 0.0:
-            raise ValueError("initial sdot0=0.0 is out of range: a pre-impact state needs sdot0 != 0 "
-                             "(> 0 hits s = 0, < 0 hits s = -1)")
-    else:
-        if isinstance(s0, bool) or not (isinstance(s0, (int, float, np.floating)) and -1.0 <= s0 <= 0.0):
-            raise ValueError(f"initial s0={s0!r} is out of range: allowed -1 <= s0 <= 0")
-        s0 = float(s0)
-        if (s0 == 0.0 and sdot0 > 0.0) or (s0 == -1.0 and sdot0 < 0.0):
-            s0 = None  # on a wall moving into it: the pre-impact state itself (as the map track)
-    if not (isinstance(stick_time, (int, float)) and not isinstance(stick_time, bool)
-            and math.isfinite(stick_time) and stick_time >= 0):
-        raise ValueError(f"stick_time={stick_time!r} is out of range: allowed a finite stick_time >= 0")
-    prec, max_prec = _check_prec("prec", prec), _check_prec("max_prec", max_prec)
+    n_impacts = check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
+    tau0, sdot0, s0 = check_start(tau0, sdot0, s0)
+    if s0 is not None and ((s0 == 0.0 and sdot0 > 0.0) or (s0 == -1.0 and sdot0 < 0.0)):
+        s0 = None  # on a wall moving into it: the pre-impact state itself (as the map track)
+    stick_time = check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+    prec, max_prec = check_prec(prec, "prec"), check_prec(max_prec, "max_prec")
     prec = min(prec, max_prec)
-    if not (isinstance(t_max, (int, float)) and math.isfinite(t_max) and t_max > 0):
-        raise ValueError(f"t_max={t_max!r} is out of range: allowed finite t_max > 0")
-    if time_budget_s is not None and not (isinstance(time_budget_s, (int, float)) and time_budget_s > 0):
-        raise ValueError(f"time_budget_s={time_budget_s!r} is out of range: allowed time_budget_s > 0")
+    t_max = check_real("t_max", t_max, 0.0, 1e6, lo_open=True)
+    if time_budget_s is not None:
+        time_budget_s = check_real("time_budget_s", time_budget_s, 0.0, lo_open=True)
     p64 = params if isinstance(params, _P) else Model(params).params
     user = sink(progress)
     bar = Bar("certified orbit", total=n_impacts, enabled=wanted(progress), delay=1.0)

@@ -21,7 +21,6 @@ depend on its lane, block, chunk or device (see :mod:`kernel`).
 
 from __future__ import annotations
 
-import math
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -35,11 +34,11 @@ import jax.numpy as jnp
 
 from ...core._jax import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
-from ...core.checks import TAU0_MAX, TAU0_RANGE, check_int
+from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_int, check_real
 from ...core.params import Params, validate_arrays
 from ...core.progress import Bar, sink, wanted
 from ...core.status import Status
-from ..sticking import STICK_TIME
+from ..sticking import MAX_STICK_TIME, STICK_TIME
 from . import kernel as K
 from .observers import Observer
 
@@ -91,15 +90,11 @@ def engine_devices(devices=None) -> list:
     avail = jax.devices()
     if devices is None:
         return list(avail)
-    if isinstance(devices, (int, np.integer)) and not isinstance(devices, bool):
-        if not 1 <= int(devices) <= len(avail):
-            raise ValueError(f"devices={devices!r} is out of range: allowed 1 <= devices <= {len(avail)} "
-                             f"(the {jax.default_backend()} devices JAX sees)")
-        return list(avail[:int(devices)])
-    out = list(devices)
-    if not out:
-        raise ValueError("devices is empty: allowed a positive count or a list of JAX devices")
-    return out
+    if isinstance(devices, (list, tuple)):
+        if not devices or not all(isinstance(d, jax.Device) for d in devices):
+            raise ValueError(f"devices={devices!r} is out of range: allowed a count or a non-empty list of JAX devices")
+        return list(devices)
+    return list(avail[:check_int("devices", devices, 1, len(avail))])
 
 
 def default_lanes(n_per_device: int) -> int:
@@ -129,8 +124,8 @@ def _params_arrays(params, n: int) -> dict:
             vals = tuple(params[k] for k in ("alpha", "beta", "gamma", "r")) if isinstance(params, dict) \
                 else tuple(params)
         except (TypeError, KeyError):
-            raise ValueError("params is out of range: allowed a Params or per-orbit arrays "
-                             "(alpha, beta, gamma, r)") from None
+            raise InputTypeError(f"params is a {type(params).__name__}: allowed a Params or per-orbit arrays "
+                                 "(alpha, beta, gamma, r)") from None
     pa = validate_arrays(*vals)
     out = {}
     for name, x in zip(("alpha", "beta", "gamma", "r"), pa):
@@ -188,21 +183,32 @@ def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, 
 
 
 def _check_states(theta, sdot, wall) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The initial pre-impact states as flat arrays (float64, float64, int32), validated."""
-    th = np.atleast_1d(np.asarray(theta, np.float64)).ravel()
-    sd = np.atleast_1d(np.asarray(sdot, np.float64)).ravel()
-    w = np.atleast_1d(np.asarray(wall)).ravel()
+    """The initial pre-impact states as flat arrays (float64, float64, int32), validated
+    (:func:`core.checks.check_array`: 1-D, at most ``MAX_ORBITS``)."""
+    th = check_array("theta", theta, -TAU0_MAX, TAU0_MAX, allowed="finite reals with " + TAU0_RANGE.replace("tau0", "theta"))
+    sd = check_array("sdot", sdot, nonzero=True, allowed="finite reals sdot != 0 (pre-impact states)")
+    w = check_array("wall", wall, -1.0, 0.0, allowed="0 (s = 0) or -1 (s = -1) per orbit")
     if not (th.shape == sd.shape == w.shape):
         raise ValueError(f"theta, sdot and wall must have the same length (got {th.size}, {sd.size}, {w.size})")
-    if th.size == 0:
-        raise ValueError("theta is empty: allowed at least one initial condition")
-    if not np.all(np.isfinite(th)) or np.any(np.abs(th) > TAU0_MAX):
-        raise ValueError(f"theta is out of range: allowed finite values with {TAU0_RANGE.replace('tau0', 'theta')}")
-    if not np.all(np.isfinite(sd)) or np.any(sd == 0.0):
-        raise ValueError("sdot is out of range: a pre-impact state needs a finite sdot != 0")
-    if not np.all(np.isin(w, (0, -1))):
-        raise ValueError("wall is out of range: allowed 0 (s = 0) or -1 (s = -1)")
+    if not np.all((w == 0.0) | (w == -1.0)):
+        raise ValueError("wall is out of range: allowed 0 (s = 0) or -1 (s = -1) per orbit")
     return th, sd, w.astype(np.int32)
+
+
+def check_engine_options(cap, lanes=None, block=32, chunk=None, stick_time=STICK_TIME, devices=None, *,
+                         max_cap: int = MAX_CAP, t_max=T_MAX, max_steps=MAX_STEPS) -> tuple:
+    """The engine's settings, checked (:mod:`core.checks`) before any work and returned as
+    ``(cap, lanes, block, chunk, stick_time, devices, t_max, max_steps)`` (``devices`` as the list of
+    :func:`engine_devices`): ``1 <= cap <= max_cap``, ``1 <= lanes <= 2**22``, ``1 <= block <= 2**16``,
+    ``1 <= chunk <= 2**26``, ``0 <= stick_time <= 1e-2``, ``0 < t_max <= 1e6``, ``1 <= max_steps <= 1e6``."""
+    cap = check_int("cap", cap, 1, max_cap)
+    block = check_int("block", block, 1, 1 << 16)
+    lanes = None if lanes is None else check_int("lanes", lanes, 1, 1 << 22)
+    chunk = None if chunk is None else check_int("chunk", chunk, 1, 1 << 26)
+    stick_time = check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+    t_max = check_real("t_max", t_max, 0.0, 1e6, lo_open=True)
+    max_steps = check_int("max_steps", max_steps, 1, 1_000_000)
+    return cap, lanes, block, chunk, stick_time, engine_devices(devices), t_max, max_steps
 
 
 class _Reporter:
@@ -325,7 +331,7 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     observers : Observer or tuple of Observer, optional
         What is measured along each orbit and when it stops (:mod:`gear_rattle.mapimpl.engine.observers`).
     cap : int
-        Most impacts per orbit.
+        Most impacts per orbit, ``1 <= cap <= 2e9``.
     stop_at_stick : bool, optional
         Stop an orbit at its first sticking episode (status ``STUCK``: every orbit that sticks continues
         on one post-release orbit, which the caller runs once).
@@ -380,23 +386,16 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     """
     obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
     if not all(isinstance(o, Observer) for o in obs):
-        raise ValueError("observers is out of range: allowed Observer instances")
+        raise InputTypeError("observers is out of range: allowed an Observer or a tuple of Observer instances")
     th, sd, w = _check_states(theta, sdot, wall)
-    cap = check_int("cap", cap, 1, MAX_CAP)
-    block = check_int("block", block, 1, 1 << 16)
-    if lanes is not None:
-        lanes = check_int("lanes", lanes, 1, 1 << 22)
-    if chunk is not None:
-        chunk = check_int("chunk", chunk, 1, 1 << 26)
-    if not (math.isfinite(stick_time) and stick_time >= 0):
-        raise ValueError(f"stick_time={stick_time!r} is out of range: allowed finite stick_time >= 0")
+    cap, lanes, block, chunk, stick_time, devs, t_max, max_steps = check_engine_options(
+        cap, lanes, block, chunk, stick_time, devices, t_max=t_max, max_steps=max_steps)
     pa = _params_arrays(params, th.size)
     from ...core.phase import reduce_phase
 
     thr = np.asarray(reduce_phase(jnp.asarray(th), jnp.zeros(th.size, jnp.int32))[0])
     cyc_start = np.floor_divide(th - thr + np.pi, 2 * np.pi).astype(np.int64)  # turns removed by the reduction
 
-    devs = engine_devices(devices)
     devs = devs[:max(1, min(len(devs), th.size))]
     per_ic = 48 + sum(int(np.prod(o.fields()[nm][1], dtype=np.int64)) * 8 for o in obs for nm in o.outputs())
     if chunk is None:

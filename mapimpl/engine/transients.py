@@ -45,12 +45,12 @@ import jax
 import jax.numpy as jnp
 
 from ..impact_map import free_flight_start
-from ...core.checks import TAU0_MAX, TAU0_RANGE
-from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
-from ...core.params import Params
+from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_choice, check_int, check_real
+from ...core.paper import DELTA, DELTAS, MAX_DELTA, PAPER_BOX, PAPER_PARAMS
+from ...core.params import Params, check_params
 from ...core.status import Status
 from ..sticking import STICK_TIME
-from .driver import engine_devices, run
+from .driver import check_engine_options, run
 from .observers import Capture
 
 IC_MODES = ("pre-impact", "free")
@@ -69,7 +69,6 @@ class PeriodicTarget:
     residual: float
 
 
-@lru_cache(maxsize=16)
 def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tuple = (3.2, 0.3),
                     settle: int = 4000) -> PeriodicTarget:
     """Find the stable ``impacts``-impact period-1 orbit by Newton (Fig. 8's orbit for alpha > alpha_1).
@@ -77,11 +76,26 @@ def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tupl
     A long orbit from ``guess`` settles near it; :func:`mapimpl.periodic.find_periodic` refines it.
     Raises ``ValueError`` if Newton fails or the orbit is not stable.
     """
+    from ...core.checks import MAX_IMPACTS, MAX_PERIOD, check_start
+
+    check_params(params)
+    impacts = check_int("impacts", impacts, 1, MAX_PERIOD)
+    settle = check_int("settle", settle, 1, MAX_IMPACTS)
+    g = check_array("guess", guess, max_size=2, allowed="a pre-impact state (tau0, sdot0)")
+    if g.size != 2:
+        raise ValueError(f"guess={guess!r} is out of range: allowed a pre-impact state (tau0, sdot0)")
+    tau, sdot, _ = check_start(g[0], g[1])
+    return _periodic_target(params, impacts, (tau, sdot), settle)
+
+
+@lru_cache(maxsize=16)
+def _periodic_target(params: Params, impacts: int, guess: tuple[float, float], settle: int) -> PeriodicTarget:
+    """:func:`periodic_target` of checked arguments (cached: one Newton search per setting)."""
     from ..orbit import map_orbit
     from ..periodic import find_periodic
 
     # follow the orbit until it repeats every ``impacts`` impacts (the transient has ended)
-    tau, sdot = float(guess[0]), float(guess[1])
+    tau, sdot = guess
     for _ in range(25):
         seq = map_orbit(params, tau, sdot, settle)
         _, th, sd, _ = seq.impact_arrays()
@@ -206,24 +220,20 @@ class TransientResult:
 
 
 def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
-    tau0 = np.atleast_1d(np.asarray(tau0, dtype=np.float64)).ravel()
-    sdot0 = np.atleast_1d(np.asarray(sdot0, dtype=np.float64)).ravel()
+    """The initial conditions as flat float64 arrays, checked (:mod:`core.checks`): ``|tau0| <= 1e6``,
+    finite ``sdot0`` (``!= 0`` for pre-impact states), at most ``MAX_ORBITS`` (2e7) of them, and ``s0``
+    in ``[-1, 0]`` for free states."""
+    ic_mode = check_choice("ic_mode", ic_mode, IC_MODES)
+    tau0 = check_array("tau0", tau0, -TAU0_MAX, TAU0_MAX, allowed=f"finite reals with {TAU0_RANGE}")
+    pre = ic_mode == "pre-impact"
+    sdot0 = check_array("sdot0", sdot0, nonzero=pre, allowed="finite reals" + (
+        " != 0 (a pre-impact state: > 0 hits s = 0, < 0 hits s = -1)" if pre else ""))
     if tau0.shape != sdot0.shape:
         raise ValueError(f"tau0 and sdot0 must have the same length (got {tau0.size} and {sdot0.size})")
-    if tau0.size == 0:
-        raise ValueError("tau0 is empty: allowed at least one initial condition")
-    if not np.all(np.isfinite(tau0)) or np.any(np.abs(tau0) > TAU0_MAX):
-        raise ValueError(f"tau0 is out of range: allowed finite values with {TAU0_RANGE}")
-    if not np.all(np.isfinite(sdot0)):
-        raise ValueError("sdot0 is out of range: allowed finite values")
-    if ic_mode not in IC_MODES:
-        raise ValueError(f"ic_mode={ic_mode!r} is out of range: allowed one of {', '.join(IC_MODES)}")
-    if ic_mode == "pre-impact":
-        if np.any(sdot0 == 0.0):
-            raise ValueError("sdot0 is out of range: a pre-impact state needs sdot0 != 0 (> 0 hits s = 0, < 0 hits s = -1)")
-    else:
-        if s0 is None or not (math.isfinite(float(s0)) and -1.0 <= float(s0) <= 0.0):
-            raise ValueError(f"s0={s0!r} is out of range: allowed -1 <= s0 <= 0 for ic_mode='free'")
+    if not pre:
+        if s0 is None:
+            raise ValueError("s0=None is out of range: allowed -1 <= s0 <= 0 for ic_mode='free'")
+        check_real("s0", s0, -1.0, 0.0)
     return tau0, sdot0
 
 
@@ -241,13 +251,17 @@ def initial_states(params: Params, tau0, sdot0, ic_mode="pre-impact", s0=None):
     return (np.asarray(st.theta), np.asarray(st.sdot), np.asarray(st.wall, dtype=np.int32), ok)
 
 
+#: Most map iterations per orbit of :func:`transient_times` (its ``cap``).
+MAX_CAP = 10**8
+
 def _validate_deltas(deltas, delta):
-    if not (math.isfinite(float(delta)) and float(delta) > 0):
-        raise ValueError(f"delta={delta!r} is out of range: allowed 0 < delta (finite)")
-    d = np.asarray(sorted(set(float(x) for x in deltas) | {float(delta)}, reverse=True), dtype=np.float64)
-    if np.any(~np.isfinite(d)) or np.any(d <= 0) or np.any(d > 10):
-        raise ValueError(f"deltas={list(deltas)!r} are out of range: allowed 0 < delta <= 10")
-    return d
+    """The capture distances, largest first (``delta`` with ``deltas``): ``0 < delta <= MAX_DELTA``."""
+    delta = check_real("delta", delta, 0.0, MAX_DELTA, lo_open=True)
+    d = check_array("deltas", deltas, 0.0, MAX_DELTA, max_size=1000, allowed=f"finite reals with 0 < deltas <= "
+                    f"{MAX_DELTA:g}")
+    if np.any(d == 0.0):
+        raise ValueError(f"deltas={list(d)!r} are out of range: allowed 0 < deltas <= {MAX_DELTA:g}")
+    return np.asarray(sorted(set(d.tolist()) | {delta}, reverse=True), dtype=np.float64)
 
 
 def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str = "pre-impact", s0=None,
@@ -263,7 +277,7 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     Parameters
     ----------
     tau0, sdot0 : array_like
-        The initial conditions (same shape), ``|tau0| <= 1e6``.
+        The initial conditions (1-D, same length, at most 2e7), ``|tau0| <= 1e6``.
     params : Params, optional
         Default the paper's Figs. 9-11 (alpha = 1.245, beta = gamma = 0.1, r = 0.9).
     ic_mode : {"pre-impact", "free"}, optional
@@ -271,11 +285,11 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     s0 : float, optional
         The position of free initial states (``ic_mode="free"``), ``-1 <= s0 <= 0``.
     delta : float, optional
-        The capture distance that stops an orbit (the smallest of ``deltas`` and ``delta``).
+        The capture distance that stops an orbit (the smallest of ``deltas`` and ``delta``), ``0 < delta <= 10``.
     deltas : sequence of float, optional
         Capture distances recorded at once (one column of ``hit`` each).
     cap : int, optional
-        Most map iterations per orbit (censored beyond).
+        Most map iterations per orbit (censored beyond), ``1 <= cap <= 1e8``.
     release : {"compose", "follow"}, optional
         ``"compose"``: stop at the first sticking episode and add the one post-release orbit's duration;
         ``"follow"``: follow every orbit through (same results, slower).
@@ -309,13 +323,13 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     >>> bool(np.array_equal(slow.duration()[0], dur))
     True
     """
+    check_params(params)
     d = _validate_deltas(deltas, delta)
-    if release not in RELEASE_MODES:
-        raise ValueError(f"release={release!r} is out of range: allowed one of {', '.join(RELEASE_MODES)}")
-    if int(cap) != cap or not (1 <= int(cap) <= 10**8):
-        raise ValueError(f"cap={cap!r} is out of range: allowed integer 1 <= cap <= 1e8")
-    cap = int(cap)
-    engine_devices(devices)  # validate before any work
+    check_choice("release", release, RELEASE_MODES)
+    cap = check_engine_options(cap, lanes, block, chunk, stick_time, devices, max_cap=MAX_CAP)[0]
+    _check_ic_arrays(tau0, sdot0, ic_mode, s0)  # all before any work
+    if target is not None and not isinstance(target, PeriodicTarget):
+        raise InputTypeError(f"target is a {type(target).__name__}: allowed None or a PeriodicTarget")
     if target is None:
         target = periodic_target(params)
     tau, sd, wall, ok = initial_states(params, tau0, sdot0, ic_mode, s0)
@@ -368,18 +382,21 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
                            ic_mode, None if s0 is None else float(s0), target, elapsed, releases, meta)
 
 
+#: Most mesh points per axis of :func:`grid`.
+MAX_MESH = 20000
+
+
 def grid(box=PAPER_BOX, nx: int = 400, ny: int = 400):
     """Cell-centred ``nx`` x ``ny`` mesh over ``box = (tau_lo, tau_hi, sdot_lo, sdot_hi)``.
 
     Returns ``(TAU, SDOT)`` of shape ``(ny, nx)`` (cell centres: the open box's edges, e.g.
     ``sdot0 = 0``, are never sampled).
     """
-    t_lo, t_hi, s_lo, s_hi = (float(x) for x in box)
-    if not (t_lo < t_hi and s_lo < s_hi) or not all(math.isfinite(x) for x in box):
+    b = check_array("box", box, max_size=4, allowed="four finite reals (tau_lo < tau_hi, sdot_lo < sdot_hi)")
+    if b.size != 4 or not (b[0] < b[1] and b[2] < b[3]):
         raise ValueError(f"box={box!r} is out of range: allowed finite (tau_lo < tau_hi, sdot_lo < sdot_hi)")
-    for name, v in (("nx", nx), ("ny", ny)):
-        if int(v) != v or not (1 <= int(v) <= 20000):
-            raise ValueError(f"{name}={v!r} is out of range: allowed integer 1 <= {name} <= 20000")
+    t_lo, t_hi, s_lo, s_hi = (float(x) for x in b)
+    nx, ny = check_int("nx", nx, 1, MAX_MESH), check_int("ny", ny, 1, MAX_MESH)
     tx = t_lo + (np.arange(nx) + 0.5) * (t_hi - t_lo) / nx
     sy = s_lo + (np.arange(ny) + 0.5) * (s_hi - s_lo) / ny
     return np.meshgrid(tx, sy)

@@ -53,7 +53,8 @@ from ...core import _jax  # noqa: F401  (float64)
 from ...mapimpl.engine.driver import run
 from ...mapimpl.engine.observers import Sample, Tangent
 from ...core.phase import TWO_PI
-from ...core.params import validate_arrays
+from ...core.checks import InputTypeError, check_array
+from ...core.params import RANGES, validate_arrays
 from ...core.status import Status
 from .spec import AtlasSpec
 
@@ -132,8 +133,13 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
     >>> bool(out["lambda1"][0] < 0 < out["lambda1"][1])
     True
     """
-    a = np.asarray(alpha, dtype=np.float64)
-    rr = np.asarray(r, dtype=np.float64)
+    if not isinstance(spec, AtlasSpec):
+        raise InputTypeError(f"spec is a {type(spec).__name__}: allowed a validation.atlas.spec.AtlasSpec")
+    a, rr = np.asarray(alpha), np.asarray(r)
+    if a.size and rr.size:  # an empty tile is answered empty; else numbers, checked once (core.checks)
+        check_array("alpha", alpha, ndim=None, allowed=RANGES["alpha"])
+        check_array("r", r, ndim=None, allowed=RANGES["r"])
+    a, rr = a.astype(np.float64), rr.astype(np.float64)
     if a.shape != rr.shape:
         raise ValueError(f"alpha and r have shapes {a.shape} and {rr.shape}: allowed arrays of one shape")
     shape = a.shape

@@ -32,6 +32,7 @@ from typing import Callable
 import numpy as np
 
 from ...core import _jax
+from ...core.checks import InputTypeError, check_int
 from .compute import compute_tile
 from ..extras import require
 from .lock import StoreLock, holder_text
@@ -81,8 +82,7 @@ def check_scheduler(scheduler: str, workers: int | None) -> None:
     if workers is not None:
         if scheduler != "local":
             raise ValueError(f"workers={workers!r} applies only to scheduler='local' (the embedded LocalCluster)")
-        if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or not 1 <= workers <= 4096:
-            raise ValueError(f"workers={workers!r} is out of range: allowed an integer 1 <= workers <= 4096")
+        check_int("workers", workers, 1, 4096, strict=True)
 
 
 def tile_points(spec: AtlasSpec, tile: tuple[int, int], i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
@@ -221,6 +221,8 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
     >>> bool(load_store("atlas.zarr").done().all())
     True
     """
+    if not isinstance(spec, AtlasSpec):
+        raise InputTypeError(f"spec is a {type(spec).__name__}: allowed a validation.atlas.spec.AtlasSpec")
     check_scheduler(scheduler, workers)
     fit_tile(spec, tile)
     if isinstance(timeout, bool) or not isinstance(timeout, (int, float, np.integer, np.floating)) \

@@ -12,13 +12,12 @@ attributes (:meth:`AtlasSpec.to_dict`), and a store made with another spec is re
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ...core.checks import TAU0_MAX, TAU0_RANGE, check_int
-from ...core.params import PARAM_MAX, RANGES, check_value
+from ...core.checks import check_int, check_real, check_tau0
+from ...core.params import PARAM_MAX, RANGES, check_param
 from ..paper import PAPER_SCANS
 
 #: Bounds that keep an atlas finite.
@@ -32,16 +31,6 @@ PAPER_LINES = tuple(
     (f"{s.figure} ({fixed} = {value:g})", fixed, value, s.param, s.lo, s.hi)
     for s in PAPER_SCANS.values()
     for fixed, value in [("alpha", s.fixed[0]) if s.param == "r" else ("r", s.fixed[3])])
-
-
-def _float(name: str, value, ok, allowed: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}") from None
-    if isinstance(value, bool) or not math.isfinite(x) or not ok(x):
-        raise ValueError(f"{name}={value!r} is out of range: allowed {allowed}")
-    return x
 
 
 @dataclass(frozen=True)
@@ -66,11 +55,11 @@ class AtlasSpec:
     def __post_init__(self) -> None:
         s = object.__setattr__
         for name in ("alpha_lo", "alpha_hi"):  # the library's range of alpha (mapimpl.params.PARAM_MAX)
-            s(self, name, _float(name, getattr(self, name), lambda x: 0.0 <= x <= PARAM_MAX, RANGES["alpha"]))
+            s(self, name, check_real(name, getattr(self, name), 0.0, PARAM_MAX, allowed=RANGES["alpha"]))
         for name in ("r_lo", "r_hi"):
-            s(self, name, _float(name, getattr(self, name), lambda x: 0.0 < x <= 1.0, f"0 < {name} <= 1"))
-        s(self, "beta", check_value("beta", self.beta))
-        s(self, "gamma", check_value("gamma", self.gamma))
+            s(self, name, check_real(name, getattr(self, name), 0.0, 1.0, lo_open=True, allowed=f"0 < {name} <= 1"))
+        s(self, "beta", check_param("beta", self.beta))
+        s(self, "gamma", check_param("gamma", self.gamma))
         if self.alpha_lo > self.alpha_hi:
             raise ValueError(f"alpha_lo={self.alpha_lo!r}, alpha_hi={self.alpha_hi!r} are out of range: "
                              "allowed alpha_lo <= alpha_hi")
@@ -80,13 +69,13 @@ class AtlasSpec:
         s(self, "n_r", check_int("n_r", self.n_r, 1, MAX_GRID, strict=True))
         if self.n_alpha * self.n_r > MAX_GRID:
             raise ValueError(f"n_alpha * n_r = {self.n_alpha * self.n_r} is out of range: allowed <= {MAX_GRID}")
-        s(self, "tau0", _float("tau0", self.tau0, lambda x: abs(x) <= TAU0_MAX, TAU0_RANGE))
-        s(self, "sdot0", _float("sdot0", self.sdot0, lambda x: x != 0.0, "a finite sdot0 != 0"))
+        s(self, "tau0", check_tau0(self.tau0))
+        s(self, "sdot0", check_real("sdot0", self.sdot0, nonzero=True, allowed="a finite sdot0 != 0"))
         s(self, "transient", check_int("transient", self.transient, 0, MAX_IMPACTS, strict=True))
         s(self, "impacts", check_int("impacts", self.impacts, 1, MAX_IMPACTS, strict=True))
         s(self, "period_max", check_int("period_max", self.period_max, 1, MAX_PERIOD, strict=True))
-        s(self, "period_tol", _float("period_tol", self.period_tol, lambda x: 0.0 < x < 1.0,
-                                     "a period_tol with 0 < period_tol < 1"))
+        s(self, "period_tol", check_real("period_tol", self.period_tol, 0.0, 1.0, lo_open=True, hi_open=True,
+                                         allowed="a period_tol with 0 < period_tol < 1"))
 
     # grid -------------------------------------------------------------------------------------------
     @property

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...core.checks import check_int
 from .compute import ENGINE, FIELDS
 from ..extras import require
 from .integrity import DIGEST_BYTES, Damage, short_error, forget, meta_digest, tile_digest, verify
@@ -61,16 +62,15 @@ def import_zarr():
 
 
 def check_tile(tile) -> tuple[int, int]:
-    """``(tile_r, tile_alpha)`` from an int or a pair of ints >= 1 (``ValueError`` otherwise)."""
-    t = (tile, tile) if isinstance(tile, (int, np.integer)) and not isinstance(tile, bool) else tile
-    try:
-        tr, ta = t
-    except (TypeError, ValueError):
-        raise ValueError(f"tile={tile!r} is out of range: allowed an integer >= 1 or a pair of them") from None
-    for name, v in (("tile_r", tr), ("tile_alpha", ta)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 1_000_000:
-            raise ValueError(f"{name}={v!r} is out of range: allowed an integer 1 <= {name} <= 1000000")
-    return int(tr), int(ta)
+    """``(tile_r, tile_alpha)`` from an int or a pair of ints, each ``1 <= n <= 1000000``
+    (:func:`core.checks.check_int`: ``ValueError``/``TypeError`` naming ``tile``, ``tile_r`` or ``tile_alpha``)."""
+    if isinstance(tile, (tuple, list)):
+        if len(tile) != 2:
+            raise ValueError(f"tile={tile!r} is out of range: allowed an integer >= 1 or a pair of them")
+        return check_int("tile_r", tile[0], 1, 1_000_000, strict=True), check_int("tile_alpha", tile[1], 1, 1_000_000,
+                                                                                  strict=True)
+    t = check_int("tile", tile, 1, 1_000_000, strict=True)
+    return t, t
 
 
 #: Most grid points per tile: every tile is one task padded to the full tile shape (see :mod:`.run`), so

@@ -42,6 +42,7 @@ from ....core.params import Params
 from ....core.status import Status
 from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
                      orbit_points, per_orbit)
+from ....core.checks import check_int
 from .profiles import get_profile, label as _label
 from .results import Alpha1Result
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
@@ -233,6 +234,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     (True, True)
     """
     pr = get_profile(profile, "alpha1", sizes)
+    seed = check_int("seed", seed, 0, 2**32 - 1)
     cost = Cost()
     with Timer(cost, "alpha1: 4-impact branch"):
         br = branch or four_impact_branch()

@@ -28,6 +28,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ....core.checks import MAX_AVERAGED, MAX_VALUES, InputTypeError, check_array, check_choice, check_int, check_real
+from ....core.params import PARAM_MAX
+
 #: Run sizes by profile (``"quick"``, ``"paper"``) and analysis (``"r2"``, ``"r1"``, ``"alpha1"``).
 PROFILES = {
     "quick": {
@@ -57,15 +60,25 @@ PROFILES = {
 
 def get_profile(name: str, part: str, sizes: dict | None = None) -> dict:
     """The run sizes of ``part`` (``"r2"``, ``"r1"``, ``"alpha1"``) in profile ``name``, with the entries of
-    ``sizes`` in place of the profile's (``ValueError`` for a key the part does not have)."""
-    if name not in PROFILES:
-        raise ValueError(f"profile={name!r} is out of range: allowed one of {tuple(PROFILES)}")
+    ``sizes`` in place of the profile's (``ValueError`` for a key the part does not have).  Each replaced
+    value is checked like the profile's (:mod:`core.checks`): a count ``1 <= n <= MAX_AVERAGED`` (5e7;
+    ``n_start`` from 0), a positive finite number, or a 1-D list of at most ``MAX_VALUES`` of them."""
+    check_choice("profile", name, tuple(PROFILES))
     out = dict(PROFILES[name][part])
+    if sizes is not None and not isinstance(sizes, dict):
+        raise InputTypeError(f"sizes is a {type(sizes).__name__}: allowed None or a dict of run sizes")
     allowed = set(out) | ({"probe_ics"} if part == "alpha1" else set())  # optional: default ``ics``
     unknown = sorted(set(sizes or {}) - allowed)
     if unknown:
         raise ValueError(f"sizes={unknown} is out of range: allowed keys of {part!r} are {', '.join(sorted(allowed))}")
-    out.update(sizes or {})
+    for key, value in (sizes or {}).items():
+        like, arg = out.get(key, out.get("ics")), f"sizes[{key!r}]"
+        if isinstance(like, np.ndarray):
+            out[key] = check_array(arg, value, 0.0, PARAM_MAX, nonzero=True, max_size=MAX_VALUES)
+        elif isinstance(like, int):
+            out[key] = check_int(arg, value, 0 if key == "n_start" else 1, MAX_AVERAGED)
+        else:
+            out[key] = check_real(arg, value, 0.0, PARAM_MAX, lo_open=True)
     return out
 
 

@@ -35,6 +35,7 @@ from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
+from ....core.checks import check_int
 from .profiles import get_profile, label as _label
 from .results import R1Result
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
@@ -163,6 +164,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     (True, True, True)
     """
     pr = get_profile(profile, "r1", sizes)
+    seed = check_int("seed", seed, 0, 2**32 - 1)
     cost = Cost()
     with Timer(cost, "r1: 6-impact branch"):
         br = branch or six_impact_branch()
