@@ -18,6 +18,7 @@ import tempfile
 from pathlib import Path
 
 from ..core.checks import TAU0_MAX
+from ..core.checks import MAX_AVERAGED as MAX_AVERAGED, MAX_IMPACTS as MAX_IMPACTS, MAX_VALUES as MAX_VALUES  # re-exported
 from ..core.params import Params
 
 
@@ -32,10 +33,9 @@ class CommandFailed(Exception):
 
 # --------------------------------------------------------------------------------- upper bounds
 #: Sane upper bounds of the integer options (memory and run time stay bounded; a larger value is
-#: refused with a message naming the option and this range).
-MAX_IMPACTS = 10_000_000        # impacts of one orbit kept in memory (simulate, timeseries, transients)
-MAX_AVERAGED = 50_000_000       # impacts streamed through an average (lyapunov; the library's limit)
-MAX_VALUES = 20_000             # parameter values of a diagram (validation.dynamics.bifurcation.MAX_POINTS)
+#: refused with a message naming the option and this range).  The orbit's impacts (MAX_IMPACTS, kept in
+#: memory: simulate, timeseries, transients), the averaged impacts (MAX_AVERAGED: lyapunov) and a
+#: diagram's parameter values (MAX_VALUES) are the library's own bounds (core.checks), not re-typed.
 MAX_MESH = 2_000                # mesh points per axis of the transient experiments
 MAX_SEED = 2**32 - 1            # numpy's seed range
 

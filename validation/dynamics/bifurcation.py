@@ -29,11 +29,11 @@ from ...mapimpl.engine.observers import Sample
 from ...core.status import Status
 from ...mapimpl.impact_map import step
 from ...core.state import MapState, make_state
-from ...core.checks import check_int, check_tau0
+from ...core.checks import MAX_VALUES, check_int, check_tau0
 from ...core.params import DIAGRAM_PARAMS, ParamArrays, Params, check_value, param_arrays
 
 #: Hard caps that keep a run bounded.
-MAX_POINTS = 20000
+MAX_POINTS = MAX_VALUES  # parameter values of one diagram (core.checks)
 MAX_IMPACTS = 50_000_000
 
 
