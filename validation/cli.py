@@ -33,6 +33,7 @@ COMMAND_MODULES = [
     "gear_rattle.validation.commands.transients",
     "gear_rattle.validation.commands.atlas",
     "gear_rattle.validation.commands.check",
+    "gear_rattle.validation.commands.case",
 ]
 
 
