@@ -34,6 +34,7 @@ COMMAND_MODULES = [
     "gear_rattle.validation.commands.atlas",
     "gear_rattle.validation.commands.check",
     "gear_rattle.validation.commands.case",
+    "gear_rattle.validation.commands.fuzz",
 ]
 
 
