@@ -10,7 +10,7 @@ of cases (one process per batch), scores them as `gear-rattle check` does, and s
 golden-format case folder: keep it as a regression test (`gear-rattle check OUT --suite DIR`).
 
 Stops at the first failure (after shrinking it) unless --keep-going; reproducible by --seed; the search is
-bounded by --budget (shrinking a failure found late may take up to 2 minutes more). A JSON summary goes to
+bounded by --budget (shrinking each failure takes at most 90 s more, or the budget if smaller). A JSON summary goes to
 stdout. Exit status: 0 nothing found, 1 failures found (each written), 2 usage error, or an implementation
 that crashes, times out or writes a missing or malformed file (named in one line). Needs Hypothesis (the
 `test` extra)."""

@@ -56,8 +56,9 @@ ALPHA, BETA, GAMMA, R = (0.0, 4.0), (1e-8, 1.0), (-1.5, 1.5), (0.2, 1.0)
 IMPACTS = (1, 40)
 #: Cases per batch (one process of the implementation each), seconds a batch may take by default.
 BATCH, TIMEOUT = 24, 300.0
-#: Seconds the shrinking of a failure found near the end of the budget may still take.
-SHRINK_TIME = 120.0
+#: Seconds the shrinking of one failure may take (it usually stops earlier: no simpler candidate fails);
+#: at most the budget.
+SHRINK_TIME = 90.0
 #: The paper's parameter sets, targets of the shrinker (Figs. 2, 3 and 9-11).
 PAPER_SETS = (Params(0.5, 0.1, 0.1, 0.9), Params(3.0, 0.1, 0.1, 0.9), PAPER_PARAMS)
 TWO_PI = 2.0 * math.pi
@@ -85,7 +86,7 @@ def recipe_strategy(scenarios: list[str] | None = None):
     common = {"alpha": fl(*ALPHA), "beta": logf(1e-3, BETA[1]), "gamma": fl(*GAMMA), "r": fl(*R),
               "tau0": fl(0.0, TWO_PI), "impacts": st.integers(*IMPACTS), "sign": st.sampled_from([1.0, -1.0]),
               "speed": logf(1e-2, 3.0), "s0": fl(-0.95, -0.05), "paper": st.integers(0, len(PAPER_SETS) - 1),
-              "depth": logf(1e-13, 1e-5), "ratio": fl(0.9, 1.1), "lead": logf(1e-8, 5e-7), "small": logf(*BETA)}
+              "depth": logf(1e-13, 1e-5), "ratio": fl(0.9, 1.1), "near1": logf(1e-4, 0.1), "lead": logf(1e-8, 5e-7), "small": logf(*BETA)}
     names = sorted(scenarios or SCENARIOS)
     weighted = [n for n in names for _ in range(SCENARIOS[n])]
     return st.fixed_dictionaries({"scenario": st.sampled_from(weighted), **common})
@@ -211,7 +212,8 @@ def construct(recipe: dict, id: str) -> CaseInput | None:
         elif tau0 is None:
             return None
         elif k == "stick-threshold":
-            sdot0 = stick_ratio_sdot0(p, tau0, wall, _g(g["ratio"], 3))
+            # t_acc / STICK_TIME = 1 +- 1e-4 ... 0.1 (log): the threshold is where a scaled one shows
+            sdot0 = stick_ratio_sdot0(p, tau0, wall, 1.0 + g["sign"] * _g(g["near1"], 2))
         else:
             sdot0 = (1 if wall == 0 else -1) * _g(g["speed"] / 30, 3)
     elif k == "stuck-forever":
@@ -537,7 +539,7 @@ def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path |
                         continue
                     found = time.monotonic() - t0
                     shrunk, msg, rounds = shrink(c.input, c, sc.message, evaluate, first_failing_impact(c, sc),
-                                                 max(deadline, time.monotonic() + min(budget, SHRINK_TIME)))
+                                                 time.monotonic() + min(budget, SHRINK_TIME))
                     f = Failure(shrunk, msg, scen, found, c.input, rounds)
                     if out is not None:
                         f.folder = str(ondemand.write_user_case(out, _with_fuzz_notes(shrunk, f, seed)))
