@@ -147,3 +147,11 @@ def test_our_tracks_are_never_blamed(track, tmp_path, capsys):
     rc, s, _ = _fuzz(["--impl", f"{TRACK} {track}", "--budget", "120", "--seed", "1", "--keep-going",
                       "--out", str(tmp_path / "f")], capsys)
     assert rc == 0 and s["failures"] == [] and s["cases"] > 0, s
+
+
+def test_without_hypothesis_one_line_names_the_extra(monkeypatch, tmp_path, capsys):
+    """Hypothesis is in the `test` extra, not a core dependency: without it `fuzz` says which extra to install."""
+    monkeypatch.setitem(sys.modules, "hypothesis", None)  # import hypothesis raises ImportError
+    assert main(["fuzz", "--impl", "x", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert 'pip install "gear-rattle[test]"' in err and len(err.strip().splitlines()) == 1
