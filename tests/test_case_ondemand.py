@@ -172,3 +172,19 @@ def test_batch_of_1000_cases_within_a_minute(tmp_path):
     assert main(["case", "--from", str(tmp_path / "in.json"), "--out", str(tmp_path / "s"), "--quiet"]) == 0
     assert time.perf_counter() - t <= 60.0
     assert len(load_suite(tmp_path / "s")) == 1000
+
+
+def test_near_miss_within_the_gap_error_ends_the_case(tmp_path, capsys):
+    """A flight that turns back 2.8e-15 below s = 0 (found by the fuzzer: our diffrax track took it for an
+    impact with sdot -6.7e-6) cannot be told from a contact by a correct float64 implementation (gap error
+    1e-12): the case stops before the impact that ends it, and says why."""
+    args = ["case", "--alpha", "1.245", "--beta", "0.1", "--gamma", "0.1", "--r", "0.9", "--tau0", "5.951",
+            "--sdot0", "0.135696112133537", "--impacts", "3", "--id", "m", "--out", str(tmp_path)]
+    capsys.readouterr()
+    assert main(args) == 0
+    s = _settings(tmp_path / "m")
+    assert s["n_impacts"] == 0 and s["notes"]["truncation"]["requested_impacts"] == 3
+    assert "turns back 2.8e-15 from a wall" in capsys.readouterr().err
+    # a near miss well outside it (0024: 9.95e-10, 1000 times the gap error) is kept
+    inp = ondemand.case_input("n", 0.5, 0.1, 0.1, 0.9, 3.0, 0.93996694232023, 10)
+    assert ondemand.build_user_case(inp).settings["n_impacts"] == 10

@@ -94,6 +94,42 @@ def test_usage_errors(tmp_path, capsys):
     assert "--batch=0" in capsys.readouterr().err
 
 
+#: An implementation without JAX that stops after impact 0 (it writes the initial pre-impact state only).
+FIRST_ROW_ONLY = """
+import json, math, sys
+from pathlib import Path
+cases, out = Path(sys.argv[1]), Path(sys.argv[2])
+for f in sorted(cases.iterdir()):
+    s = json.loads((f / "settings.json").read_text())
+    ini, rows = s["initial_state"], ["n,tau,tau_mod_2pi,wall,sdot,kind"]
+    if ini["kind"] == "pre-impact":
+        t, v = ini["tau0"], ini["sdot0"]
+        rows.append(f"0,{t!r},{t % (2 * math.pi)!r},{0 if v > 0 else -1},{v!r},impact")
+    (out / (s["id"] + ".csv")).write_text("\\n".join(rows) + "\\n")
+"""
+
+
+def test_fuzz_shrinks_a_failure_to_a_minimal_case(tmp_path, capsys):
+    """An implementation that stops after impact 0 fails every case with an impact after it: the fuzzer finds
+    it in the first batch and shrinks it to one impact (a pre-impact start, the simplest numbers: one
+    significant digit), written as a golden-format case with its index; the same seed finds the same."""
+    (tmp_path / "impl.py").write_text(FIRST_ROW_ONLY)
+    impl = f"{PY} {shlex.quote(str(tmp_path / 'impl.py'))}"
+    runs = []
+    for k in range(2):
+        rc, s, _ = _fuzz(["--impl", impl, "--budget", "30", "--batch", "4", "--scenarios", "generic", "paper",
+                          "--out", str(tmp_path / f"f{k}")], capsys)
+        assert rc == 1 and len(s["failures"]) == 1
+        runs.append(s["failures"][0])
+    f = runs[0]
+    assert f["impacts"] == 1 and f["rows"] == 2 and "s0" not in f["input"]
+    assert all(fuzz._digits(f["input"][k]) <= 1 for k in ("alpha", "beta", "gamma", "r", "tau0", "sdot0")), f["input"]
+    assert runs[1]["input"] == f["input"] and runs[1]["original_input"] == f["original_input"]
+    assert [c.id for c in load_suite(tmp_path / "f0")] == [f["id"]]
+    assert json.loads((tmp_path / "f0" / "index.json").read_text())["cases"][0]["id"] == f["id"]
+
+
+@pytest.mark.slow
 def test_fuzz_finds_and_shrinks_a_mutant(tmp_path, capsys):
     """Cheap version of the slow tests below: the mutant without sticking on s = -1, fuzzed on lower-wall
     chatter with a budget of 10 s, is found and shrunk (within the budget) to a case no longer than the one

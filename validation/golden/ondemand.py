@@ -19,7 +19,9 @@ keeps its safety factor 10 over the error of a correct implementation, so the ca
 more than 10 times that error (rounded up to one digit): a wrong implementation whose error exceeds
 the correct one's by more than that factor fails.  An impact that cannot be certified (a tangency the
 balls cannot separate, a flight longer than ``T_MAX`` that is not proven to never land) ends the case
-in the same way, at the last certified impact.
+in the same way, at the last certified impact; so does a flight that turns back closer to a wall than
+:data:`NEAR_MISS_SAFETY` times the gap error of a correct implementation (:func:`near_miss_limit`: it may
+take such a near miss for a contact).
 
 :func:`build_user_cases` builds many (``--from FILE``: one process, the JAX functions of the
 amplification rule compiled once), :func:`write_user_case` writes a folder and :func:`update_index`
@@ -234,6 +236,80 @@ def ruled_spec(spec: generate.Spec, orb: cert.CertifiedOrbit) -> generate.Spec:
     return generate.with_amplification_rule(generate.with_chatter_rule(spec, orb), orb)
 
 
+#: A flight that turns back closer to a wall than this many times the gap error ``e`` of a correct float64
+#: implementation (:func:`conditioning.local_error`: ``2^-52 + 1e-12 h``) may be taken for a contact by one: a
+#: case stops before the impact that ends such a flight (the near-miss rule; the shipped near misses lie at
+#: 20 000 e, 1000 e and 9.9 e).
+NEAR_MISS_SAFETY = 10.0
+#: Samples of a flight per refinement when its turning points are searched (three refinements).
+TURN_SAMPLES = 257
+
+
+_FLIGHT: list = []  # the flight's (ds, v) at TURN_SAMPLES times, compiled once
+
+
+def _turns(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float:
+    """The smallest distance to a wall at which the flight from ``(th0, s_start, v0)`` turns back before
+    ``dt`` (interior extrema of ``s``, located by three rounds of :data:`TURN_SAMPLES` samples: the float64
+    closed form, Eqs. 7-8); ``inf`` without a turning point."""
+    import numpy as np
+
+    if not _FLIGHT:
+        import jax
+
+        from ...mapimpl.flight import flight
+
+        _FLIGHT.append(jax.jit(lambda t, th, v, a, b, g: (flight(t, th, v, a, b, g).ds, flight(t, th, v, a, b, g).v)))
+
+    def sample(a: float, b: float):
+        t = np.linspace(a, b, TURN_SAMPLES)
+        ds, v = _FLIGHT[0](t, th0, v0, p.alpha, p.beta, p.gamma)
+        return t, s_start + np.asarray(ds), np.asarray(v)
+
+    t, s, v = sample(0.0, dt)
+    best = math.inf
+    for i in np.nonzero(np.sign(v[1:-1]) != np.sign(v[2:]))[0] + 1:
+        a, b = t[i], t[i + 1]
+        for _ in range(2):
+            tt, ss, vv = sample(a, b)
+            k = int(np.argmax(ss) if v[i] > 0 else np.argmin(ss))
+            a, b = tt[max(k - 1, 0)], tt[min(k + 1, TURN_SAMPLES - 1)]
+        gap = -float(ss[k]) if v[i] > 0 else float(ss[k]) + 1.0
+        best = min(best, gap)
+    return best
+
+
+def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int, str] | None:
+    """``(impact, note)``: the first impact whose flight turns back within :data:`NEAR_MISS_SAFETY` times the
+    gap error of a wall (the case must stop before it), or ``None``."""
+    from .conditioning import POSITION_STEP, FLIGHT_ERROR, flight_height
+
+    p = spec.params
+    rows = generate.certified_rows(orb)
+    start = None if spec.s0 is None else (spec.tau0 % (2 * math.pi), spec.sdot0, spec.tau0, spec.s0)
+    prev = None
+    for i, kind in enumerate(rows.kind):
+        tau = float(rows.tau[i])
+        if kind == "stick":
+            continue
+        if kind == "release":
+            start = (float(rows.tau_mod_2pi[i]), 0.0, tau, float(rows.wall[i]))
+            continue
+        if start is None and prev is not None:
+            start = (float(rows.tau_mod_2pi[prev]), -p.r * float(rows.sdot[prev]), float(rows.tau[prev]),
+                     float(rows.wall[prev]))
+        if start is not None:
+            dt = tau - start[2]
+            gap = _turns(p, start[0], start[1], start[3], dt)
+            e = POSITION_STEP + FLIGHT_ERROR * flight_height(p, start[0], start[1], dt)
+            if gap < NEAR_MISS_SAFETY * e:
+                return int(rows.n[i]), (f"the flight to impact {int(rows.n[i])} turns back {gap:.3g} from a wall, "
+                                        f"within {NEAR_MISS_SAFETY:g} times the gap error {e:.3g} of a correct float64 "
+                                        "implementation (it may take it for a contact)")
+        prev, start = i, None
+    return None
+
+
 def _loosest(spec: generate.Spec) -> float:
     return max(v["abs"] for v in spec.tolerances.values())
 
@@ -310,11 +386,19 @@ def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
         orb, why = _certify(inp, n, prec)
         if orb is None:
             raise CaseError(f"case {inp.id}: impact 0 is not certified: {why}")
-        over = _loosest(ruled_spec(_spec(inp, inp.impacts), orb)) >= TOLERANCE_LIMIT
+        ruled = ruled_spec(_spec(inp, inp.impacts), orb)
+        over = _loosest(ruled) >= TOLERANCE_LIMIT
         if over or why or orb.status != "active" or n >= inp.impacts:
             break
         n = min(2 * n, inp.impacts)
     reason = ""
+    miss = near_miss_limit(_spec(inp, inp.impacts), orb)
+    if miss is not None:
+        if miss[0] == 0:
+            raise CaseError(f"case {inp.id}: {miss[1]} (no impact before it)")
+        orb, why = _prefix(orb, miss[0] - 1), miss[1]
+        ruled = ruled_spec(_spec(inp, inp.impacts), orb)
+        over = _loosest(ruled) >= TOLERANCE_LIMIT
     if over:
         last = _last_impact(orb)
         lo, hi = -1, last  # prefix lo within the limit (-1: none), the whole orbit (hi) over it
@@ -338,7 +422,8 @@ def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
     elif why:
         reason = why
     kept = _last_impact(orb) if reason else inp.impacts
-    spec = ruled_spec(_spec(inp, kept), orb)
+    # the rules do not depend on the length asked for: the orbit's spec serves unless it was cut since
+    spec = replace(ruled, n_impacts=kept) if not over else ruled_spec(_spec(inp, kept), orb)
     truncation = None
     if reason:
         truncation = {"requested_impacts": inp.impacts, "kept_impacts": kept, "limit": TOLERANCE_LIMIT,
