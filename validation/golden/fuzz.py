@@ -223,6 +223,12 @@ def construct(recipe: dict, id: str) -> CaseInput | None:
     elif k == "no-impact":
         gamma, alpha, beta = 0.0, _g(0.02 + 0.3 * alpha / ALPHA[1], 3), _g(0.1 + g["beta"], 3)
         r = _g(0.3 + 0.6 * (g["r"] - R[0]) / (R[1] - R[0]), 3)
+        if g["paper"] == 0:  # a slow start where the force presses: chatter, stick, release, then no landing
+            wall = 0 if g["sign"] > 0 else -1
+            tau0 = _pressing_phase(Params(alpha, beta, gamma, r), wall, g["ratio"] - 0.9)
+            if tau0 is None:
+                return None
+            sdot0 = g["sign"] * _g(g["speed"] / 30, 3)
     elif k in ("graze", "near-miss"):
         if g["paper"] > 0:
             q = PAPER_SETS[g["paper"]]
