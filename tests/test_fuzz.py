@@ -90,8 +90,9 @@ def test_a_broken_implementation_is_a_one_line_error(script, message, tmp_path, 
 def test_usage_errors(tmp_path, capsys):
     assert main(["fuzz", "--impl", "", "--out", str(tmp_path)]) == 2
     assert "--impl is empty" in capsys.readouterr().err
-    assert main(["fuzz", "--impl", "x", "--batch", "0", "--out", str(tmp_path)]) == 2
-    assert "--batch=0" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as e:
+        main(["fuzz", "--impl", "x", "--batch", "0", "--out", str(tmp_path)])
+    assert e.value.code == 2 and "--batch=0 is out of range" in capsys.readouterr().err
 
 
 #: An implementation without JAX that stops after impact 0 (it writes the initial pre-impact state only).

@@ -21,7 +21,7 @@ import argparse
 import json
 from pathlib import Path
 
-from ..cliutil import CliError, progress_arg, real, seed_int, to_stdout
+from ..cliutil import CliError, int_range, progress_arg, real, seed_int, to_stdout
 
 NAME = "fuzz"
 HELP = "differential fuzzing of another implementation against certified cases (finds and shrinks failures)"
@@ -32,15 +32,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("--impl", required=True, metavar="COMMAND",
                    help="the implementation, called as COMMAND CASES_DIR OUT_DIR (shell words)")
-    p.add_argument("--seed", type=seed_int(), default=0, help="random seed of the draws (default 0)")
+    p.add_argument("--seed", type=seed_int(), default=0, help="random seed of the draws, 0 <= SEED <= 2**32 - 1 (default 0)")
     p.add_argument("--budget", type=real("--budget", lo=0.0, lo_open=True, hi=1e6), default=60.0, metavar="SECONDS",
                    help="seconds of search, 0 < SECONDS <= 1e6 (default 60)")
     p.add_argument("--out", default="fuzz-failures", metavar="DIR",
                    help="where failing cases are written (default fuzz-failures; created only if one is found)")
     p.add_argument("--keep-going", action="store_true", help="go on after a failure until the budget is spent")
     p.add_argument("--timeout", type=real("--timeout", lo=0.0, lo_open=True, hi=1e5), default=TIMEOUT,
-                   metavar="SECONDS", help=f"seconds one batch of the implementation may take (default {TIMEOUT:g})")
-    p.add_argument("--batch", type=int, default=BATCH, metavar="N",
+                   metavar="SECONDS", help=f"seconds one batch of the implementation may take, 0 < SECONDS <= 1e5 "
+                        f"(default {TIMEOUT:g})")
+    p.add_argument("--batch", type=int_range("--batch", 1, 1000), default=BATCH, metavar="N",
                    help=f"cases per run of the implementation, 1 <= N <= 1000 (default {BATCH})")
     p.add_argument("--scenarios", nargs="+", choices=sorted(SCENARIOS), default=None, metavar="NAME",
                    help="draw only these scenarios (default: all): " + ", ".join(sorted(SCENARIOS)))
@@ -55,8 +56,6 @@ def run(args: argparse.Namespace) -> int:
 
     require("hypothesis", "test", "gear-rattle fuzz")
     command = split_command(args.impl)
-    if not 1 <= args.batch <= 1000:
-        raise CliError(f"--batch={args.batch} is out of range: allowed 1 <= --batch <= 1000")
     check_output_dir(args.out, "--out")
     out = Path(args.out)
     with Bar("fuzz", total=None, unit="cases", enabled=progress_arg(args) is not False) as bar:
