@@ -86,7 +86,7 @@ def recipe_strategy(scenarios: list[str] | None = None):
     common = {"alpha": fl(*ALPHA), "beta": logf(1e-3, BETA[1]), "gamma": fl(*GAMMA), "r": fl(*R),
               "tau0": fl(0.0, TWO_PI), "impacts": st.integers(*IMPACTS), "sign": st.sampled_from([1.0, -1.0]),
               "speed": logf(1e-2, 3.0), "s0": fl(-0.95, -0.05), "paper": st.integers(0, len(PAPER_SETS) - 1),
-              "depth": logf(1e-13, 1e-5), "ratio": fl(0.9, 1.1), "near1": logf(1e-4, 0.1), "lead": logf(1e-8, 5e-7), "small": logf(*BETA)}
+              "depth": logf(1.5e-11, 1e-7), "ratio": fl(0.9, 1.1), "near1": logf(1e-4, 0.1), "lead": logf(1e-8, 5e-7), "small": logf(*BETA)}
     names = sorted(scenarios or SCENARIOS)
     weighted = [n for n in names for _ in range(SCENARIOS[n])]
     return st.fixed_dictionaries({"scenario": st.sampled_from(weighted), **common})
@@ -238,8 +238,15 @@ def construct(recipe: dict, id: str) -> CaseInput | None:
         if th is None:
             return None
         miss, reach = th
-        if k == "near-miss":
-            sdot0 = miss + math.copysign(g["depth"], miss - reach)
+        if k == "near-miss":  # the closest approach grows linearly with the offset: measured at 1e-6, scaled
+            probe = miss + math.copysign(1e-6, miss - reach)
+            c = first_contact(p, tau0, probe)
+            if c is None:
+                return None
+            turn = ondemand._turns(p, math.fmod(tau0, TWO_PI) % TWO_PI, -p.r * probe, 0.0 if probe > 0 else -1.0, c[1])
+            if not 0 < turn < 1:
+                return None
+            sdot0 = miss + math.copysign(g["depth"] * 1e-6 / turn, miss - reach)
         else:  # the speed at the grazed wall grows like sqrt(offset): the offset for a speed 1e-4 ... 3e-2
             target = 10.0 ** (-4 + 2.5 * (g["ratio"] - 0.9) / 0.2)
             lo, hi = reach, reach + 0.5 * (reach - miss) / abs(reach - miss) * 1e-1
