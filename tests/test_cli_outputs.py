@@ -138,6 +138,8 @@ BAD = [
     (["check", ""], "PATH=''"),
     (["check", "p", "--out", "o"], "--out needs --self"),
     (["check", "--self", "--suite", "nowhere"], "not found"),
+    (["case", "--out", "s", "--alpha", "1"], "missing --beta"),
+    (["fuzz", "--impl", "x", "--budget", "0"], "--budget"),
 ]
 
 

@@ -34,6 +34,8 @@ COMMAND_MODULES = [
     "gear_rattle.validation.commands.transients",
     "gear_rattle.validation.commands.atlas",
     "gear_rattle.validation.commands.check",
+    "gear_rattle.validation.commands.case",
+    "gear_rattle.validation.commands.fuzz",
 ]
 
 

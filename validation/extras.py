@@ -11,7 +11,7 @@ import importlib
 from types import ModuleType
 
 #: The extras and the modules each provides (pyproject.toml's ``[project.optional-dependencies]``).
-EXTRAS = {"atlas": ("zarr", "dask", "distributed"), "bench": ("numba",)}
+EXTRAS = {"atlas": ("zarr", "dask", "distributed"), "bench": ("numba",), "test": ("hypothesis",)}
 
 
 class MissingExtra(ImportError):

@@ -60,7 +60,10 @@ _displacement = jax.jit(lambda t, th, v0, a, b, g: flight(t, th, v0, a, b, g).ds
 
 
 def round_up_1(x: float) -> float:
-    """``x > 0`` rounded up to one significant digit (2.06e-8 -> 3e-8; 2e-6 stays 2e-6)."""
+    """``x > 0`` rounded up to one significant digit (2.06e-8 -> 3e-8; 2e-6 stays 2e-6); 0 stays 0 (a case
+    with no impact reached by a flight has no propagated error)."""
+    if x == 0:
+        return 0.0
     m = 10.0 ** math.floor(math.log10(x))
     return float(f"{math.ceil(x / m - 1e-9) * m:.1g}")
 

@@ -91,6 +91,8 @@ class Spec:
     #: certified extras recorded in the notes before the settings are written: ``"excursion"`` (a
     #: graze), ``"policy"`` (the sticking decision at impact 0)
     extras: tuple = ()
+    #: the sticking policy's threshold (``stick_time`` of the settings; the shipped cases: STICK_TIME)
+    stick_time: float = STICK_TIME
 
 
 # ---------------------------------------------------------------------------------------------
@@ -526,7 +528,8 @@ def spec_from_settings(settings: dict, prec: int = cert.PREC) -> Spec:
                 int(settings["n_impacts"]), s0=ini.get("s0"), tolerances=settings["tolerances"],
                 tags=tuple(settings.get("tags", ())), notes=dict(settings.get("notes", {})), prec=prec,
                 level=int(settings.get("level", 1)), catches=tuple(settings.get("catches", ())),
-                ending="no_impact" if settings["expected_status"] == "no_impact" else "active")
+                ending="no_impact" if settings["expected_status"] == "no_impact" else "active",
+                stick_time=float(settings.get("stick_time", STICK_TIME)))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -571,7 +574,7 @@ def settings_json(spec: Spec, orb: cert.CertifiedOrbit) -> dict:
         "id": spec.id, "description": spec.description, "tags": list(spec.tags),
         "level": spec.level, "catches": list(spec.catches),
         "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
-        "initial_state": ini, "n_impacts": spec.n_impacts, "stick_time": STICK_TIME,
+        "initial_state": ini, "n_impacts": spec.n_impacts, "stick_time": spec.stick_time,
         "expected_rows": len(orb.events), "expected_status": orb.status,
         "tolerances": spec.tolerances,
         "exact_columns": ["n", "wall", "kind"],
@@ -674,9 +677,28 @@ def certify_spec(spec: Spec, radius_limit: float) -> cert.CertifiedOrbit:
             raise cert.CertificationError(f"{spec.id}: the map track ends with status {hint.status!r}, not 'no_impact'")
         last = int(hint.n[hint.kind == "impact"][-1])
         return cert.certify_no_impact_orbit(spec.params, spec.tau0, spec.sdot0, last, s0=spec.s0, prec=spec.prec,
-                                            radius_limit=radius_limit)
+                                            radius_limit=radius_limit, stick_time=spec.stick_time)
     return cert.certify_orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, prec=spec.prec,
-                              radius_limit=radius_limit)
+                              radius_limit=radius_limit, stick_time=spec.stick_time)
+
+
+def radius_stats(text: str, orb: cert.CertifiedOrbit) -> dict:
+    """The provenance's ``radius`` statistics of an ``expected.csv`` text (bounds on |printed - true|) and of
+    the certified balls; ``_rows``: the number of data rows (removed by the caller)."""
+    import csv as _csv
+
+    rows = list(_csv.DictReader(text.splitlines()))
+    radii: dict = {}
+    for c in RADIUS_COLUMNS:
+        vals = sorted(float(r[c]) for r in rows if r[c] != "")
+        radii[c] = {"max": "%.2e" % vals[-1], "median": "%.2e" % vals[len(vals) // 2]} if vals else {}
+    radii["ball"] = {
+        "tau_max": "%.2e" % max(float(e.tau.rad()) for e in orb.events),
+        "sdot_max": "%.2e" % max([float(e.sdot.rad()) for e in orb.events if e.sdot is not None] or [0.0]),
+        "meaning": "largest certified ball radius (before printing as float64)",
+    }
+    radii["_rows"] = len(rows)
+    return radii
 
 
 def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
@@ -694,19 +716,8 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
         spec.notes["policy_at_impact_0"] = certified_policy(spec)
     text = expected_csv(orb)
     settings = settings_json(spec, orb)
-    # radii as printed (bounds on |printed - true|)
-    import csv as _csv
-
-    rows = list(_csv.DictReader(text.splitlines()))
-    radii = {}
-    for c in RADIUS_COLUMNS:
-        vals = sorted(float(r[c]) for r in rows if r[c] != "")
-        radii[c] = {"max": "%.2e" % vals[-1], "median": "%.2e" % vals[len(vals) // 2]} if vals else {}
-    radii["ball"] = {
-        "tau_max": "%.2e" % max(float(e.tau.rad()) for e in orb.events),
-        "sdot_max": "%.2e" % max([float(e.sdot.rad()) for e in orb.events if e.sdot is not None] or [0.0]),
-        "meaning": "largest certified ball radius (before printing as float64)",
-    }
+    radii = radius_stats(text, orb)
+    rows = radii.pop("_rows")
     if "chaotic" in spec.tags:
         imp = [(e.n, float(e.tau.rad())) for e in orb.events if e.kind == "impact" and e.n >= 1]
         xs = [n for n, r in imp if r > 0]
@@ -724,7 +735,7 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
 
         with tempfile.TemporaryDirectory() as d:
             Path(d, "expected.csv").write_text(text)
-            exp = read_sequence(Path(d, "expected.csv"), expected_rows=len(rows), required_extra=RADIUS_COLUMNS)
+            exp = read_sequence(Path(d, "expected.csv"), expected_rows=rows, required_extra=RADIUS_COLUMNS)
         agreement = _track_agreement(Case(spec.id, Path("."), settings, exp))
     return settings, text, provenance_json(spec, orb, radii, agreement)
 

@@ -1,0 +1,40 @@
+"""A mutant of tests/golden_mutants.py as an implementation under the suite's protocol, for
+``gear-rattle fuzz`` (tests/test_fuzz.py): ``python tests/mutant_impl.py NAME CASES_DIR OUT_DIR`` runs
+every case folder of CASES_DIR (settings.json) with the mutant NAME (a key of test_golden_mutants.MUTANTS
+or VARIANTS, ``base``, or ``fixed-step-H`` for the fixed-step finder of step H) and writes
+OUT_DIR/<case-id>.csv."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from golden_mutants import BASE, Mutant, run, write_csv
+
+
+def mutant(name: str) -> Mutant:
+    """The mutant called ``name``."""
+    if name == "base":
+        return BASE
+    if name.startswith("fixed-step-"):
+        return Mutant(name, "skipped-graze", step=float(name[len("fixed-step-"):]))
+    from test_golden_mutants import MUTANTS, VARIANTS
+
+    return MUTANTS[name][0] if name in MUTANTS else VARIANTS[name]
+
+
+def main(argv: list[str]) -> int:
+    name, cases, out = argv
+    m = mutant(name)
+    Path(out).mkdir(parents=True, exist_ok=True)
+    for folder in sorted(p for p in Path(cases).iterdir() if (p / "settings.json").is_file()):
+        settings = json.loads((folder / "settings.json").read_text())
+        write_csv(run(settings, m), Path(out) / f"{settings['id']}.csv", m)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

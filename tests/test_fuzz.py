@@ -1,0 +1,211 @@
+"""``gear-rattle fuzz``: the differential fuzzer (docs/golden.md, "Fuzzing an implementation").
+
+The implementations are processes under the suite's protocol (``COMMAND CASES_DIR OUT_DIR``): our tracks
+(:mod:`validation.golden.trackimpl`) and the mutants of tests/golden_mutants.py (tests/mutant_impl.py).
+"""
+
+from __future__ import annotations
+
+import json
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gear_rattle.validation.cli import main
+from gear_rattle.mapimpl.sticking import STICK_TIME
+from gear_rattle.validation.golden import fuzz, generate, ondemand
+from gear_rattle.validation.golden.suite import load_suite
+
+HERE = Path(__file__).resolve().parent
+PY = shlex.quote(sys.executable)
+TRACK = f"{PY} -m gear_rattle.validation.golden.trackimpl --track"
+
+
+def mutant_impl(name: str) -> str:
+    return f"{PY} {shlex.quote(str(HERE / 'mutant_impl.py'))} {name}"
+
+
+def _fuzz(args: list[str], capsys) -> tuple[int, dict, str]:
+    capsys.readouterr()
+    rc = main(["fuzz", "--quiet", *args])
+    cap = capsys.readouterr()
+    return rc, json.loads(cap.out), cap.err
+
+
+def test_draws_are_reproducible_and_reach_every_scenario():
+    """The same seed draws the same recipes; another seed others; every scenario is drawn, and restricting
+    the scenarios restricts the draws."""
+    a, b, c = fuzz.draw_recipes(3, 8), fuzz.draw_recipes(3, 8), fuzz.draw_recipes(4, 8)
+    assert a == b and a != c
+    assert len({r["scenario"] for r in a + c}) >= 5
+    assert {r["scenario"] for r in fuzz.draw_recipes(0, 4, ["graze", "elastic-r1"])} <= {"graze", "elastic-r1"}
+
+
+def test_constructed_hard_places():
+    """A graze recipe reaches the other wall with a small normal speed; a near-miss recipe turns back short
+    of it (the first contact is on the start wall); a stick-threshold recipe has t_acc within 10 % of
+    STICK_TIME; a stuck-forever recipe has |gamma| >= R."""
+    base = {"alpha": 3.0, "beta": 0.1, "gamma": 0.1, "r": 0.9, "tau0": 2.5, "impacts": 4, "sign": 1.0, "speed": 0.3,
+            "s0": -0.5, "paper": 1, "depth": 1e-9, "ratio": 1.0, "near1": 1e-3, "lead": 1e-7, "small": 1e-6}
+    g = fuzz.construct({**base, "scenario": "graze"}, "g")
+    wall, _, v = fuzz.first_contact(g.params, g.tau0, g.sdot0)
+    assert wall == -1 and 1e-5 < abs(v) < 1e-2
+    m = fuzz.construct({**base, "scenario": "near-miss"}, "m")
+    assert fuzz.first_contact(m.params, m.tau0, m.sdot0)[0] == 0
+    s = fuzz.construct({**base, "scenario": "stuck-forever"}, "s")
+    assert abs(s.params.gamma) >= s.params.alpha * (1 + s.params.beta ** 2) ** 0.5
+    t = fuzz.construct({**base, "scenario": "stick-threshold"}, "t")
+    p, wall = t.params, 0 if t.sdot0 > 0 else -1
+    f_in = generate.forcing_in(p, t.tau0, wall)
+    t_acc = 2 * p.r * abs(t.sdot0) / ((1 - p.r) * f_in)
+    assert abs(t_acc / STICK_TIME - 1) < 0.1
+
+
+def test_shrink_candidates_are_simpler():
+    inp = ondemand.case_input("x", 2.3456, 0.1234, -0.876, 0.5432, 1.2345, -0.5678, 30)
+    cands = fuzz.shrink_candidates(inp, 12)
+    assert cands and all(fuzz.complexity(c) < fuzz.complexity(inp) for c in cands)
+    assert {12, 13, 0} <= {c.impacts for c in cands}
+    assert any(c.params == fuzz.PAPER_SETS[1] for c in cands)
+
+
+@pytest.mark.parametrize("script, message", [
+    ("exit 3", "exited with status 3"),
+    ("sleep 30", "did not finish"),
+    ("for d in \"$1\"/*/; do printf 'n,tau\\n' > \"$2/$(basename \"$d\").csv\"; done", "malformed output"),
+    (":", "malformed output"),  # writes nothing: the first file is missing
+])
+def test_a_broken_implementation_is_a_one_line_error(script, message, tmp_path, capsys):
+    """Exit status 2 and one line naming what went wrong: a crash, a timeout, a malformed or missing file."""
+    impl = f"sh -c {shlex.quote(script)} sh"
+    rc, summary, err = _fuzz(["--impl", impl, "--budget", "30", "--timeout", "3", "--batch", "2", "--scenarios",
+                              "generic", "--out", str(tmp_path / "f")], capsys)
+    assert rc == 2 and summary["status"] == "error" and message in summary["error"]
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_usage_errors(tmp_path, capsys):
+    assert main(["fuzz", "--impl", "", "--out", str(tmp_path)]) == 2
+    assert "--impl is empty" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as e:
+        main(["fuzz", "--impl", "x", "--batch", "0", "--out", str(tmp_path)])
+    assert e.value.code == 2 and "--batch=0 is out of range" in capsys.readouterr().err
+
+
+#: An implementation without JAX that stops after impact 0 (it writes the initial pre-impact state only).
+FIRST_ROW_ONLY = """
+import json, math, sys
+from pathlib import Path
+cases, out = Path(sys.argv[1]), Path(sys.argv[2])
+for f in sorted(cases.iterdir()):
+    s = json.loads((f / "settings.json").read_text())
+    ini, rows = s["initial_state"], ["n,tau,tau_mod_2pi,wall,sdot,kind"]
+    if ini["kind"] == "pre-impact":
+        t, v = ini["tau0"], ini["sdot0"]
+        rows.append(f"0,{t!r},{t % (2 * math.pi)!r},{0 if v > 0 else -1},{v!r},impact")
+    (out / (s["id"] + ".csv")).write_text("\\n".join(rows) + "\\n")
+"""
+
+
+def test_fuzz_shrinks_a_failure_to_a_minimal_case(tmp_path, capsys):
+    """An implementation that stops after impact 0 fails every case with an impact after it: the fuzzer finds
+    it in the first batch and shrinks it to one impact (a pre-impact start, the simplest numbers: one
+    significant digit), written as a golden-format case with its index; the same seed finds the same."""
+    (tmp_path / "impl.py").write_text(FIRST_ROW_ONLY)
+    impl = f"{PY} {shlex.quote(str(tmp_path / 'impl.py'))}"
+    runs = []
+    for k in range(2):
+        rc, s, _ = _fuzz(["--impl", impl, "--budget", "30", "--batch", "4", "--scenarios", "generic", "paper",
+                          "--out", str(tmp_path / f"f{k}")], capsys)
+        assert rc == 1 and len(s["failures"]) == 1
+        runs.append(s["failures"][0])
+    f = runs[0]
+    assert f["impacts"] == 1 and f["rows"] == 2 and "s0" not in f["input"]
+    assert all(fuzz._digits(f["input"][k]) <= 1 for k in ("alpha", "beta", "gamma", "r", "tau0", "sdot0")), f["input"]
+    assert runs[1]["input"] == f["input"] and runs[1]["original_input"] == f["original_input"]
+    assert [c.id for c in load_suite(tmp_path / "f0")] == [f["id"]]
+    assert json.loads((tmp_path / "f0" / "index.json").read_text())["cases"][0]["id"] == f["id"]
+
+
+@pytest.mark.slow
+def test_fuzz_finds_and_shrinks_a_mutant(tmp_path, capsys):
+    """Cheap version of the slow tests below: the mutant without sticking on s = -1, fuzzed on lower-wall
+    chatter with a budget of 10 s, is found and shrunk (within the budget) to a case no longer than the one
+    found, written as a golden-format folder that fails the mutant and that our map track passes."""
+    out = tmp_path / "found"
+    rc, s, _ = _fuzz(["--impl", mutant_impl("no-lower-wall-sticking"), "--budget", "10", "--batch", "4",
+                      "--scenarios", "chatter-lower", "--out", str(out)], capsys)
+    assert rc == 1 and s["status"] == "failures" and len(s["failures"]) == 1
+    f = s["failures"][0]
+    assert f["impacts"] <= f["original_input"]["impacts"]
+    case = load_suite(out)[0]
+    assert case.settings["notes"]["fuzz"]["scenario"] == "chatter-lower"
+    subprocess.run([*shlex.split(mutant_impl("no-lower-wall-sticking")), str(out), str(tmp_path / "m")], check=True)
+    assert main(["check", str(tmp_path / "m"), "--suite", str(out)]) == 1
+    assert main(["check", "--self", "--suite", str(out)]) == 0
+
+
+# ---------------------------------------------------------------------------------------------
+# slow: every bug class found by the fuzzer alone, and long clean runs of our tracks
+
+#: The mutants of tests/test_golden_mutants.py (one per bug class and variant), and steps of the fixed-step
+#: finder from the sweep over [1e-3, 1].
+MUTANT_NAMES = ["no-lower-wall-sticking", "lower-wall-pressing-sign", "lower-wall-release-branch",
+                "never-release-tested-on-upper-side", "release-delay-ignored", "stick-threshold-x0.99",
+                "stick-threshold-x1.01", "stick-threshold-x1.5", "r1-safe-division", "spurious-row-after-release",
+                "row-at-search-horizon", "rows-dropped-before-no-impact", "trailing-rows", "phase-1e17",
+                "phase-1e300", "phase-largest-double", "contact-tolerance-1e-8", "contact-tolerance-1e-10",
+                "fixed-step-0.001", "fixed-step-0.0316", "fixed-step-0.01", "fixed-step-0.1", "fixed-step-1.0"]
+#: The budget within which the fuzzer alone (every scenario, seed 0) finds each of them.
+MUTANT_BUDGET = 240
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MUTANT_NAMES)
+def test_fuzzer_alone_finds_every_bug_class(name, tmp_path, capsys):
+    """Without the fixed suite: the fuzzer (all scenarios, seed 0) finds each mutant within MUTANT_BUDGET
+    seconds and writes a shrunk case that fails the mutant and that the base implementation passes."""
+    out = tmp_path / "found"
+    rc, s, _ = _fuzz(["--impl", mutant_impl(name), "--budget", str(MUTANT_BUDGET), "--out", str(out)], capsys)
+    assert rc == 1, s
+    for impl, want in ((name, 1), ("base", 0)):
+        subprocess.run([*shlex.split(mutant_impl(impl)), str(out), str(tmp_path / impl)], check=True)
+        assert main(["check", str(tmp_path / impl), "--suite", str(out)]) == want, impl
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("track", ["map", "scipy"])
+def test_our_tracks_are_never_blamed(track, tmp_path, capsys):
+    """Our map and scipy tracks under the same protocol: no failure in 120 s each (the long runs: docs/golden.md,
+    "Fuzzing an implementation"; the diffrax track takes a near miss 2.08e-11 from a wall for an impact,
+    see :func:`test_diffrax_track_takes_a_near_miss_for_an_impact`)."""
+    rc, s, _ = _fuzz(["--impl", f"{TRACK} {track}", "--budget", "120", "--seed", "1", "--keep-going",
+                      "--out", str(tmp_path / "f")], capsys)
+    assert rc == 0 and s["failures"] == [] and s["cases"] > 0, s
+
+
+def test_without_hypothesis_one_line_names_the_extra(monkeypatch, tmp_path, capsys):
+    """Hypothesis is in the `test` extra, not a core dependency: without it `fuzz` says which extra to install."""
+    monkeypatch.setitem(sys.modules, "hypothesis", None)  # import hypothesis raises ImportError
+    assert main(["fuzz", "--impl", "x", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert 'pip install "gear-rattle[test]"' in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.slow
+def test_diffrax_track_takes_a_near_miss_for_an_impact(tmp_path):
+    """Found by the fuzzer (seed 13): the flight from (0, -2.2256532866) at alpha=0, beta=1, gamma=-1.12, r=1
+    turns back 2.08e-11 below s = 0 (certified: 20 times the gap error 1e-12 the tolerances assume) and lands
+    on s = -1; the map and scipy tracks agree, the diffrax track reports an impact on s = 0 with sdot < 0.
+    A limit of our diffrax track that this test records (it fails once the track resolves the near miss)."""
+    from gear_rattle.validation.golden.contacts import certified_closest_approach
+
+    inp = ondemand.case_input("near", 0.0, 1.0, -1.12, 1.0, 0.0, -2.2256532866, 1)
+    wall, gap = certified_closest_approach(inp.params, inp.tau0, inp.sdot0)
+    assert wall == 0 and 2.0e-11 < float(gap.mid()) < 2.1e-11
+    ondemand.write_user_case(tmp_path / "s", ondemand.build_user_case(inp))
+    for track, want in (("map", 0), ("scipy", 0), ("diffrax", 1)):
+        assert main(["check", "--self", "--track", track, "--suite", str(tmp_path / "s"), "--summary"]) == want
