@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import json
 import time
 
@@ -83,7 +85,10 @@ def test_check_scores_a_user_suite_as_the_shipped_one(tmp_path, capsys):
     (out / "chaos.csv").write_text("\n".join(lines[:-1] + [",".join(f)]) + "\n")
     capsys.readouterr()
     assert main(["check", str(out), "--suite", str(suite)]) == 1
-    assert "chaos                          FAIL" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert re.search(r"^chaos +FAIL ", text, re.M) and re.search(r"^free +PASS ", text, re.M)
+    # the user's suite is named as such, its digest recorded by `case`: not the shipped suite, not modified
+    assert text.startswith("suite: user suite (gear-rattle case) unversioned: cases ") and "matches" in text
 
 
 def test_batch_from_csv_and_json_and_the_index(tmp_path, capsys):

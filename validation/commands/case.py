@@ -71,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
     from ...core.progress import Bar
     from ..cliutil import check_output_dir
     from ..golden.ondemand import CaseError, build_user_case, update_index, write_user_case
+    from ..io.atomic import commit_pending, write_text_atomic
     from ..golden.suite import DEFAULT_SUITE
 
     inputs = _inputs(args)
@@ -92,13 +93,15 @@ def run(args: argparse.Namespace) -> int:
                 note(f"no case: {e}")
                 failed += 1
             else:
-                write_user_case(suite, case)
+                write_user_case(suite, case, write_text_atomic)
                 if case.message:
                     note(case.message)
             bar(k + 1)
     if failed < len(inputs):
-        update_index(suite)
+        commit_pending()  # the case files in place first: the index lists the folders and digests them
+        update_index(suite, write_text_atomic)
     if failed:
+        commit_pending()  # the cases that were built stay (io.atomic discards a failing command's files)
         raise CommandFailed(f"{failed} of {len(inputs)} input(s) have no case (named above); "
                             f"{len(inputs) - failed} written to {args.out}")
     return 0

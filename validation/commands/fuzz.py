@@ -53,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
     from ..cliutil import check_output_dir
     from ..extras import require
     from ..golden.fuzz import fuzz, split_command
+    from ..io.atomic import commit_pending, write_text_atomic
 
     require("hypothesis", "test", "gear-rattle fuzz")
     command = split_command(args.impl)
@@ -63,8 +64,11 @@ def run(args: argparse.Namespace) -> int:
             bar.postfix(f"{failures} failing")
             bar(cases)
 
+        # each shrunk case is moved into place as soon as it is written (io.atomic): an interrupted
+        # --keep-going run keeps the failures it has found
         res = fuzz(command, seed=args.seed, budget=args.budget, out=out, keep_going=args.keep_going,
-                   timeout=args.timeout, batch=args.batch, scenarios=args.scenarios, progress=progress)
+                   timeout=args.timeout, batch=args.batch, scenarios=args.scenarios, progress=progress,
+                   write=write_text_atomic, written=commit_pending)
     summary = {
         "implementation": args.impl, "seed": args.seed, "budget_s": args.budget,
         "elapsed_s": round(res.elapsed, 2), "cases": res.cases, "batches": res.batches,

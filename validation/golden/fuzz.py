@@ -506,10 +506,14 @@ class FuzzResult:
 
 def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path | None = None,
          keep_going: bool = False, timeout: float = TIMEOUT, batch: int = BATCH,
-         scenarios: list[str] | None = None, progress: Callable | None = None) -> FuzzResult:
+         scenarios: list[str] | None = None, progress: Callable | None = None,
+         write: Callable[[Path, str], object] = ondemand.generate.write_plain,
+         written: Callable[[], object] | None = None) -> FuzzResult:
     """Fuzz the implementation ``command`` for ``budget`` seconds (module docstring); failures are written
     under ``out`` as golden-format case folders (``fuzz-<seed>-<k>``) with an ``index.json``.  Stops at the
     first failure (after shrinking it) unless ``keep_going``; ``progress(cases, failures)`` after each batch.
+    The failing cases are written through ``write(path, text)`` and, after each, ``written()`` is called
+    (the command line passes its atomic writer and the call that moves a found case into place at once).
     An :class:`ImplementationError` ends the run: ``result.error``."""
     t0 = time.monotonic()
     deadline = t0 + budget
@@ -555,8 +559,12 @@ def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path |
                                                  time.monotonic() + min(budget, SHRINK_TIME))
                     f = Failure(shrunk, msg, scen, found, c.input, rounds)
                     if out is not None:
-                        f.folder = str(ondemand.write_user_case(out, _with_fuzz_notes(shrunk, f, seed)))
-                        ondemand.update_index(out)
+                        f.folder = str(ondemand.write_user_case(out, _with_fuzz_notes(shrunk, f, seed), write))
+                        if written is not None:
+                            written()  # in place before the index lists and digests the folders
+                        ondemand.update_index(out, write)
+                        if written is not None:
+                            written()
                     res.failures.append(f)
                     if not keep_going:
                         break

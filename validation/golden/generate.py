@@ -740,11 +740,20 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
     return settings, text, provenance_json(spec, orb, radii, agreement)
 
 
-def write_case(folder: Path, settings: dict, text: str, prov: dict) -> None:
+def write_plain(path: Path, text: str) -> None:
+    """The default writer of the suite's files (a developer's tool): ``path.write_text(text)``.  The
+    commands pass the command line's atomic writer instead (``validation/io/atomic.py``: this layer may
+    not import it), so what ``gear-rattle case`` and ``fuzz`` write is whole or not there."""
+    path.write_text(text)
+
+
+def write_case(folder: Path, settings: dict, text: str, prov: dict,
+               write: Callable[[Path, str], object] = write_plain) -> None:
+    """A case folder: ``settings.json``, ``expected.csv`` and ``provenance.json``, each through ``write``."""
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "settings.json").write_text(json.dumps(settings, indent=1) + "\n")
-    (folder / "expected.csv").write_text(text)
-    (folder / "provenance.json").write_text(json.dumps(prov, indent=1) + "\n")
+    write(folder / "settings.json", json.dumps(settings, indent=1) + "\n")
+    write(folder / "expected.csv", text)
+    write(folder / "provenance.json", json.dumps(prov, indent=1) + "\n")
 
 
 def main(argv: list[str] | None = None) -> int:

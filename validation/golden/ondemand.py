@@ -36,6 +36,7 @@ import json
 import math
 import re
 from dataclasses import dataclass, replace
+from collections.abc import Callable
 from pathlib import Path
 
 from ...core.params import RANGES, Params, check_value
@@ -486,14 +487,19 @@ def build_user_cases(inputs: list[CaseInput], progress=None) -> list[UserCase | 
     return out
 
 
-def write_user_case(suite: Path, case: UserCase) -> Path:
-    """Write ``suite/<id>/`` (settings.json, expected.csv, provenance.json); returns the folder."""
+def write_user_case(suite: Path, case: UserCase, write: Callable[[Path, str], object] = generate.write_plain) -> Path:
+    """Write ``suite/<id>/`` (settings.json, expected.csv, provenance.json) through ``write`` (the
+    command line passes its atomic writer); returns the folder."""
     folder = Path(suite) / case.input.id
-    generate.write_case(folder, case.settings, case.expected, case.provenance)
+    generate.write_case(folder, case.settings, case.expected, case.provenance, write)
     return folder
 
 
-def update_index(suite: Path) -> Path:
+#: The name a suite built with ``gear-rattle case`` gives itself in its index (until its user renames it).
+USER_SUITE_NAME = "user suite (gear-rattle case)"
+
+
+def update_index(suite: Path, write: Callable[[Path, str], object] = generate.write_plain) -> Path:
     """Write ``suite/index.json`` from its case folders, keeping every field an existing index has beside
     the case list (a suite version, a changelog ...) and adding the standard ones it lacks."""
     path = Path(suite) / INDEX_NAME
@@ -506,6 +512,12 @@ def update_index(suite: Path) -> Path:
         if not isinstance(old, dict):
             raise ValueError(f"{path}: not a JSON object (not updated)")
     fresh = build_index(Path(suite))
-    merged = {**fresh, **{k: v for k, v in old.items() if k != "cases"}, "cases": fresh["cases"]}
-    path.write_text(json.dumps(merged, indent=1) + "\n")
+    # the suite block: this suite's name and version (the user's, if the index had them; never the shipped
+    # suite's) with the digests of its files as they are now, so that check says it matches
+    mine = old.get("suite") if isinstance(old.get("suite"), dict) else {}
+    block = {**fresh["suite"], "name": str(mine.get("name", USER_SUITE_NAME)),
+             "version": str(mine.get("version", "unversioned"))}
+    merged = {**fresh, **{k: v for k, v in old.items() if k not in ("cases", "suite")}, "suite": block,
+              "cases": fresh["cases"]}
+    write(path, json.dumps(merged, indent=1) + "\n")
     return path

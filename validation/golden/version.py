@@ -42,13 +42,18 @@ INDEX_NAME = "index.json"
 SUFFIXES = (".json", ".csv")
 
 
+#: A command's record of the files it wrote into a folder (``<command>.manifest.json``, the output
+#: writer's, validation/io/atomic.py MANIFEST): bookkeeping, not a file of the suite.
+MANIFEST_SUFFIX = ".manifest.json"
+
+
 def suite_files(folder: str | Path) -> list[str]:
     """The relative paths of ``folder``'s suite files, in the digest's order (module docstring)."""
     folder = Path(folder)
     found = []
     for p in list(folder.iterdir()) + [q for d in folder.iterdir() if d.is_dir() for q in d.iterdir()]:
         rel = p.relative_to(folder).as_posix()
-        if p.is_file() and p.suffix in SUFFIXES and rel != INDEX_NAME:
+        if p.is_file() and p.suffix in SUFFIXES and rel != INDEX_NAME and not rel.endswith(MANIFEST_SUFFIX):
             found.append(rel)
     return sorted(found, key=lambda r: r.encode("utf-8"))
 
@@ -79,7 +84,7 @@ def suite_block(cases: str | Path) -> dict:
     d_orbits = folder_digest(orbits) if orbits.is_dir() else None
     return {"name": SUITE_NAME, "version": SUITE_VERSION, "digest": combined_digest(d_cases, d_orbits),
             "cases_digest": d_cases, "orbits_digest": d_orbits,
-            "digest_rule": "sha256 over each file (*.json, *.csv at depth 1-2 but index.json), sorted by relative "
+            "digest_rule": "sha256 over each file (*.json, *.csv at depth 1-2 but index.json and *.manifest.json), sorted by relative "
                            "path: path, NUL, size, NUL, bytes; the suite's: sha256 of 'cases:<hex>\\norbits:<hex>\\n' "
                            "(docs/golden.md, Versions of the suite)"}
 
@@ -105,6 +110,7 @@ class SuiteInfo:
     digest: str
     version: str
     recorded_digest: str | None
+    name: str = SUITE_NAME
 
     @property
     def matches(self) -> bool:
@@ -113,32 +119,49 @@ class SuiteInfo:
 
     @property
     def label(self) -> str:
-        """``1.0.0`` or, for files that differ from the recorded version's, ``1.0.0+modified``."""
+        """``1.0.0`` or, for files that differ from the recorded version's, ``1.0.0+modified``; a folder
+        whose index records no digest is ``unversioned``."""
+        if self.recorded_digest is None:
+            return self.version
         return self.version if self.matches else f"{self.version}+modified"
 
     def line(self) -> str:
         """One line for check's header and ``--suite-version``."""
-        state = ("matches the digest recorded for this version" if self.matches else
-                 f"DIFFERS from the digest recorded for {self.version} ({self.recorded_digest})")
-        return f"{SUITE_NAME} {self.label}: {self.part} {self.folder} {self.digest} ({state})"
+        if self.recorded_digest is None:
+            state = "no index.json with a recorded version and digest describes this folder"
+        else:
+            state = ("matches the digest recorded for this version" if self.matches else
+                     f"DIFFERS from the digest recorded for {self.version} ({self.recorded_digest})")
+        return f"{self.name} {self.label}: {self.part} {self.folder} {self.digest} ({state})"
 
     def as_dict(self) -> dict:
-        return {"name": SUITE_NAME, "version": self.version, "label": self.label, "part": self.part,
+        return {"name": self.name, "version": self.version, "label": self.label, "part": self.part,
                 "folder": str(self.folder), "digest": self.digest, "recorded_digest": self.recorded_digest,
                 "digest_matches": self.matches}
 
 
 def suite_info(folder: str | Path, part: str) -> SuiteInfo:
     """:class:`SuiteInfo` of a ``cases`` or ``orbits`` folder: its digest, computed, and the version
-    recorded in the ``index.json`` beside it (a case folder's own; an orbit folder's ``../cases``), else
-    the package's; ``OSError`` if the folder cannot be read."""
+    recorded in the ``index.json`` beside it (a case folder's own; an orbit folder's ``../cases``; the
+    package's for its own folders), with the suite's name from that block; ``OSError`` if the folder
+    cannot be read."""
     if part not in PARTS:
         raise ValueError(f"part={part!r} is out of range: allowed one of {', '.join(PARTS)}")
     folder = Path(folder)
     index = folder / INDEX_NAME if part == "cases" else folder.parent / "cases" / INDEX_NAME
-    block = recorded(index) or recorded()
+    block = recorded(index)
+    if not block and _same(folder, PARTS[part]):
+        block = recorded()
+    # a suite of one's own (gear-rattle case) names itself in its index; one without a block is unversioned
     return SuiteInfo(part, folder, folder_digest(folder), str(block.get("version", "unversioned")),
-                     block.get(f"{part}_digest"))
+                     block.get(f"{part}_digest"), str(block.get("name", "suite without a recorded version")))
+
+
+def _same(a: Path, b: Path) -> bool:
+    try:
+        return a.resolve() == Path(b).resolve()
+    except OSError:
+        return False
 
 
 def version_line() -> str:
