@@ -1,7 +1,7 @@
 """``gear-rattle fuzz``: the differential fuzzer (docs/golden.md, "Fuzzing an implementation").
 
 The implementations are processes under the suite's protocol (``COMMAND CASES_DIR OUT_DIR``): our tracks
-(:mod:`validation.golden.trackimpl`) and the mutants of tests/golden_mutants.py (tests/mutant_impl.py).
+(:mod:`validation.commands.trackimpl`) and the mutants of tests/golden_mutants.py (tests/mutant_impl.py).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from gear_rattle.validation.golden.suite import load_suite
 
 HERE = Path(__file__).resolve().parent
 PY = shlex.quote(sys.executable)
-TRACK = f"{PY} -m gear_rattle.validation.golden.trackimpl --track"
+TRACK = f"{PY} -m gear_rattle.validation.commands.trackimpl --track"
 
 
 def mutant_impl(name: str) -> str:

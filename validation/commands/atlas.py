@@ -65,7 +65,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="worker processes of the local cluster, 1 to 1024 (default: one per core)")
     r.add_argument("--timeout", type=real("--timeout", lo=0.0, hi=1e7, lo_open=True), default=WORKER_TIMEOUT_S,
                    metavar="SECONDS", help="give up (exit status 3) after this many seconds with no Dask worker "
-                   f"connected, 0 < SECONDS <= 1e7 (default {WORKER_TIMEOUT_S:g})")
+                   "connected, 0 < SECONDS <= 1e7 (default %(default)s)")
     add_output_options(r, out=("atlas", "directory for atlas.png and atlas_summary.json (default atlas)"))
 
 

@@ -31,16 +31,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..golden.fuzz import BATCH, SCENARIOS, TIMEOUT
 
     p.add_argument("--impl", required=True, metavar="COMMAND",
-                   help="the implementation, called as COMMAND CASES_DIR OUT_DIR (shell words)")
+                   help="the implementation, called as COMMAND CASES_DIR OUT_DIR (shell words; required, no default)")
     p.add_argument("--seed", type=seed_int(), default=0, help="random seed of the draws, 0 <= SEED <= 2**32 - 1 (default 0)")
     p.add_argument("--budget", type=real("--budget", lo=0.0, lo_open=True, hi=1e6), default=60.0, metavar="SECONDS",
-                   help="seconds of search, 0 < SECONDS <= 1e6 (default 60)")
+                   help="seconds of search, 0 < SECONDS <= 1e6 (default %(default)s)")
     p.add_argument("--out", default="fuzz-failures", metavar="DIR",
                    help="where failing cases are written (default fuzz-failures; created only if one is found)")
     p.add_argument("--keep-going", action="store_true", help="go on after a failure until the budget is spent")
     p.add_argument("--timeout", type=real("--timeout", lo=0.0, lo_open=True, hi=1e5), default=TIMEOUT,
-                   metavar="SECONDS", help=f"seconds one batch of the implementation may take, 0 < SECONDS <= 1e5 "
-                        f"(default {TIMEOUT:g})")
+                   metavar="SECONDS", help="seconds one batch of the implementation may take, 0 < SECONDS <= 1e5 "
+                        "(default %(default)s)")
     p.add_argument("--batch", type=int_range("--batch", 1, 1000), default=BATCH, metavar="N",
                    help=f"cases per run of the implementation, 1 <= N <= 1000 (default {BATCH})")
     p.add_argument("--scenarios", nargs="+", choices=sorted(SCENARIOS), default=None, metavar="NAME",

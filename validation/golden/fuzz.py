@@ -75,7 +75,10 @@ class ImplementationError(Exception):
 def recipe_strategy(scenarios: list[str] | None = None):
     """The Hypothesis strategy of a recipe: ``{"scenario": name, ...its numbers}`` (``scenarios``: only these,
     default all of :data:`SCENARIOS`, drawn by their weights)."""
-    from hypothesis import strategies as st
+    import importlib
+
+    require("hypothesis", "test", "gear-rattle fuzz (the draws)")  # one line naming the extra where it is missing
+    st = importlib.import_module("hypothesis.strategies")
 
     def fl(lo, hi):
         return st.floats(lo, hi, allow_nan=False, allow_infinity=False)

@@ -1,7 +1,7 @@
-"""Our tracks as an implementation under the suite's protocol: ``python -m gear_rattle.validation.golden.trackimpl
+"""Our tracks as an implementation under the suite's protocol: ``python -m gear_rattle.validation.commands.trackimpl
 [--track map|scipy|diffrax] CASES_DIR OUT_DIR`` runs every case folder of CASES_DIR (its settings.json;
 expected.csv is not read) and writes OUT_DIR/<case-id>.csv, as any implementation that runs the golden
-suite does.  ``gear-rattle fuzz --impl "python -m gear_rattle.validation.golden.trackimpl --track scipy"``
+suite does.  ``gear-rattle fuzz --impl "python -m gear_rattle.validation.commands.trackimpl --track scipy"``
 fuzzes our own tracks (docs/golden.md, "Fuzzing an implementation"): it must find nothing.
 
 Exit status 0, or 2 with one line on stderr (a case our tracks cannot run: a sticking threshold other than
@@ -36,7 +36,7 @@ def run_folder(cases: Path, out: Path, track: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m gear_rattle.validation.golden.trackimpl",
+    ap = argparse.ArgumentParser(prog="python -m gear_rattle.validation.commands.trackimpl",
                                  description=__doc__.split("\n\n")[0])
     ap.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map")
     ap.add_argument("cases", type=Path)
@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         run_folder(args.cases, args.out, args.track)
     except (ValueError, OSError, KeyError) as e:
-        print(f"trackimpl: error: {e}", file=sys.stderr)  # noqa: T201 - the adapter's one line
+        print(f"trackimpl: error: {e}", file=sys.stderr)
         return 2
     return 0
 
