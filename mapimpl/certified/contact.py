@@ -261,7 +261,7 @@ def _refine(fl: Flight, w: int, lo: arb, hi: arb, prec: int) -> arb:
     raise CertificationError("root refinement failed")
 
 def refine_from(fl: Flight, w: int, lo: arb, hi: arb, prec: int, x0: arb) -> arb:
-    """The unique root of ``gap_w`` in the certified bracket ``[lo, hi]`` (as :func:`_refine`), from a
+    """The unique root of ``gap_w`` in the certified bracket ``[lo, hi]`` (as ``_refine``), from a
     start ``x0`` already accurate to :data:`LEAN_START_PREC` bits, at about one gap evaluation at ``prec``.
 
     Newton on exact midpoints at a precision that doubles from there up to about ``prec / 2`` (Newton
@@ -269,7 +269,7 @@ def refine_from(fl: Flight, w: int, lo: arb, hi: arb, prec: int, x0: arb) -> arb
     the bracket, ``N = x - gap(x) / gap'(X)`` (``gap(x)`` at ``prec``, ``gap'(X)`` at half of it: ``X`` is
     ``2^(-prec/2)`` wide, so ``N`` is ``2^-prec`` wide).  ``N`` inside ``X`` proves that ``X`` holds
     exactly one root, in ``N`` (Moore's interval Newton theorem; the gap is monotone on the bracket
-    anyway).  :func:`_refine` where Newton leaves the bracket or the step does not contract."""
+    anyway).  ``_refine`` where Newton leaves the bracket or the step does not contract."""
     x = arb(x0.mid())
     half = prec // 2 + 32
     work = min(LEAN_START_PREC, half)

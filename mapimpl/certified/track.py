@@ -17,7 +17,7 @@ ball too wide); the next attempt restarts *from the start* (a wider ball cannot 
 at ``1.15 growth x N + 128`` bits, ``growth`` the bits lost per impact measured by the failed attempt,
 at least ``1.25 prec`` and, where the attempt covered less than a fifth of the orbit, at most ``4 prec``
 (twice ``prec`` where it failed within 32 impacts), up to ``max_prec`` (:data:`MAX_TRACK_PREC`;
-:func:`_next_prec`).  The best attempt's certified prefix is kept.
+``_next_prec``).  The best attempt's certified prefix is kept.
 Within an attempt each step runs at a working precision just above what its inputs still carry
 (:func:`working_precision`): the radius grows from ``2^-prec`` and a step whose balls carry ``b`` bits is
 computed with ``b + GUARD_BITS`` (rounding adds ``2^-GUARD_BITS`` of the radius), but never with more
@@ -64,14 +64,14 @@ START_PREC = PREC
 MAX_TRACK_PREC = 1 << 15
 #: Bits kept beyond a step's inputs (:func:`working_precision`), and the least working precision.
 GUARD_BITS, MIN_WORK_PREC = 64, 128
-#: Precision of the covering proof of a flight (:func:`_flight`).
+#: Precision of the covering proof of a flight (``_flight``).
 COVER_PREC = 128
 #: A ball is narrow enough when its radius is at most ``ulp / TIGHT_ULPS`` (at the scale ``max(|x|, 2^-60)``).
 TIGHT_ULPS = 16
 #: The smallest magnitude whose ulp scales the acceptance (values nearer 0 are held to ``ulp(2^-60)``).
 TIGHT_FLOOR = 2.0 ** -60
 #: Bits the next attempt adds beyond the estimate ``growth x impacts``, and the impacts over which an
-#: attempt must have measured its growth for the estimate to be used (:func:`_next_prec`).
+#: attempt must have measured its growth for the estimate to be used (``_next_prec``).
 MARGIN_BITS, GROWTH_IMPACTS = 128, 32
 #: The reason of an attempt stopped by a ball too wide (more precision would narrow it).
 WIDE = "its enclosure is wider than float64's resolution"
