@@ -9,12 +9,11 @@ with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scor
 from __future__ import annotations
 
 import argparse
-import time
 from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
-from .check import no_selection, read_outputs, report, report_malformed, suite_header, write_output
+from .check import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -54,11 +53,5 @@ def run_orbits(args: argparse.Namespace) -> int:
                                       MalformedFile, MissingFile)
         if errors:
             return report_malformed(args, records, errors, info, orbits=True)
-    results, times = [], {}
-    for rec in records:
-        t0 = time.perf_counter()
-        got = (no_output_score(rec, root / f"{rec.id}.json") if values[rec.id] is None
-               else score(rec, values[rec.id]))
-        results.append(orbit_result(rec, got))
-        times[rec.id] = time.perf_counter() - t0
-    return report(args, results, info, orbits=True, times=times)
+    return score_and_report(args, records, values, info, orbits=True, root=None if args.self_check else root,
+                            suffix=".json", score=score, no_output=no_output_score, result=orbit_result)

@@ -166,6 +166,26 @@ def write_output(path: Path, write, *args) -> str:
     return str(path)
 
 
+def score_and_report(args: argparse.Namespace, items, outputs: dict, info, *, orbits: bool, root: Path | None,
+                     suffix: str, score, no_output, result) -> int:
+    """Score each case or orbit record (``items``) on its output (``outputs[id]``; None: the file
+    ``root/<id><suffix>`` is missing, a failing "no output"), timing each, and :func:`report` the results
+    (``result(item, score)``: :func:`golden.results.case_result` or ``orbit_result``)."""
+    from ..golden.suite import MalformedFile
+
+    results, times = [], {}
+    for item in items:
+        t0 = time.perf_counter()
+        got = outputs[item.id]
+        try:
+            sc = no_output(item, root / f"{item.id}{suffix}") if got is None else score(item, got)
+        except MalformedFile as e:
+            raise CliError(str(e)) from None
+        results.append(result(item, sc))
+        times[item.id] = time.perf_counter() - t0
+    return report(args, results, info, orbits=orbits, times=times)
+
+
 def read_outputs(reads: dict, malformed, missing=None) -> tuple[dict, dict]:
     """``({id: read()}, {id: problem})`` for ``reads = {id: read}`` (each reads one file): where a file
     is missing (``missing``: its exception class) the value is ``None`` (a failing case, "no output");
@@ -263,16 +283,5 @@ def run(args: argparse.Namespace) -> int:
                                        MalformedFile, MissingFile)
         if errors:
             return report_malformed(args, cases, errors, info, orbits=False)
-    results, times = [], {}
-    for case in cases:
-        t0 = time.perf_counter()
-        if outputs[case.id] is None:
-            got = no_output_score(case, root / f"{case.id}.csv")
-        else:
-            try:
-                got = score_sequence(case, outputs[case.id])
-            except MalformedFile as e:
-                raise CliError(str(e)) from None
-        results.append(case_result(case, got))
-        times[case.id] = time.perf_counter() - t0
-    return report(args, results, info, orbits=False, times=times)
+    return score_and_report(args, cases, outputs, info, orbits=False, root=None if args.self_check else root,
+                            suffix=".csv", score=score_sequence, no_output=no_output_score, result=case_result)

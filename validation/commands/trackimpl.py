@@ -18,9 +18,8 @@ from pathlib import Path
 
 def run_folder(cases: Path, out: Path, track: str) -> int:
     """Run every case folder of ``cases`` on ``track``; returns the number of cases."""
-    from ...core.params import Params
     from ...mapimpl.sticking import STICK_TIME
-    from ...mapimpl.tracks import orbit
+    from ..golden.suite import run_settings
     from ..io import write_csv
 
     out.mkdir(parents=True, exist_ok=True)
@@ -29,8 +28,7 @@ def run_folder(cases: Path, out: Path, track: str) -> int:
         s = json.loads((folder / "settings.json").read_text())
         if s.get("stick_time", STICK_TIME) != STICK_TIME:
             raise ValueError(f"{folder.name}: stick_time={s['stick_time']!r}: the tracks take only {STICK_TIME:g}")
-        ini = s["initial_state"]
-        seq = orbit(track, Params(**s["params"]), ini["tau0"], ini["sdot0"], int(s["n_impacts"]), s0=ini.get("s0"))
+        seq = run_settings(s, track)
         write_csv(out / f"{s['id']}.csv", *seq.table())
     return len(folders)
 

@@ -436,10 +436,15 @@ def sequence_from_impacts(seq, path: str = "<memory>") -> Sequence:
 
 def run_case(case: Case, track: str = "map"):
     """Run one of our tracks on a case's settings; returns the :class:`ImpactSequence`."""
+    return run_settings(case.settings, track)
+
+
+def run_settings(s: dict, track: str = "map"):
+    """Run one of our tracks on a case's ``settings.json`` data (its parameters, initial state and
+    impacts); returns the :class:`ImpactSequence`."""
     from ...core.params import Params
     from ...mapimpl.tracks import orbit
 
-    s = case.settings
     p = Params(**s["params"])
     ini = s["initial_state"]
     return orbit(track, p, ini["tau0"], ini["sdot0"], int(s["n_impacts"]), s0=ini.get("s0"))
