@@ -39,6 +39,7 @@ from dataclasses import dataclass, replace
 from collections.abc import Callable
 from pathlib import Path
 
+from ...core.checks import check_real
 from ...core.params import RANGES, Params, check_value
 from ...mapimpl import certified as cert
 from ...mapimpl.sticking import STICK_TIME
@@ -86,15 +87,15 @@ class CaseInput:
 
 
 def _finite(name: str, value, lo: float | None = None, hi: float | None = None, allowed: str = "") -> float:
-    if isinstance(value, bool):
-        raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}")
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}") from None
-    if not (math.isfinite(x) and (lo is None or x >= lo) and (hi is None or x <= hi)):
-        raise ValueError(f"{name}={value!r} is out of range: allowed {allowed}")
-    return x
+    """A number of an input (a decimal string from a CSV file is read as its float) checked by the one
+    boundary helper, :func:`core.checks.check_real` (ValueError naming ``name`` and ``allowed``)."""
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}") from None
+    return check_real(name, value, -math.inf if lo is None else lo, math.inf if hi is None else hi,
+                      allowed=allowed or None)
 
 
 def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, stick_time=None) -> CaseInput:
