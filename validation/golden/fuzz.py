@@ -39,7 +39,7 @@ from typing import Callable
 from ...core.paper import PAPER_PARAMS
 from ...core.params import Params
 from ..extras import require
-from . import ondemand
+from . import generate, ondemand
 from .ondemand import CaseError, CaseInput, UserCase
 from .suite import MalformedFile, load_case, score_file
 
@@ -175,9 +175,8 @@ def _threshold(p: Params, tau0: float, sign: float) -> tuple[float, float] | Non
 def _pressing_phase(p: Params, wall: int, frac: float) -> float | None:
     """A phase where the force presses into ``wall`` (``f > 0`` on s = 0, ``< 0`` on s = -1), ``frac`` of the
     way through the pressing arc sampled on a grid; ``None`` where it never presses."""
-    d = 1.0 if wall == 0 else -1.0
     taus = [TWO_PI * k / 256 for k in range(256)]
-    ok = [t for t in taus if d * (-p.alpha * math.sin(t) + p.alpha * p.beta * math.cos(t) + p.gamma) > 0]
+    ok = [t for t in taus if generate.forcing_in(p, t, wall) > 0]
     return ok[min(len(ok) - 1, int(frac * len(ok)))] if ok else None
 
 
@@ -510,7 +509,7 @@ class FuzzResult:
 def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path | None = None,
          keep_going: bool = False, timeout: float = TIMEOUT, batch: int = BATCH,
          scenarios: list[str] | None = None, progress: Callable | None = None,
-         write: Callable[[Path, str], object] = ondemand.generate.write_plain,
+         write: Callable[[Path, str], object] = generate.write_plain,
          written: Callable[[], object] | None = None) -> FuzzResult:
     """Fuzz the implementation ``command`` for ``budget`` seconds (module docstring); failures are written
     under ``out`` as golden-format case folders (``fuzz-<seed>-<k>``) with an ``index.json``.  Stops at the

@@ -200,10 +200,6 @@ def _spec(inp: CaseInput, n_impacts: int) -> generate.Spec:
                          tags=("user",), stick_time=inp.stick_time)
 
 
-def _forcing(p: Params, tau: float) -> float:
-    return -p.alpha * math.sin(tau) + p.alpha * p.beta * math.cos(tau) + p.gamma
-
-
 def graze_tolerance(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[float, str] | None:
     """The graze rule for any orbit: at every impact reached by a flight against the pull of the force
     (the acceleration ``s'' = f - beta s'`` points away from the wall: the flight was turning back, its
@@ -216,7 +212,7 @@ def graze_tolerance(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[floa
         if e.kind != "impact" or (e.n == 0 and spec.s0 is None):
             continue
         v = cert.nearest_float(e.sdot)
-        acc = _forcing(p, cert.nearest_float(e.tau)) - p.beta * v
+        acc = generate.forcing_in(p, cert.nearest_float(e.tau), 0) - p.beta * v
         away = acc < 0 if e.wall == 0 else acc > 0
         if away and v != 0 and (worst is None or abs(v) < abs(worst[1])):
             worst = (e.n, v, e.wall)
