@@ -17,9 +17,9 @@ import re
 import xml.etree.ElementTree as ET
 
 # The columns and levels are the scorers' own (one definition each): the tolerance columns, the exact
-# columns and the file order of a case; the columns and the level of an orbit record.
+# columns of a case; the columns and the level of an orbit record.
 from .orbit_suite import COLUMNS as ORBIT_COLUMNS, LEVEL as ORBIT_LEVEL
-from .suite import COLUMNS as FILE_COLUMNS, EXACT_COLUMNS, TOLERANCE_COLUMNS as CASE_COLUMNS
+from .suite import EXACT_COLUMNS, TOLERANCE_COLUMNS as CASE_COLUMNS
 
 #: The JSON document's format name.
 FORMAT = "gear-rattle check results, version 1"
@@ -53,18 +53,6 @@ def _case_worst_over_tolerance(score, tolerances: dict) -> float | None:
     return worst
 
 
-def _case_first_failing(score) -> dict | None:
-    """``{"line": L, "column": C}`` of the first failing value (smallest line, then file order)."""
-    given = getattr(score, "first_failing", None)
-    if given is not None:
-        return given
-    bad = [c for c in score.columns.values() if not c.passed and c.first_row >= 0]
-    if not bad:
-        return None
-    first = min(bad, key=lambda c: (c.first_row, FILE_COLUMNS.index(c.column)))
-    return {"line": first.first_row + 2, "column": first.column}  # line 1 is the header
-
-
 def case_result(case, score) -> dict:
     """The result of one impact case (``case``: :class:`suite.Case`, ``score``: :class:`suite.CaseScore`)."""
     level = getattr(score, "level", None) or case.settings.get("level")
@@ -74,7 +62,7 @@ def case_result(case, score) -> dict:
         "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in CASE_COLUMNS},
         "exact_columns_match": bool(cols) and all(c in cols and cols[c].passed for c in EXACT_COLUMNS),
         "worst_over_tolerance": _finite(_case_worst_over_tolerance(score, case.tolerances)),
-        "first_failing": None if score.passed else _case_first_failing(score),
+        "first_failing": None if score.passed else score.first_failing,
         "note": score.message,
     }
 

@@ -239,6 +239,9 @@ class CaseScore:
     level: int | None = None
     first_row: int = -1
     no_output: bool = False
+    #: Where the first failing value is in the output file, ``{"line": L, "column": C}`` (the file's own line,
+    #: blank lines counted), or None (the case passes, or its rows are not comparable one by one).
+    first_failing: dict | None = None
 
     @property
     def digits(self) -> float:
@@ -363,9 +366,16 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
     for c in TOLERANCE_COLUMNS:
         cols[c] = _score_column(c, case.tolerances[c], getattr(got, c), getattr(exp, c))
     passed = all(s.passed for s in cols.values())
-    first = min((s.first_row for s in cols.values() if not s.passed), default=-1)
-    return CaseScore(case.id, passed, cols, "" if passed else _failure_note(cols, got, exp, case.tolerances),
-                     case.level, first)
+    if passed:
+        return CaseScore(case.id, True, cols, "", case.level, -1)
+    first = _first_failing(cols)
+    return CaseScore(case.id, False, cols, _failure_note(cols, got, exp, case.tolerances), case.level,
+                     first.first_row, first_failing={"line": got.line(first.first_row), "column": first.column})
+
+
+def _first_failing(cols: dict) -> ColumnScore:
+    """The first failing value: the smallest row, then the first column in file order."""
+    return min((s for s in cols.values() if not s.passed), key=lambda s: (s.first_row, COLUMNS.index(s.column)))
 
 
 def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScore:
@@ -411,7 +421,7 @@ def _failure_note(cols: dict, got: Sequence, exp: Sequence, tolerances: dict) ->
     """The first failing row (smallest line, first column in file order) and the worst one (largest
     |error| / tolerance; an exact-column mismatch if no tolerance column fails)."""
     bad = [s for s in cols.values() if not s.passed]
-    first = min(bad, key=lambda s: (s.first_row, COLUMNS.index(s.column)))
+    first = _first_failing(cols)
     tol_bad = [s for s in bad if s.column in TOLERANCE_COLUMNS]
     worst = max(tol_bad, key=lambda s: s.worst_ratio) if tol_bad else first
     note = f"first failing: {_row_note(first.column, first.first_row, got, exp, tolerances)}"
