@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.bifurcation import LN_FLOAT_MAX, diagram_with_lyapunov, raw_product_horizon
-from ..dynamics.profiles import SCANS, TS_TRANSIENT, get_profile
+from ..dynamics.scans import SCANS, TS_TRANSIENT
+from ..profiles import get_profile
 from ..dynamics.settling import MIN_LAMINAR, SETTLE_TAIL, SETTLE_TOL, laminar_in_series, local_slopes, settle
 from ..io import save_figure
 from ..io.crises import write_crises
@@ -92,7 +93,8 @@ def build(ctx) -> Section:
     from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
 
     sec = Section(KEY, TITLE)
-    st = get_profile(ctx.profile)
+    st = get_profile(ctx.profile, "settling")
+    sizes = get_profile(ctx.profile, "diagrams")
     ctx.say("continuing the 6-impact orbit through its fold (r2)")
     branch = six_impact_branch()
     ctx.say("r2: laminar phases")
@@ -102,8 +104,8 @@ def build(ctx) -> Section:
     ctx.say("alpha1: escape times from the pre-crisis chaotic set (engine)")
     a1 = locate_alpha1(ctx.profile)
     write_crises(ctx.out_dir / "data" / "dynamics", ctx.profile, r2, r1, a1)
-    dl4 = _diagram(ctx, sec, "Fig. 4", st, [("r1", r1.r1), ("r2", r2.r2)])
-    dl8 = _diagram(ctx, sec, "Fig. 8", st, [("alpha1", a1.alpha1)])
+    dl4 = _diagram(ctx, sec, "Fig. 4", sizes, [("r1", r1.r1), ("r2", r2.r2)])
+    dl8 = _diagram(ctx, sec, "Fig. 8", sizes, [("alpha1", a1.alpha1)])
     l1max = max(dl4.lam1_max, dl8.lam1_max)
     sum_err = float(np.nanmax([dl4.sum_error, dl8.sum_error]))
     sec.p(f"Check of every Lyapunov pair of Figs. 4 and 8: max |lambda1 + lambda2 - mean ln|det J|| = "
@@ -126,7 +128,7 @@ def build(ctx) -> Section:
     a_f9 = float(PAPER["alpha1_fig9"].value)
     ctx.say(f"alpha = {a_f9:g}: settling on the 4-impact orbit ({st['settle_ics']} orbits)")
     settle4 = settle(R9, "alpha", a_f9, a1.node.tau, a1.node.sdot, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed)
-    _time_series(ctx, sec, st, r2, r1, ls.eps)
+    _time_series(ctx, sec, get_profile(ctx.profile, "timeseries"), r2, r1, ls.eps)
     _table(sec, branch, r2, r1, a1, a_f9)
     local = _intermittency(ctx, sec, r2)
     _r2_rows(sec, r2, settle6, lam6, r_settle, r_f6, local)

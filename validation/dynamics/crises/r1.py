@@ -37,7 +37,7 @@ from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
 from ....core.checks import check_int
-from .profiles import get_profile, label as _label
+from ...profiles import get_profile, label as _label
 from .results import R1Result
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
                     range_systematic)
@@ -137,7 +137,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     Parameters
     ----------
     profile : {"quick", "paper"}, optional
-        Run sizes: :data:`.profiles.PROFILES` ``[profile]["r1"]``.
+        Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["r1"]``.
     branch : Branch, optional
         The 6-impact branch (default :func:`.orbits.six_impact_branch`): the saddle orbit at r1 gives the
         crisis exponent.
@@ -146,7 +146,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     seed : int, optional
         Seed of the initial conditions drawn on the 6-band attractor.
     sizes : dict, optional
-        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["r1"]``;
+        Run sizes that replace the profile's (keys of :data:`validation.profiles.PROFILES` ``[profile]["r1"]``;
         the result's ``profile`` is then ``"<profile>+sizes"``).
 
     Returns
