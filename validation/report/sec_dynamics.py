@@ -171,7 +171,7 @@ def _time_series(ctx, sec: Section, st: dict, r2, r1, eps: float) -> None:
         ts = time_series(P, n_impacts=st["ts_n"], transient=trans)
         path = ctx.fig_dir / f"{fig}_timeseries.png"
         save_figure(velocity_series_figure(ts, title=f"Fig. {fig[-1]} reproduced (computed): alpha = 3, r = {P.r:g}"),
-                    path, dpi=150)
+                    path)
         if fig in ("fig5", "fig6"):
             frac, n_ph, tail = laminar_in_series(np.asarray(ts.sdot_n), eps)
             what = (f"r - r2 = {P.r - r2.r2:+.3g} (our r2); of the {ts.n.size} impacts shown, {100 * frac:.1f}% "
