@@ -3,6 +3,8 @@ with one rule for sticking steps and for orbits that ended early, used by ``lyap
 r1 analysis."""
 
 import dataclasses
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -52,8 +54,21 @@ def test_bad_input(three):
         exponents(sampled)
 
 
+def test_tangent_data_is_read_in_one_place():
+    """The observer's sums (``log_r``, ``n_free``) are read only by the one function (and the observer and
+    its own test): lyapunov, the atlas and r1 had each divided them themselves, by different rules."""
+    root = Path(__file__).resolve().parents[1]
+    own = {Path("mapimpl/engine/observers.py"), Path("mapimpl/engine/exponents.py"), Path("tests/test_engine.py"),
+           Path("tests/test_exponents.py")}
+    readers = [p.relative_to(root) for d in ("core", "mapimpl", "reference", "validation", "gear_rattle", "tests")
+               for p in (root / d).rglob("*.py") if re.search(r"""["'](log_r|n_free)["']""", p.read_text())]
+    assert readers and set(readers) <= own, sorted(map(str, set(readers) - own))
+
+
+@pytest.mark.slow
 def test_lyapunov_and_the_atlas_give_the_functions_values(three):
-    """The same orbits through ``lyapunov`` and the atlas's ``compute_tile``: bit-identical exponents."""
+    """The same orbits through ``lyapunov`` and the atlas's ``compute_tile``: bit-identical exponents.
+    Slow: two more engine compilations (~10 s each on a loaded 2-core machine)."""
     ex = exponents(three)
     res = lyapunov(Params(0.05, 0.1, 0.1, 0.5), "alpha", ALPHA[:2], n=N, transient=TRANSIENT, progress=False)
     assert np.array_equal(res.lam, ex.lam[:2], equal_nan=True)
