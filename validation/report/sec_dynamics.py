@@ -21,6 +21,7 @@ from ..io import save_figure
 from ..io.crises import write_crises
 from ..paper import PAPER
 from ..plots import velocity_series_figure
+from ..plots.base import params_text
 from ..plots.dynamics import crisis_laws_figure, diagram_lyapunov_figure, laminar_law_figure
 from .document import Section
 from .verdict import row
@@ -170,7 +171,7 @@ def _time_series(ctx, sec: Section, st: dict, r2, r1, eps: float) -> None:
         trans = TS_TRANSIENT[fig]
         ts = time_series(P, n_impacts=st["ts_n"], transient=trans)
         path = ctx.fig_dir / f"{fig}_timeseries.png"
-        save_figure(velocity_series_figure(ts, title=f"Fig. {fig[-1]} reproduced (computed): alpha = 3, r = {P.r:g}"),
+        save_figure(velocity_series_figure(ts, title=f"Fig. {fig[-1]} reproduced (computed): {params_text(P)}"),
                     path)
         if fig in ("fig5", "fig6"):
             frac, n_ph, tail = laminar_in_series(np.asarray(ts.sdot_n), eps)
