@@ -11,6 +11,7 @@ from gear_rattle.validation.cli import main
 from gear_rattle.validation.dynamics.bifurcation import Diagram, DiagramLyapunov
 from gear_rattle.validation.plots import branch_figure, diagram_figure, lyapunov_figure, velocity_series_figure
 from gear_rattle.validation.plots.base import params_text
+from gear_rattle.validation.plots.dynamics import diagram_lyapunov_figure
 from gear_rattle.validation.plots.transients import basins_figure, uncertainty_figure
 
 BASE = Params(3.0, 0.1, 0.1, 0.9)
@@ -51,6 +52,8 @@ def test_titles_name_the_parameters():
         "mu": np.array([0.8, 0.9]), "sdot": np.ones(2), "stable": np.array([True, False]),
         "mult_re": np.ones((2, 2)), "mult_im": np.zeros((2, 2))})
     assert all(x in _title(branch_figure(branch, "r")) for x in NAMED + ("6-impact",))
+    report = diagram_lyapunov_figure(DiagramLyapunov(d, _lyapunov()), "Fig. 4", [("r1", 0.85)])
+    assert all(x in _title(report) for x in NAMED + ("Fig. 4", "r in [0.8, 0.9]"))  # had the range only
     fake = SimpleNamespace(params=BASE, ns=[], eps=np.logspace(-9, -3, 3), n_points=10, fits={}, nx=2, ny=2,
                            delta=0.1, ic_mode="box")
     assert all(x in _title(uncertainty_figure(fake)) for x in NAMED + ("r=0.9",))  # had no parameter

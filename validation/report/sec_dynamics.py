@@ -155,7 +155,7 @@ def _diagram(ctx, sec: Section, fig: str, st: dict, marks):
     n_values = st["fig4_values" if param == "r" else "fig8_values"]
     dl = diagram_with_lyapunov(base, param, lo, hi, n_values, st["transient"], st["keep"], st["lyap_n"])
     path = ctx.fig_dir / f"{fig.replace('. ', '').lower()}_bifurcation.png"
-    save_figure(diagram_lyapunov_figure(dl, fig, lo, hi, marks), path)
+    save_figure(diagram_lyapunov_figure(dl, fig, marks), path)
     sec.fig(path, f"{fig}(a) bifurcation diagram of sdot_n and {fig}(b) Lyapunov exponents (QR method, "
                   f"{st['lyap_n']} impacts) against {param}; dashed lines: values located below.")
     return dl
