@@ -20,7 +20,10 @@ an independent check of the analytic Jacobians (:func:`lyapunov` returns both).
 Steps that stick to a wall forget their input (``J = 0``): formally the product vanishes and both
 exponents are ``-inf``.  Such steps are counted (``n_stuck``); the reported exponents are then
 ``-inf`` (``formal``) while ``lam_free`` gives the exponents of the non-sticking steps only
-(Q restarted at the identity after a sticking step), which is what a plot can show.
+(Q restarted at the identity after a sticking step), which is what a plot can show.  An orbit that
+ended early (stuck forever, no impact, step cap) has none (NaN).  These rules are those of
+:func:`gear_rattle.mapimpl.engine.exponents.exponents`, the one function that turns the observer's
+output into exponents (also used by the atlas and the r1 analysis).
 """
 
 from __future__ import annotations
@@ -36,8 +39,8 @@ import jax.numpy as jnp
 from ..core.checks import MAX_AVERAGED, MAX_VALUES, check_array, check_choice, check_int, check_start
 from ..core.params import DIAGRAM_PARAMS, Params, param_arrays
 from ..core.state import make_state
-from ..core.status import Status
 from .engine.driver import run
+from .engine.exponents import exponents
 from .engine.observers import Tangent
 from .impact_map import step
 
@@ -117,20 +120,13 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     m = values.size
     res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
               tuple(p), Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
-    t = res.obs[0]
-    active = np.isin(res.status, (int(Status.STOPPED), int(Status.CAPPED)))
-    n_st, n_ok = t["n_stuck"].astype(int), t["n_free"].astype(int)
-    lam_free = t["log_r"] / np.maximum(n_ok, 1)[:, None]
-    # an orbit that ended has no exponent over n impacts, and one whose every step stuck none of its free steps
-    lam_free = np.where(active[:, None] & (n_ok[:, None] > 0), lam_free, np.nan)
-    lam = np.where(n_st[:, None] > 0, -np.inf, lam_free)
-    lam = np.where(active[:, None], lam, np.nan)
+    t, ex = res.obs[0], exponents(res)  # the one rule for sticking steps and orbits that ended early
     rr = np.asarray(p.r) * np.ones(m)
     beta = np.asarray(p.beta) * np.ones(m)
     steps = np.maximum(res.n - transient, 1)
     elapsed = 2.0 * np.pi * (res.cycles - t["cycles0"]) + (res.theta - t["theta0"])
     det_mean = 2 * np.log(rr) - beta * elapsed / steps + np.log(np.abs(t["sdot0"] / res.sdot)) / steps
-    return LyapunovResult(param, values, lam, lam_free, det_mean, n_st, n, active)
+    return LyapunovResult(param, values, ex.lam, ex.lam_free, det_mean, ex.n_stuck, n, ex.ran)
 
 
 def raw_product_overflow(params: Params, n: int = 5000, tau0: float = 0.0, sdot0: float = 0.5,

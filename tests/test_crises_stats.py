@@ -174,7 +174,7 @@ def types_ns(**kw):
 def test_run_sizes_replace_the_profile_and_name_a_wrong_key():
     """``sizes`` (locate_r2/r1/alpha1, their doctests) replaces entries of the named profile; a key the
     analysis does not have is refused by name, and the result's profile says that sizes were replaced."""
-    from gear_rattle.validation.dynamics.crises.profiles import PROFILES, get_profile, label
+    from gear_rattle.validation.profiles import PROFILES, get_profile, label
 
     pr = get_profile("quick", "r2", {"orbits": 2})
     assert pr["orbits"] == 2 and pr["cap"] == PROFILES["quick"]["r2"]["cap"]

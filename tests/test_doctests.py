@@ -23,6 +23,7 @@ MODULES = (
     "gear_rattle.mapimpl.orbit",
     "gear_rattle.mapimpl.periodic",
     "gear_rattle.mapimpl.engine.driver",
+    "gear_rattle.mapimpl.engine.exponents",
     "gear_rattle.mapimpl.engine.transients",
     "gear_rattle.mapimpl.certified.contact",
     "gear_rattle.mapimpl.certified.orbit",

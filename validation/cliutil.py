@@ -441,13 +441,6 @@ def write_file(option: str, path, write) -> None:
         write(path)
 
 
-def save_figure(fig, path: str, option: str = "--plot", dpi: int = 150) -> None:
-    """``fig.savefig(path)`` with the parent directory created; errors name the option."""
-    from .io import save_figure as _save
-
-    write_file(option, path, lambda x: _save(fig, x, dpi=dpi))
-
-
 # ------------------------------------------------------------------------- the output options
 
 def add_output_options(p: argparse.ArgumentParser, *, output: str | None = None, plot: str | None = None,
@@ -505,10 +498,13 @@ def write_output(args: argparse.Namespace, result=None, *, arrays=None, table=No
         write_text(csv_text(*table()), args.output)
 
 
-def write_plot(args: argparse.Namespace, fig, dpi: int = 150) -> None:
-    """``--plot``: save the figure ``fig`` (when the option was given)."""
+def write_plot(args: argparse.Namespace, fig) -> None:
+    """``--plot``: save the figure ``fig`` (when the option was given) by the one figure writer,
+    :func:`validation.io.save_figure`, with the parent directory created; errors name the option."""
+    from .io import save_figure
+
     if args.plot:
-        save_figure(fig, args.plot, "--plot", dpi=dpi)
+        write_file("--plot", args.plot, lambda path: save_figure(fig, path))
 
 
 # ------------------------------------------------------------------------ renamed options

@@ -23,9 +23,6 @@ from ..core.status import Status
 
 #: The declared cross-validation domain (issue 3).
 DOMAIN = {"alpha": (0.0, 5.0), "beta": (0.01, 1.0), "gamma": (-0.5, 0.5), "r": (0.3, 1.0), "sdot": (0.05, 3.0)}
-#: Random states compared per profile: ``one_step`` (:func:`one_step_agreement`), ``jacobian``
-#: (:func:`jacobian_agreement`).
-PROFILES = {"quick": {"one_step": 16, "jacobian": 6}, "paper": {"one_step": 200, "jacobian": 40}}
 
 
 def random_cases(n: int, seed: int) -> list[tuple[Params, float, float]]:

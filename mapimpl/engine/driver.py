@@ -372,7 +372,8 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     >>> res = run(theta, sdot, wall, p, Tangent(n_start=100), cap=3000, progress=False)
     >>> res.status_counts(), res.impacts
     ({'capped': 8}, 24000)
-    >>> lam1 = res.obs[0]["log_r"][:, 0] / res.obs[0]["n_free"]
+    >>> from gear_rattle.mapimpl.engine.exponents import exponents
+    >>> lam1 = exponents(res).lam[:, 0]
     >>> bool(np.all((0.3 < lam1) & (lam1 < 0.4)))
     True
 

@@ -22,7 +22,8 @@ key             dtype      meaning
 Conventions: an orbit that *ends* (status != 0 at the end of the run) has ``lambda1 = lambda2 = NaN``
 and ``p = m = 0``; an orbit with a sticking step (``J = 0``, :mod:`mapimpl.lyapunov`) in the
 Lyapunov window has ``lambda1 = lambda2 = -inf`` (the formal value: the product of Jacobians vanishes),
-and its period is still looked for.  The result of a point depends only on that point and the spec, not
+and its period is still looked for.  The exponents follow the one rule of
+:func:`gear_rattle.mapimpl.engine.exponents.exponents`.  The result of a point depends only on that point and the spec, not
 on the other points of the batch, their number or order (this is what makes the atlas independent of
 tiling and worker count).
 
@@ -51,6 +52,7 @@ import numpy as np
 from ...core import _jax  # noqa: F401  (float64)
 
 from ...mapimpl.engine.driver import run
+from ...mapimpl.engine.exponents import exponents
 from ...mapimpl.engine.observers import Sample, Tangent
 from ...core.phase import TWO_PI
 from ...core.checks import InputTypeError, check_array
@@ -154,11 +156,9 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
     res = run(np.full(n, spec.tau0), np.full(n, spec.sdot0), np.full(n, 0 if spec.sdot0 > 0 else -1, np.int32),
               {"alpha": a, "beta": spec.beta, "gamma": spec.gamma, "r": rr}, obs, cap=lyap_end + W,
               progress=False, label="atlas")
-    tg, sm = res.obs
-    ended = ~np.isin(res.status, (int(Status.STOPPED), int(Status.CAPPED)))
-    lam = tg["log_r"] / np.maximum(tg["n_free"], 1)[:, None]
-    lam = np.where((tg["n_stuck"] > 0)[:, None], -np.inf, lam)
-    lam = np.where(ended[:, None], np.nan, lam)
+    sm = res.obs[1]
+    ex = exponents(res, 0)  # the one rule: -inf where a step stuck, NaN where the orbit ended early
+    lam, ended = ex.lam, ~ex.ran
     p, m = period(sm["theta"], sm["sdot"], sm["wall"], sm["cycles"], spec.period_max, spec.period_tol)
     p = np.where(ended, 0, p)
     m = np.where(ended, 0, m)

@@ -138,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
     summary = summarise(data, spec, res)
     summary.store = store
     write_json(out / "atlas_summary.json", summary.as_dict())
-    save_figure(atlas_figure(data, spec), out / "atlas.png", dpi=130)
+    save_figure(atlas_figure(data, spec), out / "atlas.png")
     print_result(summary.as_dict(), [
         _run_line(spec, summary.run, args.scheduler),
         f"chaotic (lambda1 > 0): {summary.chaotic}, periodic: {summary.periodic}, sticking: {summary.sticking}, "

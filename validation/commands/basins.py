@@ -19,7 +19,7 @@ HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..transient.profiles import get_profile
+    from ..profiles import get_profile
 
     add_common(p)
     q, pp = (get_profile(k, "basins") for k in ("quick", "paper"))

@@ -44,7 +44,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lyapunov", type=nonneg_int("--lyapunov", MAX_AVERAGED), default=0, metavar="N",
                    help=f"also compute Lyapunov exponents over N impacts, 0 to {MAX_AVERAGED}, figure panel b (default 0: "
                         "not computed)")
-    add_output_options(p, output="the diagram's points", plot="write the figure (default: no figure)")
+    add_output_options(p, output="the diagram's points (with --lyapunov, the exponents of each value too)",
+                       plot="write the figure (default: no figure)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -59,14 +60,15 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = check_scan(args, SCAN_OF[args.param].lo, SCAN_OF[args.param].hi)
     d = bifurcation_diagram(base, args.param, lo, hi, args.values, args.transient, args.impacts, args.mode,
                             args.tau0, args.sdot0, args.reverse, progress=progress_arg(args))
-    lyap = None
+    lyap, result = None, d
     if args.lyapunov:
         from ...mapimpl.lyapunov import lyapunov
+        from ..dynamics.bifurcation import DiagramLyapunov
 
         res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=progress_arg(args))
-        lyap = (res.values, res.lam_free)
-    write_output(args, d)
+        lyap, result = (res.values, res.lam_free), DiagramLyapunov(d, res)  # --output carries the exponents
+    write_output(args, result)
     if args.plot:
         from ..plots import diagram_figure
 

@@ -50,8 +50,10 @@ def run(args: argparse.Namespace) -> int:
     fig = None
     if args.plot:  # drawn before anything is written
         from ..plots import lyapunov_figure
+        from ..plots.base import params_text
 
-        fig = lyapunov_figure(values, res.lam_free, args.param)
+        fig = lyapunov_figure(values, res.lam_free, args.param,
+                              title=f"Lyapunov exponents (free steps): {params_text(base, args.param, values)}")
     write_output(args, res)
     ended = ~np.asarray(res.active)
     if ended.any():

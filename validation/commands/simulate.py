@@ -72,7 +72,7 @@ def _finish(args: argparse.Namespace, seq) -> None:
                "stuck_forever": "the tooth sticks to a wall and the forcing never releases it",
                "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
         note(f"the orbit ended after {int(seq.impacts.sum()) - 1} impacts (status {seq.status}: {why})")
-    write_plot(args, fig, dpi=110)
+    write_plot(args, fig)
 
 
 def _run_certified(args: argparse.Namespace, params) -> int:

@@ -49,5 +49,8 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         from ..plots import velocity_series_figure
 
-        write_plot(args, velocity_series_figure(ts, title=f"{args.figure or ''} alpha={base.alpha}, r={base.r}"))
+        from ..plots.base import params_text
+
+        title = f"{args.figure}: {params_text(base)}" if args.figure else None  # default: the parameters
+        write_plot(args, velocity_series_figure(ts, title=title))
     return 0

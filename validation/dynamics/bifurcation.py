@@ -157,6 +157,28 @@ class DiagramLyapunov:
         """The largest lambda1 (free steps) of the scan."""
         return float(np.nanmax(self.lyapunov.lam_free[:, 0]))
 
+    def _columns(self) -> dict[str, np.ndarray]:
+        lam = self.lyapunov
+        return {"lambda1": lam.lam[:, 0], "lambda2": lam.lam[:, 1], "lambda1_free": lam.lam_free[:, 0],
+                "lambda2_free": lam.lam_free[:, 1]}
+
+    def arrays(self) -> dict:
+        """The NPZ file's arrays: the diagram's (:meth:`Diagram.arrays`) and, per parameter value, the
+        exponents drawn in panel b and their formal values (``lambda1``, ``lambda2``: ``-inf`` where a
+        step stuck; ``lambda1_free``, ``lambda2_free``: over the free steps; NaN where the orbit ended
+        early), ``n_stuck`` and the impacts averaged ``lyapunov_impacts``."""
+        return {**self.diagram.arrays(), **self._columns(), "n_stuck": self.lyapunov.n_stuck,
+                "lyapunov_impacts": self.lyapunov.n_steps}
+
+    def table(self) -> tuple[list, list]:
+        """The CSV file's ``(header, rows)``: the diagram's rows (:meth:`Diagram.table`, one per recorded
+        impact) with the exponents of the row's parameter value in four more columns (those of
+        :meth:`arrays`)."""
+        header, rows = self.diagram.table()
+        cols = self._columns()
+        at = {float(v): i for i, v in enumerate(self.diagram.values)}
+        return header + list(cols), [row + [float(c[at[row[0]]]) for c in cols.values()] for row in rows]
+
 
 def diagram_with_lyapunov(base: Params, param: str, lo: float, hi: float, n_values: int, transient: int, keep: int,
                           lyap_n: int) -> DiagramLyapunov:

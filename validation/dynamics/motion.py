@@ -11,11 +11,10 @@ import numpy as np
 
 from ...core.params import Params
 from ...core.results import ImpactSequence
+from ..profiles import get_profile
 
 #: Periodicity test: the last TAIL impact velocities repeat with a period <= MAX_PERIOD to PERIOD_ATOL.
 TAIL, MAX_PERIOD, PERIOD_ATOL = 120, 12, 1e-9
-#: Impacts of the orbit and of the Lyapunov average per profile.
-PROFILES = {"quick": {"impacts": 600, "lyap_n": 20000}, "paper": {"impacts": 5000, "lyap_n": 200000}}
 #: Impacts discarded before the Lyapunov average.
 LYAP_TRANSIENT = 1000
 #: The initial state of Figs. 2-3.
@@ -61,14 +60,13 @@ class Motion:
 
 
 def motion(params: Params, profile: str = "quick") -> Motion:
-    """The orbit of Figs. 2-3 at ``params`` and its verdict (module docstring); run sizes :data:`PROFILES`."""
+    """The orbit of Figs. 2-3 at ``params`` and its verdict (module docstring); run sizes: ``motion`` of
+    :data:`gear_rattle.validation.profiles.PROFILES`."""
     from ...mapimpl.lyapunov import lyapunov
     from ...mapimpl.orbit import map_orbit
     from ...mapimpl.periodic import find_periodic
 
-    if profile not in PROFILES:
-        raise ValueError(f"profile={profile!r} is out of range: allowed one of {', '.join(PROFILES)}")
-    size = PROFILES[profile]
+    size = get_profile(profile, "motion")
     seq = map_orbit(params, START[0], START[1], size["impacts"])
     tau, theta, sd, _ = seq.impact_arrays()
     per = velocity_period(sd[-TAIL:], MAX_PERIOD)

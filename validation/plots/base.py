@@ -21,3 +21,23 @@ def legend_outside(ax, **kwargs):
     kw = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
     kw.update(kwargs)
     return ax.legend(**kw)
+
+
+def params_text(params, swept: str | None = None, values=None) -> str:
+    """The parameters a figure shows, for its title: every parameter of ``params`` (a
+    :class:`~gear_rattle.core.params.Params`) as ``name=value``, in the order of its fields, the swept
+    one (``swept``, over ``values``) as its range: ``"alpha=3, beta=0.1, gamma=0.1, r in [0.6, 1] (200
+    values)"``."""
+    from dataclasses import fields
+
+    import numpy as np
+
+    out = []
+    for f in fields(params):
+        if f.name == swept:
+            v = np.asarray(values, dtype=np.float64)
+            out.append(f"{f.name} in [{v.min():g}, {v.max():g}] ({v.size} values)" if v.size > 1
+                       else f"{f.name}={v.min():g}")
+        else:
+            out.append(f"{f.name}={getattr(params, f.name):g}")
+    return ", ".join(out)

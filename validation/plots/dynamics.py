@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import legend_outside, subplots
+from .base import legend_outside, params_text, subplots
 
 
-def diagram_lyapunov_figure(dl, fig: str, lo: float, hi: float, marks=()):
+def diagram_lyapunov_figure(dl, fig: str, marks=()):
     """``fig`` (e.g. ``"Fig. 4"``) reproduced: (a) the diagram of ``dl.diagram``, (b) the two Lyapunov
     exponents of ``dl.lyapunov`` (a :class:`~gear_rattle.validation.dynamics.bifurcation.DiagramLyapunov`),
     dashed lines at ``marks`` (``(name, value)``)."""
@@ -30,8 +30,8 @@ def diagram_lyapunov_figure(dl, fig: str, lo: float, hi: float, marks=()):
         # inside the axes (x in data, y in axes units), clear of the title above
         ax[0].text(val, 0.97, f" {name}", transform=ax[0].get_xaxis_transform(), color="C3", fontsize=8,
                    ha="left", va="top", bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})
-    ax[0].set_title(f"{fig} reproduced (computed): {d.param} in [{lo}, {hi}], {d.values.size} values, "
-                    f"{d.transient} impacts discarded")
+    ax[0].set_title(f"{fig} reproduced (computed): {params_text(d.base, d.param, d.values)}, "
+                    f"{d.transient} impacts discarded", fontsize=9)
     f.tight_layout()
     return f
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...core.results import ImpactSequence
 from ...mapimpl.dense import dense
-from .base import legend_outside, subplots
+from .base import legend_outside, params_text, subplots
 
 
 def time_series_figure(seq: ImpactSequence, span: float = 50.0, title: str | None = None):
@@ -54,21 +54,23 @@ def velocity_series_figure(ts, title: str | None = None):
     ax[0].set_xlabel("n"); ax[0].set_ylabel(r"$\dot s_n$")
     ax[1].plot(ts.k, ts.sdot_strobe, ".k", ms=1)
     ax[1].set_xlabel("k"); ax[1].set_ylabel(r"$\dot s(2\pi k)$")
-    ax[0].set_title(title or f"alpha={ts.params.alpha}, r={ts.params.r}")
+    ax[0].set_title(title or params_text(ts.params))
     fig.tight_layout()
     return fig
 
 
 def diagram_figure(diag, lyap=None, title: str | None = None):
     """A bifurcation diagram (a :class:`~gear_rattle.validation.dynamics.bifurcation.Diagram`) and, if
-    given, the Lyapunov exponents ``(values, lambdas (n, 2))`` below it (Figs. 4, 8)."""
+    given, the Lyapunov exponents ``(values, lambdas (n, 2))`` below it (Figs. 4, 8).  The default title
+    names every parameter, the swept one by its range (:func:`.base.params_text`)."""
     rows = 2 if lyap is not None else 1
     fig, axes = subplots(rows, 1, figsize=(7, 3.2 * rows + 0.5), sharex=True, squeeze=False)
     ax = axes[0, 0]
     x = np.repeat(diag.values, diag.sdot.shape[1])
     ax.plot(x, diag.sdot.ravel(), ",k", alpha=0.5)
     ax.set_ylabel(r"$\dot s_n$")
-    ax.set_title(title or f"bifurcation diagram ({diag.mode}), {diag.param} varied")
+    ax.set_title(title or f"bifurcation diagram ({diag.mode}): {params_text(diag.base, diag.param, diag.values)}\n"
+                          f"{diag.transient} impacts discarded, {diag.keep} recorded", fontsize=9)
     if lyap is not None:
         v, lam = lyap
         axes[1, 0].plot(v, lam[:, 0], "-", lw=0.8, label=r"$\lambda_1$")
@@ -81,9 +83,12 @@ def diagram_figure(diag, lyap=None, title: str | None = None):
     return fig
 
 
-def lyapunov_figure(values, lam, param: str):
-    """The two Lyapunov exponents ``lam (n, 2)`` against the parameter ``param`` (Figs. 4b, 8b)."""
+def lyapunov_figure(values, lam, param: str, title: str | None = None):
+    """The two Lyapunov exponents ``lam (n, 2)`` against the parameter ``param`` (Figs. 4b, 8b); ``title``
+    (the command's names every parameter, :func:`.base.params_text`)."""
     fig, ax = subplots(figsize=(7, 3.5))
+    if title:
+        ax.set_title(title, fontsize=9)
     ax.plot(values, lam[:, 0], "-", label=r"$\lambda_1$")
     ax.plot(values, lam[:, 1], "-", label=r"$\lambda_2$")
     ax.axhline(0, color="gray", lw=0.5)
@@ -92,7 +97,7 @@ def lyapunov_figure(values, lam, param: str):
     return fig
 
 
-def branch_figure(branch, param: str):
+def branch_figure(branch, param: str, title: str | None = None):
     """A continued branch of periodic orbits (a :class:`~gear_rattle.validation.dynamics.continuation.Branch`):
     one point's ``sdot`` (stable / unstable) and the moduli of the Floquet multipliers, fold (green) and
     flip (magenta) points marked."""
@@ -109,5 +114,7 @@ def branch_figure(branch, param: str):
         for x in ax:
             x.axvline(f.mu, color="g" if f.kind == "fold" else "m", lw=0.6)
     ax[1].set_ylabel("|Floquet multipliers|"); ax[1].set_xlabel(param)
+    ax[0].set_title(title or f"{branch.impacts}-impact orbit in {branch.turns} driving period(s), {param} continued; "
+                             f"start: {params_text(branch.params)}", fontsize=9)
     fig.tight_layout()
     return fig

@@ -9,7 +9,7 @@ from matplotlib.patches import Rectangle
 
 from ...core.paper import PAPER_BOX
 from ..paper import PAPER
-from .base import subplots
+from .base import params_text, subplots
 
 
 def basins_figure(res):
@@ -26,7 +26,7 @@ def basins_figure(res):
         ax.set_xlabel(r"$\tau_0$")
     for ax in axs[:, 0]:
         ax.set_ylabel(r"$\dot s_0$")
-    fig.suptitle(f"Fig. 9: transient basins, alpha={res.params.alpha:g}, {res.nx}x{res.ny}, delta={res.delta:g}, "
+    fig.suptitle(f"Fig. 9: transient basins, {params_text(res.params)}, {res.nx}x{res.ny}, delta={res.delta:g}, "
                  f"IC {res.ic_mode}", fontsize=10)
     fig.tight_layout()
     return fig
@@ -55,7 +55,8 @@ def uncertainty_figure(res):
         ax.text(0.5, 0.5, "no uncertain points (f = 0 at every eps)", transform=ax.transAxes, ha="center")
     ax.set_xlabel(r"$\epsilon$")
     ax.set_ylabel(r"$f(\epsilon)$")
-    ax.set_title(f"Fig. 10: uncertain fraction, {res.n_points} points in the paper's box", fontsize=10)
+    ax.set_title(f"Fig. 10: uncertain fraction, {params_text(res.params)},\n{res.n_points} points in the paper's box",
+                 fontsize=10)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=8)
     fig.tight_layout()

@@ -18,7 +18,9 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ...core.checks import check_choice
 from ..io import read_json, write_json
+from ..profiles import PROFILE_NAMES
 from ..io.atomic import DEVICE_ERRNOS, outputs, read_manifest, staged, write_text_atomic
 from .verdict import Z_AGREE
 from .document import (Document, Section, check_keys, document_json, render_html, render_markdown,
@@ -35,7 +37,7 @@ SECTIONS = [
 #: The sections' keys (``--sections``), in report order: each module's ``KEY``, its name after ``sec_``.
 SECTION_KEYS = [m.rsplit(".sec_", 1)[1] for m in SECTIONS]
 
-PROFILES = ("quick", "paper")
+PROFILES = PROFILE_NAMES  # the run sizes of each: validation.profiles
 
 
 @dataclass
@@ -130,8 +132,7 @@ def summary_json(sections: list[Section], **header) -> dict:
 def build_report(profile: str = "quick", out_dir: str | Path = "report", sections: list[str] | None = None,
                  seed: int = 20040101, progress: bool = True, argv: list[str] | None = None) -> tuple[Path, bool]:
     """Run the sections and write the report; return ``(path of report.html, all sections ok)``."""
-    if profile not in PROFILES:
-        raise ValueError(f"profile={profile!r} is out of range: allowed one of {', '.join(PROFILES)}")
+    check_choice("profile", profile, PROFILES)
     mods = [importlib.import_module(m) for m in SECTIONS]
     if sections:
         unknown = set(sections) - {m.KEY for m in mods}

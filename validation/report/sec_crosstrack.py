@@ -3,6 +3,7 @@ one-step Jacobian by three routes, computed for this report."""
 
 from __future__ import annotations
 
+from ..profiles import get_profile
 from .document import Section
 from .verdict import row
 
@@ -17,10 +18,10 @@ GRAZE_DEPTH = 1e-6
 
 
 def build(ctx) -> Section:
-    from ..crosscheck import DOMAIN, PROFILES, jacobian_agreement, one_step_agreement
+    from ..crosscheck import DOMAIN, jacobian_agreement, one_step_agreement
 
     sec = Section(KEY, TITLE)
-    st = PROFILES[ctx.profile]
+    st = get_profile(ctx.profile, "crosscheck")  # random states compared: one_step, jacobian
     ctx.say(f"one-step agreement on {st['one_step']} random states")
     rows = one_step_agreement(st["one_step"], seed=ctx.seed, graze_depth=GRAZE_DEPTH)
     sec.p("From the same random pre-impact states (domain: " + ", ".join(f"{k} in {v}" for k, v in DOMAIN.items())

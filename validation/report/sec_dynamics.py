@@ -14,12 +14,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.bifurcation import LN_FLOAT_MAX, diagram_with_lyapunov, raw_product_horizon
-from ..dynamics.profiles import SCANS, TS_TRANSIENT, get_profile
+from ..dynamics.scans import SCANS, TS_TRANSIENT
+from ..profiles import get_profile
 from ..dynamics.settling import MIN_LAMINAR, SETTLE_TAIL, SETTLE_TOL, laminar_in_series, local_slopes, settle
 from ..io import save_figure
 from ..io.crises import write_crises
 from ..paper import PAPER
 from ..plots import velocity_series_figure
+from ..plots.base import params_text
 from ..plots.dynamics import crisis_laws_figure, diagram_lyapunov_figure, laminar_law_figure
 from .document import Section
 from .verdict import row
@@ -92,7 +94,8 @@ def build(ctx) -> Section:
     from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
 
     sec = Section(KEY, TITLE)
-    st = get_profile(ctx.profile)
+    st = get_profile(ctx.profile, "settling")
+    sizes = get_profile(ctx.profile, "diagrams")
     ctx.say("continuing the 6-impact orbit through its fold (r2)")
     branch = six_impact_branch()
     ctx.say("r2: laminar phases")
@@ -102,8 +105,8 @@ def build(ctx) -> Section:
     ctx.say("alpha1: escape times from the pre-crisis chaotic set (engine)")
     a1 = locate_alpha1(ctx.profile)
     write_crises(ctx.out_dir / "data" / "dynamics", ctx.profile, r2, r1, a1)
-    dl4 = _diagram(ctx, sec, "Fig. 4", st, [("r1", r1.r1), ("r2", r2.r2)])
-    dl8 = _diagram(ctx, sec, "Fig. 8", st, [("alpha1", a1.alpha1)])
+    dl4 = _diagram(ctx, sec, "Fig. 4", sizes, [("r1", r1.r1), ("r2", r2.r2)])
+    dl8 = _diagram(ctx, sec, "Fig. 8", sizes, [("alpha1", a1.alpha1)])
     l1max = max(dl4.lam1_max, dl8.lam1_max)
     sum_err = float(np.nanmax([dl4.sum_error, dl8.sum_error]))
     sec.p(f"Check of every Lyapunov pair of Figs. 4 and 8: max |lambda1 + lambda2 - mean ln|det J|| = "
@@ -126,7 +129,7 @@ def build(ctx) -> Section:
     a_f9 = float(PAPER["alpha1_fig9"].value)
     ctx.say(f"alpha = {a_f9:g}: settling on the 4-impact orbit ({st['settle_ics']} orbits)")
     settle4 = settle(R9, "alpha", a_f9, a1.node.tau, a1.node.sdot, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed)
-    _time_series(ctx, sec, st, r2, r1, ls.eps)
+    _time_series(ctx, sec, get_profile(ctx.profile, "timeseries"), r2, r1, ls.eps)
     _table(sec, branch, r2, r1, a1, a_f9)
     local = _intermittency(ctx, sec, r2)
     _r2_rows(sec, r2, settle6, lam6, r_settle, r_f6, local)
@@ -152,7 +155,7 @@ def _diagram(ctx, sec: Section, fig: str, st: dict, marks):
     n_values = st["fig4_values" if param == "r" else "fig8_values"]
     dl = diagram_with_lyapunov(base, param, lo, hi, n_values, st["transient"], st["keep"], st["lyap_n"])
     path = ctx.fig_dir / f"{fig.replace('. ', '').lower()}_bifurcation.png"
-    save_figure(diagram_lyapunov_figure(dl, fig, lo, hi, marks), path)
+    save_figure(diagram_lyapunov_figure(dl, fig, marks), path)
     sec.fig(path, f"{fig}(a) bifurcation diagram of sdot_n and {fig}(b) Lyapunov exponents (QR method, "
                   f"{st['lyap_n']} impacts) against {param}; dashed lines: values located below.")
     return dl
@@ -168,8 +171,8 @@ def _time_series(ctx, sec: Section, st: dict, r2, r1, eps: float) -> None:
         trans = TS_TRANSIENT[fig]
         ts = time_series(P, n_impacts=st["ts_n"], transient=trans)
         path = ctx.fig_dir / f"{fig}_timeseries.png"
-        save_figure(velocity_series_figure(ts, title=f"Fig. {fig[-1]} reproduced (computed): alpha = 3, r = {P.r:g}"),
-                    path, dpi=150)
+        save_figure(velocity_series_figure(ts, title=f"Fig. {fig[-1]} reproduced (computed): {params_text(P)}"),
+                    path)
         if fig in ("fig5", "fig6"):
             frac, n_ph, tail = laminar_in_series(np.asarray(ts.sdot_n), eps)
             what = (f"r - r2 = {P.r - r2.r2:+.3g} (our r2); of the {ts.n.size} impacts shown, {100 * frac:.1f}% "

@@ -15,7 +15,7 @@ from ..plots.transients import basins_figure, survival_figure, uncertainty_figur
 from ..transient import experiments as E
 from ..transient.conventions import sticking_conventions
 from ..transient.post_release import certified_t_post, decimal_params
-from ..transient.profiles import get_profile
+from ..profiles import get_profile
 from .document import Section
 from .verdict import row
 

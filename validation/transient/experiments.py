@@ -5,7 +5,7 @@ statistics (:mod:`.analysis`) and returns a dataclass; nothing is written, drawn
 commands ``gear-rattle basins | uncertainty | transients`` and the report compose them: compute ->
 write (:mod:`gear_rattle.validation.io.transients`) -> plot (:mod:`gear_rattle.validation.plots.transients`).
 A fit that fails is ``None`` in the result, with its reason in ``notes``.  Run sizes per profile:
-:mod:`.profiles`.
+:mod:`validation.profiles`.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from ...mapimpl.engine.transients import grid, transient_times
 from ...mapimpl.sticking import STICK_TIME
 from . import analysis as A
 from .post_release import RELEASE_SOURCES, certified_t_post, composed_mask, release_durations, stick_counts
-from .profiles import get_profile
+from ..profiles import get_profile
 from .results import (BasinsResult, Float64Horizon, StickTimeRow, StickTimeSensitivity, SurvivalResult,
                       UncertaintyResult)
 

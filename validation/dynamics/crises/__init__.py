@@ -11,13 +11,12 @@ Section 3 and Fig. 8 of the paper, located with error bars on the many-orbit eng
 
 The statistics (censored maximum likelihood, exact intervals, the crisis-law fits, the GOY exponent,
 brackets) are in :mod:`.stats`, the typed results in :mod:`.results`, the periodic orbits and the engine
-wrapper in :mod:`.orbits`, the run sizes in :mod:`.profiles`.  Methods and results: docs/dynamics.md.
+wrapper in :mod:`.orbits`, the run sizes in :mod:`validation.profiles`.  Methods and results: docs/dynamics.md.
 """
 
 from .alpha1 import PAPER_ALPHA1, locate_alpha1
 from .orbits import (ALPHA1_START, R2_START, attractor_point, four_impact_branch, orbit_on_branch,
                      six_impact_branch)
-from .profiles import PROFILES
 from .r1 import PAPER_R1_FIG7, locate_r1
 from .r2 import PAPER_R2_FIG5, LaminarStats, laminar_statistics, locate_r2
 from .results import Alpha1Result, R1Result, R2Result
@@ -25,7 +24,7 @@ from .stats import (Bracket, CrisisFit, Located, MeanTime, bracket, locate, cens
                     fit_power_law, goy_exponent, lifetime_lower_bound, mean_time, range_systematic)
 
 __all__ = [
-    "locate_r2", "locate_r1", "locate_alpha1", "R2Result", "R1Result", "Alpha1Result", "PROFILES", "PAPER_R2_FIG5", "PAPER_R1_FIG7", "PAPER_ALPHA1",
+    "locate_r2", "locate_r1", "locate_alpha1", "R2Result", "R1Result", "Alpha1Result", "PAPER_R2_FIG5", "PAPER_R1_FIG7", "PAPER_ALPHA1",
     "attractor_point", "six_impact_branch", "four_impact_branch", "orbit_on_branch", "R2_START", "ALPHA1_START",
     "LaminarStats", "laminar_statistics", "MeanTime", "CrisisFit", "Bracket", "mean_time", "censored_lifetimes",
     "lifetime_lower_bound", "fit_crisis", "fit_crisis_fixed", "range_systematic", "fit_power_law", "goy_exponent",

@@ -43,7 +43,7 @@ from ....core.status import Status
 from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
                      orbit_points, per_orbit)
 from ....core.checks import check_int
-from .profiles import get_profile, label as _label
+from ...profiles import get_profile, label as _label
 from .results import Alpha1Result
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
 from ....core.paper import DELTA, PAPER_PARAMS
@@ -204,7 +204,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     Parameters
     ----------
     profile : {"quick", "paper"}, optional
-        Run sizes: :data:`.profiles.PROFILES` ``[profile]["alpha1"]``.
+        Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["alpha1"]``.
     branch : Branch, optional
         The 4-impact branch (default :func:`.orbits.four_impact_branch`): its fold alpha_sn, the saddle
         orbit at alpha1 and the stable orbit that captures the escapes.
@@ -213,7 +213,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     seed : int, optional
         Seed of the initial conditions drawn on the chaotic attractor below alpha1.
     sizes : dict, optional
-        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["alpha1"]``;
+        Run sizes that replace the profile's (keys of :data:`validation.profiles.PROFILES` ``[profile]["alpha1"]``;
         the result's ``profile`` is then ``"<profile>+sizes"``).
 
     Returns

@@ -32,11 +32,12 @@ import math
 import numpy as np
 
 from ....core import _jax  # noqa: F401
+from ....mapimpl.engine.exponents import exponents
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
 from ....core.checks import check_int
-from .profiles import get_profile, label as _label
+from ...profiles import get_profile, label as _label
 from .results import R1Result
 from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
                     range_systematic)
@@ -104,18 +105,21 @@ def hop_counts(r_values, ics: dict, orbits: int, cap: int, cost: Cost | None = N
 def lyapunov_at(r: float, ics: dict, orbits: int, n: int, cost: Cost | None = None, transient: int = 1000,
                 base: Params = R2_START) -> dict:
     """Largest Lyapunov exponent (per impact, QR method on the engine's
-    :class:`~gear_rattle.mapimpl.engine.observers.Tangent`) of ``orbits`` band orbits (the first states
+    :class:`~gear_rattle.mapimpl.engine.observers.Tangent`, turned into exponents by
+    :func:`~gear_rattle.mapimpl.engine.exponents.exponents`) of ``orbits`` band orbits (the first states
     of ``ics``) at ``r``, over ``n`` impacts after ``transient``: positive on every orbit means a chaotic
-    attractor, not a periodic window.  Returns ``r``, ``lam1_min``, ``lam1_mean``, ``lam1_max``,
-    ``orbits``, ``n``, ``stuck`` (sticking steps), ``chaotic`` (``lam1_min > 0``)."""
+    attractor, not a periodic window.  Returns ``r``, ``lam1_min``, ``lam1_mean``, ``lam1_max`` (of the
+    free steps; NaN where an orbit ended early: it has no exponent), ``orbits``, ``n``, ``stuck``
+    (sticking steps), ``ended`` (orbits that ended early), ``chaotic`` (every orbit ran to the end, none
+    stuck, and ``lam1_min > 0``)."""
     idx = np.arange(orbits) % ics["theta"].size
     res = engine_run(cost, "r1: Lyapunov at the bracket's upper end", ics["theta"][idx], ics["sdot"][idx],
                      ics["wall"][idx], base.replace(r=float(r)), Tangent(n_start=transient), cap=transient + n)
-    t = res.obs[0]
-    lam1 = t["log_r"][:, 0] / np.maximum(t["n_free"], 1)
+    ex = exponents(res)
+    lam1 = ex.lam_free[:, 0]
     return {"r": float(r), "lam1_min": float(lam1.min()), "lam1_mean": float(lam1.mean()),
-            "lam1_max": float(lam1.max()), "orbits": int(orbits), "n": int(n), "stuck": int(t["n_stuck"].sum()),
-            "chaotic": bool(lam1.min() > 0.0 and t["n_stuck"].sum() == 0)}
+            "lam1_max": float(lam1.max()), "orbits": int(orbits), "n": int(n), "stuck": int(ex.n_stuck.sum()),
+            "ended": ex.ended, "chaotic": bool(np.all(ex.lam[:, 0] > 0.0))}
 
 
 def _arrays(rows):
@@ -133,7 +137,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     Parameters
     ----------
     profile : {"quick", "paper"}, optional
-        Run sizes: :data:`.profiles.PROFILES` ``[profile]["r1"]``.
+        Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["r1"]``.
     branch : Branch, optional
         The 6-impact branch (default :func:`.orbits.six_impact_branch`): the saddle orbit at r1 gives the
         crisis exponent.
@@ -142,7 +146,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     seed : int, optional
         Seed of the initial conditions drawn on the 6-band attractor.
     sizes : dict, optional
-        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["r1"]``;
+        Run sizes that replace the profile's (keys of :data:`validation.profiles.PROFILES` ``[profile]["r1"]``;
         the result's ``profile`` is then ``"<profile>+sizes"``).
 
     Returns

@@ -27,7 +27,7 @@ from ....mapimpl.engine.observers import Laminar
 from ....core.params import Params
 from ..continuation import orbit_states
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
-from .profiles import get_profile, label as _label
+from ...profiles import get_profile, label as _label
 from .results import R2Result
 from .stats import fit_power_law
 from ...paper import PAPER
@@ -87,13 +87,13 @@ def locate_r2(profile: str = "quick", branch=None, progress=None, *, sizes: dict
     Parameters
     ----------
     profile : {"quick", "paper"}, optional
-        Run sizes: :data:`.profiles.PROFILES` ``[profile]["r2"]``.
+        Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["r2"]``.
     branch : Branch, optional
         The 6-impact branch through r2 (default :func:`.orbits.six_impact_branch`; shared with r1).
     progress : optional
         Unused (the engine runs show their own progress where stderr is a terminal).
     sizes : dict, optional
-        Run sizes that replace the profile's (keys of :data:`.profiles.PROFILES` ``[profile]["r2"]``;
+        Run sizes that replace the profile's (keys of :data:`validation.profiles.PROFILES` ``[profile]["r2"]``;
         the result's ``profile`` is then ``"<profile>+sizes"``).
 
     Returns
