@@ -92,6 +92,17 @@ def test_release_phase_reduces_the_closed_form():
     assert math.isclose(float(lo), phi + math.pi - math.asin(c), rel_tol=1e-15)
 
 
+@pytest.mark.parametrize("params", [Params(0.1, 0.1, 0.5, 0.9), Params(0.0, 0.1, 0.1, 0.9)])
+def test_lead_state_needs_a_release_phase(params):
+    """The golden suite's state before a release (generate.release_lead_state) where the contact force never
+    stops pressing into the wall (|gamma| >= alpha sqrt(1 + beta^2), or alpha = 0): a ValueError naming the
+    parameters (it subtracted the lead from the certified phase's None: a TypeError)."""
+    from gear_rattle.validation.golden.generate import release_lead_state
+
+    with pytest.raises(ValueError, match=r"params=.* never stops pressing"):
+        release_lead_state(params, 0, 0.5, 0.5)
+
+
 # ---------------------------------------------------------------------------------------------
 # certification
 

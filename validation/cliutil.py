@@ -443,7 +443,7 @@ def write_file(option: str, path, write) -> None:
 
 # ------------------------------------------------------------------------- the output options
 
-def add_output_options(p: argparse.ArgumentParser, *, output: str | None = None, plot: str | None = None,
+def add_output_options(p: argparse._ActionsContainer, *, output: str | None = None, plot: str | None = None,
                        out: tuple[str, str] | None = None, quiet: str | None = "no progress bars") -> None:
     """The output options of a command, each added when its help text is given: ``--output FILE`` (a
     data file, its format from the extension, default stdout) with ``--format csv|json`` (the format on

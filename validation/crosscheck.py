@@ -13,7 +13,7 @@ States are drawn from the declared domain with a seeded generator, so the number
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -58,32 +58,43 @@ class OneStep:
     sdot_max: float
 
 
+@dataclass
+class _Tally:
+    """One track's tally in :func:`one_step_agreement`: the deviations of its compared impacts, the
+    states whose outcome differed from the map's (``mis``) and those skipped near a graze."""
+
+    tau: list[float] = field(default_factory=list)
+    sdot: list[float] = field(default_factory=list)
+    mis: int = 0
+    graze: int = 0
+
+
 def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
                        tracks=("scipy", "diffrax")) -> list[OneStep]:
     """Next impact from ``n`` random pre-impact states on the map and on the numerical tracks."""
     from ..mapimpl.tracks import orbit
 
     cases = random_cases(n, seed)
-    res = {t: {"tau": [], "sdot": [], "mis": 0, "graze": 0} for t in tracks}
+    res = {t: _Tally() for t in tracks}
     for p, tau, sd in cases:
         m = orbit("map", p, tau, sd, 1)
         graze = m.status == Status.ACTIVE.label and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]),
                                                           p, graze_depth)
         for t in tracks:
             if graze:
-                res[t]["graze"] += 1
+                res[t].graze += 1
                 continue
             o = orbit(t, p, tau, sd, 1)
             if o.status != m.status or list(o.kind) != list(m.kind) or not np.array_equal(o.wall, m.wall):
-                res[t]["mis"] += 1
+                res[t].mis += 1
                 continue
             imp = (m.kind == "impact") & (m.n >= 1)  # impact 0 is the shared initial state
-            res[t]["tau"].extend(np.abs(o.tau - m.tau)[imp].tolist())
-            res[t]["sdot"].extend(np.abs(o.sdot - m.sdot)[imp].tolist())
+            res[t].tau.extend(np.abs(o.tau - m.tau)[imp].tolist())
+            res[t].sdot.extend(np.abs(o.sdot - m.sdot)[imp].tolist())
     out = []
     for t in tracks:
-        ta, sa = np.array(res[t]["tau"]), np.array(res[t]["sdot"])
-        out.append(OneStep(t, len(cases) - res[t]["graze"], res[t]["graze"], res[t]["mis"],
+        ta, sa = np.array(res[t].tau), np.array(res[t].sdot)
+        out.append(OneStep(t, len(cases) - res[t].graze, res[t].graze, res[t].mis,
                            float(ta.max()) if ta.size else float("nan"),
                            float(np.median(ta)) if ta.size else float("nan"),
                            float(sa.max()) if sa.size else float("nan")))
@@ -108,7 +119,7 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
     from ..mapimpl.tracks import get
 
     ref, routes = get("map"), {t: get(t) for t in ("scipy", "diffrax")}
-    err = {t: [] for t in routes}
+    err: dict[str, list[float]] = {t: [] for t in routes}
     skipped = 0
     for p, tau, sd in random_cases(n, seed):
         m = ref.step_jacobian(p, tau, sd)
@@ -119,7 +130,7 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
         J = np.asarray(m.jac)
         nJ = np.linalg.norm(J)
         for t, track in routes.items():
-            err[t].append(np.linalg.norm(np.asarray(track.step_jacobian(p, tau, sd).jac) - J) / nJ)
+            err[t].append(float(np.linalg.norm(np.asarray(track.step_jacobian(p, tau, sd).jac) - J) / nJ))
     cs, cd = err["scipy"], err["diffrax"]
     return JacobianCheck(len(cs), skipped, float(max(cs)) if cs else float("nan"),
                          float(max(cd)) if cd else float("nan"))

@@ -119,8 +119,9 @@ def _decay_time() -> PaperValue:
     ``kappa = 0.893 +- 0.001``: its error propagates the rounding of 2272 (:attr:`PaperValue.rounding_sd`)
     and the stated error of kappa."""
     n, k = _VALUES["mean_n"], _VALUES["kappa"]
-    tau = n.value / k.value
-    err = tau * math.hypot(n.sigma / n.value, k.sigma / k.value)
+    n_v, k_v = float(n.value), float(k.value)
+    tau = n_v / k_v
+    err = tau * math.hypot(n.sigma / n_v, k.sigma / k_v)
     return PaperValue("decay_time", f"{tau:.10g}", err, "derived", "Section 4, Eq. (14)", n.quote,
                       note=f"{n.printed}/{k.printed} from the paper's <n> (rounding of its last digit) and kappa (stated error)")
 

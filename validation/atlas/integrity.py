@@ -71,7 +71,7 @@ class _Reader:
         self.root, self.name = root, name
         self.bad: dict[tuple[int, int], str] = {}
         try:
-            self.data = np.asarray(self.arr[...])
+            self.data: np.ndarray | None = np.asarray(self.arr[...])
         except Exception:  # noqa: BLE001 - a chunk that does not decode: find which, tile by tile
             self.data = None
 

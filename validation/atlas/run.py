@@ -251,7 +251,7 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
         run = AtlasRun(st, scheduler, 1, nt[0] * nt[1], nt[0] * nt[1] - len(todo), remaining=list(todo))
         t0 = time.perf_counter()
 
-        def store_one(ij, out, secs, cpu):
+        def store_one(ij: tuple[int, int], out: dict, secs: float, cpu: float) -> None:
             st.write_tile(*ij, crop(spec, tile, *ij, out), secs, cpu)
             run.computed.append(ij)
             run.remaining.remove(ij)

@@ -30,14 +30,19 @@ import math
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
+import numpy.typing as npt
 
 from ...core.checks import check_int
 from .compute import ENGINE, FIELDS
 from ..extras import require
 from .integrity import DIGEST_BYTES, Damage, short_error, forget, meta_digest, tile_digest, verify
 from .spec import AtlasSpec
+
+if TYPE_CHECKING:  # zarr is the `atlas` extra, imported where a store is opened (import_zarr)
+    import zarr
 
 #: Per-tile timing arrays (float64, NaN until the tile is done).
 TIMING = ("tile_seconds", "tile_cpu_seconds")
@@ -107,6 +112,14 @@ def _diff(a: dict, b: dict) -> str:
     return ", ".join(f"{k} {a.get(k)!r} (store) != {b.get(k)!r}" for k in keys if a.get(k) != b.get(k))
 
 
+def _mismatch(key: str, have: object, want: object) -> str:
+    """One attribute of a store that differs from the one being opened: a dict's differing entries
+    (:func:`_diff`), else both values."""
+    if isinstance(have, dict) and isinstance(want, dict):
+        return f"{key}: {_diff(have, want)}"
+    return f"{key} {have!r} (store) != {want!r}"
+
+
 @dataclass
 class AtlasStore:
     """An open atlas store (create with :func:`open_store`)."""
@@ -114,7 +127,7 @@ class AtlasStore:
     path: str
     spec: AtlasSpec
     tile: tuple[int, int]
-    group: object
+    group: zarr.Group
     #: Tiles found done but damaged when the store was opened (forgotten: they are computed again).
     damaged: list[Damage] = field(default_factory=list)
 
@@ -124,7 +137,7 @@ class AtlasStore:
 
     def done(self) -> np.ndarray:
         """Boolean ``(tiles_r, tiles_alpha)``: which tiles are stored."""
-        return np.asarray(self.group["done"][...], dtype=bool)
+        return np.asarray(self._array("done")[...], dtype=bool)
 
     def missing(self) -> list[tuple[int, int]]:
         """Tiles not yet stored, in row-major order."""
@@ -146,11 +159,16 @@ class AtlasStore:
         try:
             forget(self.path, self.group, (i, j), ("done", "checksum", *CHECKED))  # written from nothing
             for k, v in values.items():
-                self.group[k][self._slices(k, i, j)] = v
-            self.group["checksum"][i, j] = np.stack([tile_digest(k, i, j, values[k]) for k in CHECKED])
-            self.group["done"][i, j] = True
+                self._array(k)[self._slices(k, i, j)] = v
+            self._array("checksum")[i, j] = np.stack([tile_digest(k, i, j, values[k]) for k in CHECKED])
+            self._array("done")[i, j] = True
         except OSError as e:
             raise StoreWriteError(f"store {self.path!r}: cannot write tile ({i}, {j}): {e.strerror or e}") from None
+
+    def _array(self, name: str) -> zarr.Array:
+        """The store's array ``name`` (zarr types a group's item as an array or a group: every name used
+        here is one of the store's arrays)."""
+        return cast("zarr.Array", self.group[name])
 
     def _slices(self, name: str, i: int, j: int) -> tuple[slice, slice]:
         """Tile ``(i, j)``'s index ranges in array ``name`` (a field or a per-tile array)."""
@@ -162,7 +180,7 @@ class AtlasStore:
 
     def read(self) -> dict[str, np.ndarray]:
         """Every array of the store (``alpha``, ``r``, the fields, ``done`` and the timings)."""
-        return {k: np.asarray(self.group[k][...]) for k in ("alpha", "r", *FIELDS, "done", *TIMING)}
+        return {k: np.asarray(self._array(k)[...]) for k in ("alpha", "r", *FIELDS, "done", *TIMING)}
 
 
 def _known_format(attrs: dict) -> bool:
@@ -203,7 +221,8 @@ def _check_meta(p: Path, zarr, attrs: dict, want: dict | None) -> None:
     if want is not None and (spec.to_dict() != want["spec"] or list(tile) != want["tile"]):
         return  # another atlas: refused (or overwritten) by the caller, its arrays do not matter
     nt = tile_grid(spec, tile)
-    layout = {"alpha": ((spec.n_alpha,), np.float64), "r": ((spec.n_r,), np.float64),
+    layout: dict[str, tuple[tuple[int, ...], npt.DTypeLike]] = {
+              "alpha": ((spec.n_alpha,), np.float64), "r": ((spec.n_r,), np.float64),
               **{k: (spec.shape, dt) for k, (dt, _) in FIELDS.items()},
               **{k: (nt, np.float64) for k in TIMING}, "done": (nt, np.bool_),
               "checksum": ((*nt, len(CHECKED), DIGEST_BYTES), np.uint8)}
@@ -271,8 +290,7 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
                                      f"without checksums (now {FORMAT!r}): overwrite it (overwrite=True, "
                                      "--overwrite) to recompute it")
                 if have != want:
-                    parts = [f"{k}: {_diff(have[k], want[k])}" if isinstance(want[k], dict) else
-                             f"{k} {have[k]!r} (store) != {want[k]!r}" for k in want if have[k] != want[k]]
+                    parts = [_mismatch(k, have[k], want[k]) for k in want if have[k] != want[k]]
                     raise ValueError(f"store {str(p)!r} holds an atlas with a different spec ({'; '.join(parts)}): "
                                      "rerun with the store's options, or overwrite it (overwrite=True, --overwrite)")
                 g = zarr.open_group(str(p), mode="r+")

@@ -144,13 +144,13 @@ def tile_throughput(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun)
         return {}
     from .store import tile_slices
 
-    pts, wall, cpu = [], [], []
+    pts_l, wall_l, cpu_l = [], [], []
     for i, j in run.computed:
         rows, cols = tile_slices(spec, run.store.tile, i, j)
-        pts.append((rows.stop - rows.start) * (cols.stop - cols.start) * spec.impacts_per_point)
-        wall.append(data["tile_seconds"][i, j])
-        cpu.append(data["tile_cpu_seconds"][i, j])
-    pts, wall, cpu = (np.asarray(x, dtype=float) for x in (pts, wall, cpu))
+        pts_l.append((rows.stop - rows.start) * (cols.stop - cols.start) * spec.impacts_per_point)
+        wall_l.append(data["tile_seconds"][i, j])
+        cpu_l.append(data["tile_cpu_seconds"][i, j])
+    pts, wall, cpu = (np.asarray(x, dtype=float) for x in (pts_l, wall_l, cpu_l))
     return {"tile_seconds_sum": float(wall.sum()), "tile_cpu_seconds_sum": float(cpu.sum()),
             "median tile throughput per worker (points x impacts / s, wall)": float(np.median(pts / wall)),
             "median tile throughput per worker (points x impacts / CPU s)": float(np.median(pts / cpu))}

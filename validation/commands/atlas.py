@@ -137,6 +137,7 @@ def run(args: argparse.Namespace) -> int:
         lock.release()
     summary = summarise(data, spec, res)
     summary.store = store
+    assert summary.run is not None, "summarised with this run's record"
     write_json(out / "atlas_summary.json", summary.as_dict())
     save_figure(atlas_figure(data, spec), out / "atlas.png")
     print_result(summary.as_dict(), [

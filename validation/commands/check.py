@@ -178,7 +178,11 @@ def score_and_report(args: argparse.Namespace, items, outputs: dict, info, *, or
         t0 = time.perf_counter()
         got = outputs[item.id]
         try:
-            sc = no_output(item, root / f"{item.id}{suffix}") if got is None else score(item, got)
+            if got is None:
+                assert root is not None, "an output is missing only where it is read from root (not with --self)"
+                sc = no_output(item, root / f"{item.id}{suffix}")
+            else:
+                sc = score(item, got)
         except MalformedFile as e:
             raise CliError(str(e)) from None
         results.append(result(item, sc))
@@ -202,8 +206,8 @@ def read_outputs(reads: dict, malformed, missing=None) -> tuple[dict, dict]:
             else:
                 text = " ".join(str(e).split())
                 errors[key] = text if len(text) <= 500 else text[:500] + " ... (cut)"
-    for e in errors.values():
-        print(f"gear-rattle check: error: {e}", file=sys.stderr)
+    for problem in errors.values():
+        print(f"gear-rattle check: error: {problem}", file=sys.stderr)
     return out, errors
 
 

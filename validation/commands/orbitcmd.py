@@ -94,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
         tau0, sdot0 = args.tau0, args.sdot0
     if args.action == "find":
         return _find(args, base, tau0, sdot0)
+    assert bounds is not None, "_check gives the bounds of 'continue'"
     return _continue(args, base, tau0, sdot0, bounds)
 
 

@@ -91,8 +91,10 @@ def main(argv: list[str] | None = None) -> int:
 
     from ...core.progress import Bar
 
+    results: list[dict] = []
+    float64_engine: list[dict] = []
     out = {"command": "python -m gear_rattle.validation.commands.release " + " ".join(argv or sys.argv[1:]),
-           "results": [], "float64_engine": []}
+           "results": results, "float64_engine": float64_engine}
     try:
         for wall in walls:
             for rounding in roundings:
@@ -109,11 +111,11 @@ def main(argv: list[str] | None = None) -> int:
                 for a in d.attempts:
                     print(f"    {a.prec:5d} bits: {a.status:13s} impacts {a.impacts:6d}  radius {a.radius:>9s}  "
                           f"growth {a.growth:.3f} bits/impact  {a.seconds:7.1f} s  {a.reason}")
-                out["results"].append(d.to_dict())
+                results.append(d.to_dict())
             if args.float64:
                 f = float64_release_duration(model_params(params, "float64"), wall, args.delta)
                 print(f"wall {wall}, float64 engine (a sample, not a value): T_post = {f['value']} ({f['status']})")
-                out["float64_engine"].append(dict(f, wall=wall))
+                float64_engine.append(dict(f, wall=wall))
     except ValueError as e:
         ap.error(str(e))
     except CertificationError as e:  # pragma: no cover - two precisions disagree: a bug

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,6 +32,9 @@ from ...mapimpl.impact_map import step
 from ...core.state import MapState, make_state
 from ...core.checks import MAX_VALUES, check_int, check_tau0
 from ...core.params import DIAGRAM_PARAMS, ParamArrays, Params, check_value, param_arrays
+
+if TYPE_CHECKING:  # imported where the exponents are computed (diagram_lyapunov)
+    from ...mapimpl.lyapunov import LyapunovResult
 
 #: Hard caps that keep a run bounded.
 MAX_POINTS = MAX_VALUES  # parameter values of one diagram (core.checks)
@@ -144,7 +148,7 @@ class DiagramLyapunov:
     values (Figs. 4b, 8b: a :class:`~gear_rattle.mapimpl.lyapunov.LyapunovResult`)."""
 
     diagram: Diagram
-    lyapunov: object
+    lyapunov: LyapunovResult
 
     @property
     def sum_error(self) -> float:

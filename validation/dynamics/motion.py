@@ -6,12 +6,16 @@ lambda1 > 0) or ``undetermined``."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...core.params import Params
 from ...core.results import ImpactSequence
 from ..profiles import get_profile
+
+if TYPE_CHECKING:  # the library is imported where the orbit is computed, not on import
+    from ...mapimpl.periodic import PeriodicOrbit
 
 #: Periodicity test: the last TAIL impact velocities repeat with a period <= MAX_PERIOD to PERIOD_ATOL.
 TAIL, MAX_PERIOD, PERIOD_ATOL = 120, 12, 1e-9
@@ -43,7 +47,7 @@ class Motion:
     lam2: float
     det_mean: float
     lyap_n: int
-    orbit: object | None
+    orbit: PeriodicOrbit | None
 
     @property
     def kind(self) -> str:

@@ -101,7 +101,10 @@ def _final_orbits(P: Params, tail: dict, reached: np.ndarray, run_end: np.ndarra
     from ...mapimpl.orbit import map_orbit
     from ...mapimpl.periodic import find_periodic
 
-    settled, capture, period, mult = [], [], [], None
+    settled: list[bool] = []
+    capture: list[int] = []
+    period: list[tuple[int, int] | None] = []
+    mult = None
     for j in range(reached.size):
         th, sd = tail["theta"][j], tail["sdot"][j]
         p = period_of(th, sd) if bool(reached[j]) else None

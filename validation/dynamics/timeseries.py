@@ -27,7 +27,8 @@ from ...core.params import Params
 from ..paper import PAPER
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
-FIGURE_R = {"fig5": PAPER["r2"].value, "fig6": PAPER["r2_fig6"].value, "fig7": PAPER["r1"].value}
+FIGURE_R = {"fig5": float(PAPER["r2"].value), "fig6": float(PAPER["r2_fig6"].value),
+            "fig7": float(PAPER["r1"].value)}
 _TP = float(TWO_PI)
 
 

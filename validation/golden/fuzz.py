@@ -127,7 +127,7 @@ def _g(x: float, digits: int = 6) -> float:
     return 0.0 if abs(x) < 1e-9 else float(f"{x:.{digits}g}")
 
 
-_FIRST = []
+_FIRST: list[Callable] = []  # the jitted first-impact finder, compiled on first use
 
 
 def first_contact(p: Params, tau0: float, sdot0: float) -> tuple[int, float, float] | None:
@@ -205,19 +205,20 @@ def construct(recipe: dict, id: str) -> CaseInput | None:
         gamma = (1 if wall == 0 else -1) * _g(0.3 + abs(g["gamma"]), 3)
         r = _g(0.3 + 0.6 * (g["r"] - R[0]) / (R[1] - R[0]), 3)
         p = Params(alpha, beta, gamma, r)
-        tau0 = _pressing_phase(p, wall, g["ratio"] - 0.9) if k != "release-delay" else None
+        phase = _pressing_phase(p, wall, g["ratio"] - 0.9) if k != "release-delay" else None
         if k == "release-delay":
             if abs(gamma) >= p.alpha * math.hypot(1.0, beta):
                 return None
             lead = _g(g["lead"], 2)
             tau0, sdot0 = release_lead_state(p, wall, lead, _g(min(STICK_TIME, lead * (1 + 10 * (g["ratio"] - 0.9))), 2))
-        elif tau0 is None:
+        elif phase is None:
             return None
         elif k == "stick-threshold":
             # t_acc / STICK_TIME = 1 +- 1e-4 ... 0.1 (log): the threshold is where a scaled one shows
+            tau0 = phase
             sdot0 = stick_ratio_sdot0(p, tau0, wall, 1.0 + g["sign"] * _g(g["near1"], 2))
         else:
-            sdot0 = (1 if wall == 0 else -1) * _g(g["speed"] / 30, 3)
+            tau0, sdot0 = phase, (1 if wall == 0 else -1) * _g(g["speed"] / 30, 3)
     elif k == "stuck-forever":
         gamma = g["sign"] * _g(alpha * math.hypot(1.0, beta) * (1.0 + 0.5 * (g["ratio"] - 0.9)) + 1e-3, 4)
         r = _g(0.3 + 0.5 * (g["r"] - R[0]) / (R[1] - R[0]), 3)
@@ -227,9 +228,10 @@ def construct(recipe: dict, id: str) -> CaseInput | None:
         r = _g(0.3 + 0.6 * (g["r"] - R[0]) / (R[1] - R[0]), 3)
         if g["paper"] == 0:  # a slow start where the force presses: chatter, stick, release, then no landing
             wall = 0 if g["sign"] > 0 else -1
-            tau0 = _pressing_phase(Params(alpha, beta, gamma, r), wall, g["ratio"] - 0.9)
-            if tau0 is None:
+            phase = _pressing_phase(Params(alpha, beta, gamma, r), wall, g["ratio"] - 0.9)
+            if phase is None:
                 return None
+            tau0 = phase
             sdot0 = g["sign"] * _g(g["speed"] / 30, 3)
     elif k in ("graze", "near-miss"):
         if g["paper"] > 0:

@@ -303,6 +303,10 @@ def release_lead_state(params: Params, wall: int, lead: float, t_acc: float) -> 
     ``t_acc`` (``sdot0`` to 3 significant digits)."""
     with cert.precision(cert.PREC):
         phase = cert.release_phase(cert.Model(params), wall)
+        if phase is None:
+            raise ValueError(f"params={params!r} is out of range for wall={wall}: the contact force never stops "
+                             "pressing (|gamma| >= alpha sqrt(1 + beta^2) or alpha = 0): allowed parameters "
+                             "with a release phase")
         tau0 = cert.nearest_float(phase - cert.exact(lead))
     v = t_acc * (1 - params.r) * forcing_in(params, tau0, wall) / (2 * params.r)
     v = float(f"{v:.3g}")

@@ -38,12 +38,12 @@ _HEX4 = re.compile(r"[0-9a-fA-F]{4}")
 
 @dataclass
 class JsonDoc:
-    """A JSON file read by :func:`read_json`: its value and the offset of every value by its path
-    (a tuple of keys and indices; ``()`` is the top level)."""
+    """A JSON file read by :func:`read_json`: its value (the top-level object) and the offset of every
+    value by its path (a tuple of keys and indices; ``()`` is the top level)."""
 
     path: str
     text: str
-    value: object
+    value: dict
     offsets: dict = field(default_factory=dict)
 
     def error(self, where: tuple, msg: str) -> MalformedFile:
@@ -61,15 +61,24 @@ def _name(where: tuple) -> str:
     return out
 
 
+def _match(pattern: re.Pattern[str], text: str, pos: int) -> re.Match[str]:
+    """The match at ``pos`` of a pattern that also matches the empty string (``_WS``, ``_CHUNK``):
+    there is always one."""
+    m = pattern.match(text, pos)
+    assert m is not None, "the pattern matches the empty string"
+    return m
+
+
 class _Parser:
     def __init__(self, text: str, path: str):
-        self.text, self.path, self.offsets = text, path, {}
+        self.text, self.path = text, path
+        self.offsets: dict[tuple, int] = {}
 
     def fail(self, pos: int, msg: str) -> MalformedFile:
         return malformed(self.path, *position(self.text, pos), f"invalid JSON: {msg}")
 
     def ws(self, pos: int) -> int:
-        return _WS.match(self.text, pos).end()
+        return _match(_WS, self.text, pos).end()
 
     def value(self, pos: int, where: tuple, depth: int):
         t = self.text
@@ -95,16 +104,16 @@ class _Parser:
             raise self.fail(pos, f"a number literal longer than {MAX_NUMBER} characters (the limit of the format)")
         if m.group(1) is None and m.group(2) is None:
             return int(lit), m.end()
-        v = float(lit)
-        if not math.isfinite(v):
+        x = float(lit)
+        if not math.isfinite(x):
             raise self.fail(pos, f"{lit} is beyond the float64 range (not a finite number)")
-        return v, m.end()
+        return x, m.end()
 
     def string(self, pos: int):
         t, parts, p = self.text, [], pos + 1
         n = 0
         while True:
-            m = _CHUNK.match(t, p)
+            m = _match(_CHUNK, t, p)
             parts.append(m.group())
             n += len(m.group())
             p = m.end()

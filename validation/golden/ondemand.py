@@ -511,7 +511,8 @@ def update_index(suite: Path, write: Callable[[Path, str], object] = generate.wr
     fresh = build_index(Path(suite))
     # the suite block: this suite's name and version (the user's, if the index had them; never the shipped
     # suite's) with the digests of its files as they are now, so that check says it matches
-    mine = old.get("suite") if isinstance(old.get("suite"), dict) else {}
+    mine = old.get("suite")
+    mine = mine if isinstance(mine, dict) else {}
     block = {**fresh["suite"], "name": str(mine.get("name", USER_SUITE_NAME)),
              "version": str(mine.get("version", "unversioned"))}
     merged = {**fresh, **{k: v for k, v in old.items() if k not in ("cases", "suite")}, "suite": block,

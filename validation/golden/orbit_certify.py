@@ -165,11 +165,11 @@ def record(case: OrbitCase, result, seed: str) -> dict:
         orbit = result.orbit if isinstance(result, CertifiedBifurcation) else result
         P = Numbers(orbit.model)
         shape = orbit.shape
-        rec = {"id": case.id, "kind": case.kind, "description": case.description,
-               "params": {k: getattr(case.params, k) for k in ("alpha", "beta", "gamma", "r")}}
+        params = {k: getattr(case.params, k) for k in ("alpha", "beta", "gamma", "r")}
+        rec: dict[str, object] = {"id": case.id, "kind": case.kind, "description": case.description, "params": params}
         x = [v for pair in zip(orbit.tau, orbit.sdot) for v in pair]
         if isinstance(result, CertifiedBifurcation):
-            rec["params"][result.name] = float(result.value.mid())
+            params[result.name] = float(result.value.mid())
             rec["parameter"], rec["value"] = result.name, _interval(result.value)
             base = Model(case.params)
 

@@ -41,6 +41,7 @@ def float64_values(rec: Record) -> tuple[dict, Values]:
             d["note"] = f"find_periodic did not converge (residual {o.residual:.2g})"
     else:
         name = rec.data["parameter"]
+        assert rec.value is not None, "a bifurcation record has its value (load_record)"
         mu0 = _guess(float(np.mean(rec.value)))
         f = locate(params.replace(**{name: mu0}), name, _LOCATE_KIND[rec.kind], tau0, sdot0, mu0, impacts, turns)
         th, sd = orbit_states(params.replace(**{name: f.mu}), f.tau, f.sdot, impacts)

@@ -121,6 +121,7 @@ def certify_case(case: OrbitCase, tau, sdot, mu=None):
     """The certified orbit or bifurcation point of ``case`` from the guess ``(tau, sdot[, mu])``."""
     if case.kind == "periodic-orbit":
         return certify_periodic_orbit(case.params, tau, sdot, case.turns)
+    assert case.parameter is not None, "a bifurcation case names its parameter (OrbitCase)"
     return certify_bifurcation(case.kind, case.params, case.parameter, tau, sdot, mu, case.turns)
 
 

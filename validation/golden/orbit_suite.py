@@ -49,7 +49,7 @@ class Record:
     points: np.ndarray
     walls: np.ndarray
     multipliers: np.ndarray
-    value: tuple | None
+    value: tuple[float, float] | None
     tolerances: dict
 
 
@@ -189,7 +189,7 @@ def read_values(path: str | Path, rec: Record | None = None) -> Values:
     """Read and validate an implementation's file (with ``rec``: the keys it requires must be there)."""
     doc = read_json(path)  # MissingFile when there is none: check scores it as "no output"
     missing = [k for k in (required(rec) if rec is not None else ()) if k not in doc.value]
-    if missing:
+    if rec is not None and missing:
         raise doc.error((), f"missing key {missing[0]!r} (a {rec.kind} needs {', '.join(required(rec))})")
     return values_from_doc(doc)
 
@@ -261,16 +261,18 @@ def _column(name: str, err: list, tol: float, scale: float) -> Column:
 
 
 def _score_points(rec: Record, got: Values, cols: dict) -> str:
+    points, walls = got.points, got.walls
+    assert points is not None and walls is not None, "an output's points carry their walls (values_from_doc)"
     n = rec.points.shape[0]
-    if got.points.shape[0] != n:
-        return f"{got.points.shape[0]} points, expected {n} (impacts per period)"
+    if points.shape[0] != n:
+        return f"{points.shape[0]} points, expected {n} (impacts per period)"
     best = None
     for k in range(n):  # rotation: got[(i + k) % n] <-> record[i]
         idx = (np.arange(n) + k) % n
-        if not np.array_equal(got.walls[idx], rec.walls):
+        if not np.array_equal(walls[idx], rec.walls):
             continue
-        et = _dist(got.points[idx, 0], rec.points[:, 0], rec.points[:, 1], circular=True)
-        es = _dist(got.points[idx, 1], rec.points[:, 2], rec.points[:, 3])
+        et = _dist(points[idx, 0], rec.points[:, 0], rec.points[:, 1], circular=True)
+        es = _dist(points[idx, 1], rec.points[:, 2], rec.points[:, 3])
         if best is None or max(et + es) < max(best[0] + best[1]):
             best = (et, es)
     if best is None:
@@ -281,15 +283,17 @@ def _score_points(rec: Record, got: Values, cols: dict) -> str:
 
 
 def _score_multipliers(rec: Record, got: Values, cols: dict) -> str:
-    m = rec.multipliers
-    if got.multipliers.size != m.shape[0]:
-        return f"{got.multipliers.size} multipliers, expected {m.shape[0]}"
-    best = None
+    m, got_m = rec.multipliers, got.multipliers
+    assert got_m is not None, "scored where given"
+    if got_m.size != m.shape[0]:
+        return f"{got_m.size} multipliers, expected {m.shape[0]}"
+    best: list | None = None
     for perm in ([0, 1], [1, 0]) if m.shape[0] == 2 else [list(range(m.shape[0]))]:
-        z = got.multipliers[perm]
+        z = got_m[perm]
         e = [max(u, v) for u, v in zip(_dist(z.real, m[:, 0], m[:, 1]), _dist(z.imag, m[:, 2], m[:, 3]))]
         if best is None or max(e) < max(best):
             best = e
+    assert best is not None, "one permutation at least"
     cols["multipliers"] = _column("multipliers", best, rec.tolerances["multipliers"],
                                   max(1.0, float(np.abs(m).max())))
     return ""
@@ -308,6 +312,7 @@ def score(rec: Record, got: Values) -> OrbitScore:
     if got.multipliers is not None:
         msgs.append(_score_multipliers(rec, got, cols))
     if not orbit:
+        assert rec.value is not None, "a bifurcation record has its value (load_record)"
         lo, hi = rec.value
         cols["value"] = _column("value", _dist([got.value], [lo], [hi]), rec.tolerances["value"], max(1.0, abs(hi)))
     msgs = [m for m in msgs if m]

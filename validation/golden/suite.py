@@ -368,9 +368,9 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
     passed = all(s.passed for s in cols.values())
     if passed:
         return CaseScore(case.id, True, cols, "", case.level, -1)
-    first = _first_failing(cols)
+    failing = _first_failing(cols)
     return CaseScore(case.id, False, cols, _failure_note(cols, got, exp, case.tolerances), case.level,
-                     first.first_row, first_failing={"line": got.line(first.first_row), "column": first.column})
+                     failing.first_row, first_failing={"line": got.line(failing.first_row), "column": failing.column})
 
 
 def _first_failing(cols: dict) -> ColumnScore:

@@ -99,7 +99,7 @@ def remove_debris(folder: Path, base: str, since: float | None = None) -> list[P
     (the debris stays, the run goes on)."""
     since = LOADED if since is None else since
     want = _base(base)
-    removed = []
+    removed: list[Path] = []
     try:
         entries = list(os.scandir(folder))
     except OSError:

@@ -91,7 +91,7 @@ def environment() -> dict:
         "python": sys.version.split()[0], "platform": platform.platform(), "machine": platform.machine(),
         "cpu_count": os.cpu_count(), "numpy": numpy.__version__, "scipy": scipy.__version__,
         "jax": jax.__version__, "jax_devices": ", ".join(str(d) for d in jax.devices()),
-        "jax_enable_x64": bool(jax.config.jax_enable_x64),
+        "jax_enable_x64": bool(jax.config.jax_enable_x64),  # type: ignore[attr-defined]  # jax.config: dynamic attrs
     }
     for mod in ("diffrax", "optimistix", "matplotlib", "mpmath"):
         try:

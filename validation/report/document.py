@@ -22,6 +22,29 @@ import html
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol
+
+from ..paper import PaperValue
+
+
+class Outcome(Protocol):
+    """What a row shows of its verdict (a :class:`.verdict.Verdict`, which builds the rows: named here
+    by what is read, not imported)."""
+
+    @property
+    def deviation(self) -> float | None: ...
+    @property
+    def z(self) -> float | None: ...
+    @property
+    def tolerance(self) -> float | None: ...
+    @property
+    def check(self) -> str | None: ...
+    @property
+    def bound(self) -> str | None: ...
+    @property
+    def unit(self) -> float | None: ...
+    @property
+    def enclosure(self) -> tuple[float, float] | None: ...
 
 
 @dataclass
@@ -47,8 +70,8 @@ class Number:
     where: str = ""
     value: float | int | None = None
     error: float | None = None
-    paper_value: object = None
-    outcome: object = None
+    paper_value: PaperValue | None = None
+    outcome: Outcome | None = None
     spec: dict = field(default_factory=dict)
 
     @property
@@ -77,7 +100,8 @@ class Number:
             "verdict": self.verdict, "check": self.check or None,
             "tolerance": None if o is None else _json_num(o.tolerance),
             "paper_digit": None if pv is None else _json_num(pv.printed_unit),
-            "bound": bound, "margin_digits": _json_num(o.deviation / o.unit) if bound and o.unit else None,
+            "bound": bound, "margin_digits": (_json_num(o.deviation / o.unit) if o is not None and bound and o.unit
+                                              and o.deviation is not None else None),
             "enclosure": None if enc is None else [_json_num(enc[0]), _json_num(enc[1])],
             "paper": self.paper, "computed": self.computed, "error_bar": self.error_bar, "deviation": self.deviation,
             "explanation": self.explanation, "where": self.where, "section": section,

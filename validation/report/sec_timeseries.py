@@ -29,6 +29,7 @@ def build(ctx) -> Section:
         per_txt, orbit_txt = f"none up to {MAX_PERIOD}", ""
         if m.period:
             per_txt = f"{m.period} impacts per {m.turns} driving period(s)"
+        if m.orbit is not None:  # found where there is a period (dynamics.motion)
             orbit_txt = (f"Newton residual {m.orbit.residual:.1e}; Floquet multipliers "
                          + ", ".join(f"{abs(z):.4f}" for z in m.orbit.multipliers) + " (moduli)")
         rows.append([fig, alpha, per_txt, m.lam1, m.lam2, m.det_mean, m.sum_error, orbit_txt])

@@ -142,6 +142,7 @@ def compare_bound(computed, error, paper: PaperValue, enclosure=None) -> Verdict
         return Verdict(DISAGREES, float("nan"), None, None, f"computed value is {c}")
     enc = _enclosure(enclosure, c)
     p, unit, e = float(paper.value), paper.printed_unit, _err(error)
+    assert unit is not None, "a bound's printed digits carry its precision (PaperValue.printed_unit)"
     d = c - p
     ok = d <= 0 if upper else d >= 0
     need = "<=" if upper else ">="

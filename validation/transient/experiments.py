@@ -192,7 +192,8 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
     k = [float(x) for x in fig11.engine.deltas].index(delta)
     T, S = fig11.tau0[::stride, ::stride], fig11.sdot0[::stride, ::stride]
     confirm = get_profile(profile, "confirm")
-    rows, notes = [], []
+    rows: list[StickTimeRow] = []
+    notes: list[str] = []
     for st in sorted({base, *(float(x) for x in stick_times)}):
         if st == base:
             dur, cens, comp, counts = _base_row_data(fig11, stride, k)

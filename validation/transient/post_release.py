@@ -100,21 +100,23 @@ def release_durations(res: TransientResult, delta: float, *, source: str = "cert
         raise ValueError(f"source={source!r} is out of range: allowed one of {', '.join(RELEASE_SOURCES)}")
     j = res.column(delta)
     info = {}
-    t_post = {}
+    t_post: dict[int, int | None] = {}
     for rel in res.release:
         w = int(rel["wall"])
         sample = int(np.asarray(rel["T_post"])[j])
-        entry = {"float64_sample": sample}
+        entry: dict[str, object] = {"float64_sample": sample}
+        used: int | None
         if source == "certified":
             c = certified_t_post(res.params, w, float(res.deltas[j]), deltas=tuple(float(x) for x in res.deltas),
                                  stick_time=stick_time, confirm=confirm, progress=progress)
             v, ok = t_post_value(c)
             entry["certified"] = c
-            entry["used"], entry["source"] = (v, "certified") if ok else (sample if sample >= 0 else None,
-                                                                          "float64 sample (certification undecided)")
+            used, src = (v, "certified") if ok else (sample if sample >= 0 else None,
+                                                     "float64 sample (certification undecided)")
         else:
-            entry["used"], entry["source"] = (sample if sample >= 0 else None), "float64 sample"
-        t_post[w] = entry["used"]
+            used, src = (sample if sample >= 0 else None), "float64 sample"
+        entry["used"], entry["source"] = used, src
+        t_post[w] = used
         info[str(w)] = entry
     if source == "float64":
         dur, cens = res.duration(delta)

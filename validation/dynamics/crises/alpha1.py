@@ -50,7 +50,7 @@ from ....core.paper import DELTA, PAPER_PARAMS
 from ...paper import PAPER
 
 #: The paper's value (Section 4): "alpha1 ~ 1.24370".
-PAPER_ALPHA1 = PAPER["alpha1"].value
+PAPER_ALPHA1 = float(PAPER["alpha1"].value)
 #: The wider approach distance recorded beside the capture distance (core.paper.DELTA, as in Figs. 9-11).
 APPROACH = 2e-2
 #: Counting starts at this impact (left truncation).
@@ -76,8 +76,10 @@ def attractor_ics(branch, alpha_ref: float, n: int, settle: int, seed: int = 0, 
     the node did not capture in ``settle`` impacts.  Returns ``theta, sdot, wall`` and ``drawn``,
     ``captured`` (box orbits captured by the node: its basin)."""
     th, sd, w = orbit_points(nodes(branch, [alpha_ref]))
-    obs = Capture(th, sd, w, [DELTA])
-    out_th, out_sd, out_w = [], [], []
+    obs = Capture(th, sd, w, np.array([DELTA]))
+    out_th: list[float] = []
+    out_sd: list[float] = []
+    out_w: list[int] = []
     drawn = captured = 0
     for attempt in range(6):
         m = int(math.ceil(1.3 * (n - len(out_th)))) + 8
@@ -114,7 +116,7 @@ def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | No
     A = np.repeat(alphas, m)
     r = engine_run(cost, label, np.tile(ics["theta"], alphas.size), np.tile(ics["sdot"], alphas.size),
                    np.tile(ics["wall"], alphas.size), per_orbit(base, "alpha", A),
-                   Capture(th, sd, w, [APPROACH, DELTA]), cap=cap)
+                   Capture(th, sd, w, np.array([APPROACH, DELTA])), cap=cap)
     hit = r.obs[0]["hit"]
     out = []
     for i, a in enumerate(alphas):
@@ -129,7 +131,7 @@ def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | No
     return out
 
 
-def _arrays(rows):
+def _arrays(rows: list[dict]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     a = np.array([x["alpha"] for x in rows])
     k = np.array([x["rate"].events for x in rows], float)
     E = np.array([x["rate"].exposure for x in rows], float)

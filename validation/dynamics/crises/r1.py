@@ -44,7 +44,7 @@ from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, m
 from ...paper import PAPER
 
 #: The paper's Fig. 7: r = 0.74001 "<~ r1".
-PAPER_R1_FIG7 = PAPER["r1"].value
+PAPER_R1_FIG7 = float(PAPER["r1"].value)
 #: Band-hop criterion (BandEscape): 6 bands once per period, threshold on the return time, impacts in.
 BANDS, THRESHOLD, MIN_INSIDE = 6, 0.6, 60
 #: Counting starts at this impact.
@@ -59,7 +59,7 @@ def band_ics(r_ref: float, n: int, settle: int, seed: int = 1, cost: Cost | None
              base: Params = R2_START) -> dict:
     """``n`` states on the 6-band attractor at ``r_ref`` (> r1): end states of box orbits whose last 13
     impacts lie inside the bands and that did not hop after impact ``settle // 2``."""
-    out = {"theta": [], "sdot": [], "wall": []}
+    out: dict[str, list] = {"theta": [], "sdot": [], "wall": []}
     drawn = rejected = 0
     keep = 13
     obs = (BandEscape(p=BANDS, m=1, threshold=THRESHOLD, min_inside=MIN_INSIDE, n_start=settle // 2),

@@ -28,31 +28,14 @@ from ....core.params import Params
 from ..continuation import orbit_states
 from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
 from ...profiles import get_profile, label as _label
-from .results import R2Result
+from .results import LaminarStats, R2Result
 from .stats import fit_power_law
 from ...paper import PAPER
 
 #: The paper's Fig. 5: r = 0.82144 ">~ r2".
-PAPER_R2_FIG5 = PAPER["r2"].value
+PAPER_R2_FIG5 = float(PAPER["r2"].value)
 #: Laminar criterion: distance to the fold orbit and the shortest run counted.
 EPS, MIN_LENGTH = 0.05, 12
-
-
-@dataclass
-class LaminarStats:
-    """Laminar phases near the ghost of the fold orbit, per ``r``: ``mean`` length (impacts), its
-    standard error ``sem``, the number of complete phases ``count`` and the impacts observed
-    ``exposure``; ``eps``, ``min_length``: the criterion; ``orbits``, ``cap``: orbits per r, impacts each."""
-
-    r: np.ndarray
-    mean: np.ndarray
-    sem: np.ndarray
-    count: np.ndarray
-    exposure: np.ndarray
-    eps: float
-    min_length: int
-    orbits: int
-    cap: int
 
 
 def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 2000, eps: float = EPS,

@@ -10,17 +10,21 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
+from ....mapimpl.periodic import PeriodicOrbit
+from ..continuation import BifurcationPoint, Branch
 from .stats import Bracket, CrisisFit, Located
 
 
+@dataclass
 class _Result:
     """``as_dict()`` of a result dataclass: its fields but those in ``_OBJECTS`` (not data), nested
     results by their own ``as_dict()``."""
 
-    _OBJECTS: tuple = ()
+    _OBJECTS: ClassVar[tuple[str, ...]] = ()
 
     def as_dict(self) -> dict:
         out = {}
@@ -33,12 +37,29 @@ class _Result:
 
 
 @dataclass
+class LaminarStats:
+    """Laminar phases near the ghost of the fold orbit, per ``r``: ``mean`` length (impacts), its
+    standard error ``sem``, the number of complete phases ``count`` and the impacts observed
+    ``exposure``; ``eps``, ``min_length``: the criterion; ``orbits``, ``cap``: orbits per r, impacts each."""
+
+    r: np.ndarray
+    mean: np.ndarray
+    sem: np.ndarray
+    count: np.ndarray
+    exposure: np.ndarray
+    eps: float
+    min_length: int
+    orbits: int
+    cap: int
+
+
+@dataclass
 class R2Result(_Result):
     """r2 (fold of the 6-impact orbit, alpha = 3) and the type-I intermittency exponent.
 
     ``r2``: the fold (Newton on the extended system); ``fold``: the
     :class:`~..continuation.BifurcationPoint` (orbit, multipliers, residual); ``branch``: the 6-impact
-    branch (:func:`.orbits.six_impact_branch`, shared with r1); ``laminar``: :class:`.r2.LaminarStats`
+    branch (:func:`.orbits.six_impact_branch`, shared with r1); ``laminar``: :class:`LaminarStats`
     at ``r2 + dr``; ``slope``, ``slope_err``: fitted exponent of ``<l> ~ (r - r2)^slope`` (theory -1/2)
     and its total error ``sqrt(stat^2 + syst^2)``; ``slope_stat`` (weighted fit, scaled by
     sqrt(chi^2_red) when > 1), ``slope_syst`` (fit-range systematic), ``chi2_red``; ``subranges``:
@@ -48,9 +69,9 @@ class R2Result(_Result):
     _OBJECTS = ("fold", "branch", "laminar")
 
     r2: float
-    fold: object
-    branch: object
-    laminar: object
+    fold: BifurcationPoint
+    branch: Branch
+    laminar: LaminarStats
     dr: np.ndarray
     slope: float
     slope_err: float
@@ -106,7 +127,7 @@ class R1Result(_Result):
     subranges_goy: list
     subranges_free: list
     goy_exponent: float
-    saddle: object
+    saddle: PeriodicOrbit
     bracket: Bracket
     bracket_margin: float
     lower_bound: float
@@ -165,10 +186,10 @@ class Alpha1Result(_Result):
     subranges_goy: list
     subranges_free: list
     goy_exponent: float
-    saddle: object
+    saddle: PeriodicOrbit
     alpha_sn: float
-    node: object
-    branch: object
+    node: PeriodicOrbit
+    branch: Branch
     bracket: Bracket
     bracket_margin: float
     consistent: bool
