@@ -6,11 +6,15 @@ figure with the Lyapunov exponents below it (--lyapunov)."""
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from ..cliutil import (MAX_AVERAGED, MAX_IMPACTS, MAX_VALUES, CliError, add_output_options, add_param_args,
                        add_renamed, check_outputs, check_scan, nonneg_int, params_from, positive_int, progress_arg, real,
                        tau0_type, write_output, write_plot)
 from ..paper import SCAN_OF
+
+if TYPE_CHECKING:
+    from ..dynamics.bifurcation import Diagram, DiagramLyapunov
 
 NAME = "bifurcation"
 HELP = "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure"
@@ -60,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = check_scan(args, SCAN_OF[args.param].lo, SCAN_OF[args.param].hi)
     d = bifurcation_diagram(base, args.param, lo, hi, args.values, args.transient, args.impacts, args.mode,
                             args.tau0, args.sdot0, args.reverse, progress=progress_arg(args))
-    lyap, result = None, d
+    lyap: tuple | None = None
+    result: Diagram | DiagramLyapunov = d
     if args.lyapunov:
         from ...mapimpl.lyapunov import lyapunov
         from ..dynamics.bifurcation import DiagramLyapunov
