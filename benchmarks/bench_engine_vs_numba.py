@@ -172,17 +172,16 @@ def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
     dev = jax.devices()[0]
     obs = (Capture(target.theta, target.sdot, target.wall, np.asarray(deltas, np.float64)),)
     perm = np.random.default_rng(0).permutation(tau.size)  # a steady mix of short and long orbits
-    q = dict(K.prepare_queue(tau[perm], sd[perm], np.zeros(tau.size, np.int32), P.alpha, P.beta, P.gamma, P.r))
-    q["n_ic"] = jnp.asarray(tau.size, jnp.int32)
-    k = K.make_consts(cap, obs, True, params=(P.alpha, P.beta, P.gamma, P.r))
+    q = K.prepare_queue(tau[perm], sd[perm], np.zeros(tau.size, np.int32), P.arrays())
+    k = K.make_consts(cap, obs, True, params=P.arrays())
     carry = (K.idle_lanes(lanes, obs), K.empty_results(tau.size, obs), jnp.asarray(0, jnp.int32))
     q, k, carry = jax.device_put((q, k, carry), dev)
 
     def impacts(c):
         ln, res, _ = c
-        done = np.asarray(res["status"]) != int(Status.NOT_RUN)
-        busy = (np.asarray(ln["mode"]) != K.MODE_IDLE) | (np.asarray(ln["ic"]) >= 0)
-        return int(np.asarray(res["n"])[done].sum()) + int(np.asarray(ln["n"])[busy].sum())
+        done = np.asarray(res.status) != int(Status.NOT_RUN)
+        busy = (np.asarray(ln.mode) != K.MODE_IDLE) | (np.asarray(ln.ic) >= 0)
+        return int(np.asarray(res.n)[done].sum()) + int(np.asarray(ln.n)[busy].sum())
 
     block = 32
     carry, _ = K.run_blocks(carry, q, k, obs, block=block, max_blocks=blocks)  # compile + reach steady state
@@ -207,12 +206,14 @@ def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
 
     def flight_only(x, _k):
         def one(s):
-            r = K.flight_sc(s["te"], s["sn0"], s["cs0"], s["v0"], P.alpha, P.beta, P.gamma)
-            return {**s, "te": s["te"] + 1e-300 * sum(r)}
+            f, t = s.flight, s.search.t
+            r = K.flight_sc(t, f.sin0, f.cos0, f.v0, P.alpha, P.beta, P.gamma)
+            return s._replace(search=s.search._replace(t=t + 1e-300 * sum(r)))
         return jax.vmap(one)(x)
 
     def sincos_only(x, _k):
-        return {**x, "te": x["te"] + 1e-300 * sum(sincos(x["te"]))}
+        t = x.search.t
+        return x._replace(search=x.search._replace(t=t + 1e-300 * sum(sincos(t))))
 
     out["ns_per_lane_flight_eval"] = per_lane(flight_only)
     out["ns_per_lane_sincos"] = per_lane(sincos_only)

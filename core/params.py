@@ -104,12 +104,14 @@ def check_params(params, name: str = "params") -> "Params":
 
 
 class ParamArrays(NamedTuple):
-    """Parameters as float64 JAX arrays (scalars or broadcastable batches) for the kernels."""
+    """Parameters as float64 arrays (scalars or broadcastable batches) with the field names of
+    :class:`Params`: JAX arrays in the kernels, numpy arrays where per-orbit values are assembled (the
+    engine's queue), the same form from the caller to the kernel."""
 
-    alpha: jnp.ndarray
-    beta: jnp.ndarray
-    gamma: jnp.ndarray
-    r: jnp.ndarray
+    alpha: jnp.ndarray | np.ndarray
+    beta: jnp.ndarray | np.ndarray
+    gamma: jnp.ndarray | np.ndarray
+    r: jnp.ndarray | np.ndarray
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from gear_rattle.mapimpl import Params
+from gear_rattle.core.params import ParamArrays
 from gear_rattle.mapimpl.engine import kernel as K
 from gear_rattle.mapimpl.engine.driver import run
 from gear_rattle.mapimpl.engine.observers import (BandEscape, Capture, Impact, Laminar, Sample, Tangent,
@@ -39,9 +40,8 @@ def _ref_states(params, tau0, sdot0, n):
     return th, sd, w, cyc, np.asarray(tr.infos.stuck)
 
 
-def _queue(th, sd, w, params):
-    return K.prepare_queue(jnp.asarray(th), jnp.asarray(sd), jnp.asarray(w, jnp.int32), params.alpha, params.beta,
-                           params.gamma, params.r)
+def _queue(th, sd, w, params, n_ic=None):
+    return K.prepare_queue(jnp.asarray(th), jnp.asarray(sd), jnp.asarray(w, jnp.int32), params.arrays(), n_ic=n_ic)
 
 
 @pytest.mark.parametrize("tau0,sdot0", [(3.1, 0.2), (3.4, 0.01), (3.29, 0.0568)])
@@ -51,8 +51,9 @@ def test_micro_steps_equal_the_map_step(tau0, sdot0):
     th, sd, w, _, stuck = _ref_states(P, tau0, sdot0, 200)
     k = K.make_consts(10**6, ())
     q = _queue(th[:-1], sd[:-1], w[:-1], P)
-    one = jax.jit(jax.vmap(lambda qq: K.trace(jax.tree_util.tree_map(lambda x: x[None], qq), k, 1)))
-    h = np.asarray(one(q))
+    one = jax.jit(jax.vmap(lambda st, par: K.trace(q._replace(start=st, par=par, n_ic=1), k, 1)))
+    first = lambda tree: jax.tree_util.tree_map(lambda x: x[:, None], tree)  # noqa: E731  (one-orbit queues)
+    h = np.asarray(one(first(q.start), first(q.par)))
     dth = np.abs(np.angle(np.exp(1j * (h[:, 1, 0] - th[1:]))))
     assert np.all(h[:, 1, 2] == w[1:])
     assert dth.max() < 1e-13 and np.abs(h[:, 1, 1] - sd[1:]).max() < 1e-13
@@ -130,37 +131,48 @@ def test_early_exit_and_refill():
     """The block loop stops as soon as the queue is done, long before max_blocks; padded queue entries
     beyond n_ic are never loaded."""
     m = 40
-    q = dict(_queue(np.full(64, 3.2), np.full(64, 0.3), np.zeros(64, np.int32), P))
-    q["n_ic"] = jnp.asarray(m, jnp.int32)
+    q = _queue(np.full(64, 3.2), np.full(64, 0.3), np.zeros(64, np.int32), P, n_ic=m)
     k = K.make_consts(5, ())
     carry = (K.idle_lanes(8, ()), K.empty_results(64, ()), jnp.asarray(0, jnp.int32))
     (lanes, res, nxt), nb = K.run_blocks(carry, q, k, (), block=32, max_blocks=64)
-    assert int(nxt) == m and bool(jnp.all(lanes["mode"] == K.MODE_IDLE))
+    assert int(nxt) == m and bool(jnp.all(lanes.mode == K.MODE_IDLE))
     assert 1 <= int(nb) < 64  # 40 orbits of 5 impacts on 8 lanes: a few blocks
-    st = np.asarray(res["status"])
-    assert np.all(np.asarray(res["n"])[:m] == 5) and np.all(st[:m] == Status.CAPPED)
+    st = np.asarray(res.status)
+    assert np.all(np.asarray(res.n)[:m] == 5) and np.all(st[:m] == Status.CAPPED)
     assert np.all(st[m:] == Status.NOT_RUN)
 
 
 def test_compact_keeps_busy_lanes_in_order():
-    lanes = K.idle_lanes(8, ())
-    lanes["mode"] = jnp.array([K.MODE_IDLE, K.MODE_A, K.MODE_IDLE, K.MODE_N, K.MODE_IDLE, K.MODE_IDLE,
-                               K.MODE_B, K.MODE_IDLE], jnp.int32)
-    lanes["ic"] = jnp.array([-1, 5, -1, 2, -1, -1, 9, -1], jnp.int32)
+    lanes = K.idle_lanes(8, ())._replace(
+        mode=jnp.array([K.MODE_IDLE, K.MODE_A, K.MODE_IDLE, K.MODE_N, K.MODE_IDLE, K.MODE_IDLE, K.MODE_B, K.MODE_IDLE],
+                       jnp.int32),
+        ic=jnp.array([-1, 5, -1, 2, -1, -1, 9, -1], jnp.int32))
     out = K.compact(lanes, size=4)
-    assert out["mode"].shape == (4,)
-    assert np.asarray(out["ic"]).tolist() == [5, 2, 9, -1]
-    assert np.asarray(out["mode"]).tolist() == [K.MODE_A, K.MODE_N, K.MODE_B, K.MODE_IDLE]
+    assert out.mode.shape == (4,)
+    assert np.asarray(out.ic).tolist() == [5, 2, 9, -1]
+    assert np.asarray(out.mode).tolist() == [K.MODE_A, K.MODE_N, K.MODE_B, K.MODE_IDLE]
 
 
 def test_per_orbit_parameters_equal_separate_runs():
     """Lanes carry their own parameters: one run over two parameter sets equals two runs."""
     pa = Params(3.0, 0.1, 0.1, 0.8)
-    both = run([3.2, 3.2], [0.3, 0.3], [0, 0], {"alpha": [3.0, 1.245], "beta": 0.1, "gamma": 0.1, "r": [0.8, 0.9]},
+    both = run([3.2, 3.2], [0.3, 0.3], [0, 0], ParamArrays(alpha=[3.0, 1.245], beta=0.1, gamma=0.1, r=[0.8, 0.9]),
                Sample(keep=30), cap=29, lanes=8, devices=1, progress=False)
     for i, p in enumerate((pa, P)):
         one = run([3.2], [0.3], [0], p, Sample(keep=30), cap=29, lanes=8, devices=1, progress=False)
         assert np.array_equal(both.obs[0]["theta"][i], one.obs[0]["theta"][0])
+
+
+def test_parameters_keep_one_form_down_to_the_lanes():
+    """Issue 32 item 2: the queue and every lane carry the caller's ParamArrays (the field names of
+    Params) with the release constants beside them, not renamed keys or positional arguments."""
+    pa = ParamArrays(jnp.array([3.0, 1.245]), jnp.full(2, 0.1), jnp.full(2, 0.1), jnp.array([0.8, 0.9]))
+    q = K.prepare_queue(jnp.array([3.2, 3.3]), jnp.array([0.3, -0.2]), jnp.array([0, -1], jnp.int32), pa)
+    assert isinstance(q.par.params, ParamArrays) and q.par.params._fields == tuple(vars(P))
+    assert all(np.array_equal(x, y) for x, y in zip(q.par.params, pa)) and int(q.n_ic) == 2
+    lanes = K.idle_lanes(8, ())
+    assert isinstance(lanes.par.params, ParamArrays) and lanes.par.params.alpha.shape == (8,)
+    assert lanes.par.top._fields == ("phase", "sin", "cos", "never") and lanes.at.theta.dtype == jnp.float64
 
 
 def test_interrupt_stops_every_device_thread_promptly(target):

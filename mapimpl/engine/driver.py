@@ -35,11 +35,12 @@ import jax.numpy as jnp
 from ...core._jax import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
 from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_int, check_real
-from ...core.params import Params, validate_arrays
+from ...core.params import ParamArrays, Params, validate_arrays
 from ...core.progress import Bar, sink, wanted
 from ...core.status import Status
 from ..sticking import MAX_STICK_TIME, STICK_TIME
 from . import kernel as K
+from .lanes import RESULT_DTYPES, Lane, Results
 from .observers import Observer
 
 #: Tail of a run: once the queue is empty and at most 1/TAIL_SHRINK of the lanes are busy, the busy
@@ -115,25 +116,23 @@ def cpu_lanes() -> int:
     return 256 if xla_tuning_active() else 512
 
 
-def _params_arrays(params, n: int) -> dict:
-    """Per-orbit parameter arrays (validated) from a Params or a mapping/ParamArrays of arrays."""
+def _params_arrays(params, n: int) -> ParamArrays:
+    """The parameters in the engine's one form: a :class:`~gear_rattle.core.params.ParamArrays` of
+    ``n`` float64 values per field (validated), from a :class:`~gear_rattle.core.params.Params` or a
+    ``ParamArrays`` (or a mapping or sequence with its fields) of one value or one per orbit."""
     if isinstance(params, Params):
-        vals = (params.alpha, params.beta, params.gamma, params.r)
+        vals = params.arrays()
     else:
         try:
-            vals = tuple(params[k] for k in ("alpha", "beta", "gamma", "r")) if isinstance(params, dict) \
-                else tuple(params)
-        except (TypeError, KeyError):
-            raise InputTypeError(f"params is a {type(params).__name__}: allowed a Params or per-orbit arrays "
-                                 "(alpha, beta, gamma, r)") from None
-    pa = validate_arrays(*vals)
-    out = {}
-    for name, x in zip(("alpha", "beta", "gamma", "r"), pa):
-        a = np.asarray(x, np.float64)
-        if a.ndim and a.size != n:
-            raise ValueError(f"params.{name} has {a.size} values: allowed one or one per initial condition ({n})")
-        out[name] = np.broadcast_to(a, (n,)).copy()
-    return out
+            vals = ParamArrays(**params) if isinstance(params, dict) else ParamArrays(*params)
+        except TypeError:
+            raise InputTypeError(f"params is a {type(params).__name__}: allowed a Params or a ParamArrays of "
+                                 "per-orbit arrays (alpha, beta, gamma, r)") from None
+    checked = validate_arrays(*vals)
+    for name, x in zip(ParamArrays._fields, checked):
+        if np.ndim(x) and np.size(x) != n:
+            raise ValueError(f"params.{name} has {np.size(x)} values: allowed one or one per initial condition ({n})")
+    return ParamArrays(*(np.broadcast_to(np.asarray(x, np.float64), (n,)).copy() for x in checked))
 
 
 def _pow2(m: int) -> int:
@@ -151,32 +150,32 @@ def max_kernel_calls(m: int, cap: int, block: int, max_steps: int, every: int = 
     return 2 + -(-int(m) * per_orbit // (int(block) * 64))
 
 
-def _impacts_done(lanes_s, res_s) -> tuple[int, int]:
+def _impacts_done(lanes_s: Lane, res_s: Results) -> tuple[int, int]:
     """``(impacts of the finished orbits, impacts so far of the busy ones)`` of a device's queue."""
-    busy = lanes_s["mode"] != K.MODE_IDLE
-    return (int(jnp.sum(res_s["n"], dtype=jnp.int64)),
-            int(jnp.sum(jnp.where(busy, lanes_s["n"], 0), dtype=jnp.int64)))
+    busy = lanes_s.mode != K.MODE_IDLE
+    return (int(jnp.sum(res_s.n, dtype=jnp.int64)),
+            int(jnp.sum(jnp.where(busy, lanes_s.n, 0), dtype=jnp.int64)))
 
 
 def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, observers) -> None:
     """Run one device's queue to the end: blocks of micro-steps, progress, and the tail compaction."""
     # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded
     # (max_kernel_calls); the guard only turns an engine bug into an error instead of a hang
-    max_calls = max_kernel_calls(jb["m"], cap, block, int(jb["k"]["max_steps"]))
+    max_calls = max_kernel_calls(jb["m"], cap, block, int(jb["k"].max_steps))
     for _call in range(max_calls):
         if stop_event.is_set():
             return
         jb["carry"], _ = K.run_blocks(jb["carry"], jb["q"], jb["k"], observers, block=block, max_blocks=64)
         lanes_s, res_s, next_ic = jb["carry"]
-        n_busy = int(jnp.sum(lanes_s["mode"] != K.MODE_IDLE))
+        n_busy = int(jnp.sum(lanes_s.mode != K.MODE_IDLE))
         drained = int(next_ic) >= jb["m"]
         report(jb, int(next_ic) - n_busy, _impacts_done(lanes_s, res_s) if jb["count_impacts"] else (0, 0))
         if drained and n_busy == 0:
             return
-        size = lanes_s["mode"].shape[0]
+        size = lanes_s.mode.shape[0]
         while drained and n_busy <= size // TAIL_SHRINK and size // TAIL_SHRINK >= TAIL_MIN_LANES:
             size //= TAIL_SHRINK
-        if size < lanes_s["mode"].shape[0]:
+        if size < lanes_s.mode.shape[0]:
             jb["carry"] = (K.compact(lanes_s, size=K.padded_lanes(size)), res_s, next_ic)
             jb["tail"] = K.padded_lanes(size)
     raise RuntimeError("engine made no progress (bug): queue not drained")
@@ -257,9 +256,10 @@ class _Reporter:
         self.base[1] += sum(x["impacts"][0] + x["impacts"][1] for x in jobs)
 
 
-def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa) -> list[dict]:
+def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa: ParamArrays) -> list[dict]:
     """One job per device for the initial conditions ``idx`` of a chunk (every ``ndev``-th one): its queue
-    padded to a power of two, idle lanes and empty results, placed on the device."""
+    padded to a power of two (with copies of its last entry, never loaded), idle lanes and empty results,
+    placed on the device."""
     jobs = []
     for j, dv in enumerate(devs):
         sel = idx[j::len(devs)]
@@ -267,10 +267,8 @@ def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa) -> list[dict
         if m == 0:
             continue
         mp = _pow2(max(m, lanes))
-        pad = lambda a, v: np.concatenate([a, np.full(mp - m, v, a.dtype)])  # noqa: E731
-        q = dict(K.prepare_queue(pad(thr[sel], 0.0), pad(sd[sel], 1.0), pad(w[sel], 0), pad(pa["alpha"][sel], 1.0),
-                                 pad(pa["beta"][sel], 0.1), pad(pa["gamma"][sel], 0.0), pad(pa["r"][sel], 0.9)))
-        q["n_ic"] = jnp.asarray(m, jnp.int32)  # the queue is padded to mp entries; the first m are loaded
+        pad = lambda a: np.pad(a[sel], (0, mp - m), mode="edge")  # noqa: E731
+        q = K.prepare_queue(pad(thr), pad(sd), pad(w), ParamArrays(*map(pad, pa)), n_ic=m)
         carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs),
                  jnp.asarray(0, jnp.int32))
         jobs.append({"sel": sel, "m": m, "q": jax.device_put(q, dv), "k": k_dev[j],
@@ -307,8 +305,8 @@ def _gather(jobs: list[dict], out: dict, out_obs: tuple) -> int:
         m = jb["m"]
         done += m
         for name in out:
-            out[name][sel] = np.asarray(res[name])[:m]
-        for o_out, r_o in zip(out_obs, res["obs"]):
+            out[name][sel] = np.asarray(getattr(res, name))[:m]
+        for o_out, r_o in zip(out_obs, res.obs):
             for nm in o_out:
                 o_out[nm][sel] = np.asarray(r_o[nm])[:m]
     return done
@@ -325,9 +323,10 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     ----------
     theta, sdot, wall : array_like
         Pre-impact states, one per orbit (``theta`` any finite phase, ``sdot != 0``, ``wall`` 0 or -1).
-    params : Params or tuple of arrays
-        One :class:`~gear_rattle.core.params.Params` for all orbits, or per-orbit arrays
-        ``(alpha, beta, gamma, r)``.
+    params : Params or ParamArrays
+        One :class:`~gear_rattle.core.params.Params` for all orbits, or a
+        :class:`~gear_rattle.core.params.ParamArrays` (the same field names; a mapping or a sequence
+        of its fields is taken too) whose fields hold one value or one per orbit.
     observers : Observer or tuple of Observer, optional
         What is measured along each orbit and when it stops (:mod:`gear_rattle.mapimpl.engine.observers`).
     cap : int
@@ -404,14 +403,13 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     if lanes is None:
         lanes = default_lanes(min(th.size, chunk) // len(devs))
     lanes = K.padded_lanes(lanes)
-    uniform = all(np.all(a == a[0]) for a in pa.values())
+    uniform = all(np.all(a == a[0]) for a in pa)
     k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps,
-                      params=tuple(float(pa[nm][0]) for nm in ("alpha", "beta", "gamma", "r")) if uniform else None)
+                      params=ParamArrays(*(a[0] for a in pa)) if uniform else None)
     k_dev = [jax.device_put(k, dv) for dv in devs]
     n = th.size
-    out = {name: np.zeros(n, dt) for name, dt in (("n", np.int32), ("status", np.int32), ("nst", np.int32),
-                                                   ("nstk", np.int32), ("th", np.float64), ("sd", np.float64),
-                                                   ("wall", np.int32), ("cyc", np.int64))}
+    out = {name: np.zeros(n, np.dtype(dt)) for name, dt in RESULT_DTYPES._asdict().items() if name != "obs"}
+    out["cycles"] = out["cycles"].astype(np.int64)
     out_obs = tuple({nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()}
                     for o in obs)
     progress_ = _Reporter(progress, label, n, cap)
@@ -425,9 +423,8 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     elapsed = time.perf_counter() - t0
     progress_.bar.update(int(np.sum(out["n"], dtype=np.int64)), int(np.sum(out["n"], dtype=np.int64)))
     progress_.bar.close()
-    out["cyc"] = out["cyc"] + cyc_start
-    return EngineResult(out["n"], out["status"], out["nst"], out["nstk"], out["th"], out["sd"], out["wall"],
-                        out["cyc"], out_obs, elapsed,
+    out["cycles"] = out["cycles"] + cyc_start
+    return EngineResult(**out, obs=out_obs, elapsed=elapsed,
                         meta={"lanes": int(lanes), "block": int(block), "chunk": int(chunk),
                               "backend": jax.default_backend(), "devices": len(devs), "cap": cap,
                               "uniform_params": bool(uniform), "xla_tuning": xla_tuning_active(),

@@ -28,7 +28,9 @@ Every lane carries its own parameters (alpha, beta, gamma, r) and the constants 
 alone (the release phase of each wall and its sin/cos), prepared once per initial condition by
 :func:`prepare_queue`: one kernel serves a fixed parameter set (Figs. 9-11) and a parameter plane
 (the atlas) alike; when all orbits of a run share one parameter set the lanes read it from the run
-constants instead (:func:`make_consts`, same arithmetic).
+constants instead (:func:`make_consts`, same arithmetic).  The parameters keep the caller's form, a
+:class:`~gear_rattle.core.params.ParamArrays`, down to the lane (``lane.par.params``), and the lane
+state, the queue, the run constants and the results are named structures (:mod:`.lanes`).
 
 The decisions are the finder's own functions -- :func:`mapimpl.finder.safe_step`,
 :func:`~mapimpl.finder.bracket_unique`, :func:`~mapimpl.finder.bracket_test`,
@@ -68,6 +70,9 @@ from ..impact_map import jacobian_sc
 from ...core.status import Status
 from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
+from ...core.params import ParamArrays
+from .lanes import (RESULT_DTYPES, Flight, Lane, LaneParams, Point, Queue, Release, Results, RunConsts, Search, fill,
+                    lane_dtypes)
 from .observers import Impact, Observer
 
 # lane modes: searching (A: safe step, B: bracket test, N: root iteration), pending arrival (L: a loaded
@@ -138,18 +143,19 @@ def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
 
 
 def make_consts(cap, observers: tuple[Observer, ...], stop_at_stick=False, stick_time=STICK_TIME, t_max=T_MAX,
-                max_steps=MAX_STEPS, params=None) -> dict:
-    """Pytree of run constants (JAX arrays): caps, the sticking threshold, the observers' constants
-    (under ``"obs"``, one dict per observer) and, when every orbit of the run has the same parameters
-    ``params = (alpha, beta, gamma, r)``, those parameters and their release constants (under ``"up"``,
-    the :data:`PARAM_FIELDS` as scalars: the lanes then read them from here instead of from their own
-    fields, which saves memory traffic; same arithmetic, same results)."""
-    return dict(
+                max_steps=MAX_STEPS, params: ParamArrays | None = None) -> RunConsts:
+    """The run constants (:class:`~.lanes.RunConsts`, JAX arrays): caps, the sticking threshold, the
+    observers' constants (one dict per observer) and, when every orbit of the run has the same
+    parameters ``params`` (a :class:`~gear_rattle.core.params.ParamArrays` of scalars), those parameters
+    and their release constants (``uniform``, a :class:`~.lanes.LaneParams` of scalars: the lanes then
+    read them from here instead of from their own fields, which saves memory traffic; same arithmetic,
+    same results)."""
+    return RunConsts(
         cap=jnp.asarray(cap, jnp.int32), stick_time=jnp.asarray(stick_time, jnp.float64),
         t_max=jnp.asarray(t_max, jnp.float64), max_steps=jnp.asarray(max_steps, jnp.int32),
         stop_at_stick=jnp.asarray(bool(stop_at_stick)), true=jnp.asarray(True),
         obs=tuple(o.consts() for o in observers),
-        up=None if params is None else param_consts(*params),
+        uniform=None if params is None else param_consts(params),
     )
 
 
@@ -157,25 +163,9 @@ def make_consts(cap, observers: tuple[Observer, ...], stop_at_stick=False, stick
 
 _F64, _I32, _BOOL = jnp.float64, jnp.int32, jnp.bool_
 
-#: Per-lane fields of the engine (observer fields are added under ``"obs"``).
-LANE_FIELDS = dict(
-    # control and orbit bookkeeping
-    mode=_I32, ic=_I32, n=_I32, nst=_I32, nstk=_I32, ostat=_I32,
-    # parameters and the constants that depend on them alone (release phase of each wall, its sin/cos)
-    al=_F64, be=_F64, ga=_F64, rr=_F64, rp0=_F64, rs0=_F64, rc0=_F64, nv0=_BOOL, rp1=_F64, rs1=_F64, rc1=_F64,
-    nv1=_BOOL,
-    # the current pre-impact state
-    th=_F64, sd=_F64, wall=_I32, cyc=_I32, sn=_F64, cs=_F64,
-    # the current flight: start phase and its sin/cos, velocity, wall, turns, sticking delay, whether it
-    # starts from a release, departure certificate, decaying bound term, acceleration at t = 0
-    th0=_F64, sn0=_F64, cs0=_F64, v0=_F64, s0=_F64, cyc0=_I32, tdl=_F64, rel=_BOOL, tdep=_F64, bc=_F64,
-    # the search: what each field holds depends on the mode (see SEARCH_FIELDS)
-    te=_F64, p1=_F64, p2=_F64, hw=_F64, va=_F64, aa=_F64, ba=_F64, top=_BOOL, it=_I32, k=_I32,
-)
-
-#: The search fields by lane mode, in the order ``te, p1, p2, hw, va, aa, ba, top, (it, k)``.  A lane's
-#: modes use disjoint quantities, so they share fields: a search micro-step then reads and writes few
-#: arrays, which is what it costs on a CPU.
+#: The search fields (:class:`~.lanes.Search`) by lane mode, in the order ``t, p1, p2, window, v_a,
+#: a_a, b_a, top, steps (root_iters)``.  A lane's modes use disjoint quantities, so they share fields:
+#: a search micro-step then reads and writes few arrays, which is what it costs on a CPU.
 SEARCH_FIELDS = {
     "A": ("t_a", None, None, "window H", None, None, None, None, "safe steps"),
     "B": ("t_b", "t_a", "h_near", "window after a failed test", "v(t_a)", "a(t_a)", "b(t_a)", "near wall",
@@ -184,73 +174,63 @@ SEARCH_FIELDS = {
     "H": ("t_hit", "sin(phase)", "cos(phase)", None, "v(t_hit)", None, None, "wall", None),
 }
 
-#: Fields copied from the queue when a lane is loaded (see :func:`prepare_queue`).
-QUEUE_FIELDS = ("th", "sd", "wall", "sn", "cs", "al", "be", "ga", "rr",
-                "rp0", "rs0", "rc0", "nv0", "rp1", "rs1", "rc1", "nv1")
 
-#: Per-initial-condition results of the engine itself (observer outputs are added under ``"obs"``).
-RESULT_FIELDS = dict(n=_I32, status=_I32, nst=_I32, nstk=_I32, th=_F64, sd=_F64, wall=_I32, cyc=_I32)
-
-
-def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> dict:
-    """A block of ``nlanes`` idle lanes."""
-    out: dict[str, Any] = {name: jnp.zeros((nlanes,), dt) for name, dt in LANE_FIELDS.items()}
-    out["mode"] = jnp.full((nlanes,), MODE_IDLE, _I32)
-    out["ic"] = jnp.full((nlanes,), -1, _I32)
-    out["obs"] = tuple({name: jnp.broadcast_to(jnp.asarray(init, dt), (nlanes,) + tuple(shape)).astype(dt)
-                        for name, (dt, shape, init) in o.fields().items()} for o in observers)
-    return out
+def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> Lane:
+    """A block of ``nlanes`` idle lanes (:class:`~.lanes.Lane`)."""
+    lanes = fill(lane_dtypes(), (nlanes,))
+    obs = tuple({name: jnp.broadcast_to(jnp.asarray(init, dt), (nlanes,) + tuple(shape)).astype(dt)
+                 for name, (dt, shape, init) in o.fields().items()} for o in observers)
+    return lanes._replace(mode=jnp.full((nlanes,), MODE_IDLE, _I32), ic=jnp.full((nlanes,), -1, _I32), obs=obs)
 
 
-def empty_results(m: int, observers: tuple[Observer, ...]) -> dict:
-    """Result arrays for ``m`` initial conditions (status NOT_RUN until written)."""
-    res: dict[str, Any] = {name: jnp.zeros((m,), dt) for name, dt in RESULT_FIELDS.items()}
-    res["status"] = jnp.full((m,), int(Status.NOT_RUN), _I32)
-    res["nstk"] = jnp.full((m,), -1, _I32)
-    res["obs"] = tuple({name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0])
-                        for name in o.outputs()} for o in observers)
-    return res
+def empty_results(m: int, observers: tuple[Observer, ...]) -> Results:
+    """Result arrays (:class:`~.lanes.Results`) for ``m`` initial conditions (status NOT_RUN until written)."""
+    res = fill(RESULT_DTYPES, (m,))
+    obs = tuple({name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0])
+                 for name in o.outputs()} for o in observers)
+    return res._replace(status=jnp.full((m,), int(Status.NOT_RUN), _I32), first_stick=jnp.full((m,), -1, _I32),
+                        obs=obs)
 
 
 @jax.jit
-def prepare_queue(theta, sdot, wall, alpha, beta, gamma, r):
-    """Queue arrays of initial conditions (pre-impact states ``(theta in [0, 2 pi), sdot, wall)``) with
-    per-orbit parameters: sin/cos of the phase and the release constants of both walls
-    (:func:`mapimpl.sticking.release_phase`), computed once per orbit."""
+def prepare_queue(theta, sdot, wall, params: ParamArrays, n_ic=None) -> Queue:
+    """A queue (:class:`~.lanes.Queue`) of initial conditions -- pre-impact states ``(theta in [0, 2 pi),
+    sdot, wall)`` -- with their parameters ``params`` (a :class:`~gear_rattle.core.params.ParamArrays`,
+    each field one value or one per orbit): sin/cos of the phase and the release constants of both
+    walls (:func:`mapimpl.sticking.release_phase`), computed once per orbit.  ``n_ic``: how many are
+    loaded (default all; the rest pads the queue to a length that is compiled once)."""
     f = lambda x: jnp.asarray(x, _F64) + jnp.zeros(jnp.shape(theta), _F64)  # noqa: E731
-    al, be, ga, rr = f(alpha), f(beta), f(gamma), f(r)
+    pa = ParamArrays(*(f(x) for x in params))
     sn, cs = sincos(theta)
-    q = dict(th=f(theta), sd=f(sdot), wall=jnp.asarray(wall, _I32) + jnp.zeros(jnp.shape(theta), _I32), sn=sn, cs=cs,
-             al=al, be=be, ga=ga, rr=rr)
-    for w, tag in ((0, "0"), (-1, "1")):
-        ph, never = release_phase(jnp.full(jnp.shape(theta), w, _I32), al, be, ga)
+    start = Point(theta=f(theta), sdot=f(sdot), wall=jnp.asarray(wall, _I32) + jnp.zeros(jnp.shape(theta), _I32),
+                  sin=sn, cos=cs)
+
+    def release(w):
+        ph, never = release_phase(jnp.full(jnp.shape(theta), w, _I32), pa.alpha, pa.beta, pa.gamma)
         s, c = sincos(ph)
-        q.update({"rp" + tag: ph, "rs" + tag: s, "rc" + tag: c, "nv" + tag: never})
-    return q
+        return Release(phase=ph, sin=s, cos=c, never=never)
+
+    n = jnp.asarray(jnp.shape(theta)[0] if n_ic is None else n_ic, _I32)
+    return Queue(start=start, par=LaneParams(params=pa, top=release(0), bottom=release(-1)), n_ic=n)
 
 
-#: Lane fields that depend on the parameters alone (see :func:`make_consts`).
-PARAM_FIELDS = ("al", "be", "ga", "rr", "rp0", "rs0", "rc0", "nv0", "rp1", "rs1", "rc1", "nv1")
-
-
-def param_consts(alpha, beta, gamma, r) -> dict:
-    """The :data:`PARAM_FIELDS` of one parameter set, as scalars, computed by :func:`prepare_queue` on a
-    block of :data:`LANE_QUANTUM` orbits (the same compiled arithmetic as a queue's)."""
+def param_consts(params: ParamArrays) -> LaneParams:
+    """The :class:`~.lanes.LaneParams` of one parameter set, as scalars, computed by :func:`prepare_queue`
+    on a block of :data:`LANE_QUANTUM` orbits (the same compiled arithmetic as a queue's)."""
     z = jnp.zeros(LANE_QUANTUM, _F64)
-    q = prepare_queue(z, z + 1.0, jnp.zeros(LANE_QUANTUM, _I32), alpha, beta, gamma, r)
-    return {name: q[name][0] for name in PARAM_FIELDS}
+    q = prepare_queue(z, z + 1.0, jnp.zeros(LANE_QUANTUM, _I32), ParamArrays(*(jnp.asarray(x, _F64) for x in params)))
+    return jax.tree_util.tree_map(lambda x: x[0], q.par)
 
 
-def _with_run_params(fn, k):
-    """``fn`` (one lane's state -> its new state), seeing a run's uniform parameters (``k["up"]``)
+def _with_run_params(fn, k: RunConsts):
+    """``fn`` (one lane's state -> its new state), seeing a run's uniform parameters (``k.uniform``)
     instead of the lane's own parameter fields, which it leaves as they were."""
-    up = k.get("up")
+    up = k.uniform
     if up is None:
         return fn
 
     def one(s):
-        ns = fn({**s, **up})
-        return {**ns, **{name: s[name] for name in up}}
+        return fn(s._replace(par=up))._replace(par=s.par)
 
     return one
 
@@ -260,12 +240,13 @@ def _lanewise(fn, k):
     return jax.vmap(_with_run_params(fn, k))
 
 
-def _step_jacobian(s, t_hit, v1, sn1, cs1):
+def _step_jacobian(s: Lane, t_hit, v1, sn1, cs1):
     """Analytic Jacobian ``d(tau_{n+1}, sdot_{n+1})/d(tau_n, sdot_n)`` of the step that ends at this
     arrival (:func:`mapimpl.impact_map.jacobian_sc`, Eqs. 12-13); zero after a release (a sticking
     step forgets its input)."""
-    J = jacobian_sc(s["sn0"], s["cs0"], s["v0"], t_hit, sn1, cs1, v1, s["al"], s["be"], s["ga"], s["rr"])
-    return jnp.where(s["rel"], jnp.zeros((2, 2)), J)
+    f, p = s.flight, s.par.params
+    J = jacobian_sc(f.sin0, f.cos0, f.v0, t_hit, sn1, cs1, v1, p.alpha, p.beta, p.gamma, p.r)
+    return jnp.where(f.released, jnp.zeros((2, 2)), J)
 
 
 def search_step(s, k):
@@ -283,28 +264,29 @@ def search_step(s, k):
     so the neglected terms are below ~1e-18) -- for the next :func:`arrival` pass.  Lanes in other modes
     are left unchanged."""
     _decide_barriers()
-    alpha, beta, gamma = s["al"], s["be"], s["ga"]
-    mode = s["mode"]
+    p, f, S = s.par.params, s.flight, s.search
+    alpha, beta, gamma = p.alpha, p.beta, p.gamma
+    mode = s.mode
     inA, inB, inN = (mode == MODE_A), (mode == MODE_B), (mode == MODE_N)
-    te, p1, p2, top = s["te"], s["p1"], s["p2"], s["top"]
-    ds, v, a, e, sin_t, cos_t = _barrier(flight_sc(te, s["sn0"], s["cs0"], s["v0"], alpha, beta, gamma), k["true"])
-    b = s["bc"] * e
-    du, dl = _gaps(s["s0"], ds)
+    te, p1, p2, top = S.t, S.p1, S.p2, S.top
+    ds, v, a, e, sin_t, cos_t = _barrier(flight_sc(te, f.sin0, f.cos0, f.v0, alpha, beta, gamma), k.true)
+    b = f.bound * e
+    du, dl = _gaps(f.s0, ds)
     g = jnp.where(top, du, dl)
     dg = jnp.where(top, -v, v)
     # A: one safe step from te = t_a
-    A = safe_step(ds, v, a, alpha + b, alpha + beta * b, te, s["hw"], s["it"], s["tdep"], s["s0"], k["t_max"],
-                  k["max_steps"])
+    A = safe_step(ds, v, a, alpha + b, alpha + beta * b, te, S.window, S.steps, f.t_depart, f.s0, k.t_max,
+                  k.max_steps)
     # B: the bracket test at te = t_b (p1 = t_a, p2 = h_near), uniqueness from both ends of [t_a, t_b],
     # with the derivative bounds at t_a (valid for all later times)
-    ba = s["ba"]
+    ba = S.b_a
     m2_a, m3_a = alpha + ba, alpha + beta * ba
-    bracket, stalled = bracket_test(g, p1, p2, bracket_unique(s["va"], s["aa"], v, a, m2_a, m3_a, te - p1))
+    bracket, stalled = bracket_test(g, p1, p2, bracket_unique(S.v_a, S.a_a, v, a, m2_a, m3_a, te - p1))
     # B (on a bracket) and N: one root step at te, on [t_a, t_b] or on [p1, p2] = [lo, hi]
     xr, lo_r, hi_r, r_done, kr = root_step(te, g, dg, jnp.where(top, -a, a), p1, jnp.where(inB, te, p2), m2_a, m3_a,
-                                           jnp.where(inB, 0, s["k"]))
+                                           jnp.where(inB, 0, S.root_iters))
     A, bracket, stalled, xr, lo_r, hi_r, r_done, kr = _barrier((A, bracket, stalled, xr, lo_r, hi_r, r_done, kr),
-                                                               k["true"])
+                                                               k.true)
 
     # outcome
     graze = inB & stalled
@@ -315,66 +297,63 @@ def search_step(s, k):
     jerk = forcing_rate_sc(sin_t, cos_t, alpha, beta) - beta * a
     B_retry = inB & ~bracket & ~stalled  # no root in [t_a, t_b]: go on to t_a + h_near
     B_t_new = p1 + p2
-    B_beyond = B_t_new > k["t_max"]
+    B_beyond = B_t_new > k.t_max
     escaped = (B_retry & B_beyond) | (inA & A.move & A.beyond)
-    failed = (B_retry & ~B_beyond & (s["it"] >= k["max_steps"])) | (inA & A.move & ~A.beyond & A.capped)
+    failed = (B_retry & ~B_beyond & (S.steps >= k.max_steps)) | (inA & A.move & ~A.beyond & A.capped)
     toB = inA & ~A.move
 
-    ns = dict(s)
     new_mode = jnp.where(inA, jnp.where(A.move, MODE_A, MODE_B),
                          jnp.where(root, jnp.where(r_done, MODE_H, MODE_N),
                                    jnp.where(inB, jnp.where(stalled, MODE_H, MODE_A), mode)))
-    ns["mode"] = jnp.where(escaped | failed, MODE_IDLE, new_mode).astype(_I32)
-    ns["ostat"] = jnp.where(escaped, int(Status.NO_IMPACT),
-                            jnp.where(failed, int(Status.STEP_CAP), s["ostat"])).astype(_I32)
-    ns["te"] = jnp.where(inA, jnp.where(A.move, A.t_next, A.t_b),
-                         jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te)))
     half_dx2 = 0.5 * dx * dx
-    ns["p1"] = jnp.where(hit, sin_t + cos_t * dx - sin_t * half_dx2,
-                         jnp.where(toB, te, jnp.where(root, lo_r, p1)))
-    ns["p2"] = jnp.where(hit, cos_t - sin_t * dx - cos_t * half_dx2,
-                         jnp.where(toB, A.h_near, jnp.where(root, hi_r, p2)))
-    ns["hw"] = jnp.where(inA, A.H_new, s["hw"])
-    ns["va"] = jnp.where(toB, v, jnp.where(root & r_done, v + a * dx + jerk * half_dx2, s["va"]))
-    ns["top"] = jnp.where(toB, A.top_near, top)
-    ns["aa"] = jnp.where(toB, a, s["aa"])
-    ns["ba"] = jnp.where(toB, b, s["ba"])
-    ns["it"] = jnp.where(inA, A.it, s["it"])
-    ns["k"] = jnp.where(root, kr, s["k"])
-    return ns
+    search = Search(
+        t=jnp.where(inA, jnp.where(A.move, A.t_next, A.t_b), jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te))),
+        p1=jnp.where(hit, sin_t + cos_t * dx - sin_t * half_dx2, jnp.where(toB, te, jnp.where(root, lo_r, p1))),
+        p2=jnp.where(hit, cos_t - sin_t * dx - cos_t * half_dx2, jnp.where(toB, A.h_near, jnp.where(root, hi_r, p2))),
+        window=jnp.where(inA, A.H_new, S.window),
+        v_a=jnp.where(toB, v, jnp.where(root & r_done, v + a * dx + jerk * half_dx2, S.v_a)),
+        a_a=jnp.where(toB, a, S.a_a),
+        b_a=jnp.where(toB, b, S.b_a),
+        top=jnp.where(toB, A.top_near, top),
+        steps=jnp.where(inA, A.it, S.steps),
+        root_iters=jnp.where(root, kr, S.root_iters))
+    return s._replace(
+        mode=jnp.where(escaped | failed, MODE_IDLE, new_mode).astype(_I32),
+        status=jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), s.status)).astype(_I32),
+        search=search)
 
 
-def _arrived_state(s, k):
+def _arrived_state(s: Lane, k: RunConsts):
     """The pre-impact state a lane in mode ``L`` (loaded) or ``H`` (impact found) arrives at: ``(inL,
     arrive, t_hit, (theta, cycles, sdot, wall, sin, cos, dt, n))`` behind one barrier (part of :func:`arrival`)."""
-    mode = s["mode"]
+    mode, at, S, f = s.mode, s.at, s.search, s.flight
     inL = mode == MODE_L
     arrive = inL | (mode == MODE_H)
-    t_hit = s["te"]
-    th_r, turns = reduce_phase(s["th0"] + t_hit, jnp.asarray(0, _I32))
-    th1 = jnp.where(inL, s["th"], th_r)
-    cyc1 = jnp.where(inL, s["cyc"], s["cyc0"] + turns)
-    v1 = jnp.where(inL, s["sd"], s["va"])
-    wall1 = jnp.where(inL, s["wall"], jnp.where(s["top"], 0, -1)).astype(_I32)
-    sn1 = jnp.where(inL, s["sn"], s["p1"])
-    cs1 = jnp.where(inL, s["cs"], s["p2"])
-    dt1 = jnp.where(inL, 0.0, s["tdl"] + t_hit)
-    n1 = jnp.where(inL, s["n"], s["n"] + 1)
-    return inL, arrive, t_hit, _barrier((th1, cyc1, v1, wall1, sn1, cs1, dt1, n1), k["true"])
+    t_hit = S.t
+    th_r, turns = reduce_phase(f.theta0 + t_hit, jnp.asarray(0, _I32))
+    th1 = jnp.where(inL, at.theta, th_r)
+    cyc1 = jnp.where(inL, s.cycles, f.cycles0 + turns)
+    v1 = jnp.where(inL, at.sdot, S.v_a)
+    wall1 = jnp.where(inL, at.wall, jnp.where(S.top, 0, -1)).astype(_I32)
+    sn1 = jnp.where(inL, at.sin, S.p1)
+    cs1 = jnp.where(inL, at.cos, S.p2)
+    dt1 = jnp.where(inL, 0.0, f.delay + t_hit)
+    n1 = jnp.where(inL, s.n, s.n + 1)
+    return inL, arrive, t_hit, _barrier((th1, cyc1, v1, wall1, sn1, cs1, dt1, n1), k.true)
 
 
-def _observe(s, k, observers: tuple[Observer, ...], ev: Impact, arrive):
+def _observe(s: Lane, k: RunConsts, observers: tuple[Observer, ...], ev: Impact, arrive):
     """Every observer sees the arrival ``ev`` (its state kept where the lane did not arrive): ``(the new
     observer states, stop)`` (part of :func:`arrival`)."""
     obs_new, stop = [], jnp.asarray(False)
-    for o, so, ko in zip(observers, s["obs"], k["obs"]):
+    for o, so, ko in zip(observers, s.obs, k.obs):
         upd, st = o.update(so, ev, ko)
         obs_new.append({name: jnp.where(arrive, upd[name], so[name]) for name in so})
         stop = stop | st
     return obs_new, arrive & stop
 
 
-def arrival(s, k, observers: tuple[Observer, ...]):
+def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
     """The arrival pass of one lane (scalar state ``s``; vmapped by the engine): a lane in mode ``H``
     (an impact found by :func:`search_step`) or ``L`` (a freshly loaded initial condition) arrives at a
     pre-impact state.  The observers see it, the sticking policy of :mod:`mapimpl.sticking` decides the
@@ -382,14 +361,15 @@ def arrival(s, k, observers: tuple[Observer, ...]):
     safe step is taken from its closed-form state at ``t = 0`` (no evaluation); the lane goes on in
     mode ``A`` or ``B``, or its orbit ends.  Lanes in other modes are left unchanged."""
     _decide_barriers()
-    alpha, beta, gamma, r = s["al"], s["be"], s["ga"], s["rr"]
-    mode = s["mode"]
+    p, top_rel, bot_rel, f, S = s.par.params, s.par.top, s.par.bottom, s.flight, s.search
+    alpha, beta, gamma, r = p.alpha, p.beta, p.gamma, p.r
+    mode = s.mode
     inL, arrive, t_hit, (th1, cyc1, v1, wall1, sn1, cs1, dt1, n1) = _arrived_state(s, k)
     # the sticking policy for the step from this impact (release constants of the lane's parameters)
     top1 = wall1 == 0
-    rel_ph = jnp.where(top1, s["rp0"], s["rp1"])
-    never = jnp.where(top1, s["nv0"], s["nv1"])
-    stick, _, delay, _ = decide_stick_sc(th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k["stick_time"],
+    rel_ph = jnp.where(top1, top_rel.phase, bot_rel.phase)
+    never = jnp.where(top1, top_rel.never, bot_rel.never)
+    stick, _, delay, _ = decide_stick_sc(th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k.stick_time,
                                          release=(rel_ph, never))
     stuck_forever = stick & ~jnp.isfinite(delay)
     # the observers
@@ -397,15 +377,15 @@ def arrival(s, k, observers: tuple[Observer, ...]):
                 jac=_step_jacobian(s, t_hit, v1, sn1, cs1) if any(o.needs_jacobian for o in observers) else None,
                 jac_ok=~inL)
     obs_new, stop = _observe(s, k, observers, ev, arrive)
-    capped = arrive & (n1 >= k["cap"])
-    stick_stop = arrive & stick & ~stuck_forever & k["stop_at_stick"]
+    capped = arrive & (n1 >= k.cap)
+    stick_stop = arrive & stick & ~stuck_forever & k.stop_at_stick
     orbit_end = stop | capped | (arrive & stuck_forever) | stick_stop
     go_on = arrive & ~orbit_end
     go_stick = go_on & stick
     # the next flight: off the wall just hit with -r v1 (Eq. 11), or from the release state
     th0_new = jnp.where(go_stick, rel_ph, th1)
-    sn0_new = jnp.where(go_stick, jnp.where(top1, s["rs0"], s["rs1"]), sn1)
-    cs0_new = jnp.where(go_stick, jnp.where(top1, s["rc0"], s["rc1"]), cs1)
+    sn0_new = jnp.where(go_stick, jnp.where(top1, top_rel.sin, bot_rel.sin), sn1)
+    cs0_new = jnp.where(go_stick, jnp.where(top1, top_rel.cos, bot_rel.cos), cs1)
     v0_new = jnp.where(go_stick, 0.0, -r * v1)
     s0_new = wall1.astype(_F64)
     delay_used = jnp.where(go_stick, delay, 0.0)
@@ -415,115 +395,120 @@ def arrival(s, k, observers: tuple[Observer, ...]):
     a0_new = forcing_sc(sn0_new, cs0_new, alpha, beta, gamma) - beta * v0_new
     (stop, capped, stick_stop, orbit_end, go_on, go_stick, th0_new, sn0_new, cs0_new, v0_new, delay_used, cyc0_new,
      tdep_new, bc_new, a0_new) = _barrier((stop, capped, stick_stop, orbit_end, go_on, go_stick, th0_new, sn0_new,
-                                           cs0_new, v0_new, delay_used, cyc0_new, tdep_new, bc_new, a0_new), k["true"])
+                                           cs0_new, v0_new, delay_used, cyc0_new, tdep_new, bc_new, a0_new), k.true)
     # the new flight's first safe step, from its state at t = 0: (ds, v, a) = (0, v0, a0) in closed form
     A = _barrier(safe_step(0.0, v0_new, a0_new, alpha + bc_new, alpha + beta * bc_new, 0.0, _H0, 0, tdep_new, s0_new,
-                           k["t_max"], k["max_steps"]), k["true"])
+                           k.t_max, k.max_steps), k.true)
     escaped = go_on & A.move & A.beyond
     failed = go_on & A.move & ~A.beyond & A.capped
 
-    ns = dict(s)
-    ns["mode"] = jnp.where(arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE,
-                                             jnp.where(A.move, MODE_A, MODE_B)), mode).astype(_I32)
-    ostat = jnp.where(stop, int(Status.STOPPED), jnp.where(arrive & stuck_forever, int(Status.STUCK_FOREVER),
-                      jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s["ostat"]))))
-    ns["ostat"] = jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), ostat)).astype(_I32)
+    status = jnp.where(stop, int(Status.STOPPED), jnp.where(arrive & stuck_forever, int(Status.STUCK_FOREVER),
+                       jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s.status))))
     # the search of the new flight: mode A from its first safe step, or B (t_a = 0)
-    ns["te"] = jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), s["te"])
-    ns["p1"] = jnp.where(go_on, 0.0, s["p1"])
-    ns["p2"] = jnp.where(go_on, A.h_near, s["p2"])
-    ns["hw"] = jnp.where(go_on, A.H_new, s["hw"])
-    ns["va"] = jnp.where(go_on, v0_new, s["va"])
-    ns["top"] = jnp.where(go_on, A.top_near, s["top"])
-    ns["aa"] = jnp.where(go_on, a0_new, s["aa"])
-    ns["ba"] = jnp.where(go_on, bc_new, s["ba"])
-    ns["it"] = jnp.where(go_on, A.it, s["it"])
+    search = S._replace(
+        t=jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), S.t),
+        p1=jnp.where(go_on, 0.0, S.p1),
+        p2=jnp.where(go_on, A.h_near, S.p2),
+        window=jnp.where(go_on, A.H_new, S.window),
+        v_a=jnp.where(go_on, v0_new, S.v_a),
+        top=jnp.where(go_on, A.top_near, S.top),
+        a_a=jnp.where(go_on, a0_new, S.a_a),
+        b_a=jnp.where(go_on, bc_new, S.b_a),
+        steps=jnp.where(go_on, A.it, S.steps))
     # arrival at a pre-impact state
-    ns["th"] = jnp.where(arrive, th1, s["th"])
-    ns["sd"] = jnp.where(arrive, v1, s["sd"])
-    ns["wall"] = jnp.where(arrive, wall1, s["wall"])
-    ns["cyc"] = jnp.where(arrive, cyc1, s["cyc"])
-    ns["n"] = jnp.where(arrive, n1, s["n"])
-    ns["obs"] = tuple(obs_new)
+    at = s.at._replace(theta=jnp.where(arrive, th1, s.at.theta), sdot=jnp.where(arrive, v1, s.at.sdot),
+                       wall=jnp.where(arrive, wall1, s.at.wall))
     sticks = arrive & stick
-    ns["nst"] = s["nst"] + sticks.astype(_I32)
-    ns["nstk"] = jnp.where(sticks & (s["nstk"] < 0), n1, s["nstk"])
     # the new flight
-    ns["th0"] = jnp.where(go_on, th0_new, s["th0"])
-    ns["sn0"] = jnp.where(go_on, sn0_new, s["sn0"])
-    ns["cs0"] = jnp.where(go_on, cs0_new, s["cs0"])
-    ns["v0"] = jnp.where(go_on, v0_new, s["v0"])
-    ns["s0"] = jnp.where(go_on, s0_new, s["s0"])
-    ns["cyc0"] = jnp.where(go_on, cyc0_new, s["cyc0"])
-    ns["tdl"] = jnp.where(go_on, delay_used, s["tdl"])
-    ns["rel"] = jnp.where(go_on, go_stick, s["rel"])
-    ns["tdep"] = jnp.where(go_on, tdep_new, s["tdep"])
-    ns["bc"] = jnp.where(go_on, bc_new, s["bc"])
-    return ns
+    flight = Flight(
+        theta0=jnp.where(go_on, th0_new, f.theta0),
+        sin0=jnp.where(go_on, sn0_new, f.sin0),
+        cos0=jnp.where(go_on, cs0_new, f.cos0),
+        v0=jnp.where(go_on, v0_new, f.v0),
+        s0=jnp.where(go_on, s0_new, f.s0),
+        cycles0=jnp.where(go_on, cyc0_new, f.cycles0),
+        delay=jnp.where(go_on, delay_used, f.delay),
+        released=jnp.where(go_on, go_stick, f.released),
+        t_depart=jnp.where(go_on, tdep_new, f.t_depart),
+        bound=jnp.where(go_on, bc_new, f.bound))
+    return s._replace(
+        mode=jnp.where(arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE,
+                                         jnp.where(A.move, MODE_A, MODE_B)), mode).astype(_I32),
+        status=jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), status)).astype(_I32),
+        search=search, at=at,
+        cycles=jnp.where(arrive, cyc1, s.cycles),
+        n=jnp.where(arrive, n1, s.n),
+        obs=tuple(obs_new),
+        nstick=s.nstick + sticks.astype(_I32),
+        first_stick=jnp.where(sticks & (s.first_stick < 0), n1, s.first_stick),
+        flight=flight)
 
 
-def _load(lanes, queue, next_ic, n_ic, observers):
+def _load(lanes: Lane, queue: Queue, next_ic, observers) -> tuple[Lane, Any]:
     """Refill idle lanes from the queue (in lane order); returns ``(lanes, next_ic)``."""
-    idle = lanes["mode"] == MODE_IDLE
+    n_ic = queue.n_ic
+    idle = lanes.mode == MODE_IDLE
     rank = jnp.cumsum(idle.astype(_I32)) - 1
     idx = next_ic + rank
     take = idle & (idx < n_ic)
     j = jnp.clip(idx, 0, jnp.maximum(n_ic - 1, 0))
-    new = dict(lanes)
-    new["mode"] = jnp.where(take, MODE_L, lanes["mode"])
-    new["ic"] = jnp.where(take, idx, jnp.where(idle, -1, lanes["ic"]))
-    for name in QUEUE_FIELDS:
-        new[name] = jnp.where(take, queue[name][j], lanes[name])
-    for name, val in (("n", 0), ("cyc", 0), ("nst", 0), ("nstk", -1), ("ostat", int(Status.CAPPED))):
-        new[name] = jnp.where(take, val, lanes[name])
+    loaded = lambda q, lane: jnp.where(take, q[j], lane)  # noqa: E731
+    at = jax.tree_util.tree_map(loaded, queue.start, lanes.at)
+    par = jax.tree_util.tree_map(loaded, queue.par, lanes.par)
 
     def reset(o, fields):
         return {name: jnp.where(take.reshape((-1,) + (1,) * (o[name].ndim - 1)),
                                 jnp.asarray(fields[name][2], fields[name][0]), o[name]) for name in o}
 
-    new["obs"] = tuple(reset(o, ob.fields()) for o, ob in zip(lanes["obs"], observers))
+    new = lanes._replace(
+        mode=jnp.where(take, MODE_L, lanes.mode),
+        ic=jnp.where(take, idx, jnp.where(idle, -1, lanes.ic)),
+        at=at, par=par,
+        n=jnp.where(take, 0, lanes.n), cycles=jnp.where(take, 0, lanes.cycles),
+        nstick=jnp.where(take, 0, lanes.nstick), first_stick=jnp.where(take, -1, lanes.first_stick),
+        status=jnp.where(take, int(Status.CAPPED), lanes.status),
+        obs=tuple(reset(o, ob.fields()) for o, ob in zip(lanes.obs, observers)))
     # (jnp.sum of int32 is int64 under x64: the count is added in int64, as before strict promotion)
     return new, (next_ic.astype(jnp.int64) + jnp.sum(take.astype(_I32))).astype(_I32)
 
 
-def _store(res, lanes, observers):
+def _store(res: Results, lanes: Lane) -> tuple[Results, Lane]:
     """Write the results of lanes whose orbit has ended (idle with an IC index) into ``res``."""
-    done = (lanes["mode"] == MODE_IDLE) & (lanes["ic"] >= 0)
-    n_ic = res["n"].shape[0]
-    j = jnp.where(done, lanes["ic"], n_ic)  # out of range -> dropped
-    out = {}
-    for name, src in (("n", "n"), ("status", "ostat"), ("nst", "nst"), ("nstk", "nstk"), ("th", "th"), ("sd", "sd"),
-                      ("wall", "wall"), ("cyc", "cyc")):
-        out[name] = res[name].at[j].set(lanes[src], mode="drop")
-    out["obs"] = tuple({name: r_o[name].at[j].set(l_o[name], mode="drop") for name in r_o}
-                       for r_o, l_o in zip(res["obs"], lanes["obs"]))
-    lanes = dict(lanes)
-    lanes["ic"] = jnp.where(done, -1, lanes["ic"])
-    return out, lanes
+    done = (lanes.mode == MODE_IDLE) & (lanes.ic >= 0)
+    n_ic = res.n.shape[0]
+    j = jnp.where(done, lanes.ic, n_ic)  # out of range -> dropped
+    put = lambda r, x: r.at[j].set(x, mode="drop")  # noqa: E731
+    at = lanes.at
+    out = Results(n=put(res.n, lanes.n), status=put(res.status, lanes.status), nstick=put(res.nstick, lanes.nstick),
+                  first_stick=put(res.first_stick, lanes.first_stick), theta=put(res.theta, at.theta),
+                  sdot=put(res.sdot, at.sdot), wall=put(res.wall, at.wall), cycles=put(res.cycles, lanes.cycles),
+                  obs=tuple({name: put(r_o[name], l_o[name]) for name in r_o} for r_o, l_o in zip(res.obs, lanes.obs)))
+    return out, lanes._replace(ic=jnp.where(done, -1, lanes.ic))
 
 
 @partial(jax.jit, static_argnames=("size",))
-def compact(lanes, size: int):
+def compact(lanes: Lane, size: int) -> Lane:
     """The lanes packed into a block of ``size`` lanes: busy ones first (in lane order), then idle ones.
 
     For the tail of a run, when the queue is empty and only a few long orbits are left: a micro-step
     costs the same for idle and busy lanes, so the last orbits finish far sooner on fewer lanes.  The
     caller ensures at most ``size`` lanes are busy (a lane whose finished orbit is not yet stored
     counts as busy) and that ``size`` is a multiple of :data:`LANE_QUANTUM`."""
-    busy = (lanes["mode"] != MODE_IDLE) | (lanes["ic"] >= 0)
+    busy = (lanes.mode != MODE_IDLE) | (lanes.ic >= 0)
     order = jnp.argsort(~busy, stable=True)[:size]
     return jax.tree_util.tree_map(lambda x: x[order], lanes)
 
 
 @partial(jax.jit, static_argnames=("observers", "block", "max_blocks", "every"))
-def run_blocks(carry, queue, k, observers, block=32, max_blocks=64, every=ARRIVE_EVERY):
+def run_blocks(carry: tuple[Lane, Results, Any], queue: Queue, k: RunConsts, observers, block=32, max_blocks=64,
+               every=ARRIVE_EVERY):
     """Advance the engine by up to ``max_blocks`` blocks (early exit when every initial condition of
     the queue is done).  A block refills idle lanes from the queue, then runs ``block`` search
     micro-steps (:func:`search_step`) with an arrival pass (:func:`arrival`) before the first and after
-    every ``every``-th of them, and stores the orbits that ended.  ``carry = (lanes, res, next_ic)``;
-    ``queue``: the arrays of :func:`prepare_queue` (possibly padded) and ``n_ic``, the number of
-    initial conditions in it (a run-time value, so one compilation serves every queue of the same
-    padded length).
+    every ``every``-th of them, and stores the orbits that ended.  ``carry = (lanes, res, next_ic)``
+    (:class:`~.lanes.Lane`, :class:`~.lanes.Results`, the next initial condition to load); ``queue``:
+    a :class:`~.lanes.Queue` from :func:`prepare_queue`, possibly padded beyond its ``n_ic`` initial
+    conditions (a run-time value, so one compilation serves every queue of the same padded length).
 
     Why an arrival pass every few steps, not at every one: the lanes advance in lock step, so every
     lane pays for every code path of a pass.  The search (one flight evaluation and a few decisions) is
@@ -532,14 +517,14 @@ def run_blocks(carry, queue, k, observers, block=32, max_blocks=64, every=ARRIVE
     happens once per ~5 evaluations.  A lane whose search has ended waits (mode ``H``) for the next pass,
     about ``(every - 1) / 2`` micro-steps on average; each lane's arithmetic does not depend on when its
     arrival is processed."""
-    n_ic = queue["n_ic"]
+    n_ic = queue.n_ic
     search_v = _lanewise(lambda s: search_step(s, k), k)
     arrive_v = _lanewise(lambda s: arrival(s, k, observers), k)
     every = max(1, min(int(every), int(block)))
 
     def cond(c):
         lanes, res, next_ic, nb = c
-        busy = jnp.any(lanes["mode"] != MODE_IDLE) | (next_ic < n_ic)
+        busy = jnp.any(lanes.mode != MODE_IDLE) | (next_ic < n_ic)
         return busy & (nb < max_blocks)
 
     def sub_block(_, lanes):
@@ -548,9 +533,9 @@ def run_blocks(carry, queue, k, observers, block=32, max_blocks=64, every=ARRIVE
 
     def body(c):
         lanes, res, next_ic, nb = c
-        lanes, next_ic = _load(lanes, queue, next_ic, n_ic, observers)
+        lanes, next_ic = _load(lanes, queue, next_ic, observers)
         lanes = jax.lax.fori_loop(0, block // every, sub_block, arrive_v(lanes))
-        res, lanes = _store(res, lanes, observers)
+        res, lanes = _store(res, lanes)
         return lanes, res, next_ic, nb + 1
 
     lanes, res, next_ic = carry
@@ -559,31 +544,31 @@ def run_blocks(carry, queue, k, observers, block=32, max_blocks=64, every=ARRIVE
 
 
 @partial(jax.jit, static_argnames=("n_impacts", "observers"))
-def trace(queue1, k, n_impacts: int, observers=()):
+def trace(queue1: Queue, k: RunConsts, n_impacts: int, observers=()):
     """Pre-impact states ``(theta, sdot, wall)`` after each of ``n_impacts`` map iterations of one orbit
     (``queue1``: a one-orbit queue from :func:`prepare_queue`), computed by the engine's micro-steps
     on a single unbatched lane (for tests against :func:`mapimpl.impact_map.step`).  Entries after the
     orbit ended are NaN."""
-    lane = jax.tree_util.tree_map(lambda x: x[0], idle_lanes(1, observers))
-    for name in QUEUE_FIELDS:
-        lane[name] = queue1[name][0]
-    lane.update(mode=jnp.int32(MODE_L), ic=jnp.int32(0), nstk=jnp.int32(-1), ostat=jnp.int32(int(Status.CAPPED)))
+    first = lambda tree: jax.tree_util.tree_map(lambda x: x[0], tree)  # noqa: E731
+    lane = first(idle_lanes(1, observers))._replace(
+        at=first(queue1.start), par=first(queue1.par), mode=jnp.int32(MODE_L), ic=jnp.int32(0),
+        first_stick=jnp.int32(-1), status=jnp.int32(int(Status.CAPPED)))
     hist = jnp.full((n_impacts + 1, 3), jnp.nan)
     # every flight ends within its micro-step bound (a guard against an engine bug, never reached)
-    bound = (n_impacts + 1) * (flight_micro_steps(k["max_steps"], every=1) + 1)
+    bound = (n_impacts + 1) * (flight_micro_steps(k.max_steps, every=1) + 1)
 
     def cond(c):
         l, h, it = c
-        return (l["mode"] != MODE_IDLE) & (l["n"] < n_impacts) & (it < bound)
+        return (l.mode != MODE_IDLE) & (l.n < n_impacts) & (it < bound)
 
     one_micro_step = _with_run_params(lambda s: arrival(search_step(s, k), k, observers), k)
 
     def body(c):
         l, h, it = c
         l2 = one_micro_step(l)
-        arrived = (l2["n"] != l["n"]) | (it == 0)
-        row = jnp.stack([l2["th"], l2["sd"], l2["wall"].astype(_F64)])
-        h = jnp.where(arrived, h.at[l2["n"]].set(row), h)
+        arrived = (l2.n != l.n) | (it == 0)
+        row = jnp.stack([l2.at.theta, l2.at.sdot, l2.at.wall.astype(_F64)])
+        h = jnp.where(arrived, h.at[l2.n].set(row), h)
         return l2, h, it + 1
 
     lane, hist, _ = jax.lax.while_loop(cond, body, (lane, hist, jnp.asarray(0, _I32)))
@@ -605,6 +590,6 @@ def padded_lanes(lanes: int) -> int:
 
 
 __all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "MODE_H", "ARRIVE_EVERY", "LANE_QUANTUM",
-           "SEARCH_FIELDS", "PARAM_FIELDS", "flight_sc", "make_consts", "param_consts", "idle_lanes", "empty_results",
+           "SEARCH_FIELDS", "flight_sc", "make_consts", "param_consts", "idle_lanes", "empty_results",
            "prepare_queue", "search_step", "arrival", "compact", "run_blocks", "trace", "flight_micro_steps",
            "padded_lanes"]

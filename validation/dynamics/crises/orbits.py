@@ -20,7 +20,7 @@ import numpy as np
 from ....core import _jax  # noqa: F401
 import jax
 from ....mapimpl.engine.driver import EngineResult, run
-from ....core.params import Params
+from ....core.params import ParamArrays, Params, param_arrays
 from ....mapimpl.periodic import PeriodicOrbit, find_periodic
 from ....core.checks import check_int
 from ....core.paper import PAPER_BOX
@@ -71,7 +71,7 @@ class Timer:
         return False
 
 
-def engine_run(cost: Cost | None, label: str, theta, sdot, wall, params: dict | Params, observers, cap: int,
+def engine_run(cost: Cost | None, label: str, theta, sdot, wall, params: Params | ParamArrays, observers, cap: int,
                lanes: int | None = None, progress=None) -> EngineResult:
     """:func:`gear_rattle.mapimpl.engine.driver.run` with its cost added to ``cost``.  ``lanes``: default
     as many as there are orbits per device, up to 512 on the CPU and 65536 on an accelerator (these
@@ -85,12 +85,10 @@ def engine_run(cost: Cost | None, label: str, theta, sdot, wall, params: dict | 
     return res
 
 
-def per_orbit(base: Params, name: str, values) -> dict:
-    """Per-orbit parameter arrays for :func:`engine_run`: ``name`` takes ``values``, the rest ``base``."""
-    v = np.asarray(values, np.float64)
-    d: dict[str, float | np.ndarray] = {"alpha": base.alpha, "beta": base.beta, "gamma": base.gamma, "r": base.r}
-    d[name] = v
-    return d
+def per_orbit(base: Params, name: str, values) -> ParamArrays:
+    """Per-orbit parameters for :func:`engine_run` (:func:`gear_rattle.core.params.param_arrays`):
+    ``name`` (``"alpha"`` or ``"r"``) takes ``values``, the rest ``base``."""
+    return param_arrays(base, name, values)
 
 
 def box_ics(n: int, seed: int, box=BOX) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
