@@ -119,7 +119,7 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     p = param_arrays(base, param, values)
     m = values.size
     res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
-              tuple(p), Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
+              p, Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
     t, ex = res.obs[0], exponents(res)  # the one rule for sticking steps and orbits that ended early
     rr = np.asarray(p.r) * np.ones(m)
     beta = np.asarray(p.beta) * np.ones(m)

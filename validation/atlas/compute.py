@@ -56,7 +56,7 @@ from ...mapimpl.engine.exponents import exponents
 from ...mapimpl.engine.observers import Sample, Tangent
 from ...core.phase import TWO_PI
 from ...core.checks import InputTypeError, check_array
-from ...core.params import RANGES, validate_arrays
+from ...core.params import RANGES, ParamArrays, validate_arrays
 from ...core.status import Status
 from .spec import AtlasSpec
 
@@ -154,7 +154,7 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
     lyap_end = spec.transient + spec.impacts
     obs = (Tangent(n_start=spec.transient, n_end=lyap_end), Sample(keep=W, n_start=lyap_end + 1))
     res = run(np.full(n, spec.tau0), np.full(n, spec.sdot0), np.full(n, 0 if spec.sdot0 > 0 else -1, np.int32),
-              {"alpha": a, "beta": spec.beta, "gamma": spec.gamma, "r": rr}, obs, cap=lyap_end + W,
+              ParamArrays(alpha=a, beta=np.full(n, spec.beta), gamma=np.full(n, spec.gamma), r=rr), obs, cap=lyap_end + W,
               progress=False, label="atlas")
     sm = res.obs[1]
     ex = exponents(res, 0)  # the one rule: -inf where a step stuck, NaN where the orbit ended early

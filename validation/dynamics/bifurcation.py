@@ -123,7 +123,7 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
     if mode == "fixed":
         # one orbit per value on the many-orbit engine: impacts transient+1 .. transient+keep recorded
         res = run(np.full(n_values, float(tau0)), np.full(n_values, float(sdot0)),
-                  np.full(n_values, 0 if sdot0 > 0 else -1, np.int32), tuple(p),
+                  np.full(n_values, 0 if sdot0 > 0 else -1, np.int32), p,
                   Sample(keep=keep, n_start=transient + 1), cap=transient + keep, progress=progress,
                   label="bifurcation")
         sd, th = res.obs[0]["sdot"], res.obs[0]["theta"]
