@@ -31,6 +31,7 @@ from __future__ import annotations
 from .core._jax import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS
+from . import _tracks  # noqa: F401  (registers the numerical tracks' loaders: core.registry)
 
 from importlib import metadata as _metadata
 

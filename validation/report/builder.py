@@ -21,8 +21,8 @@ from pathlib import Path
 from ..io import read_json, write_json
 from ..io.atomic import DEVICE_ERRNOS, outputs, read_manifest, staged, write_text_atomic
 from .verdict import Z_AGREE
-from .document import (Document, Section, check_keys, document_json, render_html, render_markdown,
-                       sections_from_json, verdict_counts)
+from .docjson import document_json, sections_from_json
+from .document import Document, Section, check_keys, render_html, render_markdown, verdict_counts
 
 #: Section modules, in report order.
 SECTIONS = [

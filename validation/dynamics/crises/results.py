@@ -38,7 +38,7 @@ class R2Result(_Result):
 
     ``r2``: the fold (Newton on the extended system); ``fold``: the
     :class:`~..continuation.BifurcationPoint` (orbit, multipliers, residual); ``branch``: the 6-impact
-    branch (:func:`.orbits.six_impact_branch`, shared with r1); ``laminar``: :class:`.r2.LaminarStats`
+    branch (:func:`gear_rattle.mapimpl.branches.six_impact_branch`, shared with r1); ``laminar``: :class:`.r2.LaminarStats`
     at ``r2 + dr``; ``slope``, ``slope_err``: fitted exponent of ``<l> ~ (r - r2)^slope`` (theory -1/2)
     and its total error ``sqrt(stat^2 + syst^2)``; ``slope_stat`` (weighted fit, scaled by
     sqrt(chi^2_red) when > 1), ``slope_syst`` (fit-range systematic), ``chi2_red``; ``subranges``:
