@@ -27,7 +27,8 @@ not import JAX itself (numpy only): JAX is imported where a computation first ne
 
 from __future__ import annotations
 
-# first: in the command line, core._jax takes over Ctrl-C before anything slow is imported
+# first: in the command line, validation.interrupt takes over Ctrl-C before anything slow is imported
+from .validation import interrupt as _interrupt  # noqa: F401
 from .core._jax import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS

@@ -61,7 +61,7 @@ class Context:
 
     def say(self, text: str) -> None:
         if self.progress:
-            from ...core.progress import clear_status
+            from ..progress import clear_status
 
             clear_status()
             print(f"[report] {text}", file=sys.stderr, flush=True)
