@@ -1,8 +1,9 @@
 """The forcing of Eq. (3): the acceleration ``s''`` of the tooth at rest, ``f(tau) = -alpha sin(tau) +
 alpha beta cos(tau) + gamma``, and its rate.  On a wall it is the contact acceleration that the sticking
-policy (:mod:`.sticking`) reads; the closed-form flight (:mod:`.flight`) is built on it.  A module of its
-own so that the numerical tracks, which share the sticking policy, import no part of the closed-form
-flight (the import contract in pyproject.toml).
+policy (:mod:`gear_rattle.mapimpl.sticking`) reads; the closed-form flight
+(:mod:`gear_rattle.mapimpl.flight`) is built on it.  A module of its own so that the numerical tracks,
+which share the sticking policy, import no part of the closed-form flight (the import contract in
+pyproject.toml).
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """The command line's process control: Ctrl-C (SIGINT) and SIGTERM end a ``gear-rattle`` command at once,
 with one line on stderr and exit status 130 or 143, after removing the output writer's temporary files.
 
-* :func:`exit_interrupted`, the handler (installed by :func:`gear_rattle.validation.cli.main` for the
-  command's run, and -- :func:`_guard_command_line_start` -- as soon as this package is imported in the
-  command line, so that a signal while JAX loads gives the one line too, not a traceback);
+* :func:`exit_interrupted`, the handler (installed by the console script's ``main``,
+  ``validation/cli.py``, for the command's run, and -- ``_guard_command_line_start`` -- as soon as this
+  package is imported in the command line, so that a signal while JAX loads gives the one line too, not
+  a traceback);
 * :data:`CLEANUP` and :data:`CLEANUP_LOCK`, the files that the handler removes and the lock that the
   output writer (:mod:`gear_rattle.validation.io.atomic`) and the atlas lock
   (:mod:`gear_rattle.validation.atlas.lock`) hold while they register or rename them;
