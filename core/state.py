@@ -132,9 +132,9 @@ def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, prog
     next starts, so a KeyboardInterrupt (Ctrl-C) acts between chunks, within a fraction of a second.
     The steps are the same as in one long scan (the carry is the state), so the result is bitwise the
     same.  The run stops early once the orbit has ended (terminal states are frozen by the map, and
-    :func:`sequence_from_states` stops at the first one).  ``progress``: a bar of the impacts (None or
-    True: when stderr is a terminal and the run lasts over a second) or a callable ``(done, n)``
-    (:mod:`core.progress`).
+    :func:`sequence_from_states` stops at the first one).  ``progress``: a bar of the impacts (None:
+    when stderr is a terminal and the run lasts over a second; True: also lines where it is not; in
+    the phase "compiling" until the first chunk returns) or a callable ``(done, n)`` (:mod:`core.progress`).
     """
     from .progress import Bar, sink, wanted
 
@@ -146,7 +146,7 @@ def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, prog
     parts = []
     state, done = first, 0
     report = sink(progress)
-    with Bar(label, total=n, enabled=wanted(progress), delay=1.0) as bar:
+    with Bar(label, total=n, enabled=wanted(progress), phase="compiling", delay=1.0) as bar:
         while done < n:
             traj = run(state, pa, length)
             take = min(length, n - done)

@@ -27,10 +27,12 @@ not import JAX itself (numpy only): JAX is imported where a computation first ne
 
 from __future__ import annotations
 
-# first: in the command line, core._jax takes over Ctrl-C before anything slow is imported
+# first: in the command line, validation.interrupt takes over Ctrl-C before anything slow is imported
+from .validation import interrupt as _interrupt  # noqa: F401
 from .core._jax import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS
+from . import _tracks  # noqa: F401  (registers the numerical tracks' loaders: core.registry)
 
 from importlib import metadata as _metadata
 

@@ -42,7 +42,8 @@ from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from .flight import derivative_bounds, flight, forcing_rate_sc, forcing_sc
+from .flight import derivative_bounds, flight
+from .forcing import forcing_rate_sc, forcing_sc
 from ..core.status import FlightOutcome
 from ..core.checks import check_int, check_real, check_tau0, is_traced
 from ..core.params import check_param

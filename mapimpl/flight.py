@@ -101,30 +101,6 @@ def sinc(x):
     return jnp.where(small, 1.0 - x * x / 6.0, jnp.sin(xs) / xs)
 
 
-def forcing(tau, alpha, beta, gamma):
-    """f(tau) = -alpha sin(tau) + alpha beta cos(tau) + gamma: the acceleration s'' at rest (Eq. 3).
-
-    On a wall with ``sdot = 0`` this is the contact acceleration: it presses into the upper wall
-    ``s = 0`` when positive and into the lower wall ``s = -1`` when negative.
-    """
-    return forcing_sc(jnp.sin(tau), jnp.cos(tau), alpha, beta, gamma)
-
-
-def forcing_sc(sin_t, cos_t, alpha, beta, gamma):
-    """:func:`forcing` from ``sin(tau), cos(tau)``."""
-    return -alpha * sin_t + alpha * beta * cos_t + gamma
-
-
-def forcing_rate(tau, alpha, beta):
-    """df/dtau = -alpha cos(tau) - alpha beta sin(tau)."""
-    return forcing_rate_sc(jnp.sin(tau), jnp.cos(tau), alpha, beta)
-
-
-def forcing_rate_sc(sin_t, cos_t, alpha, beta):
-    """:func:`forcing_rate` from ``sin(tau), cos(tau)``."""
-    return -alpha * cos_t - alpha * beta * sin_t
-
-
 class FlightPoint(NamedTuple):
     """Displacement from the start ``ds = s - s0``, velocity ``v = sdot`` and acceleration ``a = s''``."""
 

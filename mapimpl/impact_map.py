@@ -31,7 +31,8 @@ import jax
 import jax.numpy as jnp
 
 from .finder import T_MAX, first_impact
-from .flight import forcing_sc, phi12
+from .flight import phi12
+from .forcing import forcing_sc
 from ..core.phase import reduce_phase
 from ..core.params import ParamArrays
 from ..core.state import MapState, StepInfo, Trajectory

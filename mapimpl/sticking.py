@@ -29,7 +29,7 @@ from typing import NamedTuple
 from ..core import _jax  # noqa: F401
 import jax.numpy as jnp
 
-from .flight import forcing_rate_sc, forcing_sc
+from .forcing import forcing_rate_sc, forcing_sc
 from ..core.checks import check_real, check_tau0, check_wall, is_traced
 from ..core.params import check_param
 from ..core.phase import TWO_PI, reduce_phase

@@ -3,8 +3,9 @@
 
 * ``map`` -- the closed form (:mod:`mapimpl`): :func:`mapimpl.orbit.map_orbit`, and the analytic
   Jacobian of Eqs. (12)-(13) from :func:`mapimpl.impact_map.step`;
-* ``scipy`` and ``diffrax`` -- Eq. (3) integrated numerically (:mod:`reference`), imported on first
-  use (diffrax is heavy; a missing integrator shows up as ``ImportError`` from :func:`get`);
+* ``scipy`` and ``diffrax`` -- Eq. (3) integrated numerically (:mod:`reference`), loaded on first use
+  by the loader that the package's facade registers (:mod:`core.registry`: this layer may not import
+  ``reference``; diffrax is heavy; a missing integrator shows up as ``ImportError`` from :func:`get`);
 * ``certified`` (:func:`orbit` only, :data:`ORBIT_TRACKS`) -- the orbit in ball arithmetic, every row
   proven, with float64 bounds (:func:`mapimpl.certified.track.track_orbit`); it has no float64 step
   Jacobian, so it is not a :class:`core.results.Track` of :data:`TRACKS`.
@@ -14,7 +15,6 @@ All return :class:`core.results.ImpactSequence` and :class:`core.results.StepJac
 
 from __future__ import annotations
 
-import importlib
 import math
 
 import numpy as np
@@ -28,13 +28,11 @@ from ..core.state import make_state
 from .orbit import map_orbit
 from ..core.checks import MAX_IMPACTS, check_choice, check_int, check_start, start_wall
 from ..core.params import Params, check_params
+from ..core.registry import load_track
 from ..core.results import TRACKS, ImpactSequence, StepJacobian, Track, TrackFunctions
 
 #: The tracks :func:`orbit` takes: :data:`TRACKS` and the certified track.
 ORBIT_TRACKS = TRACKS + ("certified",)
-
-#: Where the numerical tracks live (each module defines ``TRACK``).
-_MODULES = {"scipy": "gear_rattle.reference.scipy_track", "diffrax": "gear_rattle.reference.diffrax_track"}
 
 _step_jit = jax.jit(step)
 
@@ -79,7 +77,7 @@ def get(track: str) -> Track:
     check_choice("track", track, TRACKS)
     if track == "map":
         return MAP
-    return importlib.import_module(_MODULES[track]).TRACK
+    return load_track(track)
 
 
 def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,

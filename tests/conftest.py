@@ -17,6 +17,9 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ["JAX_NUMPY_RANK_PROMOTION"] = "raise"
 os.environ["JAX_NUMPY_DTYPE_PROMOTION"] = "strict"
 # commands run as subprocesses keep their compiled kernels in this session's own cache, not the user's
+# the commands' progress lines on a stderr that is not a terminal (validation/progress.py) are off: the
+# tests read stderr for notes and errors; tests/test_progress_lines.py turns them on where it tests them
+os.environ.setdefault("GEAR_RATTLE_PROGRESS_LINES", "0")
 os.environ.setdefault("GEAR_RATTLE_JAX_CACHE", os.path.join(tempfile.mkdtemp(prefix="gear-rattle-test-"), "jax"))
 
 from hypothesis import settings

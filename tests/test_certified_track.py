@@ -270,8 +270,9 @@ def test_progress_reports_impacts_and_the_bar_shows_the_precision(monkeypatch, c
     certified_orbit(FIG3, 0.0, 0.5, 5, progress=lambda done, total: seen.append((done, total)))
     assert seen and seen[-1] == (5, 5)
     from gear_rattle.core import progress as P
+    from gear_rattle.validation import progress as display
 
-    monkeypatch.setattr(P, "stderr_is_terminal", lambda: True)
+    monkeypatch.setattr(display, "stderr_is_terminal", lambda: True)
     with P.Bar("certified orbit") as bar:
         certified_orbit(FIG3, 0.0, 0.5, 5, progress=bar)
     err = capsys.readouterr().err

@@ -5,7 +5,7 @@ import pytest
 
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.periodic import find_periodic
-from gear_rattle.validation.dynamics.continuation import closed_form_det, continue_orbit, locate, orbit_states
+from gear_rattle.mapimpl.continuation import closed_form_det, continue_orbit, locate, orbit_states
 from gear_rattle.validation.dynamics.crises import attractor_point, goy_exponent, fit_crisis_fixed
 
 
@@ -71,7 +71,7 @@ def test_dG_dmu_by_autodiff_agrees_with_central_differences(orbit6, name):
     """The continuation's tangent column dG/dmu (Eqs. 12-13 composed 6 times, Fig. 4a's orbit) comes from
     forward-mode autodiff; central differences (step 1e-7, truncation error of order h^2) agree to
     their own accuracy: measured 6.4e-8 (r) and 2.2e-7 (alpha) relative, bound 1e-6."""
-    from gear_rattle.validation.dynamics.continuation import _Problem
+    from gear_rattle.mapimpl.continuation import _Problem
 
     p, o = orbit6
     prob = _Problem(p, name, 6, 1, int(o.walls[0]))

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from gear_rattle.mapimpl.flight import flight, flight_textbook, forcing, phi1, phi2, sigma
+from gear_rattle.mapimpl.flight import flight, flight_textbook, phi1, phi2, sigma
+from gear_rattle.mapimpl.forcing import forcing
 from gear_rattle.core.phase import reduce_phase, TWO_PI
 from mpref import s_and_v
 

@@ -59,6 +59,27 @@ def test_the_contract_catches_a_library_module_importing_validation(tmp_path):
     assert r.returncode != 0 and "BROKEN" in r.stdout and "gear_rattle.mapimpl.sticking" in r.stdout
 
 
+def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions(tmp_path):
+    """Issue 32 item 3: siblings joined by ``|`` may not import each other (io and plots; the analyses and
+    the suite), an import inside a function counts, and so does an indirect one (no contract allows it)."""
+    src = tmp_path / "src"
+    _installed_layout(src)
+    pkg = src / "gear_rattle" / "validation"
+    for rel, line in (("golden/suite.py", "\ndef _f():\n    from ..transient import experiments  # noqa\n"),
+                      ("io/transients.py", "\nfrom ..plots import base  # noqa\n")):
+        f = pkg / rel
+        f.write_text(f.read_text() + line)
+    code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
+    pytest.importorskip("importlinter", reason="import-linter not installed (pip install -e '.[dev]')")
+    r = subprocess.run([sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"], cwd=src,
+                       capture_output=True, text=True, env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
+                       timeout=300)
+    out = " ".join(r.stdout.split())
+    assert r.returncode != 0 and "BROKEN" in out, out[-3000:]
+    assert "gear_rattle.validation.golden is not allowed to import gear_rattle.validation.transient" in out
+    assert "gear_rattle.validation.io is not allowed to import gear_rattle.validation.plots" in out
+
+
 # ------------------------------------------------------------------------------------------------
 # one definition of each paper constant
 

@@ -8,7 +8,7 @@ from hypothesis import example, given, settings, strategies as st
 
 from gear_rattle.mapimpl import Params
 from gear_rattle.mapimpl.batch import batch_iterate, states
-from gear_rattle.mapimpl.flight import forcing, forcing_rate
+from gear_rattle.mapimpl.forcing import forcing, forcing_rate
 from gear_rattle.core.status import Status
 from gear_rattle.mapimpl.impact_map import step
 from gear_rattle.core.state import make_state

@@ -27,7 +27,7 @@ from gear_rattle.core.paper import DELTA, PAPER_DECIMAL  # noqa: E402
 from gear_rattle.mapimpl import certified as C  # noqa: E402
 from gear_rattle.mapimpl.certified import duration as D  # noqa: E402
 from gear_rattle.validation.commands import release as CLI  # noqa: E402
-from gear_rattle.validation.transient import float64_release as F  # noqa: E402
+from gear_rattle.mapimpl import float64_release as F  # noqa: E402
 
 FIG11 = Params(1.245, 0.1, 0.1, 0.9)
 CASE = "0012-release-orbit-fig11"

@@ -465,7 +465,7 @@ def test_a_read_only_file_system_is_one_line_before_computing(tmp_path, capsys):
 MID_COMMIT = r'''
 import os, signal, sys, threading, time
 from pathlib import Path
-from gear_rattle.core import _jax
+from gear_rattle.validation import interrupt
 from gear_rattle.validation.io import atomic
 
 out = Path(sys.argv[1])
@@ -474,7 +474,7 @@ def replace(tmp, target):  # 0.2 s per rename: the signal lands between two of t
     time.sleep(0.2)
     slow(tmp, target)
 atomic._replace = replace
-signal.signal(signal.SIGTERM, _jax.exit_interrupted)
+signal.signal(signal.SIGTERM, interrupt.exit_interrupted)
 def work():
     with atomic.outputs("check", out, argv=["test"]):
         for i in range(5):

@@ -15,7 +15,8 @@ import sys
 import threading
 import warnings
 
-from ..core import _jax, progress
+from ..core import _jax
+from . import interrupt, progress
 from ..core._jax import use_compilation_cache, use_cpu_devices
 from .cliutil import COMMAND, CliError, CommandFailed, output_fault
 from .extras import FULL_INSTALL, MissingExtra, require_full_install
@@ -127,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
     The console script (``argv`` None) runs the command in a worker thread with SIGINT blocked and
     keeps the main thread waiting, so that Ctrl-C is taken by the main thread at once, whatever the
     command is doing -- loading JAX, compiling (XLA holds the thread for seconds), computing -- and ends
-    the process with one line and status 130 (:func:`core._jax.exit_interrupted`).  Threads and
+    the process with one line and status 130 (:func:`.interrupt.exit_interrupted`).  Threads and
     processes the command starts inherit the blocked signal: the atlas's Dask workers do not see the
     terminal's Ctrl-C (they exit with this process).  SIGTERM ends it the same way with status 143; it is
     not blocked in the worker (sent to one process, it must still reach the atlas's Dask worker
@@ -153,9 +154,9 @@ def _main_in_worker() -> int:
         except BaseException as e:  # noqa: BLE001 - re-raised in the main thread (SystemExit included)
             outcome["exc"] = e
 
-    for sig in _jax.EXIT_SIGNALS:  # SIGINT and SIGTERM: one line, 130 or 143
+    for sig in interrupt.EXIT_SIGNALS:  # SIGINT and SIGTERM: one line, 130 or 143
         if signal.getsignal(sig) is not signal.SIG_IGN:  # started ignoring it (`cmd &` in a script):
-            signal.signal(sig, _jax.exit_interrupted)  # keep ignoring it, as Python itself does
+            signal.signal(sig, interrupt.exit_interrupted)  # keep ignoring it, as Python itself does
     worker = threading.Thread(target=work, name="gear-rattle-command", daemon=True)
     worker.start()
     while worker.is_alive():
@@ -186,7 +187,7 @@ class _WarningNotes:
         if key in self.seen:
             return
         self.seen.add(key)
-        label = _jax.INTERRUPTED[0].rsplit(":", 1)[0]  # "gear-rattle COMMAND"
+        label = interrupt.INTERRUPTED[0].rsplit(":", 1)[0]  # "gear-rattle COMMAND"
         text = " ".join(str(message).split())
         if "persistent compilation cache" in text:  # JAX recompiled: say where the cache is
             text += (f" (recompiled; the cache is {_jax.compilation_cache_dir()!r}: delete it to rebuild it, or "
@@ -202,7 +203,7 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         parser = build_parser(only)
         args = parser.parse_args(argv)
         command = args.command
-        _jax.INTERRUPTED[0] = f"gear-rattle {command}: interrupted"
+        interrupt.INTERRUPTED[0] = f"gear-rattle {command}: interrupted"
         COMMAND[0] = f"gear-rattle {command}"
         if not getattr(args, "quiet", False):  # until the first bar, note or result (a terminal only)
             progress.status(f"gear-rattle {command}: starting (loading libraries)")

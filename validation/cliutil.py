@@ -82,9 +82,9 @@ def check_scan(args: argparse.Namespace, lo: float, hi: float, *, strict: bool =
 
 
 def progress_arg(args: argparse.Namespace):
-    """A library function's ``progress=``: False with ``--quiet``, else None (bars when stderr is a
-    terminal)."""
-    return False if getattr(args, "quiet", False) else None
+    """A library function's ``progress=``: False with ``--quiet``, else True (a bar per stage when stderr
+    is a terminal, else a line per stage that lasts a few seconds: :mod:`gear_rattle.validation.progress`)."""
+    return False if getattr(args, "quiet", False) else True
 
 
 # ------------------------------------------------------------------------------ option types
@@ -188,7 +188,7 @@ COMMAND = ["gear-rattle"]
 def note(text: str) -> None:
     """A note for the person running the command: one line on stderr, ``gear-rattle COMMAND: note: text``.
     Notes never go to stdout (it carries the result only) and ``--quiet`` does not hide them."""
-    from ..core.progress import clear_status
+    from .progress import clear_status
 
     clear_status()
     print(f"{COMMAND[0]}: note: {' '.join(str(text).split())}", file=sys.stderr)  # noqa: T201 - the one note writer
@@ -205,7 +205,7 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
     """A command's result on stdout: strict JSON (``result``) when stdout is a pipe or a file, for
     programs; on a terminal the few ``human`` lines instead, and where the JSON is (the ``files``
     written, and ``... | cat`` or ``> result.json`` for the same JSON on stdout)."""
-    from ..core.progress import clear_status
+    from .progress import clear_status
     from .io import json_text
     from .io.atomic import commit_pending
 
@@ -223,7 +223,7 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
 def to_stdout(text: str) -> None:
     """``text`` on stdout (flushed); a closed stdout or one that cannot be written (``> /dev/full``) is a
     one-line :class:`CliError` (a broken pipe stays a BrokenPipeError: the command line stops quietly)."""
-    from ..core.progress import clear_status
+    from .progress import clear_status
 
     clear_status()
     if sys.stdout is None:

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..mapimpl import Params
-from ..mapimpl.flight import forcing
+from ..mapimpl.forcing import forcing
 from ..core.status import Status
 
 #: The declared cross-validation domain (issue 3).

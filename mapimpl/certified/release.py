@@ -6,7 +6,7 @@ every stuck orbit at the canonical phase of the wall (a function of the paramete
 ``sdot = 0``, so all of them continue on **one** post-release orbit, and the transient duration of
 an initial condition that first sticks at its impact ``n_s`` is ``n_s + T_post``.  That orbit is
 chaotic: in float64 it loses every digit after a few tens of impacts (see
-:func:`validation.transient.float64_release.float64_horizon`), so a float64 ``T_post`` is a sample,
+:func:`mapimpl.float64_release.float64_horizon`), so a float64 ``T_post`` is a sample,
 not a value.  Here it is a value.
 
 **Definition.**  The release flight leaves ``wall`` at the canonical release phase with

@@ -344,8 +344,9 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     devices : int or list, optional
         A count or list of JAX devices (default all of the default backend).
     progress : bool or callable, optional
-        None or True (a bar in impacts when stderr is a terminal), False, or a callable
-        ``(orbits done, orbits)`` instead of the bar (:mod:`gear_rattle.core.progress`).
+        None (a bar in impacts when stderr is a terminal), True (the bar, or lines where stderr is not
+        a terminal), False, or a callable ``(orbits done, orbits)`` instead of the bar
+        (:mod:`gear_rattle.core.progress`).
     label : str, optional
         The progress bar's label.
     stick_time, t_max, max_steps : optional

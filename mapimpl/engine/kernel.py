@@ -64,7 +64,8 @@ import jax.numpy as jnp
 
 from ..finder import (_H0, _NEWTON_ITERS, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
                       safe_step)
-from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, forcing_rate_sc, forcing_sc, phi12
+from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, phi12
+from ..forcing import forcing_rate_sc, forcing_sc
 from ...core.phase import reduce_phase
 from ..impact_map import jacobian_sc
 from ...core.status import Status

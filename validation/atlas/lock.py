@@ -31,7 +31,7 @@ import socket
 import sys
 from pathlib import Path
 
-from ...core import _jax
+from .. import interrupt
 
 
 class StoreBusy(RuntimeError):
@@ -115,7 +115,7 @@ class StoreLock:
                 continue
             self.stale = _read(fd)  # a record without a flock: its writer was killed
             self.fd = fd
-            _jax.CLEANUP.append(str(self.path))  # Ctrl-C or SIGTERM on the command line removes it too
+            interrupt.CLEANUP.append(str(self.path))  # Ctrl-C or SIGTERM on the command line removes it too
             try:
                 os.ftruncate(fd, 0)
                 os.pwrite(fd, (json.dumps(_record(self.command)) + "\n").encode(), 0)
@@ -133,7 +133,7 @@ class StoreLock:
         if fd is None:
             return
         with contextlib.suppress(ValueError):
-            _jax.CLEANUP.remove(str(self.path))
+            interrupt.CLEANUP.remove(str(self.path))
         try:
             os.unlink(self.path)  # while still locked: a waiter that opened it retries on the new file
         except OSError:

@@ -31,7 +31,7 @@ from typing import Callable
 
 import numpy as np
 
-from ...core import _jax
+from .. import interrupt
 from ...core.checks import InputTypeError, check_int
 from .compute import compute_tile
 from ..extras import require
@@ -364,7 +364,7 @@ def _local_cluster(n_workers: int):
     # the tracker first: launching it unblocks SIGINT in the launching thread (CPython's resource_tracker).
     # On the command line its stderr is /dev/null: a Ctrl-C ends the process at once (the workers exit with
     # it), and the tracker then frees the cluster's semaphores -- with a "leaked semaphore" warning each time
-    _start_resource_tracker(quiet=_jax.command_line_process())
+    _start_resource_tracker(quiet=interrupt.command_line_process())
     old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         with _quiet_dask():

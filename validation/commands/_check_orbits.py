@@ -13,7 +13,7 @@ from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
-from .check import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
+from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:

@@ -112,7 +112,7 @@ def _converged(args, base, tau0: float, sdot0: float):
 
 
 def _find(args, base, tau0: float, sdot0: float) -> int:
-    from ..dynamics.continuation import closed_form_det
+    from ...mapimpl.continuation import closed_form_det
 
     o = _converged(args, base, tau0, sdot0)
     write_output(args, o)
@@ -124,7 +124,7 @@ def _find(args, base, tau0: float, sdot0: float) -> int:
 
 
 def _continue(args, base, tau0: float, sdot0: float, bounds: tuple[float, float]) -> int:
-    from ..dynamics.continuation import continue_orbit
+    from ...mapimpl.continuation import continue_orbit
 
     _converged(args, base, tau0, sdot0)  # the start, before the branch (a failure is exit 1, not a usage error)
     br = continue_orbit(base, args.param, tau0, sdot0, args.period, args.turns, mu_range=bounds,

@@ -18,7 +18,7 @@ from ...mapimpl.certified.duration import PRECISIONS, ROUNDINGS, certified_relea
     model_params
 from ...mapimpl.certified.model import PARAM_NAMES, parameter_ball
 from ...mapimpl.certified.release import MAX_IMPACTS
-from ..transient.float64_release import float64_release_duration
+from ...mapimpl.float64_release import float64_release_duration
 
 
 def _precisions(text: str) -> tuple:

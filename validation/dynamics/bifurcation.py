@@ -32,6 +32,7 @@ from ...mapimpl.impact_map import step
 from ...core.state import MapState, make_state
 from ...core.checks import MAX_VALUES, check_int, check_tau0
 from ...core.params import DIAGRAM_PARAMS, ParamArrays, Params, check_value, param_arrays
+from ...core.progress import sink
 
 if TYPE_CHECKING:  # imported where the exponents are computed (diagram_lyapunov)
     from ...mapimpl.lyapunov import LyapunovResult
@@ -131,8 +132,9 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
     else:
         st = make_state(jnp.asarray(tau0), jnp.asarray(sdot0))
         sd, th, act = (np.asarray(a) for a in _sweep(st, p, transient, keep))
-        if progress is not None:
-            progress(n_values, n_values)
+        report = sink(progress)  # True, None and False draw no bar here: one scan, nothing to count
+        if report is not None:
+            report(n_values, n_values)
     sd = np.where(act, sd, np.nan)
     return Diagram(param, values, sd, th, act, mode, base, transient, keep)
 

@@ -137,13 +137,13 @@ def _horizon_rule_text() -> str:
 
 def finish_release_case(spec: Spec) -> Spec:
     """The found settings of the release case: its horizon from the Lyapunov exponent of the
-    *transient* at alpha = 1.245 (:func:`validation.transient.float64_release.transient_lyapunov`), and, as
+    *transient* at alpha = 1.245 (:func:`mapimpl.float64_release.transient_lyapunov`), and, as
     oracle notes, the certified post-release duration ``T_post`` for the decimal parameters and for their
     float64 roundings (:func:`mapimpl.certified.certified_release_duration`, several minutes), the float64
     engine's own ``T_post``, ``delta`` and the capture target."""
     from ...core.paper import DELTA, PAPER_DECIMAL
     from ...mapimpl import certified as rel
-    from ..transient import float64_release as fl64
+    from ...mapimpl import float64_release as fl64
 
     ly = fl64.transient_lyapunov(spec.params, n_side=RELEASE_LYAP_SIDE, impacts=RELEASE_LYAP_IMPACTS)
     lam = round(ly["lambda1"], 3)
@@ -168,7 +168,7 @@ def finish_release_case(spec: Spec) -> Spec:
         "lyapunov_lambda1_per_impact": lam,
         "lyapunov_method": (f"QR exponent of the transient: {ly['orbits']} orbits from a {RELEASE_LYAP_SIDE}x"
                             f"{RELEASE_LYAP_SIDE} grid of the Fig. 11 box, {ly['impacts_used']} impacts before each "
-                            "comes within 1e-2 of the 4-impact orbit (validation/transient/float64_release.py)"),
+                            "comes within 1e-2 of the 4-impact orbit (mapimpl/float64_release.py)"),
         "horizon_rule": _horizon_rule_text(),
         "T_post_definition": ("the release flight's first impact is post-release impact 1 (here: impact 1); T_post is "
                               "the index of the first post-release impact whose pre-impact state lies within delta "
@@ -195,7 +195,7 @@ def specs() -> list[Spec]:
     graze_v = contacts.grazing_speed_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
     miss_v = contacts.near_miss_offset_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
     n_chaos, lam = chaos_horizon(FIG3)
-    from ..transient.float64_release import stick_at_once_state
+    from ...mapimpl.float64_release import stick_at_once_state
 
     rel_tau0, rel_sdot0 = stick_at_once_state(FIG11, 0, tau0=RELEASE_TAU0)
     return [
@@ -257,7 +257,7 @@ def specs() -> list[Spec]:
              tags=("chaotic", "paper", "sticking", "release"),
              notes={"sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
                                   "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
-                                  "to 3 significant digits (validation/transient/float64_release.py: "
+                                  "to 3 significant digits (mapimpl/float64_release.py: "
                                   "stick_at_once_state)"},
              finish=finish_release_case, level=2, catches=("release-departure", "float64-drift")),
     ] + new_specs()

@@ -2,7 +2,7 @@
 
 For each record: a *guess* printed with a few digits (:data:`GUESS_DIGITS`: the record's first point
 and, for a bifurcation point, its parameter), then our float64 Newton solvers --
-:func:`mapimpl.periodic.find_periodic` for an orbit, :func:`validation.dynamics.continuation.locate`
+:func:`mapimpl.periodic.find_periodic` for an orbit, :func:`mapimpl.continuation.locate`
 on the extended system for a fold or period doubling -- and the result in the layout of
 :mod:`.orbit_suite`.  This scores the accuracy of the converged float64 answers, not how the
 orbits are found (the generator's seeds, :func:`.orbit_generate.float64_seeds`, do that).
@@ -27,7 +27,7 @@ def _guess(x: float) -> float:
 def float64_values(rec: Record) -> tuple[dict, Values]:
     """``(values as a JSON-ready dict, Values)`` of our float64 solvers for one record."""
     from ...mapimpl.periodic import find_periodic
-    from ..dynamics.continuation import locate, orbit_states
+    from ...mapimpl.continuation import locate, orbit_states
 
     params = Params(**{k: float(v) for k, v in rec.data["params"].items()})
     impacts, turns = int(rec.data["impacts_per_period"]), int(rec.data["turns"])

@@ -2,7 +2,7 @@
 ``python -m gear_rattle.validation.golden.orbit_generate [--cases ID ...] [--out DIR]``.
 
 Each case is found in float64 first (our :func:`mapimpl.periodic.find_periodic`, the continuation and
-its fold/flip location of :mod:`validation.dynamics.continuation`: the *seed*), then proven by
+its fold/flip location of :mod:`mapimpl.continuation`: the *seed*), then proven by
 :mod:`mapimpl.certified.periodic` (Krawczyk operator, flights, multipliers) and written to
 ``validation/golden/orbits/<id>.json`` (:mod:`.orbit_certify`), after the written record has been
 proven again from its own decimal intervals (:func:`.orbit_certify.verify_record`).  Deterministic:
@@ -68,8 +68,8 @@ def float64_seeds() -> dict:
     to the attractors and the continuation of both branches; JAX compilation included, ~1-2 min):
     ``{id: (tau, sdot, mu or None, note)}``."""
     from ...mapimpl.periodic import find_periodic
-    from ..dynamics.continuation import continue_orbit, orbit_states
-    from ..dynamics.crises.orbits import attractor_point, four_impact_branch, orbit_on_branch, six_impact_branch
+    from ...mapimpl.branches import attractor_point, four_impact_branch, orbit_on_branch, six_impact_branch
+    from ...mapimpl.continuation import continue_orbit, orbit_states
 
     seeds = {}
 

@@ -8,7 +8,7 @@ is ``.<target name>.partial-<pid>-<8 hex digits>`` (:func:`staging_name`).
 **A command's outputs are one set** (:func:`outputs`, opened by the command line around every command):
 while it runs, each file waits at its temporary name; when the command has finished, all of them are
 renamed into place together (:meth:`Outputs.commit`, a few milliseconds) under
-:data:`core._jax.CLEANUP_LOCK`, the lock the Ctrl-C/SIGTERM handler takes before it removes the
+:data:`validation.interrupt.CLEANUP_LOCK`, the lock the Ctrl-C/SIGTERM handler takes before it removes the
 temporary files -- so a signal gives every earlier file or every new one, and a failure (an error, a
 full disk) leaves every earlier file as it was.  Without an open set (the library), a file is renamed
 into place as soon as it is written.
@@ -51,7 +51,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO
 
-from ...core import _jax
+from .. import interrupt
 
 #: The temporary (staging) names this writer gives: ``.<base>.partial-<pid>-<8 hex>`` (and the
 #: ``.<base>.partial-<8 characters>`` of ``tempfile.mkdtemp`` that earlier versions gave the report).
@@ -184,7 +184,7 @@ class Outputs:
 
     def _manifest(self, files: dict, complete: bool) -> tuple[Path, Path]:
         """The manifest written to its temporary file: ``(temporary file, target)``."""
-        from .formats import json_text
+        from .jsontext import json_text
 
         assert self.folder is not None
         doc = {"command": self.label, "argv": self.argv, "complete": complete,
@@ -252,13 +252,13 @@ def commit_pending() -> None:
 
 @contextlib.contextmanager
 def _locked() -> Iterator[None]:
-    with _jax.CLEANUP_LOCK:
+    with interrupt.CLEANUP_LOCK:
         yield
 
 
 def _forget(path: Path) -> None:
     with contextlib.suppress(ValueError):
-        _jax.CLEANUP.remove(str(path))
+        interrupt.CLEANUP.remove(str(path))
 
 
 def _unlink(path: Path) -> None:
@@ -283,11 +283,11 @@ def _fsync_dir(folder: Path) -> None:
 def _write_temp(target: Path, data: bytes | Callable[[IO[bytes]], object], mode: int | None = None) -> tuple[Path, Path]:
     """Write ``data`` (bytes, or a function filling a binary file) to a new temporary file beside
     ``target``, flushed to disk; returns ``(temporary file, target)``.  The temporary file is in
-    :data:`core._jax.CLEANUP` until it is renamed or removed."""
+    :data:`validation.interrupt.CLEANUP` until it is renamed or removed."""
     tmp = target.parent / staging_name(target.name)
     with _locked():
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-        _jax.CLEANUP.append(str(tmp))
+        interrupt.CLEANUP.append(str(tmp))
     try:
         with os.fdopen(fd, "wb") as fh:
             if mode is not None:
@@ -394,7 +394,7 @@ def staged(out: str | Path, label: str = "report") -> Iterator[Path]:
     with (contextlib.nullcontext(tx) if tx is not None else outputs(label, out)) as tx:
         with _locked():
             stage.mkdir()
-            _jax.CLEANUP.append(str(stage))
+            interrupt.CLEANUP.append(str(stage))
         tx.stages.append(stage)
         yield stage
         out.mkdir(parents=True, exist_ok=True)
@@ -406,7 +406,7 @@ def staged(out: str | Path, label: str = "report") -> Iterator[Path]:
             f.mkdir(parents=True, exist_ok=True)
         for f in sorted(p for p in stage.rglob("*") if not p.is_dir()):
             tx.pending.append((f, out / f.relative_to(stage)))
-            _jax.CLEANUP.append(str(f))
+            interrupt.CLEANUP.append(str(f))
         tx.commit()  # in place when the block ends (the command reads them back)
         with _locked():
             shutil.rmtree(stage, ignore_errors=True)
@@ -418,7 +418,7 @@ def read_manifest(folder: str | Path, command: str) -> dict | None:
     """The manifest ``<command>.manifest.json`` of a folder of outputs, or None where there is none;
     ``ValueError`` naming it when it says that its run was stopped while moving its files in
     (``"complete": false``) or when it cannot be read."""
-    from .formats import read_json
+    from .jsontext import read_json
 
     path = Path(folder) / MANIFEST.format(command)
     if not path.exists():

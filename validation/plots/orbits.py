@@ -98,7 +98,7 @@ def lyapunov_figure(values, lam, param: str, title: str | None = None):
 
 
 def branch_figure(branch, param: str, title: str | None = None):
-    """A continued branch of periodic orbits (a :class:`~gear_rattle.validation.dynamics.continuation.Branch`):
+    """A continued branch of periodic orbits (a :class:`~gear_rattle.mapimpl.continuation.Branch`):
     one point's ``sdot`` (stable / unstable) and the moduli of the Floquet multipliers, fold (green) and
     flip (magenta) points marked."""
     a = branch.arrays()

@@ -23,8 +23,8 @@ from ..io import read_json, write_json
 from ..profiles import PROFILE_NAMES
 from ..io.atomic import DEVICE_ERRNOS, outputs, read_manifest, staged, write_text_atomic
 from .verdict import Z_AGREE
-from .document import (Document, Section, check_keys, document_json, render_html, render_markdown,
-                       sections_from_json, verdict_counts)
+from .docjson import document_json, sections_from_json
+from .document import Document, Section, check_keys, render_html, render_markdown, verdict_counts
 
 #: Section modules, in report order.
 SECTIONS = [
@@ -63,7 +63,7 @@ class Context:
 
     def say(self, text: str) -> None:
         if self.progress:
-            from ...core.progress import clear_status
+            from ..progress import clear_status
 
             clear_status()
             print(f"[report] {text}", file=sys.stderr, flush=True)

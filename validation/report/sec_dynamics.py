@@ -90,7 +90,7 @@ def _period_text(s) -> str:
 
 
 def build(ctx) -> Section:
-    from ..dynamics.continuation import orbit_states
+    from ...mapimpl.continuation import orbit_states
     from ..dynamics.crises import locate_alpha1, locate_r1, locate_r2, six_impact_branch
 
     sec = Section(KEY, TITLE)

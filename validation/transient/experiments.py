@@ -214,11 +214,11 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
 def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float = DELTA, n_side: int | None = None,
                     impacts: int | None = None) -> Float64Horizon:
     """The number of impacts after which a float64 transient orbit has lost the true one: the
-    transient Lyapunov exponent ``lambda1`` (:func:`validation.transient.float64_release.transient_lyapunov`, a
+    transient Lyapunov exponent ``lambda1`` (:func:`mapimpl.float64_release.transient_lyapunov`, a
     small grid of the Fig. 11 box: 6 x 6 orbits x 2000 impacts quick, 8 x 8 x 3000 paper) and
     ``ln(delta / u) / lambda1`` (roundoff ``u = 2^-53`` grown to the capture distance) and
     ``ln(1 / u) / lambda1`` (no digit left).  ``n_side`` and ``impacts`` override the profile's grid."""
-    from . import float64_release as REL
+    from ...mapimpl import float64_release as REL
 
     size = get_profile(profile, "horizon")
     n_side = size["n_side"] if n_side is None else int(n_side)

@@ -15,8 +15,8 @@ wrapper in :mod:`.orbits`, the run sizes in :mod:`validation.profiles`.  Methods
 """
 
 from .alpha1 import PAPER_ALPHA1, locate_alpha1
-from .orbits import (ALPHA1_START, R2_START, attractor_point, four_impact_branch, orbit_on_branch,
-                     six_impact_branch)
+from ....mapimpl.branches import (ALPHA1_START, R2_START, attractor_point, four_impact_branch, orbit_on_branch,
+                                  six_impact_branch)
 from .r1 import PAPER_R1_FIG7, locate_r1
 from .r2 import PAPER_R2_FIG5, LaminarStats, laminar_statistics, locate_r2
 from .results import Alpha1Result, R1Result, R2Result

@@ -40,8 +40,8 @@ from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import Capture
 from ....core.params import Params
 from ....core.status import Status
-from .orbits import (ALPHA1_START, Cost, Timer, box_ics, engine_run, four_impact_branch, orbit_on_branch,
-                     orbit_points, per_orbit)
+from ....mapimpl.branches import ALPHA1_START, four_impact_branch, orbit_on_branch
+from .orbits import Cost, Timer, box_ics, engine_run, orbit_points, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
 from .results import Alpha1Result
@@ -208,7 +208,7 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     profile : {"quick", "paper"}, optional
         Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["alpha1"]``.
     branch : Branch, optional
-        The 4-impact branch (default :func:`.orbits.four_impact_branch`): its fold alpha_sn, the saddle
+        The 4-impact branch (default :func:`gear_rattle.mapimpl.branches.four_impact_branch`): its fold alpha_sn, the saddle
         orbit at alpha1 and the stable orbit that captures the escapes.
     progress : optional
         Unused (the engine runs show their own progress where stderr is a terminal).

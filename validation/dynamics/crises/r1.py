@@ -2,7 +2,7 @@
 
 **Mechanism** (Section 3, Figs. 4 and 7).  For r > r1 the attractor has six bands visited in turn
 once per driving period; at r1 they collide with the saddle 6-impact period-1 orbit born at the fold
-r2 (continued down its saddle branch, :func:`.orbits.six_impact_branch`) and merge.  Below r1 the orbit
+r2 (continued down its saddle branch, :func:`gear_rattle.mapimpl.branches.six_impact_branch`) and merge.  Below r1 the orbit
 stays in the former bands for long stretches and hops out (crisis-induced intermittency) with a mean
 time between hops ``T(r) ~ C (r1 - r)^-g``; the GOY exponent of the mediating saddle gives ``g``.
 
@@ -35,7 +35,8 @@ from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.exponents import exponents
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
-from .orbits import R2_START, Cost, Timer, box_ics, engine_run, orbit_on_branch, per_orbit, six_impact_branch
+from ....mapimpl.branches import R2_START, orbit_on_branch, six_impact_branch
+from .orbits import Cost, Timer, box_ics, engine_run, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
 from .results import R1Result
@@ -139,7 +140,7 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     profile : {"quick", "paper"}, optional
         Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["r1"]``.
     branch : Branch, optional
-        The 6-impact branch (default :func:`.orbits.six_impact_branch`): the saddle orbit at r1 gives the
+        The 6-impact branch (default :func:`gear_rattle.mapimpl.branches.six_impact_branch`): the saddle orbit at r1 gives the
         crisis exponent.
     progress : optional
         Unused (the engine runs show their own progress where stderr is a terminal).

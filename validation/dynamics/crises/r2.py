@@ -25,8 +25,9 @@ import numpy as np
 from ....core import _jax  # noqa: F401
 from ....mapimpl.engine.observers import Laminar
 from ....core.params import Params
-from ..continuation import orbit_states
-from .orbits import R2_START, Cost, Timer, box_ics, engine_run, per_orbit, six_impact_branch
+from ....mapimpl.continuation import orbit_states
+from ....mapimpl.branches import R2_START, six_impact_branch
+from .orbits import Cost, Timer, box_ics, engine_run, per_orbit
 from ...profiles import get_profile, label as _label
 from .results import LaminarStats, R2Result
 from .stats import fit_power_law
@@ -72,7 +73,7 @@ def locate_r2(profile: str = "quick", branch=None, progress=None, *, sizes: dict
     profile : {"quick", "paper"}, optional
         Run sizes: :data:`validation.profiles.PROFILES` ``[profile]["r2"]``.
     branch : Branch, optional
-        The 6-impact branch through r2 (default :func:`.orbits.six_impact_branch`; shared with r1).
+        The 6-impact branch through r2 (default :func:`gear_rattle.mapimpl.branches.six_impact_branch`; shared with r1).
     progress : optional
         Unused (the engine runs show their own progress where stderr is a terminal).
     sizes : dict, optional

@@ -15,7 +15,7 @@ from typing import ClassVar
 import numpy as np
 
 from ....mapimpl.periodic import PeriodicOrbit
-from ..continuation import BifurcationPoint, Branch
+from ....mapimpl.continuation import BifurcationPoint, Branch
 from .stats import Bracket, CrisisFit, Located
 
 
@@ -59,7 +59,7 @@ class R2Result(_Result):
 
     ``r2``: the fold (Newton on the extended system); ``fold``: the
     :class:`~..continuation.BifurcationPoint` (orbit, multipliers, residual); ``branch``: the 6-impact
-    branch (:func:`.orbits.six_impact_branch`, shared with r1); ``laminar``: :class:`LaminarStats`
+    branch (:func:`gear_rattle.mapimpl.branches.six_impact_branch`, shared with r1); ``laminar``: :class:`LaminarStats`
     at ``r2 + dr``; ``slope``, ``slope_err``: fitted exponent of ``<l> ~ (r - r2)^slope`` (theory -1/2)
     and its total error ``sqrt(stat^2 + syst^2)``; ``slope_stat`` (weighted fit, scaled by
     sqrt(chi^2_red) when > 1), ``slope_syst`` (fit-range systematic), ``chi2_red``; ``subranges``:

@@ -32,15 +32,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ...core.phase import TWO_PI
-from ...mapimpl.impact_map import step
-from ...core.state import make_state
-from ...core.params import ParamArrays, Params, check_value
-from ...mapimpl.periodic import find_periodic, pfold
+from ..core.phase import TWO_PI
+from .impact_map import step
+from ..core.state import make_state
+from ..core.params import ParamArrays, Params, check_value
+from .periodic import find_periodic, pfold
 from .newton import newton
 
 #: Parameters that can be continued.

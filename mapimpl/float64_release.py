@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import math
 
-from ...core.paper import DELTA
-from ...mapimpl.certified.capture import Target
-from ...mapimpl.certified.release import certify_post_release
-from ...core.params import Params
-from ...mapimpl.sticking import STICK_TIME
+from ..core.paper import DELTA
+from .certified.capture import Target
+from .certified.release import certify_post_release
+from ..core.params import Params
+from .sticking import STICK_TIME
 
 
 def stick_at_once_state(params: Params, wall: int = 0, tau0: float | None = None) -> tuple[float, float]:
@@ -42,8 +42,8 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
     state that sticks at once (:func:`stick_at_once_state`; iteration 0 sticks, so the capture
     iteration is ``T_post``).  Returns ``{"value", "status", "tau0", "sdot0", "nstick"}`` (``value``
     None when the orbit is not captured within ``cap``)."""
-    from ...mapimpl.engine.transients import transient_times
-    from ...core.status import Status
+    from .engine.transients import transient_times
+    from ..core.status import Status
 
     tau0, sdot0 = stick_at_once_state(params, wall)
     res = transient_times([tau0], [sdot0], params, delta=delta, cap=cap, lanes=1, devices=1, progress=False)
@@ -68,7 +68,7 @@ def float64_departure(params: Params, wall: int = 0, n: int = 300, prec: int = 1
     certified orbit (``prec`` bits, midpoints) impact by impact; for each threshold, the first
     post-release impact whose error (sup of the wrapped phase error and the sdot error, or a different
     wall) exceeds it.  ``params``: float64 (the map's own numbers, exact in the certification)."""
-    from ...mapimpl.orbit import map_orbit
+    from .orbit import map_orbit
 
     if target is None:
         target = Target((), (), ())
@@ -98,16 +98,16 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
     Returns ``{"lambda1", "impacts_used", "orbits", "orbits_reaching_target"}``."""
     import numpy as np
 
-    from ...core import _jax  # noqa: F401
+    from ..core import _jax  # noqa: F401
     import jax
     import jax.numpy as jnp
 
-    from ...mapimpl.engine.observers import orbit_distance
-    from ...mapimpl.engine.transients import grid, periodic_target
-    from ...core.paper import PAPER_BOX
-    from ...core.status import Status
-    from ...mapimpl.impact_map import step
-    from ...core.state import make_state
+    from .engine.observers import orbit_distance
+    from .engine.transients import grid, periodic_target
+    from ..core.paper import PAPER_BOX
+    from ..core.status import Status
+    from .impact_map import step
+    from ..core.state import make_state
 
     tg = periodic_target(params)
     po_th, po_v, po_w = jnp.asarray(tg.theta), jnp.asarray(tg.sdot), jnp.asarray(tg.wall)
@@ -153,7 +153,7 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
     """
     import numpy as np
 
-    from ...mapimpl.engine.transients import transient_times
+    from .engine.transients import transient_times
 
     res = transient_times(np.atleast_1d(np.asarray(tau0, float)), np.atleast_1d(np.asarray(sdot0, float)), params,
                           delta=delta, deltas=(delta,), cap=int(cap), release="compose", lanes=lanes,
