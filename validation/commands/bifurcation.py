@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     if args.lyapunov:
         from ...mapimpl.lyapunov import lyapunov
 
-        res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
+        res = lyapunov(base, args.param, d.values, n_impacts=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=progress_arg(args))
         lyap = (res.values, res.lam_free)
     write_output(args, d)
