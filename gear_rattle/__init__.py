@@ -25,7 +25,7 @@ The vocabulary: every function takes ``params`` first; ``n_impacts`` is a count 
 ``cap`` the most impacts before an orbit is censored, ``period`` the impacts per period of a periodic
 orbit (``turns`` its driving periods); ``tau`` is absolute time and ``theta = tau mod 2 pi`` the phase;
 ``progress=None`` (a bar when stderr is a terminal) everywhere.  Every result says whether it worked the
-same way: ``ok``, ``status`` and ``message``, built on :class:`Status`
+same way: ``ok``, ``status`` and ``message``, built on :class:`~gear_rattle.core.status.Status`
 (:class:`gear_rattle.core.outcome.Outcome`).  The old spellings (``impacts=``, ``n=``, ``PeriodicOrbit.tau``,
 ``.impacts``, ``orbit(track, params, ...)``, ``transient_times(tau0, sdot0, params)``) still work, with a
 DeprecationWarning naming the new one.

@@ -127,8 +127,8 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float |
     ------
     ValueError, TypeError
         For an argument out of range or of the wrong type, naming it and its range
-        (:mod:`gear_rattle.core.checks`), before anything is computed (``0 <= n_impacts <= MAX_IMPACTS``,
-        1e7), before any track is loaded.  The old call ``orbit(track, params, ...)`` still works, with a
+        (:mod:`gear_rattle.core.checks`; ``0 <= n_impacts <= MAX_IMPACTS``, 1e7), before any track is
+        loaded or anything computed.  The old call ``orbit(track, params, ...)`` still works, with a
         DeprecationWarning.
 
     Examples
