@@ -79,7 +79,7 @@ class PeriodicOrbit(Outcome):
 
     @property
     def converged(self) -> bool:
-        """Newton converged to ``tol`` (the same as :attr:`ok`)."""
+        """Newton converged to ``tol`` (the same as ``ok``)."""
         return self.status == Status.CONVERGED.label
 
     @property

@@ -142,17 +142,17 @@ class SurvivalResult(Outcome):
 
     @property
     def status(self) -> np.ndarray:
-        """The engine's :class:`~gear_rattle.core.status.Status` code of each orbit (:class:`Outcome`)."""
+        """The engine's :class:`~gear_rattle.core.status.Status` code of each orbit."""
         return self.engine.status
 
     @property
     def ok(self) -> bool:
-        """Every orbit ran (:attr:`Outcome.ok` of the engine's codes) and the Eq. (14) fit at ``delta`` exists."""
+        """Every orbit ran (``Outcome.ok`` of the engine's codes) and the Eq. (14) fit at ``delta`` exists."""
         return super().ok and self.main_fit is not None
 
     @property
     def message(self) -> str:
-        """The orbits' codes (:attr:`Outcome.message`), and the fit's failure where it failed."""
+        """The orbits' codes (``Outcome.message``), and the fit's failure where it failed."""
         text = super().message
         return text if self.main_fit is not None else f"{text}; no Eq. (14) fit at delta={self.delta:g}"
 
