@@ -89,7 +89,7 @@ def run_engine(tau, sd, deltas, delta, cap, devices=None):
     load = _load()
     comp0 = _COMPILE_S[0]
     c0, w0 = time.process_time(), time.perf_counter()
-    r = transient_times(tau, sd, P, cap=cap, delta=delta, deltas=deltas, progress=False, devices=devices)
+    r = transient_times(P, tau, sd, cap=cap, delta=delta, deltas=deltas, progress=False, devices=devices)
     c, w = time.process_time() - c0, time.perf_counter() - w0
     ndev = int(r.meta.get("devices", NCORES if devices is None else devices))
     imp = int(r.n.sum())
@@ -149,7 +149,7 @@ def short_check(target, deltas, delta, n_ic=4000, cap=300, seed=0) -> dict:
     rng = np.random.default_rng(seed)
     tau, sd = rng.uniform(0.0, 2 * np.pi, n_ic), rng.uniform(1e-9, 0.5, n_ic)
     rn = numba_transients(tau, sd, P, target.theta, target.sdot, target.wall, deltas, cap)
-    re = transient_times(tau, sd, P, cap=cap, delta=delta, deltas=deltas, progress=False)
+    re = transient_times(P, tau, sd, cap=cap, delta=delta, deltas=deltas, progress=False)
     out = {"n_ic": n_ic, "cap": cap, "seed": seed}
     for j, d in enumerate(re.deltas):
         hn, he = rn["hit"][:, j], re.hit[:, j]

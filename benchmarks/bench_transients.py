@@ -40,9 +40,9 @@ def bench_engine(n_ic, cap, lanes, devices=None, seed=0):
     tg = periodic_target()
     ndev = len(engine_devices(devices))
     # compile the same shapes (tail blocks included) first
-    transient_times(tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
+    transient_times(None, tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
     c0, w0 = time.process_time(), time.perf_counter()
-    r = transient_times(tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
+    r = transient_times(None, tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
     c, w = time.process_time() - c0, time.perf_counter() - w0
     return {"devices": ndev, "impacts": r.impacts, "cpu_s": c, "wall_s": w, "per_wall_s": r.impacts / w,
             "per_cpu_s": r.impacts / c, "per_core": r.impacts / w / ndev}

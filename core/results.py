@@ -25,6 +25,7 @@ from typing import Callable, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
+from .outcome import Outcome, describe, is_ok, status_codes
 from .params import Params
 from .status import Status
 
@@ -39,7 +40,7 @@ COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
 
 
 @dataclass
-class ImpactSequence:
+class ImpactSequence(Outcome):
     """Events of one orbit (numpy arrays of equal length, time-ordered).
 
     Impact 0 is the initial pre-impact state (or, for a start in free flight, the first impact
@@ -49,7 +50,9 @@ class ImpactSequence:
     ``n``: impact index; ``tau``: the time of the event (absolute: impact 0 of a start at an impact is at
     ``tau0``, not 0); ``theta``: tau mod 2 pi; ``wall``: 0 or -1;
     ``sdot``: velocity just before the impact (NaN for stick/release rows); ``kind``: event kind
-    (:data:`KINDS`).  ``status``: final orbit status (:data:`~gear_rattle.core.status.TRACK_STATUSES`); ``track``: which
+    (:data:`KINDS`).  ``status``: final orbit status, a :class:`~gear_rattle.core.status.Status` label
+    (:data:`~gear_rattle.core.status.TRACK_STATUSES`), with ``ok`` and ``message``
+    (:class:`~gear_rattle.core.outcome.Outcome`: every ending but ``step_cap`` is an answer); ``track``: which
     track produced it; ``meta``: the call's arguments and solver options.
     """
 
@@ -129,7 +132,8 @@ class StepJacobian(NamedTuple):
     ``tau``, ``sdot``, ``wall``: the next pre-impact state (NaN when the orbit ended in this step);
     ``jac = d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n)`` (2x2; 0 if the step sticks: a sticking step
     forgets its input, NaN if the flight failed); ``stuck``: the step stuck to the wall; ``status``:
-    the orbit status after the step (:data:`~gear_rattle.core.status.TRACK_STATUSES`).
+    the orbit status after the step (:data:`~gear_rattle.core.status.TRACK_STATUSES`), with ``ok`` and
+    ``message``.
     """
 
     tau: float
@@ -138,6 +142,16 @@ class StepJacobian(NamedTuple):
     jac: np.ndarray
     stuck: bool
     status: str
+
+    @property
+    def ok(self) -> bool:
+        """Whether the step worked (:class:`~gear_rattle.core.outcome.Outcome`: not ``step_cap``)."""
+        return is_ok(self.status)
+
+    @property
+    def message(self) -> str:
+        """What ``status`` means, in one line."""
+        return describe(status_codes(self.status))
 
 
 @runtime_checkable

@@ -122,7 +122,7 @@ def chunk_length(n: int, chunk: int) -> int:
     return min(int(chunk), SHORT) if int(n) <= SHORT else int(chunk)
 
 
-def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, progress=False, label: str = "orbit"):
+def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, progress=None, label: str = "orbit"):
     """``run(first, params.arrays(), n)`` -- ``n`` steps of a track's map, a jitted ``lax.scan`` of
     ``length`` (static) steps returning a pytree whose ``states`` field is the stacked
     :class:`MapState` -- as a sequence of fixed-length scans (the map track,

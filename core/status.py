@@ -7,7 +7,10 @@ name always carries the same integer, and every code has a message (as diffrax's
 ``STOPPED`` (its observer's criterion was met: captured by the periodic orbit, escaped from the
 bands, all samples taken), ``CAPPED`` (the impact cap was reached) and ``STUCK`` (stopped at its
 first sticking episode, to be continued by the one post-release orbit, see
-:func:`gear_rattle.mapimpl.sticking.release_phase`).
+:func:`gear_rattle.mapimpl.sticking.release_phase`).  A Newton search for a periodic orbit ends
+``CONVERGED`` or ``NOT_CONVERGED``.  :attr:`Status.ok` says whether a code is an answer; every result
+type says whether it worked through it (:class:`gear_rattle.core.outcome.Outcome`: ``ok``, ``status``,
+``message``).
 
 :class:`FlightOutcome` -- outcome of one first-impact search (:func:`gear_rattle.mapimpl.finder.first_impact`,
 the reference tracks' event search).  The names shared by the two enums (``NO_IMPACT``,
@@ -57,6 +60,15 @@ class Status(Coded):
     STOPPED = 4
     CAPPED = 5
     STUCK = 6
+    CONVERGED = 7
+    NOT_CONVERGED = 8
+
+    @property
+    def ok(self) -> bool:
+        """Whether a computation that ends with this code worked: it did what was asked, or the model
+        itself ended the orbit (stuck forever, no wall within the horizon, captured, censored at the cap).
+        Not ok: :data:`NOT_OK` (never run, a search's step budget used up, Newton not converged)."""
+        return self not in NOT_OK
 
 
 class FlightOutcome(Coded):
@@ -78,6 +90,8 @@ _MESSAGES = {
         "STOPPED": "engine: the observer's stop criterion was met (captured, escaped, all samples taken)",
         "CAPPED": "engine: the impact cap was reached, the orbit still active",
         "STUCK": "engine: stopped at its first sticking episode (continued by the release orbit)",
+        "CONVERGED": "Newton's method reached its tolerance (a periodic orbit)",
+        "NOT_CONVERGED": "Newton's method did not reach its tolerance within max_iter iterations",
     },
     "FlightOutcome": {
         "HIT": "a wall is reached (transversal impact)",
@@ -87,7 +101,10 @@ _MESSAGES = {
     },
 }
 
+#: The codes of a computation that did not work (:attr:`Status.ok` is False): the rest are answers.
+NOT_OK = frozenset({Status.NOT_RUN, Status.STEP_CAP, Status.NOT_CONVERGED})
+
 #: The statuses an orbit of a track (:class:`gear_rattle.core.results.Track`) can end with, by label.
 TRACK_STATUSES = tuple(s.label for s in (Status.ACTIVE, Status.STUCK_FOREVER, Status.NO_IMPACT, Status.STEP_CAP))
 
-__all__ = ["Status", "FlightOutcome", "TRACK_STATUSES"]
+__all__ = ["Status", "FlightOutcome", "NOT_OK", "TRACK_STATUSES"]

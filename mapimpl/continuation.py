@@ -287,7 +287,7 @@ def continue_orbit(params: Params, param: str, tau0: float, sdot0: float, impact
     if not orb.converged:
         raise ValueError(f"no {impacts}-impact, {turns}-turn periodic orbit found from the guess "
                          f"(tau0={tau0!r}, sdot0={sdot0!r}) at {name}={mu0!r}")
-    x0 = (float(orb.tau[0]), float(orb.sdot[0]))
+    x0 = (float(orb.theta[0]), float(orb.sdot[0]))
     prob = _Problem(params, name, impacts, turns, int(orb.walls[0]))
     br = Branch(params, name, impacts, turns)
     y = np.array([x0[0], x0[1], mu0])

@@ -46,7 +46,7 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
     from ..core.status import Status
 
     tau0, sdot0 = stick_at_once_state(params, wall)
-    res = transient_times([tau0], [sdot0], params, delta=delta, cap=cap, lanes=1, devices=1, progress=False)
+    res = transient_times(params, [tau0], [sdot0], delta=delta, cap=cap, lanes=1, devices=1, progress=False)
     hit = int(res.hit[0, res.column(delta)])
     return {"value": hit if hit >= 0 else None, "status": Status(int(res.status[0])).label,
             "tau0": tau0, "sdot0": sdot0, "nstick": int(res.nstick[0]), "cap": int(cap)}
@@ -155,7 +155,7 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
 
     from .engine.transients import transient_times
 
-    res = transient_times(np.atleast_1d(np.asarray(tau0, float)), np.atleast_1d(np.asarray(sdot0, float)), params,
+    res = transient_times(params, np.atleast_1d(np.asarray(tau0, float)), np.atleast_1d(np.asarray(sdot0, float)),
                           delta=delta, deltas=(delta,), cap=int(cap), release="compose", lanes=lanes,
                           progress=progress, label="sticking walls")
     stuck = res.first_stick >= 0

@@ -36,9 +36,12 @@ from ..core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
+from ..core.deprecation import UNSET, renamed_argument
+from ..core.outcome import Outcome
 from ..core.checks import MAX_AVERAGED, MAX_VALUES, check_array, check_choice, check_int, check_start
 from ..core.params import DIAGRAM_PARAMS, Params, param_arrays
 from ..core.state import make_state
+from ..core.status import Status
 from .engine.driver import run
 from .engine.exponents import exponents
 from .engine.observers import Tangent
@@ -46,16 +49,21 @@ from .impact_map import step
 
 
 @dataclass
-class LyapunovResult:
+class LyapunovResult(Outcome):
     """Exponents per impact at each parameter value.
 
     ``lam``: (n, 2) exponents (``-inf`` where a step stuck); ``lam_free``: exponents over the
     non-sticking steps; ``det_mean``: closed-form mean of ln|det J| (telescoped);
-    ``n_stuck``: sticking steps; ``n_steps``: steps used; ``active``: orbit still active at the end
-    (where it ended before ``transient + n`` impacts -- stuck forever, no impact, step cap -- the
-    exponents are NaN: there is no average over ``n`` impacts; ``lam_free`` is NaN too where every step
-    stuck).
+    ``n_stuck``: sticking steps; ``n_steps``: steps used (``n_impacts``); ``status``: per value, the
+    :class:`~gear_rattle.core.status.Status` code of its orbit -- ``ACTIVE`` where it went on through
+    ``transient + n_impacts`` impacts, else how it ended (stuck forever, no impact, step cap: the exponents
+    are NaN, there is no average over ``n_impacts`` impacts; ``lam_free`` is NaN too where every step
+    stuck); ``ok`` only where every value has its exponents (:class:`~gear_rattle.core.outcome.Outcome`);
+    ``active``: ``status == ACTIVE``.
     """
+
+    #: Worked: every orbit went on to the end (an orbit that ended has no exponents).
+    OK_CODES = frozenset({Status.ACTIVE})
 
     param: str
     values: np.ndarray
@@ -64,7 +72,12 @@ class LyapunovResult:
     det_mean: np.ndarray
     n_stuck: np.ndarray
     n_steps: int
-    active: np.ndarray
+    status: np.ndarray
+
+    @property
+    def active(self) -> np.ndarray:
+        """Per value: the orbit went on through every impact (``status == ACTIVE``)."""
+        return self.status == int(Status.ACTIVE)
 
     @property
     def sum_error(self) -> np.ndarray:
@@ -86,18 +99,17 @@ class LyapunovResult:
                          bool(self.active[i])] for i, v in enumerate(self.values)]
 
 
-def check_arguments(base, param, values, n, transient, tau0, sdot0, names: tuple[str, str] = ("base", "n")):
+def check_arguments(params, param, values, n_impacts, transient, tau0, sdot0):
     """The arguments of :func:`lyapunov`, checked (:mod:`core.checks`) and returned as
-    ``(param, values, n, transient, tau0, sdot0)``: ``param`` in ``("r", "alpha")``, ``values`` a 1-D
-    sequence of at most ``MAX_VALUES`` (2e4) allowed values of it (default: ``base``'s),
-    ``1 <= n <= MAX_AVERAGED`` and ``0 <= transient <= MAX_AVERAGED`` (5e7 impacts), a pre-impact start
-    ``(tau0, sdot0)``.  ``names``: the names of ``base`` and ``n`` in the caller (the facade's
-    ``params`` and ``n_impacts``)."""
+    ``(param, values, n_impacts, transient, tau0, sdot0)``: ``param`` in ``("r", "alpha")``, ``values`` a
+    1-D sequence of at most ``MAX_VALUES`` (2e4) allowed values of it (default: ``params``'),
+    ``1 <= n_impacts <= MAX_AVERAGED`` and ``0 <= transient <= MAX_AVERAGED`` (5e7 impacts), a pre-impact
+    start ``(tau0, sdot0)``."""
     from ..core.params import check_params
 
-    check_params(base, names[0])
+    base = check_params(params, "params")
     check_choice("param", param, DIAGRAM_PARAMS)
-    n = check_int(names[1], n, 1, MAX_AVERAGED)
+    n = check_int("n_impacts", n_impacts, 1, MAX_AVERAGED)
     transient = check_int("transient", transient, 0, MAX_AVERAGED)
     tau0, sdot0, _ = check_start(tau0, sdot0)
     values = check_array("values", [getattr(base, param)] if values is None else values, max_size=MAX_VALUES)
@@ -108,14 +120,23 @@ def check_arguments(base, param, values, n, transient, tau0, sdot0, names: tuple
     return param, values, n, transient, tau0, sdot0
 
 
-def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transient: int = 1000, tau0: float = 0.0,
-             sdot0: float = 0.5, progress=None) -> LyapunovResult:
+def lyapunov(params: Params, param: str = "r", values=None, n_impacts=UNSET, transient: int = 1000,
+             tau0: float = 0.0, sdot0: float = 0.5, progress=None, *, n=UNSET) -> LyapunovResult:
     """Lyapunov exponents (QR method) of the orbit from ``(tau0, sdot0)`` at each value of ``param``
-    (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n`` impacts: one orbit per value on the
-    many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent` observer).  ``values``:
-    default the value of ``param`` in ``base`` (one orbit).  The arguments and their ranges:
-    :func:`check_arguments` (``ValueError``/``TypeError`` naming the argument)."""
-    param, values, n, transient, tau0, sdot0 = check_arguments(base, param, values, n, transient, tau0, sdot0)
+    (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n_impacts`` impacts (default 20000): one
+    orbit per value on the many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent`
+    observer).  ``values``: default the value of ``param`` in ``params`` (one orbit).  The arguments and
+    their ranges: :func:`check_arguments` (``ValueError``/``TypeError`` naming the argument); ``n=`` is the
+    old name of ``n_impacts`` (a DeprecationWarning).  ``progress``: :mod:`gear_rattle.core.progress`.
+
+    >>> import gear_rattle as gr
+    >>> res = gr.lyapunov(gr.Params(3.0, 0.1, 0.1, 0.9), "r", [0.9], n_impacts=500, transient=100, progress=False)
+    >>> res.ok, res.message, res.lam.shape
+    (True, 'active: the orbit goes on', (1, 2))
+    """
+    n_impacts = renamed_argument("n", "n_impacts", n_impacts, n, 20000)
+    base = params
+    param, values, n, transient, tau0, sdot0 = check_arguments(base, param, values, n_impacts, transient, tau0, sdot0)
     p = param_arrays(base, param, values)
     m = values.size
     res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
@@ -126,7 +147,9 @@ def lyapunov(base: Params, param: str = "r", values=None, n: int = 20000, transi
     steps = np.maximum(res.n - transient, 1)
     elapsed = 2.0 * np.pi * (res.cycles - t["cycles0"]) + (res.theta - t["theta0"])
     det_mean = 2 * np.log(rr) - beta * elapsed / steps + np.log(np.abs(t["sdot0"] / res.sdot)) / steps
-    return LyapunovResult(param, values, ex.lam, ex.lam_free, det_mean, ex.n_stuck, n, ex.ran)
+    # an orbit that went on is active; one that ended says how (its engine status)
+    status = np.where(ex.ran, int(Status.ACTIVE), res.status).astype(np.int32)
+    return LyapunovResult(param, values, ex.lam, ex.lam_free, det_mean, ex.n_stuck, n, status)
 
 
 def raw_product_overflow(params: Params, n: int = 5000, tau0: float = 0.0, sdot0: float = 0.5,

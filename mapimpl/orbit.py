@@ -54,7 +54,7 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
 
-def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK, progress=False):
+def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK, progress=None):
     """:func:`mapimpl.impact_map.iterate` for ``n`` steps, run as a sequence of fixed-length scans
     (:func:`core.state.run_in_chunks`): Ctrl-C acts between chunks, and the result is bitwise the one
     of a single scan."""
@@ -62,7 +62,7 @@ def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK,
 
 
 def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-              chunk: int = CHUNK, progress=False) -> ImpactSequence:
+              chunk: int = CHUNK, progress=None) -> ImpactSequence:
     """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13).
 
     Runs in chunks of ``chunk`` impacts (:func:`iterate_chunked`): interruptible with Ctrl-C, and the
@@ -81,9 +81,9 @@ def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: flo
         A start in free flight, ``-1 <= s0 <= 0``.
     chunk : int, optional
         Impacts per compiled scan, ``1 <= chunk <= 2**20``.
-    progress : bool, optional
-        None or True for a bar of the impacts on a terminal for runs over a second (default False: none;
-        :mod:`gear_rattle.core.progress`).
+    progress : None, bool or callable, optional
+        None (default) or True for a bar of the impacts on a terminal for runs over a second, False for
+        none, or a callable ``progress(done, total)`` (:mod:`gear_rattle.core.progress`).
 
     Returns
     -------

@@ -20,7 +20,9 @@ import jax
 import jax.numpy as jnp
 
 from ..core.phase import TWO_PI
-from ..core.checks import MAX_ITER, MAX_PERIOD, check_int, check_start, check_tol
+from ..core.checks import MAX_ITER, MAX_PERIOD, InputTypeError, check_int, check_start, check_tol
+from ..core.deprecation import UNSET, renamed_argument, renamed_attribute
+from ..core.outcome import Outcome
 from ..core.status import Status
 from .impact_map import step
 from ..core.state import make_state
@@ -49,25 +51,36 @@ _step = jax.jit(step)
 
 
 @dataclass
-class PeriodicOrbit:
+class PeriodicOrbit(Outcome):
     """A periodic orbit found by :func:`find_periodic`.
 
-    ``tau``/``sdot``: the p pre-impact states (tau mod 2 pi); ``walls``: walls hit;
+    ``period``: impacts per period; ``turns``: driving periods per period; ``theta``/``sdot``: the
+    ``period`` pre-impact states (the phase ``theta = tau mod 2 pi``); ``walls``: walls hit;
     ``multipliers``: Floquet multipliers (eigenvalues of DF^p); ``residual``: max-norm of G;
-    ``converged``: Newton converged to ``tol``.
+    ``status``: ``"converged"`` when Newton reached ``tol``, else ``"not_converged"``, with ``ok`` and
+    ``message`` (:class:`~gear_rattle.core.outcome.Outcome`).  The old names ``impacts`` and ``tau`` still
+    work, with a DeprecationWarning.
     """
 
     params: Params
-    impacts: int
+    period: int
     turns: int
-    tau: np.ndarray
+    theta: np.ndarray
     sdot: np.ndarray
     walls: np.ndarray
     multipliers: np.ndarray
     monodromy: np.ndarray
     residual: float
-    converged: bool
+    status: str
     iterations: int
+
+    impacts = renamed_attribute("impacts", "period")
+    tau = renamed_attribute("tau", "theta")
+
+    @property
+    def converged(self) -> bool:
+        """Newton converged to ``tol`` (the same as ``ok``)."""
+        return self.status == Status.CONVERGED.label
 
     @property
     def stable(self) -> bool:
@@ -77,15 +90,15 @@ class PeriodicOrbit:
     def table(self) -> tuple[list[str], list[list]]:
         """``(header, rows)``: the p points of the orbit, ``k, tau_mod_2pi, sdot, wall`` (a CSV file)."""
         return ["k", "tau_mod_2pi", "sdot", "wall"], [[k, float(t), float(s), int(w)] for k, (t, s, w) in
-                                                      enumerate(zip(self.tau, self.sdot, self.walls))]
+                                                      enumerate(zip(self.theta, self.sdot, self.walls))]
 
     def arrays(self) -> dict:
         """The orbit's arrays and numbers (an NPZ file): points, multipliers (complex), monodromy matrix,
         Newton's residual, iterations and convergence, p, m and the parameters."""
         p = self.params
-        return dict(tau_mod_2pi=self.tau, sdot=self.sdot, wall=self.walls, multipliers=self.multipliers,
+        return dict(tau_mod_2pi=self.theta, sdot=self.sdot, wall=self.walls, multipliers=self.multipliers,
                     monodromy=self.monodromy, residual=self.residual, converged=self.converged,
-                    iterations=self.iterations, stable=self.stable, impacts=self.impacts, turns=self.turns,
+                    iterations=self.iterations, stable=self.stable, impacts=self.period, turns=self.turns,
                     alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r)
 
     def as_dict(self) -> dict:
@@ -101,18 +114,17 @@ class PeriodicOrbit:
 MAX_TOL = 1e-6
 
 
-def check_newton(impacts, turns, tol, max_iter, names: tuple[str, str] = ("impacts", "turns")):
+def check_newton(period, turns, tol, max_iter):
     """The shape and the solver settings of :func:`find_periodic`, checked (:mod:`core.checks`):
-    ``1 <= impacts, turns <= MAX_PERIOD``, ``TOL_FLOOR <= tol <= MAX_TOL`` (1e-15 .. 1e-6),
-    ``1 <= max_iter <= MAX_ITER`` (1e4); ``names``: the names of the first two arguments (the facade's
-    ``period``)."""
-    return (check_int(names[0], impacts, 1, MAX_PERIOD), check_int(names[1], turns, 1, MAX_PERIOD),
+    ``1 <= period, turns <= MAX_PERIOD``, ``TOL_FLOOR <= tol <= MAX_TOL`` (1e-15 .. 1e-6),
+    ``1 <= max_iter <= MAX_ITER`` (1e4)."""
+    return (check_int("period", period, 1, MAX_PERIOD), check_int("turns", turns, 1, MAX_PERIOD),
             check_tol("tol", tol, MAX_TOL), check_int("max_iter", max_iter, 1, MAX_ITER))
 
 
-def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns: int = 1,
-                  tol: float = 1e-12, max_iter: int = 60) -> PeriodicOrbit:
-    """Newton search for an orbit with ``impacts`` impacts per ``turns`` driving periods.
+def find_periodic(params: Params, tau0: float, sdot0: float, period=UNSET, turns: int = 1,
+                  tol: float = 1e-12, max_iter: int = 60, *, impacts=UNSET) -> PeriodicOrbit:
+    """Newton search for an orbit with ``period`` impacts per ``turns`` driving periods.
 
     Solves ``G(tau, sdot) = F^p(tau, sdot) - (tau + 2 pi turns, sdot) = 0`` for the p-fold impact map
     ``F^p`` (Eqs. 12-13) with its analytic Jacobian; the Floquet multipliers are the eigenvalues of the
@@ -124,24 +136,27 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
         The model's parameters.
     tau0, sdot0 : float
         A guess of one pre-impact state (e.g. the end of a long run on the attractor).
-    impacts : int
-        Impacts per period, ``1 <= impacts <= 100000``.
+    period : int
+        Impacts per period, ``1 <= period <= 100000``.
     turns : int, optional
-        Driving periods (``2 pi``) per period, ``>= 1``.
+        Driving periods (``2 pi``) per period, ``1 <= turns <= 100000``.
     tol : float, optional
         Newton's tolerance on the max-norm of ``G``, ``1e-15 <= tol <= 1e-6``.
     max_iter : int, optional
         Most Newton iterations, ``1 <= max_iter <= 10000``.
+    impacts : int, optional
+        The old name of ``period`` (a DeprecationWarning).
 
     Returns
     -------
     PeriodicOrbit
-        The states, walls, multipliers, monodromy matrix, residual and whether Newton converged.
+        The states, walls, multipliers, monodromy matrix, residual and whether Newton converged
+        (``ok``, ``status``, ``message``).
 
     Raises
     ------
     ValueError
-        For an argument out of range (``impacts``, ``turns`` up to 1e5, ``tol``, ``max_iter``, a guess
+        For an argument out of range (``period``, ``turns`` up to 1e5, ``tol``, ``max_iter``, a guess
         that is not finite, ``sdot0 = 0``), naming it; ``TypeError`` for one of the wrong type.
 
     Examples
@@ -149,12 +164,11 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     Fig. 2 (alpha = 0.5, r = 0.9): a stable orbit with one impact on the lower wall and two on the
     upper per driving period, from a 4-digit guess:
 
-    >>> from gear_rattle.core.params import Params
-    >>> from gear_rattle.mapimpl.periodic import find_periodic
-    >>> orb = find_periodic(Params(0.5, 0.1, 0.1, 0.9), 2.034, -0.7343, impacts=3)
-    >>> orb.converged, orb.walls.tolist(), orb.stable
-    (True, [-1, 0, 0], True)
-    >>> print(" ".join(f"{t:.6f}" for t in orb.tau))
+    >>> import gear_rattle as gr
+    >>> orb = gr.find_periodic(gr.Params(0.5, 0.1, 0.1, 0.9), 2.034, -0.7343, period=3)
+    >>> orb.ok, orb.status, orb.walls.tolist(), orb.stable
+    (True, 'converged', [-1, 0, 0], True)
+    >>> print(" ".join(f"{t:.6f}" for t in orb.theta))
     2.034489 4.110239 6.086836
 
     The product of the multipliers is ``det DF^3 = r^6 exp(-2 pi beta)`` (the closed-form determinant
@@ -167,13 +181,16 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
     from ..core.params import check_params
 
     p = check_params(params).arrays()
-    impacts, turns, tol, max_iter = check_newton(impacts, turns, tol, max_iter)
+    period = renamed_argument("impacts", "period", period, impacts, UNSET)
+    if period is UNSET:
+        raise InputTypeError("find_periodic() is missing period (impacts per period, 1 <= period <= 100000)")
+    period, turns, tol, max_iter = check_newton(period, turns, tol, max_iter)
     tau0, sdot0, _ = check_start(tau0, sdot0)
     x = np.array([tau0 % float(TWO_PI), sdot0])
     wall0 = 0 if x[1] > 0 else -1
     res, it, conv = np.inf, 0, False
     for it in range(1, max_iter + 1):
-        tp, sp, J, walls, stuck, ok = pfold(x[0], x[1], p, int(impacts), wall0)
+        tp, sp, J, walls, stuck, ok = pfold(x[0], x[1], p, int(period), wall0)
         if not bool(ok) or bool(stuck):
             break
         G = np.array([float(tp) - x[0] - float(TWO_PI) * turns, float(sp) - x[1]])
@@ -197,17 +214,18 @@ def find_periodic(params: Params, tau0: float, sdot0: float, impacts: int, turns
         if not (np.all(np.isfinite(x_new)) and abs(x_new[0]) <= 1e6):  # Newton diverged: not converged
             break
         x = x_new
-    tp, sp, J, walls, stuck, ok = pfold(x[0], x[1], p, int(impacts), wall0)
+    tp, sp, J, walls, stuck, ok = pfold(x[0], x[1], p, int(period), wall0)
     # record the p states along the orbit
     taus, sds = [x[0]], [x[1]]
     s = make_state(x[0], x[1], wall0)
-    for _ in range(int(impacts) - 1):
+    for _ in range(int(period) - 1):
         s, _info = _step(s, p)
         taus.append(float(s.theta)); sds.append(float(s.sdot))
     Jn = np.asarray(J)
     # the scan records the walls of states 1..p; state p is state 0, so roll to align with tau/sdot
-    return PeriodicOrbit(params, int(impacts), int(turns), np.mod(np.array(taus), float(TWO_PI)), np.array(sds),
-                         np.roll(np.asarray(walls), 1), _multipliers(Jn), Jn, res, conv, it)
+    status = Status.CONVERGED if conv else Status.NOT_CONVERGED
+    return PeriodicOrbit(params, int(period), int(turns), np.mod(np.array(taus), float(TWO_PI)), np.array(sds),
+                         np.roll(np.asarray(walls), 1), _multipliers(Jn), Jn, res, status.label, it)
 
 
 def _multipliers(J: np.ndarray) -> np.ndarray:

@@ -22,6 +22,7 @@ import numpy as np
 from ..core import _jax  # noqa: F401
 import jax
 
+from ..core.deprecation import warn_renamed
 from ..core.status import Status
 from .impact_map import step
 from ..core.state import make_state
@@ -44,7 +45,7 @@ def _no_options(options: dict) -> None:
 
 
 def _map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
-               progress=False, **options) -> ImpactSequence:
+               progress=None, **options) -> ImpactSequence:
     _no_options(options)
     return map_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress)
 
@@ -80,14 +81,73 @@ def get(track: str) -> Track:
     return load_track(track)
 
 
-def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
-          **options) -> ImpactSequence:
-    """Orbit of ``n_impacts`` impacts after impact 0 on the chosen track (:meth:`Track.orbit`, or the
-    certified track: one of :data:`ORBIT_TRACKS`); every track takes ``progress=``
-    (:mod:`gear_rattle.core.progress`), the numerical ones their solver options, the certified one
-    :data:`mapimpl.certified.track.TRACK_OPTIONS`.  ``TypeError`` when ``params`` is not a :class:`Params`;
-    ``ValueError``/``TypeError`` naming the argument for a bad start or count (:mod:`core.checks`:
-    ``0 <= n_impacts <= MAX_IMPACTS``, 1e7), before any track is loaded."""
+def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
+          track: str = "map", progress=None, **solver_options) -> ImpactSequence:
+    """Impact sequence of one orbit on ``track``: impact 0, then ``n_impacts`` further impacts.
+
+    Parameters
+    ----------
+    params : Params
+        The model's parameters ``alpha, beta, gamma, r`` of Eq. (3) and the reset of Eq. (11).
+    tau0, sdot0 : float
+        Impact 0 as a pre-impact state (the paper's map variables, Eqs. 12-13): time ``tau0`` and
+        velocity ``sdot0 != 0`` just before the impact (``sdot0 > 0`` hits ``s = 0``, ``sdot0 < 0``
+        hits ``s = -1``); with ``s0``, the free state ``(tau0, s0, sdot0)`` whose flight's first
+        impact is impact 0.
+    n_impacts : int
+        Impacts after impact 0, ``0 <= n_impacts <= 1e7`` (every impact is kept in memory; an orbit that
+        sticks forever or never lands again ends early).
+    track : {"map", "scipy", "diffrax", "certified"}
+        The closed-form impact map (:mod:`gear_rattle.mapimpl.orbit`), a numerical integration of
+        Eq. (3) (:mod:`gear_rattle.reference`; :data:`TRACKS`), or the certified track
+        (:mod:`gear_rattle.mapimpl.certified.track`: every row proven in ball arithmetic, the values the
+        float64 nearest to the exact ones and float64 bounds in ``seq.bounds``; it raises
+        :class:`~gear_rattle.mapimpl.certified.track.UncertifiedOrbit`, holding the certified prefix, where
+        no precision up to its limit certifies every impact).
+    s0 : float, optional
+        A start in free flight, ``-1 <= s0 <= 0``.
+    progress : None, bool or callable, optional
+        None (default) or True: a bar when stderr is a terminal; False: none; a callable
+        ``progress(done, total)`` (:mod:`gear_rattle.core.progress`).
+    **solver_options
+        Of the numerical tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``,
+        ``max_steps`` (diffrax); the map track takes none; the certified track ``stick_time``, ``prec``,
+        ``max_prec`` (the precision schedule's start and limit, bits), ``t_max`` and ``time_budget_s``.
+
+    Returns
+    -------
+    ImpactSequence
+        :class:`gear_rattle.core.results.ImpactSequence`: per event ``n``, ``tau`` (absolute time),
+        ``theta = tau mod 2 pi``, ``wall``, ``sdot``, ``kind``, and whether it worked (``ok``, ``status``,
+        ``message``).
+
+    Raises
+    ------
+    ValueError, TypeError
+        For an argument out of range or of the wrong type, naming it and its range
+        (:mod:`gear_rattle.core.checks`; ``0 <= n_impacts <= MAX_IMPACTS``, 1e7), before any track is
+        loaded or anything computed.  The old call ``orbit(track, params, ...)`` still works, with a
+        DeprecationWarning.
+
+    Examples
+    --------
+    The same orbit on the closed-form map and on scipy's integration of Eq. (3):
+
+    >>> import gear_rattle as gr
+    >>> p = gr.Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
+    >>> seq = gr.orbit(p, tau0=0.0, sdot0=0.5, n_impacts=10, track="map")
+    >>> seq.wall[:5].tolist()
+    [0, -1, -1, 0, 0]
+    >>> print(f"{seq.tau[10]:.6f}", seq.status, seq.ok)
+    10.831944 active True
+    >>> ref = gr.orbit(p, tau0=0.0, sdot0=0.5, n_impacts=10, track="scipy")
+    >>> bool(abs(ref.tau - seq.tau).max() < 1e-8)
+    True
+    """
+    if isinstance(params, str):  # the old order: orbit(track, params, tau0, sdot0, n_impacts)
+        warn_renamed("orbit(track, params, tau0, sdot0, n_impacts)",
+                     "orbit(params, tau0, sdot0, n_impacts, track=track)")
+        track, params, tau0, sdot0, n_impacts, s0 = params, tau0, sdot0, n_impacts, s0, solver_options.pop("s0", None)
     check_choice("track", track, ORBIT_TRACKS)
     check_params(params)
     check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
@@ -95,8 +155,8 @@ def orbit(track: str, params: Params, tau0: float, sdot0: float, n_impacts: int,
     if track == "certified":
         from .certified.track import track_orbit
 
-        return track_orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
-    return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, **options)
+        return track_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
+    return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
 
 
 def step_jacobian(track: str, params: Params, tau: float, sdot: float, wall: int | None = None,

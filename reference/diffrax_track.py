@@ -294,7 +294,7 @@ def _initial(params: Params, tau0: float, sdot0: float, s0: float | None, opts: 
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
           rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
-          max_steps: int = MAX_STEPS, progress=False) -> ImpactSequence:
+          max_steps: int = MAX_STEPS, progress=None) -> ImpactSequence:
     """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`; runs in chunks of

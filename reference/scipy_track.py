@@ -280,7 +280,7 @@ class DenseTrajectory(NamedTuple):
 
 
 def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, opts: Options,
-         points_per_unit: float | None, progress=False):
+         points_per_unit: float | None, progress=None):
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     p = params
     s0 = None if s0 is None else float(s0)
@@ -362,7 +362,7 @@ def _meta(tau0, sdot0, s0, n, opts: Options) -> dict:
 
 def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
           rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX,
-          progress=False) -> ImpactSequence:
+          progress=None) -> ImpactSequence:
     """Orbit of Eq. (3) integrated numerically: impact 0 plus ``n_impacts`` impacts (track ``"scipy"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`: with ``s0`` None,

@@ -266,7 +266,7 @@ def test_paper_scans_agree_with_the_1d_lyapunov_code():
         a = values if param == "alpha" else np.full(values.size, 3.0)
         r = values if param == "r" else np.full(values.size, 0.9)
         out = compute_tile(a, r, AtlasSpec(transient=tr, impacts=n, period_max=32))
-        ref = lyapunov(Params(3.0, 0.1, 0.1, 0.9), param, values, n=n, transient=tr)  # the varied one is replaced
+        ref = lyapunov(Params(3.0, 0.1, 0.1, 0.9), param, values, n_impacts=n, transient=tr)  # the varied one is replaced
         lam, per = out["lambda1"], out["period_p"] > 0
         assert np.all(np.isfinite(lam)) and np.all(out["status"] == 0)
         # the same orbit and the same exponent where the orbit is periodic (no chaos to amplify rounding) ...

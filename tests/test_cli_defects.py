@@ -124,7 +124,7 @@ def test_ctrl_c_stops_a_long_simulate_at_once(track, tmp_path, capsys):
     of 256 impacts the same way (core.state.run_in_chunks)."""
     from gear_rattle.mapimpl.tracks import orbit
 
-    orbit(track, Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 300)  # compile first: measure the run, not XLA
+    orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 300, track=track)  # compile first: measure the run, not XLA
     out = tmp_path / "long.csv"
     fired = []
 

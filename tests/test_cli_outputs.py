@@ -355,7 +355,7 @@ def test_find_periodic_singular_step_and_divergence(monkeypatch):
     from gear_rattle.core.params import Params
 
     o = P.find_periodic(Params(0.5, 0.1, 0.1, 0.9), 0.0, 0.5, 1)
-    assert not o.converged and np.all(np.isfinite([o.tau[0], o.sdot[0]]))
+    assert not o.converged and np.all(np.isfinite([o.theta[0], o.sdot[0]]))
     real = P.pfold
 
     def identity_jacobian(*a, **k):

@@ -18,10 +18,11 @@ import pytest
 
 #: Modules whose docstrings' examples run here.
 MODULES = (
-    "gear_rattle",
+    "gear_rattle.mapimpl.tracks",
     "gear_rattle.mapimpl.finder",
     "gear_rattle.mapimpl.orbit",
     "gear_rattle.mapimpl.periodic",
+    "gear_rattle.mapimpl.lyapunov",
     "gear_rattle.mapimpl.engine.driver",
     "gear_rattle.mapimpl.engine.exponents",
     "gear_rattle.mapimpl.engine.transients",

@@ -15,7 +15,7 @@ LN_DBL_MAX = float(np.log(np.finfo(np.float64).max))
 @pytest.fixture(scope="module")
 def spectrum_r():
     """Fig. 4b parameters (alpha = 3): exponents at r = 0.9, 0.86, 0.8, 0.75 over 4000 impacts."""
-    return lyapunov(Params(3.0, 0.1, 0.1, 0.9), "r", [0.9, 0.86, 0.8, 0.75], n=4000, transient=500)
+    return lyapunov(Params(3.0, 0.1, 0.1, 0.9), "r", [0.9, 0.86, 0.8, 0.75], n_impacts=4000, transient=500)
 
 
 def test_sum_equals_closed_form_mean_log_det(spectrum_r):
@@ -41,7 +41,7 @@ def test_periodic_lambda1_matches_floquet_multiplier():
     p = Params(3.0, 0.1, 0.1, 0.8)
     th, sd = attractor_point(p, 3000)
     o = find_periodic(p, th, sd, 6)
-    res = lyapunov(p, "r", [0.8], n=6000, transient=3000)
+    res = lyapunov(p, "r", [0.8], n_impacts=6000, transient=3000)
     expect = np.sort(np.log(np.abs(o.multipliers)))[::-1] / 6
     assert res.lam[0] == pytest.approx(expect, abs=4e-4)
 
@@ -55,7 +55,7 @@ def test_paper_raw_product_overflows(spectrum_r):
     assert 0.85 < k * spectrum_r.lam[0, 0] / LN_DBL_MAX < 1.05
 
 
-@pytest.mark.parametrize("kw", [dict(n=0), dict(transient=-1), dict(sdot0=0.0)])
+@pytest.mark.parametrize("kw", [dict(n_impacts=0), dict(transient=-1), dict(sdot0=0.0)])
 def test_bad_inputs(kw):
     with pytest.raises(ValueError):
         lyapunov(Params(3.0, 0.1, 0.1, 0.9), "r", [0.9], **kw)
@@ -63,4 +63,4 @@ def test_bad_inputs(kw):
 
 def test_bad_parameter_value_names_parameter():
     with pytest.raises(ValueError, match="r="):
-        lyapunov(Params(3.0, 0.1, 0.1, 0.9), "r", [1.2], n=10)
+        lyapunov(Params(3.0, 0.1, 0.1, 0.9), "r", [1.2], n_impacts=10)

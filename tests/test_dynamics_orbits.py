@@ -27,8 +27,8 @@ def test_floquet_product_equals_closed_form_dets(orbit6):
     prod = np.prod(o.multipliers).real
     assert prod == pytest.approx(closed_form_det(p, 6), rel=4e-15)
     # and step by step: prod_n r^2 exp(-beta dt_n) sdot_n / sdot_{n+1} with the orbit's own times
-    th, sd = orbit_states(p, o.tau[0], o.sdot[0], 6)
-    dt = np.diff(np.unwrap(np.append(th, o.tau[0]), period=2 * np.pi))
+    th, sd = orbit_states(p, o.theta[0], o.sdot[0], 6)
+    dt = np.diff(np.unwrap(np.append(th, o.theta[0]), period=2 * np.pi))
     dt = np.mod(dt, 2 * np.pi)
     steps = p.r ** 2 * np.exp(-p.beta * dt) * sd / np.roll(sd, -1)
     assert np.prod(steps) == pytest.approx(prod, rel=4e-15)
@@ -43,7 +43,7 @@ def test_continuation_passes_fold_r2(orbit6):
     r = 0.82144 "slightly above r2", i.e. r2 to the 5 decimals it prints: our r2 = 0.8214404 rounds
     to it (docs/dynamics.md discusses the 4.5e-7 difference)."""
     p, o = orbit6
-    br = continue_orbit(p, "r", o.tau[0], o.sdot[0], 6, mu_range=(0.79, 0.83), ds=5e-3, ds_max=2e-2,
+    br = continue_orbit(p, "r", o.theta[0], o.sdot[0], 6, mu_range=(0.79, 0.83), ds=5e-3, ds_max=2e-2,
                         max_points=14)
     assert br.folds, br.stop_reason
     f = br.folds[0]
@@ -62,7 +62,7 @@ def test_continuation_passes_fold_r2(orbit6):
     assert a.size and b.size
     assert (a.max() < 1.0 < b.min()) or (b.max() < 1.0 < a.min())
     # locating again from a point further away gives the same r2
-    g = locate(p, "r", "fold", o.tau[0], o.sdot[0], 0.82, 6)
+    g = locate(p, "r", "fold", o.theta[0], o.sdot[0], 0.82, 6)
     assert g.mu == pytest.approx(f.mu, abs=1e-14)
 
 
@@ -75,7 +75,7 @@ def test_dG_dmu_by_autodiff_agrees_with_central_differences(orbit6, name):
 
     p, o = orbit6
     prob = _Problem(p, name, 6, 1, int(o.walls[0]))
-    y = np.array([o.tau[0], o.sdot[0], getattr(p, name)])
+    y = np.array([o.theta[0], o.sdot[0], getattr(p, name)])
     ad, fd = prob.dG_dmu(y), prob._dG_dmu_fd(y)
     assert np.all(np.isfinite(ad))
     assert np.allclose(ad, fd, rtol=1e-6, atol=0)

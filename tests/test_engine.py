@@ -83,15 +83,15 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
     rng = np.random.default_rng(3)
     tau0, sdot0 = rng.uniform(3.0, 3.5, 300), rng.uniform(1e-6, 0.5, 300)
     kw = dict(cap=8000, progress=False, target=target)
-    ref = transient_times(tau0, sdot0, lanes=LANES, devices=1, **kw)
+    ref = transient_times(None, tau0, sdot0, lanes=LANES, devices=1, **kw)
     sizes = []
     compact = K.compact
     monkeypatch.setattr(K, "compact", lambda lanes, size: (sizes.append(size), compact(lanes, size=size))[1])
-    runs = [transient_times(tau0, sdot0, lanes=256, devices=1, **kw),
-            transient_times(tau0, sdot0, lanes=1, devices=1, chunk=100, **kw)]
+    runs = [transient_times(None, tau0, sdot0, lanes=256, devices=1, **kw),
+            transient_times(None, tau0, sdot0, lanes=1, devices=1, chunk=100, **kw)]
     assert 32 in sizes  # the tail ran on 32 lanes
     if len(jax.devices()) >= 2:
-        runs.append(transient_times(tau0, sdot0, lanes=LANES, devices=2, **kw))
+        runs.append(transient_times(None, tau0, sdot0, lanes=LANES, devices=2, **kw))
     for r in runs:
         for name in ("hit", "n", "status", "nstick", "first_stick"):
             assert np.array_equal(getattr(r, name), getattr(ref, name)), name
@@ -101,8 +101,8 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
 def test_single_orbit_equals_batch(target):
     """A queue of one orbit (the block is padded to LANE_QUANTUM lanes) gives the same duration as the
     same orbit in a batch: (3.2, 0.3) was 4666 vs 364 before the padding."""
-    one = transient_times([3.2], [0.3], lanes=1, devices=1, progress=False, target=target)
-    many = transient_times([3.2] * 3, [0.3] * 3, lanes=LANES, devices=1, progress=False, target=target)
+    one = transient_times(None, [3.2], [0.3], lanes=1, devices=1, progress=False, target=target)
+    many = transient_times(None, [3.2] * 3, [0.3] * 3, lanes=LANES, devices=1, progress=False, target=target)
     assert np.array_equal(one.hit[0], many.hit[0]) and np.array_equal(many.hit[0], many.hit[2])
 
 
@@ -112,8 +112,8 @@ def test_composed_release_equals_following_every_orbit(target):
     gives bit-identical durations (Fig. 11 setting, ICs near sdot0 = 0 that chatter and stick)."""
     T, S = grid(nx=12, ny=12, box=(3.0, 3.5, 0.0, 0.1))
     kw = dict(cap=20000, lanes=LANES, devices=1, progress=False, target=target)
-    comp = transient_times(T.ravel(), S.ravel(), release="compose", **kw)
-    foll = transient_times(T.ravel(), S.ravel(), release="follow", **kw)
+    comp = transient_times(None, T.ravel(), S.ravel(), release="compose", **kw)
+    foll = transient_times(None, T.ravel(), S.ravel(), release="follow", **kw)
     assert comp.n_stuck_orbits >= 10 and comp.release and comp.release[0]["wall"] == 0
     assert np.array_equal(comp.hit, foll.hit) and np.array_equal(comp.status, foll.status)
     assert comp.impacts < foll.impacts
@@ -332,7 +332,7 @@ def test_bad_inputs_name_the_argument(target):
     with pytest.raises(ValueError, match="r"):
         run([3.2], [0.3], [0], {"alpha": 1.0, "beta": 0.1, "gamma": 0.1, "r": 1.5}, (), cap=10)
     with pytest.raises(ValueError, match="release"):
-        transient_times([3.2], [0.3], release="skip", target=target)
+        transient_times(None, [3.2], [0.3], release="skip", target=target)
     with pytest.raises(ValueError, match="deltas"):
         Capture([1.0], [0.5], [0], [-1.0])
     with pytest.raises(ValueError, match="keep"):
@@ -373,7 +373,7 @@ def test_durations_without_the_xla_options_agree(target):
             "from gear_rattle.core._jax import xla_tuning_active; "
             "from gear_rattle.mapimpl.engine.transients import transient_times; "
             "t, s = (np.array(x) for x in json.loads(sys.stdin.read())); "
-            "r = transient_times(t, s, cap=200, progress=False); "
+            "r = transient_times(None, t, s, cap=200, progress=False); "
             "print(json.dumps([xla_tuning_active(), r.duration()[0].tolist()]))")
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     env["GEAR_RATTLE_XLA_TUNING"] = "0"
@@ -381,7 +381,7 @@ def test_durations_without_the_xla_options_agree(target):
                           capture_output=True, text=True, env=env, timeout=600)
     assert proc.returncode == 0, proc.stderr
     tuned_there, d_there = json.loads(proc.stdout)
-    d_here = transient_times(tau0, sdot0, cap=200, progress=False, target=target).duration()[0]
+    d_here = transient_times(None, tau0, sdot0, cap=200, progress=False, target=target).duration()[0]
     assert not tuned_there
     short = (d_here < 40) | (np.asarray(d_there) < 40)
     assert short.sum() >= 15 and np.array_equal(d_here[short], np.asarray(d_there)[short])

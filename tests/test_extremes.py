@@ -99,8 +99,8 @@ def test_engine_runs_every_corner_of_the_box_like_the_map():
 def test_map_agrees_with_scipy_at_the_corners(p):
     """The certified map against an ODE solver at the corners (beta = 1e10 is stiff for scipy's
     explicit method and left out): same statuses, walls and impacts -- no impact skipped."""
-    m = orbit("map", Params(*p), 1.0, SDOT0, 6)
-    s = orbit("scipy", Params(*p), 1.0, SDOT0, 6)
+    m = orbit(Params(*p), 1.0, SDOT0, 6, track="map")
+    s = orbit(Params(*p), 1.0, SDOT0, 6, track="scipy")
     mi, si = m.kind == "impact", s.kind == "impact"
     assert m.status == s.status
     assert np.array_equal(m.wall[mi], s.wall[si])
@@ -173,7 +173,7 @@ def test_subnormal_sdot0_tracks_agree(sdot0, tau0):
     """``simulate --sdot0 1e-320`` put the orbit on wall -1 on the map track (XLA compared 1e-320 > 0
     as false) while scipy put it on wall 0; the wall is now decided on the bits."""
     p = Params(3.0, 0.1, 0.1, 0.9)
-    m, s = orbit("map", p, tau0, sdot0, 4), orbit("scipy", p, tau0, sdot0, 4)
+    m, s = orbit(p, tau0, sdot0, 4, track="map"), orbit(p, tau0, sdot0, 4, track="scipy")
     assert m.wall[0] == (0 if sdot0 > 0 else -1) and m.sdot[0] == sdot0
     _agree(m, s, p)
 
@@ -185,7 +185,7 @@ def test_subnormal_free_starts_tracks_agree(s0, sdot0, tau0):
     """Free-flight starts on a wall or a subnormal distance from it, with subnormal velocities: a start
     on a wall moving into it is a pre-impact state on every track (decided on the host)."""
     p = Params(3.0, 0.1, 0.1, 0.9)
-    _agree(orbit("map", p, tau0, sdot0, 4, s0=s0), orbit("scipy", p, tau0, sdot0, 4, s0=s0), p)
+    _agree(orbit(p, tau0, sdot0, 4, s0=s0, track="map"), orbit(p, tau0, sdot0, 4, s0=s0, track="scipy"), p)
 
 
 @pytest.mark.parametrize("name", ["alpha", "beta", "gamma", "r"])
@@ -194,7 +194,7 @@ def test_subnormal_parameters_tracks_agree(name, value):
     for tau0, sign in ((0.0, 1), (2.0, -1), (4.0, 1)):
         for v in ((value, -value) if name == "gamma" else (value,)):
             p = Params(**{**dict(alpha=3.0, beta=0.1, gamma=0.1, r=0.9), name: v})
-            _agree(orbit("map", p, tau0, sign * SDOT0, 4), orbit("scipy", p, tau0, sign * SDOT0, 4), p)
+            _agree(orbit(p, tau0, sign * SDOT0, 4, track="map"), orbit(p, tau0, sign * SDOT0, 4, track="scipy"), p)
 
 
 def test_subnormal_sdot0_engine_agrees_with_map():

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib
+import inspect
 import math
 import os
 import re
@@ -33,6 +34,7 @@ import pytest
 from flint import arb
 
 import gear_rattle as gr
+from gear_rattle.core.deprecation import UNSET
 from gear_rattle.core.params import Params
 from gear_rattle.core.paper import PAPER_BOX, PAPER_PARAMS
 
@@ -106,7 +108,7 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
     "gear_rattle:lyapunov": (dict(params=P, param="r", values=[0.9], n_impacts=100, transient=10),
                              dict(params="params", param="choice", values="array?", n_impacts="count?",
                                   transient="count", tau0="phase", sdot0="real")),
-    "gear_rattle:transient_times": (dict(tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
+    "gear_rattle:transient_times": (dict(params=None, tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
                                     dict(tau0="array", sdot0="array", params="params?", ic_mode="choice",
                                          delta="real?", deltas="array?", cap="count", release="choice",
                                          lanes="count?", stick_time="real?", devices="count?")),
@@ -118,8 +120,8 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
     "gear_rattle.mapimpl.orbit:map_orbit": (dict(params=P, tau0=0.0, sdot0=0.5, n_impacts=10),
                                             dict(params="params", tau0="phase", sdot0="real", n_impacts="count",
                                                  s0="real?", chunk="count")),
-    "gear_rattle.mapimpl.periodic:find_periodic": (dict(params=FIG2, tau0=2.034, sdot0=-0.7343, impacts=3),
-                                                   dict(params="params", tau0="phase", sdot0="real", impacts="count",
+    "gear_rattle.mapimpl.periodic:find_periodic": (dict(params=FIG2, tau0=2.034, sdot0=-0.7343, period=3),
+                                                   dict(params="params", tau0="phase", sdot0="real", period="count",
                                                         turns="count", tol="tol", max_iter="count")),
     "gear_rattle.mapimpl.engine.driver:run": (dict(theta=[0.5], sdot=[1.0], wall=[0], params=P, cap=10,
                                                    progress=False),
@@ -128,8 +130,8 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
                                                    stick_time="real", t_max="real", max_steps="count",
                                                    devices="count?")),
     "gear_rattle.mapimpl.engine.transients:transient_times": (
-        dict(tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
-        dict(tau0="array", sdot0="array", params="params", ic_mode="choice", delta="real", deltas="array",
+        dict(params=PAPER_PARAMS, tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
+        dict(tau0="array", sdot0="array", params="params?", ic_mode="choice", delta="real", deltas="array",
              cap="count", release="choice", lanes="count?", block="count", chunk="count?", stick_time="real",
              devices="count?")),
     "gear_rattle.mapimpl.certified.contact:certified_flight": (
@@ -173,8 +175,8 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
         dict(theta=1.0, wall=0, sdot=0.5, alpha=3.0, beta=0.1, gamma=0.1, r=0.9),
         dict(theta="phase", wall="wall", sdot="real", alpha="real", beta="real", gamma="real", r="real",
              stick_time="real")),
-    "gear_rattle.mapimpl.lyapunov:lyapunov": (dict(base=P, param="r", values=[0.9], n=100, transient=10),
-                                              dict(base="params", param="choice", values="array?", n="count",
+    "gear_rattle.mapimpl.lyapunov:lyapunov": (dict(params=P, param="r", values=[0.9], n_impacts=100, transient=10),
+                                              dict(params="params", param="choice", values="array?", n_impacts="count",
                                                    transient="count", tau0="phase", sdot0="real")),
     "gear_rattle.mapimpl.tracks:orbit": (dict(track="map", params=P, tau0=0.0, sdot0=0.5, n_impacts=10),
                                          dict(track="choice", params="params", tau0="phase", sdot0="real",
@@ -192,9 +194,9 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
 
 #: Rows beyond the per-kind ones: ``(function, {argument: bad value}, exception, word in the message)``.
 EXTRA = [
-    ("gear_rattle:find_periodic", dict(impacts=0, period=None), V, "period"),  # old name: named anew
+    ("gear_rattle:find_periodic", dict(impacts=0, period=UNSET), V, "period"),  # old name: named anew
     ("gear_rattle:find_periodic", dict(period=0), V, "period"),
-    ("gear_rattle:lyapunov", dict(n=10**20, n_impacts=None), V, "n_impacts"),
+    ("gear_rattle:lyapunov", dict(n=10**20, n_impacts=UNSET), V, "n_impacts"),
     ("gear_rattle:lyapunov", dict(tau0=NAN), V, "tau0"),
     ("gear_rattle:lyapunov", dict(values="0.9"), T, "values"),
     ("gear_rattle:transient_times", dict(tau0=[3.2, 3.3]), V, "same length"),
@@ -359,7 +361,7 @@ def _public() -> set[str]:
         from test_doctests import ENTRY_POINTS
     finally:
         sys.path.pop(0)
-    names = {f"gear_rattle:{n}" for n in gr.__all__ if callable(getattr(gr, n)) and not isinstance(getattr(gr, n), tuple)}
+    names = {f"gear_rattle:{n}" for n in gr.__all__ if inspect.isfunction(getattr(gr, n)) or n == "Params"}
     names |= {f"{m}:{n}" for m, n in ENTRY_POINTS}
     api = (REPO / "docs" / "api" / "index.md").read_text()
     for ref in re.findall(r"\{(?:func|class)\}`~?(gear_rattle\.[\w.]+)`", api):

@@ -44,7 +44,7 @@ def test_registry_errors():
     with pytest.raises(ValueError, match="track='euler' is out of range"):
         T.get("euler")
     with pytest.raises(ValueError, match="option rtol=1e-05 is out of range"):
-        T.orbit("map", PAPER, 0.0, 0.5, 3, rtol=1e-5)
+        T.orbit(PAPER, 0.0, 0.5, 3, track="map", rtol=1e-5)
     for name in T.TRACKS:
         with pytest.raises(ValueError, match="wall=2 is out of range"):
             T.step_jacobian(name, PAPER, 0.0, 0.5, wall=2)
@@ -59,7 +59,7 @@ def test_the_registry_imports_diffrax_lazily():
 
 @pytest.mark.parametrize("name", ["map", "scipy"])
 def test_orbit_through_the_registry_is_the_track_orbit(name):
-    seq = T.orbit(name, PAPER, 0.0, 0.5, 6)
+    seq = T.orbit(PAPER, 0.0, 0.5, 6, track=name)
     assert isinstance(seq, ImpactSequence) and seq.track == name and seq.status in TRACK_STATUSES
     if name == "map":
         assert seq.to_csv() == map_orbit(PAPER, 0.0, 0.5, 6).to_csv()

@@ -58,7 +58,7 @@ def test_engine_durations_equal_per_orbit_durations(target):
     rng = np.random.default_rng(7)
     tau0 = rng.uniform(0.0, 2 * np.pi, 256)  # the whole Fig. 9 window: tongues of short transients
     sdot0 = rng.uniform(0.0, 0.5, 256)
-    res = transient_times(tau0, sdot0, cap=150, lanes=LANES, progress=False, target=target)
+    res = transient_times(None, tau0, sdot0, cap=150, lanes=LANES, progress=False, target=target)
     dur, cens = res.duration()
     short = np.flatnonzero(~cens & (dur < 60))[:6]
     assert short.size >= 3
@@ -201,9 +201,9 @@ def test_uncertain_fraction_definition():
 
 def test_bad_devices(target):
     with pytest.raises(ValueError, match="devices"):
-        transient_times([3.2], [0.3], progress=False, target=target, devices=0)
+        transient_times(None, [3.2], [0.3], progress=False, target=target, devices=0)
     with pytest.raises(ValueError, match="devices"):
-        transient_times([3.2], [0.3], progress=False, target=target, devices=len(jax.devices()) + 1)
+        transient_times(None, [3.2], [0.3], progress=False, target=target, devices=len(jax.devices()) + 1)
 
 
 def test_bad_cpu_device_env_var():
@@ -245,16 +245,16 @@ def test_library_import_changes_neither_devices_nor_matplotlib_backend():
 ])
 def test_bad_engine_inputs(kwargs, word, target):
     with pytest.raises(ValueError, match=word):
-        transient_times([3.2], [0.3], progress=False, target=target, **kwargs)
+        transient_times(None, [3.2], [0.3], progress=False, target=target, **kwargs)
 
 
 def test_bad_ic_inputs(target):
     with pytest.raises(ValueError, match="sdot0"):
-        transient_times([3.2], [0.0], progress=False, target=target)
+        transient_times(None, [3.2], [0.0], progress=False, target=target)
     with pytest.raises(ValueError, match="tau0"):
-        transient_times([np.nan], [0.1], progress=False, target=target)
+        transient_times(None, [np.nan], [0.1], progress=False, target=target)
     with pytest.raises(ValueError, match="same length"):
-        transient_times([3.2, 3.3], [0.1], progress=False, target=target)
+        transient_times(None, [3.2, 3.3], [0.1], progress=False, target=target)
     with pytest.raises(ValueError, match="nx"):
         grid(nx=0)
     with pytest.raises(ValueError, match="durations"):

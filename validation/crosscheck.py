@@ -77,14 +77,14 @@ def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
     cases = random_cases(n, seed)
     res = {t: _Tally() for t in tracks}
     for p, tau, sd in cases:
-        m = orbit("map", p, tau, sd, 1)
+        m = orbit(p, tau, sd, 1, track="map")
         graze = m.status == Status.ACTIVE.label and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]),
                                                           p, graze_depth)
         for t in tracks:
             if graze:
                 res[t].graze += 1
                 continue
-            o = orbit(t, p, tau, sd, 1)
+            o = orbit(p, tau, sd, 1, track=t)
             if o.status != m.status or list(o.kind) != list(m.kind) or not np.array_equal(o.wall, m.wall):
                 res[t].mis += 1
                 continue

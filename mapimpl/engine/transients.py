@@ -47,6 +47,8 @@ import jax.numpy as jnp
 from ..impact_map import free_flight_start
 from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_choice, check_int, check_real
 from ...core.paper import DELTA, DELTAS, MAX_DELTA, PAPER_BOX, PAPER_PARAMS
+from ...core.deprecation import UNSET, warn_renamed
+from ...core.outcome import Outcome
 from ...core.params import Params, check_params
 from ...core.status import Status
 from ..sticking import STICK_TIME
@@ -115,9 +117,9 @@ def _periodic_target(params: Params, impacts: int, guess: tuple[float, float], s
                          f"transients of Figs. 9-11 end on it) found from {guess} (Newton converged: {po.converged}, "
                          f"|multipliers| {np.array2string(np.abs(po.multipliers), precision=3)})")
     # the wall of each pre-impact state follows the sign of its velocity (sdot > 0 hits s = 0);
-    # (po.walls lists the same walls, aligned with po.tau and po.sdot)
+    # (po.walls lists the same walls, aligned with po.theta and po.sdot)
     wall = np.where(np.asarray(po.sdot) > 0, 0, -1).astype(np.int32)
-    return PeriodicTarget(np.asarray(po.tau), np.asarray(po.sdot), wall,
+    return PeriodicTarget(np.asarray(po.theta), np.asarray(po.sdot), wall,
                           np.asarray(po.multipliers), float(po.residual))
 
 
@@ -135,7 +137,7 @@ def compose_release(first_stick, t_post, cap: int) -> np.ndarray:
 
 
 @dataclass
-class TransientResult:
+class TransientResult(Outcome):
     """Per-initial-condition results (flat arrays of length N, in input order).
 
     ``hit[:, j]``: first iteration within ``deltas[j]`` (-1: never, within the cap); for orbits that
@@ -145,7 +147,8 @@ class TransientResult:
     ``nstick``: sticking episodes computed; ``first_stick``: impact index at which the orbit first
     stuck (-1: never); ``stick_wall``: its wall (``release="compose"``; 1 = not recorded when followed).  ``release``: per wall that was stuck to, the
     post-release orbit: ``{"wall", "ic", "first_stick", "T_post" (one per delta, -1: beyond the cap)}``.
-    :meth:`duration` gives the durations, censored orbits set to ``cap``.
+    :meth:`duration` gives the durations, censored orbits set to ``cap``.  ``ok``, ``message``
+    (:class:`~gear_rattle.core.outcome.Outcome`): built on ``status``, one code per orbit.
     """
 
     tau0: np.ndarray
@@ -264,7 +267,7 @@ def _validate_deltas(deltas, delta):
     return np.asarray(sorted(set(d.tolist()) | {delta}, reverse=True), dtype=np.float64)
 
 
-def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str = "pre-impact", s0=None,
+def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = "pre-impact", s0=None,
                     delta: float = DELTA, deltas=DELTAS, cap: int = 20000, release: str = "compose",
                     lanes: int | None = None, block: int = 32, chunk: int | None = None, progress=None,
                     label: str = "transients", target: PeriodicTarget | None = None,
@@ -276,10 +279,12 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
 
     Parameters
     ----------
+    params : Params or None
+        The model's parameters; None for the paper's Figs. 9-11 (alpha = 1.245, beta = gamma = 0.1,
+        r = 0.9, :data:`gear_rattle.core.paper.PAPER_PARAMS`).  The old order ``transient_times(tau0,
+        sdot0[, params])`` still works, with a DeprecationWarning.
     tau0, sdot0 : array_like
         The initial conditions (1-D, same length, at most 2e7), ``|tau0| <= 1e6``.
-    params : Params, optional
-        Default the paper's Figs. 9-11 (alpha = 1.245, beta = gamma = 0.1, r = 0.9).
     ic_mode : {"pre-impact", "free"}, optional
         Pre-impact states (the paper's map variables), or free states at ``s0``.
     s0 : float, optional
@@ -302,27 +307,30 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     -------
     TransientResult
         First capture iteration per initial condition and capture distance, with status, sticking and
-        the post-release orbits; :meth:`TransientResult.duration` gives the durations and the censoring.
+        the post-release orbits; :meth:`TransientResult.duration` gives the durations and the censoring;
+        ``ok`` and ``message`` say whether it worked.
 
     Examples
     --------
     Eight initial conditions on the upper wall of Fig. 11's box, at most 2000 impacts each:
 
     >>> import numpy as np
-    >>> from gear_rattle.mapimpl.engine.transients import transient_times
-    >>> res = transient_times(np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, progress=False)
-    >>> res.target.wall.size, res.hit.shape == (8, res.deltas.size)
-    (4, True)
+    >>> import gear_rattle as gr
+    >>> res = gr.transient_times(None, np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, progress=False)
+    >>> res.target.wall.size, res.hit.shape == (8, res.deltas.size), res.ok
+    (4, True, True)
     >>> dur, censored = res.duration()
     >>> bool(np.all(dur[~censored] <= 2000) and np.all(dur[censored] == 2000))
     True
 
     Following every orbit through its sticking episodes gives the same durations, bit for bit:
 
-    >>> slow = transient_times(np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, release="follow", progress=False)
+    >>> slow = gr.transient_times(None, np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, release="follow",
+    ...                           progress=False)
     >>> bool(np.array_equal(slow.duration()[0], dur))
     True
     """
+    params, tau0, sdot0 = _params_first(params, tau0, sdot0)
     check_params(params)
     d = _validate_deltas(deltas, delta)
     check_choice("release", release, RELEASE_MODES)
@@ -380,6 +388,19 @@ def transient_times(tau0, sdot0, params: Params = PAPER_PARAMS, *, ic_mode: str 
     meta = dict(res.meta, release_mode=release, hit_before_stick=hit_before_stick)
     return TransientResult(tau0a, sdot0a, hit, nn, status, nstick, first, swall, d, float(delta), cap, params,
                            ic_mode, None if s0 is None else float(s0), target, elapsed, releases, meta)
+
+
+def _params_first(params, tau0, sdot0):
+    """``(params, tau0, sdot0)`` of :func:`transient_times`: None is the paper's parameters; the old order
+    ``(tau0, sdot0[, params])`` -- a first argument that is neither a :class:`Params` nor None -- is
+    reordered, with a DeprecationWarning."""
+    if params is not None and not isinstance(params, Params) and not isinstance(params, dict):
+        warn_renamed("transient_times(tau0, sdot0, params)", "transient_times(params, tau0, sdot0)", stacklevel=4)
+        params, tau0, sdot0 = (PAPER_PARAMS if sdot0 is UNSET else sdot0), params, tau0
+    elif sdot0 is UNSET:
+        raise InputTypeError("transient_times() is missing sdot0 (the initial velocities): allowed "
+                             "transient_times(params, tau0, sdot0)")
+    return (PAPER_PARAMS if params is None else params), tau0, sdot0
 
 
 #: Most mesh points per axis of :func:`grid`.

@@ -70,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
         from ...mapimpl.lyapunov import lyapunov
         from ..dynamics.bifurcation import DiagramLyapunov
 
-        res = lyapunov(base, args.param, d.values, n=args.lyapunov, transient=args.transient, tau0=args.tau0,
+        res = lyapunov(base, args.param, d.values, n_impacts=args.lyapunov, transient=args.transient, tau0=args.tau0,
                        sdot0=args.sdot0, progress=progress_arg(args))
         lyap, result = (res.values, res.lam_free), DiagramLyapunov(d, res)  # --output carries the exponents
     write_output(args, result)

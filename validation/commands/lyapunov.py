@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     lo = args.lo if args.lo is not None else getattr(base, args.param)
     lo, hi = check_scan(args, lo, lo if args.hi is None else args.hi)
     values = np.linspace(lo, hi, args.values)
-    res = lyapunov(base, args.param, values, n=args.impacts, transient=args.transient, tau0=args.tau0,
+    res = lyapunov(base, args.param, values, n_impacts=args.impacts, transient=args.transient, tau0=args.tau0,
                    sdot0=args.sdot0, progress=progress_arg(args))
     fig = None
     if args.plot:  # drawn before anything is written

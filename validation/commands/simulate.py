@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args)
     if args.track == "certified":
         return _run_certified(args, params)
-    seq = orbit(args.track, params, args.tau0, args.sdot0, args.impacts, s0=args.s0, progress=progress_arg(args))
+    seq = orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, track=args.track,
+                progress=progress_arg(args))
     _finish(args, seq)
     return 0
 

@@ -194,7 +194,7 @@ def diagram_with_lyapunov(base: Params, param: str, lo: float, hi: float, n_valu
     from ...mapimpl.lyapunov import lyapunov
 
     d = bifurcation_diagram(base, param, lo, hi, n_values=n_values, transient=transient, keep=keep, mode="fixed")
-    return DiagramLyapunov(d, lyapunov(base, param, d.values, n=lyap_n, transient=transient))
+    return DiagramLyapunov(d, lyapunov(base, param, d.values, n_impacts=lyap_n, transient=transient))
 
 
 def raw_product_horizon(lam1: float) -> float:

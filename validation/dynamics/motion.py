@@ -74,7 +74,7 @@ def motion(params: Params, profile: str = "quick") -> Motion:
     seq = map_orbit(params, START[0], START[1], size["impacts"])
     tau, theta, sd, _ = seq.impact_arrays()
     per = velocity_period(sd[-TAIL:], MAX_PERIOD)
-    lam = lyapunov(params, "alpha", [params.alpha], n=size["lyap_n"], transient=LYAP_TRANSIENT)
+    lam = lyapunov(params, "alpha", [params.alpha], n_impacts=size["lyap_n"], transient=LYAP_TRANSIENT)
     l1, l2 = (float(x) for x in lam.lam[0])
     po = turns = None
     if per:

@@ -42,7 +42,7 @@ def first_contact(params: Params, tau0: float, sdot0: float) -> tuple[int, float
     ``(tau0, sdot0)`` on the map track (float64; a search oracle, not a certified value)."""
     from ...mapimpl.tracks import orbit
 
-    seq = orbit("map", params, tau0, sdot0, 1)
+    seq = orbit(params, tau0, sdot0, 1, track="map")
     if len(seq.n) < 2:
         raise RuntimeError(f"no first impact from tau0={tau0!r}, sdot0={sdot0!r}")
     return int(seq.wall[1]), float(seq.tau[1] - seq.tau[0]), float(seq.sdot[1])

@@ -112,7 +112,7 @@ def chaos_horizon(params: Params) -> tuple[int, float]:
     QR method over CHAOS_LYAP_IMPACTS impacts after 500 from (0, 0.5), rounded to CHAOS_LYAP_DECIMALS)."""
     from ...mapimpl.lyapunov import lyapunov
 
-    lam = float(lyapunov(params, "r", [params.r], n=CHAOS_LYAP_IMPACTS, transient=500).lam[0, 0])
+    lam = float(lyapunov(params, "r", [params.r], n_impacts=CHAOS_LYAP_IMPACTS, transient=500).lam[0, 0])
     lam = round(lam, CHAOS_LYAP_DECIMALS)
     if not lam > 0:
         raise RuntimeError(f"lambda1={lam} is not positive: not a chaotic case")
@@ -676,7 +676,7 @@ def certify_spec(spec: Spec, radius_limit: float) -> cert.CertifiedOrbit:
         # the map track says after which impact the orbit ends (a search hint); the certification proves it
         from ...mapimpl.tracks import orbit
 
-        hint = orbit("map", spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0)
+        hint = orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, track="map")
         if hint.status != "no_impact":
             raise cert.CertificationError(f"{spec.id}: the map track ends with status {hint.status!r}, not 'no_impact'")
         last = int(hint.n[hint.kind == "impact"][-1])

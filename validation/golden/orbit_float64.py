@@ -36,7 +36,7 @@ def float64_values(rec: Record) -> tuple[dict, Values]:
     d: dict = {}
     if rec.kind == "periodic-orbit":
         o = find_periodic(params, tau0, sdot0, impacts, turns)
-        th, sd, walls, mult = o.tau, o.sdot, o.walls, o.multipliers
+        th, sd, walls, mult = o.theta, o.sdot, o.walls, o.multipliers
         if not o.converged:
             d["note"] = f"find_periodic did not converge (residual {o.residual:.2g})"
     else:

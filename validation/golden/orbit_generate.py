@@ -76,7 +76,7 @@ def float64_seeds() -> dict:
     def orbit_seed(o, note):
         if not o.converged:
             raise RuntimeError(f"float64 seed did not converge: {note}")
-        return (*canonical(o.tau, o.sdot), None, note)
+        return (*canonical(o.theta, o.sdot), None, note)
 
     def point_seed(base, f, impacts, note):
         if not f.converged:
@@ -96,7 +96,7 @@ def float64_seeds() -> dict:
     th, sd = attractor_point(_FIG2)
     seeds[CASES[4].id] = orbit_seed(find_periodic(_FIG2, th, sd, 3), "find_periodic from the attractor")
     seeds[CASES[5].id] = point_seed(_FIG4, b6.folds[0], 6, "continuation in r: the fold located on the extended system")
-    down = continue_orbit(_FIG4, "r", stable6.tau[0], stable6.sdot[0], 6, 1, mu_range=(0.74, 0.8), direction=-1)
+    down = continue_orbit(_FIG4, "r", stable6.theta[0], stable6.sdot[0], 6, 1, mu_range=(0.74, 0.8), direction=-1)
     if not down.flips:
         raise RuntimeError("no period doubling on the stable 6-impact branch in 0.74 <= r <= 0.8")
     seeds[CASES[6].id] = point_seed(_FIG4, down.flips[0], 6, "continuation in r down from 0.8: the first flip")

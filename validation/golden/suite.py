@@ -457,4 +457,4 @@ def run_settings(s: dict, track: str = "map"):
 
     p = Params(**s["params"])
     ini = s["initial_state"]
-    return orbit(track, p, ini["tau0"], ini["sdot0"], int(s["n_impacts"]), s0=ini.get("s0"))
+    return orbit(p, ini["tau0"], ini["sdot0"], int(s["n_impacts"]), s0=ini.get("s0"), track=track)

@@ -128,7 +128,7 @@ def build(ctx) -> Section:
     # the orbit after the crisis alpha1, at the alpha of Fig. 9
     a_f9 = float(PAPER["alpha1_fig9"].value)
     ctx.say(f"alpha = {a_f9:g}: settling on the 4-impact orbit ({st['settle_ics']} orbits)")
-    settle4 = settle(R9, "alpha", a_f9, a1.node.tau, a1.node.sdot, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed)
+    settle4 = settle(R9, "alpha", a_f9, a1.node.theta, a1.node.sdot, st["settle_ics"], st["settle_n"], ls.eps, ctx.seed)
     _time_series(ctx, sec, get_profile(ctx.profile, "timeseries"), r2, r1, ls.eps)
     _table(sec, branch, r2, r1, a1, a_f9)
     local = _intermittency(ctx, sec, r2)
@@ -211,7 +211,7 @@ def _table(sec: Section, branch, r2, r1, a1, a_f9: float) -> None:
                                                            f"(g = {a1.g_free:.2f} +- {a1.g_free_err:.2f})"],
         ["alpha1: GOY exponent of the saddle 4-impact orbit", f"{a1.goy_exponent:.4f}"],
         ["alpha1: bracket by direct observation (escapes seen at / none at)", _bracket_text(a1.bracket, 6)],
-        [f"stable {node.impacts}-impact orbit at alpha = {a_f9:g}: Floquet multipliers",
+        [f"stable {node.period}-impact orbit at alpha = {a_f9:g}: Floquet multipliers",
          ", ".join(f"{complex(m):.5f}" for m in node.multipliers)],
     ])
 

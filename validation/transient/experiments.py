@@ -62,7 +62,7 @@ def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, 
     if not ns or ns[0] < 1:
         raise ValueError(f"ns={ns!r} is out of range: allowed integers >= 1")
     T, S = grid(window, nx, ny)
-    res = transient_times(T.ravel(), S.ravel(), params, ic_mode=ic_mode, s0=s0, delta=delta, deltas=(delta,),
+    res = transient_times(params, T.ravel(), S.ravel(), ic_mode=ic_mode, s0=s0, delta=delta, deltas=(delta,),
                           cap=ns[-1], progress=progress, label="basins", lanes=lanes)
     dur, cens, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"), progress=progress)
     D = dur.reshape(T.shape)
@@ -97,7 +97,7 @@ def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0
     E = eps.size
     tau = np.concatenate([tA, (tA[:, None] + eps).ravel(), (tA[:, None] - eps).ravel()])
     sd = np.concatenate([sA, np.repeat(sA, E), np.repeat(sA, E)])
-    res = transient_times(tau, sd, params, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress,
+    res = transient_times(params, tau, sd, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress,
                           label="uncertainty", lanes=lanes)
     dur, _, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"), progress=progress)
     dA = dur[:n_points]
@@ -132,7 +132,7 @@ def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta
     cap = size["cap"] if cap is None else int(cap)
     confirm = get_profile(profile, "confirm")
     T, S = grid(box, nx, ny)
-    res = transient_times(T.ravel(), S.ravel(), params, ic_mode=ic_mode, s0=s0, delta=delta, deltas=deltas, cap=cap,
+    res = transient_times(params, T.ravel(), S.ravel(), ic_mode=ic_mode, s0=s0, delta=delta, deltas=deltas, cap=cap,
                           progress=progress, label="transients", lanes=lanes, stick_time=stick_time)
     fit_kw = dict(cap=cap, n_lo=n_lo, n_hi=n_hi, n_boot=n_boot, seed=seed)
     notes: list = []
@@ -198,7 +198,7 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
         if st == base:
             dur, cens, comp, counts = _base_row_data(fig11, stride, k)
         else:
-            res = transient_times(T.ravel(), S.ravel(), p, delta=delta, deltas=(delta,), cap=cap, progress=progress,
+            res = transient_times(p, T.ravel(), S.ravel(), delta=delta, deltas=(delta,), cap=cap, progress=progress,
                                   label=f"stick_time={st:g}", lanes=lanes, stick_time=st)
             dur, cens, _ = release_durations(res, delta, confirm=confirm, stick_time=st, progress=progress)
             comp, counts = composed_mask(res, delta), stick_counts(res, delta)

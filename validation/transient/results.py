@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...core.outcome import Outcome
 from ...core.params import Params
 from ...mapimpl.engine.transients import TransientResult
 from ..paper import PAPER
@@ -100,7 +101,7 @@ class UncertaintyResult:
 
 
 @dataclass
-class SurvivalResult:
+class SurvivalResult(Outcome):
     """Fig. 11: the transient durations on an ``nx`` x ``ny`` mesh of ``box`` (``tau0``, ``sdot0`` of
     shape ``(ny, nx)``), the orbits that stick composed with the ``release_source`` post-release
     duration; ``hit[:, j]``: the duration within ``engine.deltas[j]`` (-1: censored at ``cap``);
@@ -108,7 +109,8 @@ class SurvivalResult:
     ``fit_float64_sample``: the fit at ``delta`` with the engine's float64 T_post instead; ``n``,
     ``N``: the survival curve at ``delta``; ``composed``: the orbits whose duration comes from the
     release; ``release``: per delta (``f"{d:g}"``) and wall the T_post used (:func:`.post_release.release_durations`),
-    at ``delta`` also ``certified_float64_rounding``."""
+    at ``delta`` also ``certified_float64_rounding``.  ``ok``, ``status``, ``message``:
+    :class:`~gear_rattle.core.outcome.Outcome` (the engine's codes, and the fit at ``delta``)."""
 
     params: Params
     box: tuple
@@ -137,6 +139,22 @@ class SurvivalResult:
     def stick_counts(self) -> dict:
         """Orbits that stick before coming within ``delta``, per wall of their first sticking episode."""
         return stick_counts(self.engine, self.delta)
+
+    @property
+    def status(self) -> np.ndarray:
+        """The engine's :class:`~gear_rattle.core.status.Status` code of each orbit."""
+        return self.engine.status
+
+    @property
+    def ok(self) -> bool:
+        """Every orbit ran (``Outcome.ok`` of the engine's codes) and the Eq. (14) fit at ``delta`` exists."""
+        return super().ok and self.main_fit is not None
+
+    @property
+    def message(self) -> str:
+        """The orbits' codes (``Outcome.message``), and the fit's failure where it failed."""
+        text = super().message
+        return text if self.main_fit is not None else f"{text}; no Eq. (14) fit at delta={self.delta:g}"
 
     @property
     def main_fit(self) -> A.SurvivalFit | None:

@@ -102,6 +102,6 @@ def orbit_points(orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The pre-impact points ``(theta, sdot, wall)`` of one or several periodic orbits, concatenated (a
     capture target: the wall of a pre-impact state follows the sign of its velocity)."""
     orbits = [orbits] if isinstance(orbits, PeriodicOrbit) else list(orbits)
-    th = np.concatenate([np.mod(np.asarray(o.tau, float), 2 * np.pi) for o in orbits])
+    th = np.concatenate([np.mod(np.asarray(o.theta, float), 2 * np.pi) for o in orbits])
     sd = np.concatenate([np.asarray(o.sdot, float) for o in orbits])
     return th, sd, np.where(sd > 0, 0, -1).astype(np.int32)
