@@ -18,6 +18,7 @@ from gear_rattle.validation.cli import main
 from gear_rattle.mapimpl.sticking import STICK_TIME
 from gear_rattle.validation.golden import fuzz, generate, ondemand
 from gear_rattle.validation.golden.suite import load_suite
+from test_golden_mutants import SWEEP
 
 HERE = Path(__file__).resolve().parent
 PY = shlex.quote(sys.executable)
@@ -174,6 +175,51 @@ def test_fuzzer_alone_finds_every_bug_class(name, tmp_path, capsys):
     for impl, want in ((name, 1), ("base", 0)):
         subprocess.run([*shlex.split(mutant_impl(impl)), str(out), str(tmp_path / impl)], check=True)
         assert main(["check", str(tmp_path / impl), "--suite", str(out)]) == want, impl
+
+
+#: The fixed-step finder sweep of tests/test_golden_mutants.py (26 steps over [1e-3, 1]), fuzzed one by one with
+#: the graze scenario only (batches of 8); each size's time to the first failure and shrunk case: docs/golden.md.
+SWEEP_STEPS = [float(h) for h in SWEEP]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("step", SWEEP_STEPS)
+def test_fuzzer_alone_finds_every_fixed_step_size(step, tmp_path, capsys):
+    """Every step of the sweep, without the fixed suite: the fuzzer (graze scenario, seed 0, batches of 8) finds
+    the fixed-step finder within MUTANT_BUDGET seconds and writes a shrunk case that fails it and that the base
+    implementation passes (measured 5.5-54 s to the first failure, each shrunk to 1 impact)."""
+    name, out = f"fixed-step-{step!r}", tmp_path / "found"
+    rc, s, _ = _fuzz(["--impl", mutant_impl(name), "--budget", str(MUTANT_BUDGET), "--scenarios", "graze",
+                      "--batch", "8", "--out", str(out)], capsys)
+    assert rc == 1 and s["failures"][0]["found_after_s"] < MUTANT_BUDGET, s
+    for impl, want in ((name, 1), ("base", 0)):
+        subprocess.run([*shlex.split(mutant_impl(impl)), str(out), str(tmp_path / impl)], check=True)
+        assert main(["check", str(tmp_path / impl), "--suite", str(out)]) == want, impl
+
+
+def test_the_fuzzers_graze_draws_defeat_sampled_fixed_step_sizes(tmp_path):
+    """Cheap sample of the sweep above, in process: the second batch of the fuzzer's seed-0 graze draws (the one
+    in which it finds the step 1e-3) holds, for each sampled step (the sweep's ends, its middle, 0.1), a case
+    that the fixed-step finder fails; the base implementation passes them all."""
+    from golden_mutants import BASE, Mutant, run, write_csv
+    from gear_rattle.validation.golden.suite import load_case, score_file
+
+    cases = [ondemand.build_user_case(inp) for k, rec in enumerate(fuzz.draw_recipes(1, 8, ["graze"]))
+             if (inp := fuzz.construct(rec, f"g{k}")) is not None]
+    assert len(cases) >= 4
+
+    def failing(m) -> list[str]:
+        bad = []
+        for c in cases:
+            folder = ondemand.write_user_case(tmp_path / "suite", c)
+            write_csv(run(c.settings, m), tmp_path / f"{m.name}-{c.input.id}.csv", m)
+            if not score_file(load_case(folder), tmp_path / f"{m.name}-{c.input.id}.csv").passed:
+                bad.append(c.input.id)
+        return bad
+
+    assert failing(BASE) == []
+    for step in (SWEEP_STEPS[0], SWEEP_STEPS[len(SWEEP_STEPS) // 2], 0.1, SWEEP_STEPS[-1]):
+        assert failing(Mutant(f"fixed-step-{step!r}", "skipped-graze", step=step)), step
 
 
 @pytest.mark.slow
