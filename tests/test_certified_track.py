@@ -332,3 +332,24 @@ def test_cli_a_tangency_stops_with_one_line_and_the_certified_prefix(tmp_path, c
     c = json.loads(js.read_text())["certified"]
     assert c["complete"] is False and c["first_uncertified"] == 1 and "cannot separate" in c["reason"]
     assert [a["prec"] for a in c["attempts"]] == [320, 640]
+
+
+def test_json_gives_decimal_intervals_inside_the_float64_bounds(tmp_path):
+    """The JSON rows carry decimal intervals (20 significant digits, rounded outward from the balls, as the
+    orbit records print theirs): both contain the exact value, so they meet, and the decimal one is far
+    narrower (the balls are ~1e-90 wide; its ends are the ball's rounded to 20 digits, so an exact float64
+    such as sdot0 = 0.0004 lies one digit inside them); on a stick row ``sdot_decimal`` is None."""
+    from decimal import Decimal
+
+    out = tmp_path / "o.json"
+    assert main(["simulate", "--track", "certified", "--alpha", "0.5", "--gamma", "0.3", "--r", "0.5",
+                 "--sdot0", "0.0004", "--impacts", "14", "--output", str(out)]) == 0
+    events = json.loads(out.read_text())["events"]
+    assert any(e["kind"] == "stick" and e["sdot_decimal"] is None for e in events)
+    for e in events:
+        for col in ("tau", "tau_mod_2pi", "sdot"):
+            if e[col] is None:
+                continue
+            lo, hi = (Decimal(x) for x in e[col + "_decimal"])
+            assert lo <= hi and lo <= Decimal(e[col + "_hi"]) and Decimal(e[col + "_lo"]) <= hi, (e, col)
+            assert hi - lo <= Decimal("2e-19") * max(1, abs(lo)), (e, col)  # one unit of digit 20 per end
