@@ -119,6 +119,11 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     condition, ``dt = -g(y) / g'(y)``, with the vector field gives the event time and state to
     node accuracy.  Differentiating this composition (``jax.jacfwd``) gives the implicit-function
     derivative of the event time, as the map's Jacobian does.
+
+    Which event fired is read off the interpolant (the first upcrossing of the max), so a wall event is
+    judged again on the node state (:func:`reference.events.wall_step`, whose quadratic root is also the
+    step onto the wall): refuted while ``s`` still moves toward the wall, the segment resumes from the node
+    state (``resume``, the last value returned); refuted after the turn, it is a reversal.
     """
     args = (theta0, alpha, beta, gamma, sigma, jnp.asarray(watch))
     t_end = opts.t_max if t_end is None else t_end
@@ -153,12 +158,22 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     y_n = sol2.ys[-1]
     landed = evt & (t_e > t0) & (sol2.result == diffrax.RESULTS.successful)
     f = _vector_field(t_e, y_n, args)
-    g = jnp.where(wall_hit, _wall_cond(t_e, y_n, args), _reversal_cond(t_e, y_n, args))
-    dt = jnp.where(landed, ev.newton_step(g, ev.condition_rate(f, sigma, wall_hit)), 0.0)
-    y_p = y_n + f * dt
+    # the wall event is judged again on the node state, on its quadratic model (ev.wall_step): a near miss
+    # shallower than the interpolant's error (~1e-11) can put the interpolant's s on the wall
+    reached, h_wall = ev.wall_step(y_n[0], y_n[1], f[1], sigma)
+    refuted = wall_hit & landed & ~reached
+    # refuted and still moving along sigma: the turning point is ahead; the segment resumes from the
+    # node state.  Refuted and turned already: a reversal (beyond the wall: a missed crossing)
+    resume = refuted & ev.moving_along(y_n[1], sigma)
+    wall_hit = wall_hit & ~refuted
+    reversal = reversal | (refuted & ~resume)
+    dt_rev = ev.newton_step(_reversal_cond(t_e, y_n, args), ev.reversal_rate(f, sigma))
+    dt = jnp.where(landed & ~resume, jnp.where(wall_hit, h_wall, dt_rev), 0.0)
+    # second-order step in s (on the wall for a hit), first order in sdot
+    y_p = jnp.stack([y_n[0] + (y_n[1] + 0.5 * f[1] * dt) * dt, y_n[1] + f[1] * dt])
     t_out = jnp.where(landed, t_e + dt, t_e)
     y_out = jnp.where(landed, y_p, jnp.where(evt, y_i, y_n))
-    return t_out, y_out, wall_hit, reversal, ok
+    return t_out, y_out, wall_hit, reversal, ok, resume
 
 
 class FlightResult(NamedTuple):
@@ -186,15 +201,17 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
 
     def body(c):
         sig, watch = c["sigma"], c["watch"]
-        t1, y1, hit, rev, reached = _segment(c["t"], c["y"], theta0, sig, alpha, beta, gamma, opts,
-                                             c["t_end"], watch)
+        t1, y1, hit, rev, reached, resume = _segment(c["t"], c["y"], theta0, sig, alpha, beta, gamma, opts,
+                                                     c["t_end"], watch)
         end = ev.segment_end(hit, rev, y1[0], sig)
         # MISSED_CROSSING: the extremum lies beyond the wall ahead, the crossing happened inside one
         # step (diffrax issue 507).  s is monotone on [t, t1]: solve again on exactly that interval,
         # wall only; if that finds no crossing (it reaches t1), the extremum is a reversal.
         retry = watch & (end == ev.MISSED_CROSSING)
         turn = (watch & (end == ev.REVERSAL)) | (~watch & ~hit & reached)
-        done = hit | (~retry & ~turn)
+        # resume: the wall event was the interpolant's (ev.false_wall_hit); the segment goes on from the
+        # landed node state, still moving along sig, with the same watch and end
+        done = hit | (~retry & ~turn & ~resume)
         status = jnp.where(hit, FlightOutcome.HIT, jnp.where(watch & reached, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP)).astype(jnp.int32)
         advance = ~retry
         # restart at an extremum with sdot = -sigma * START_SPEED (it is 0 there to rounding, and its
@@ -204,7 +221,8 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         return dict(t=jnp.where(advance, t1, c["t"]), y=jnp.where(advance, y1, c["y"]),
                     sigma=jnp.where(turn, -sig, sig), seg=c["seg"] + 1, done=done,
                     status=jnp.where(done, status, c["status"]),
-                    t_end=jnp.where(retry, t1, t_max), watch=~retry)
+                    t_end=jnp.where(retry, t1, jnp.where(resume, c["t_end"], t_max)),
+                    watch=jnp.where(resume, watch, ~retry))
 
     c = jax.lax.while_loop(cond, body, init)
     hit = c["status"] == FlightOutcome.HIT

@@ -193,3 +193,13 @@ def test_near_miss_within_the_gap_error_ends_the_case(tmp_path, capsys):
     # a near miss well outside it (0024: 9.95e-10, 1000 times the gap error) is kept
     inp = ondemand.case_input("n", 0.5, 0.1, 0.1, 0.9, 3.0, 0.93996694232023, 10)
     assert ondemand.build_user_case(inp).settings["n_impacts"] == 10
+
+
+def test_a_case_is_certified_by_the_tracks_precision_schedule():
+    """`case` certifies at the precision the certified track's schedule settles on (one mechanism): started at
+    64 bits, too few for float64-tight enclosures, the schedule rises to 128 and the case is the one built
+    from 320 bits byte for byte (on the base commit the case was certified at the fixed 64 bits given)."""
+    inp = ondemand.case_input("chaos", 2.2, 0.05, 0.3, 0.7, 1.0, 0.2, 10)
+    low, default = ondemand.build_user_case(inp, prec=64), ondemand.build_user_case(inp)
+    assert low.provenance["precision_bits"] == 128 and default.provenance["precision_bits"] == 320
+    assert low.expected == default.expected and low.settings["tolerances"] == default.settings["tolerances"]

@@ -310,3 +310,47 @@ def test_cli_uncertified_writes_the_certified_prefix_and_one_line(tmp_path, caps
     assert d["certified"]["complete"] is False and d["certified"]["first_uncertified"] == k
     # --max-precision belongs to the certified track: a usage error elsewhere
     assert main(["simulate", "--max-precision", "128"]) == 2
+
+
+def test_cli_a_tangency_stops_with_one_line_and_the_certified_prefix(tmp_path, capsys):
+    """A flight tangent to a wall: from s = -1 with v0 = -r sdot0 = beta = 0.5 (alpha = gamma = 0) the tooth
+    approaches s = 0 as -exp(-beta t), touching it only at infinity, so within T_MAX the gap falls to
+    e^-1000 ~ 2^-1443: at most 640 bits the track cannot separate the flight from the wall (the schedule
+    certifies it, no_impact, at 2560 bits).  Exit 1, one line naming impact 1 and the reason, and the
+    certified prefix (impact 0) written: the CSV's rows, the JSON marked incomplete.  (The float64 map
+    reports a graze there, at tau = 76.3 with sdot = 1.3e-17.)"""
+    args = ["simulate", "--alpha", "0", "--beta", "0.5", "--gamma", "0", "--r", "0.5", "--tau0", "0", "--sdot0", "-1",
+            "--impacts", "3", "--track", "certified", "--max-precision", "640"]
+    out, js = tmp_path / "o.csv", tmp_path / "o.json"
+    capsys.readouterr()
+    assert main(args + ["--output", str(out)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gear-rattle simulate: error: impact 1 not certified:")
+    assert "cannot separate the flight from the walls" in err[0] and "tangential" in err[0], err
+    rows = out.read_text().splitlines()
+    assert rows[0].split(",") == list(COLUMNS) + list(BOUND_COLUMNS) and len(rows) == 2 and rows[1].startswith("0,")
+    assert main(args + ["--output", str(js)]) == 1
+    c = json.loads(js.read_text())["certified"]
+    assert c["complete"] is False and c["first_uncertified"] == 1 and "cannot separate" in c["reason"]
+    assert [a["prec"] for a in c["attempts"]] == [320, 640]
+
+
+def test_json_gives_decimal_intervals_inside_the_float64_bounds(tmp_path):
+    """The JSON rows carry decimal intervals (20 significant digits, rounded outward from the balls, as the
+    orbit records print theirs): both contain the exact value, so they meet, and the decimal one is far
+    narrower (the balls are ~1e-90 wide; its ends are the ball's rounded to 20 digits, so an exact float64
+    such as sdot0 = 0.0004 lies one digit inside them); on a stick row ``sdot_decimal`` is None."""
+    from decimal import Decimal
+
+    out = tmp_path / "o.json"
+    assert main(["simulate", "--track", "certified", "--alpha", "0.5", "--gamma", "0.3", "--r", "0.5",
+                 "--sdot0", "0.0004", "--impacts", "14", "--output", str(out)]) == 0
+    events = json.loads(out.read_text())["events"]
+    assert any(e["kind"] == "stick" and e["sdot_decimal"] is None for e in events)
+    for e in events:
+        for col in ("tau", "tau_mod_2pi", "sdot"):
+            if e[col] is None:
+                continue
+            lo, hi = (Decimal(x) for x in e[col + "_decimal"])
+            assert lo <= hi and lo <= Decimal(e[col + "_hi"]) and Decimal(e[col + "_lo"]) <= hi, (e, col)
+            assert hi - lo <= Decimal("2e-19") * max(1, abs(lo)), (e, col)  # one unit of digit 20 per end

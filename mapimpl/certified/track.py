@@ -48,7 +48,8 @@ from ...core.params import Params
 from ...core.results import ImpactSequence
 from ...core.checks import MAX_IMPACTS, check_int, check_real, check_start
 from ..sticking import MAX_STICK_TIME, STICK_TIME
-from .balls import PREC, check_prec, CertificationError, exact, float_bounds, mod_two_pi, nearest_float, precision
+from .balls import (PREC, check_prec, CertificationError, decimal_interval, exact, float_bounds, mod_two_pi,
+                    nearest_float, precision)
 from .contact import NoContactError, certified_flight, mean_value_impact
 from .model import Model
 from .orbit import Event, certified_departure
@@ -77,6 +78,10 @@ MARGIN_BITS, GROWTH_IMPACTS = 128, 32
 WIDE = "its enclosure is wider than float64's resolution"
 #: The reason of an attempt stopped by the time budget.
 TIME_OUT = "the time budget is spent"
+#: Significant digits of the decimal intervals of the JSON output (:meth:`CertifiedSequence.as_dict`).
+DECIMAL_DIGITS = 20
+#: Bits at which the ends of a ball are read for its decimal interval (far beyond ``DECIMAL_DIGITS``).
+DECIMAL_PREC = 256
 #: Columns of the bounds, after :data:`core.results.COLUMNS`.
 BOUND_COLUMNS = ("tau_lo", "tau_hi", "tau_mod_2pi_lo", "tau_mod_2pi_hi", "sdot_lo", "sdot_hi")
 
@@ -141,7 +146,7 @@ class CertifiedRun:
                                                                for a in self.attempts]}
         return CertifiedSequence(self.params, r["n"], r["tau"], r["theta"], r["wall"], r["sdot"], r["kind"],
                                  status=status, track="certified", meta=meta,
-                                 bounds={k: r[k] for k in BOUND_COLUMNS}, certified=cert)
+                                 bounds={k: r[k] for k in BOUND_COLUMNS}, certified=cert, balls=list(self.events))
 
 
 def _finite(x: float):
@@ -157,6 +162,8 @@ class CertifiedSequence(ImpactSequence):
 
     bounds: dict = field(default_factory=dict)
     certified: dict = field(default_factory=dict)
+    #: The certified events as balls (:class:`.orbit.Event`), one per row: the decimal intervals of :meth:`as_dict`.
+    balls: list = field(default_factory=list)
 
     def rows(self) -> list[dict]:
         """The events with the :data:`core.results.COLUMNS` keys and the bounds (None on stick/release
@@ -177,7 +184,16 @@ class CertifiedSequence(ImpactSequence):
             "complete": self.certified.get("complete", True)}
 
     def as_dict(self) -> dict:
-        return super().as_dict() | {"certified": self.certified}
+        """The JSON content: the rows with their float64 bounds and, per row, decimal intervals
+        ``tau_decimal``, ``tau_mod_2pi_decimal``, ``sdot_decimal`` (``[lo, hi]``, :data:`DECIMAL_DIGITS`
+        significant digits, rounded outward from the ball: :func:`.balls.decimal_interval`, as the orbit
+        records print theirs; None on stick/release rows' ``sdot``), and ``certified``."""
+        out = super().as_dict() | {"certified": self.certified}
+        with precision(DECIMAL_PREC):  # the ends of a ball are read at the context's precision
+            for row, e in zip(out["events"], self.balls):
+                for name, ball in (("tau", e.tau), ("tau_mod_2pi", e.theta), ("sdot", e.sdot)):
+                    row[name + "_decimal"] = None if ball is None else list(decimal_interval(ball, DECIMAL_DIGITS))
+        return out
 
 
 class UncertifiedOrbit(CertificationError):
@@ -532,7 +548,7 @@ def rows_of(events: list) -> dict:
     return out
 
 
-__all__ = ["START_PREC", "MAX_TRACK_PREC", "GUARD_BITS", "MIN_WORK_PREC", "TIGHT_ULPS", "BOUND_COLUMNS", "Attempt",
+__all__ = ["START_PREC", "MAX_TRACK_PREC", "DECIMAL_DIGITS", "GUARD_BITS", "MIN_WORK_PREC", "TIGHT_ULPS", "BOUND_COLUMNS", "Attempt",
            "CertifiedRun", "CertifiedSequence", "UncertifiedOrbit", "certified_orbit", "working_precision",
            "rows_of", "TRACK_OPTIONS", "track_orbit"]
 

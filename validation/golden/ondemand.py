@@ -325,31 +325,35 @@ def _last_impact(orb: cert.CertifiedOrbit) -> int:
 
 def _certify(inp: CaseInput, n: int, prec: int) -> tuple[cert.CertifiedOrbit | None, str]:
     """``(orbit, why it ends early)``: the certified orbit of ``n`` impacts; where a flight cannot be
-    certified, the longest certified prefix (``why``: the reason), with the ``no_impact`` ending where the
-    flight after it is proven never to land.  ``None`` where not even impact 0 is certified."""
-    kw = dict(s0=inp.s0, prec=prec, stick_time=inp.stick_time,
+    certified, the longest certified prefix (``why``: the impact and the reason), with the ``no_impact``
+    ending where the flight after it is proven never to land.  ``None`` where not even impact 0 is certified.
+
+    One mechanism decides how far and at what precision: the certified track's schedule
+    (:func:`mapimpl.certified.track.certified_orbit`, from ``prec`` bits up, raised by itself up to its limit).
+    The case's balls are then those of :func:`mapimpl.certified.certify_orbit` at the precision the schedule
+    settled on, for the impacts it certified (the generator's orbit, with its flight certificates and its
+    radius limit)."""
+    from ...mapimpl.certified.track import certified_orbit
+
+    run = certified_orbit(inp.params, inp.tau0, inp.sdot0, n, s0=inp.s0, stick_time=inp.stick_time, prec=prec,
+                          progress=False)
+    last = run.impacts_certified - 1
+    kw = dict(s0=inp.s0, prec=run.precision, stick_time=inp.stick_time,
               radius_limit=generate.RADIUS_FRACTION * generate.TOL["tau"]["abs"])
+    if last < 0:
+        return None, run.reason
+    why = "" if run.complete else f"impact {run.first_uncertified} is not certified ({run.reason})"
     try:
-        return cert.certify_orbit(inp.params, inp.tau0, inp.sdot0, n, **kw), ""
-    except cert.CertificationError as e:
-        why = str(e)
-    lo, hi = -1, n  # certifies up to lo impacts; fails at hi
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        try:
-            cert.certify_orbit(inp.params, inp.tau0, inp.sdot0, mid, **kw)
-            lo = mid
-        except cert.CertificationError as e:
-            hi, why = mid, str(e)
-    if lo < 0:
-        return None, why
-    if "no wall contact" in why:
-        try:
-            return cert.certify_no_impact_orbit(inp.params, inp.tau0, inp.sdot0, lo, **kw), ""
-        except cert.CertificationError as e:
-            why = f"{why}; no proof that it never lands either: {e}"
-    return cert.certify_orbit(inp.params, inp.tau0, inp.sdot0, lo, **kw), \
-        f"the flight to impact {lo + 1} is not certified ({why})"
+        if run.status == "no_impact":
+            try:
+                return cert.certify_no_impact_orbit(inp.params, inp.tau0, inp.sdot0, last, **kw), ""
+            except cert.CertificationError as e:  # the case's own proof of the ending (cf. the docstring)
+                why = f"the flight after impact {last} is not certified to never land ({e})"
+        elif run.complete:  # all n (the orbit's own ending, e.g. stuck forever, is found again)
+            return cert.certify_orbit(inp.params, inp.tau0, inp.sdot0, n, **kw), ""
+        return cert.certify_orbit(inp.params, inp.tau0, inp.sdot0, last, **kw), why
+    except cert.CertificationError as e:  # the generator's certificate at the schedule's precision disagrees
+        return None, f"the certified track reached impact {last} at {run.precision} bits, its case does not: {e}"
 
 
 @dataclass
