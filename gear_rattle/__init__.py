@@ -179,8 +179,9 @@ def lyapunov(params: Params, param: str = "r", values=None, *, n_impacts: int | 
 
 
 def transient_times(tau0, sdot0, params: Params | None = None, *, ic_mode: str = "pre-impact", s0=None,
-                    delta: float | None = None, deltas=None, cap: int = 20000, release: str = "compose",
-                    lanes: int | None = None, progress=None, stick_time: float | None = None, devices=None):
+                    delta: float | None = None, deltas=None, cap: int = 20000, sticking: str = "compose",
+                    lanes: int | None = None, progress=None, stick_time: float | None = None, devices=None,
+                    release: str | None = None):
     """Transient durations until capture by the stable periodic orbit, for many initial conditions.
 
     The facade of :func:`gear_rattle.mapimpl.engine.transients.transient_times` (the meaning of every
@@ -193,8 +194,10 @@ def transient_times(tau0, sdot0, params: Params | None = None, *, ic_mode: str =
     params : Params, optional
         Default: the paper's Figs. 9-11, alpha = 1.245, beta = gamma = 0.1, r = 0.9
         (:data:`gear_rattle.core.paper.PAPER_PARAMS`).
-    ic_mode, s0, delta, deltas, cap, release, lanes, progress, stick_time, devices : optional
+    ic_mode, s0, delta, deltas, cap, sticking, lanes, progress, stick_time, devices : optional
         As in :func:`gear_rattle.mapimpl.engine.transients.transient_times`.
+    release : optional
+        Deprecated spelling of ``sticking``.
 
     Returns
     -------
@@ -213,4 +216,4 @@ def transient_times(tau0, sdot0, params: Params | None = None, *, ic_mode: str =
 
     kw = {k: v for k, v in dict(delta=delta, deltas=deltas, stick_time=stick_time).items() if v is not None}
     return _tt(tau0, sdot0, PAPER_PARAMS if params is None else params, ic_mode=ic_mode, s0=s0, cap=cap,
-               release=release, lanes=lanes, progress=progress, devices=devices, **kw)
+               sticking=sticking, release=release, lanes=lanes, progress=progress, devices=devices, **kw)

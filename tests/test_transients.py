@@ -84,7 +84,8 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     from gear_rattle.validation.io.transients import write_survival
     from gear_rattle.validation.transient.experiments import transients
 
-    res = transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    res = transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES,
+                     float64_rounding=True)
     write_survival(tmp_path, res)
     s = json.loads((tmp_path / "transients.json").read_text())
     dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
@@ -114,7 +115,7 @@ def test_the_capture_rule_of_an_orbit_that_sticks():
     """Section 4 / issue 10 item 3: an orbit that first sticks at impact n_s has duration n_s + T_post,
     censored (-1) when T_post < 0 (never captured) or the sum passes the cap -- one rule
     (compose_release), used by the engine's composition, a certified T_post and the analyses."""
-    from gear_rattle.mapimpl.engine.transients import compose_release
+    from gear_rattle.mapimpl.engine.release import compose_release
 
     first = np.array([0, 5, 100, 7])
     assert compose_release(first, 10, 110).tolist() == [10, 15, 110, 17]
@@ -144,6 +145,8 @@ def test_stick_time_sensitivity_takes_the_fig11_result_not_a_file(tmp_path, monk
     with pytest.raises(ValueError, match="certified"):
         E.stick_time_sensitivity(E.transients(profile="quick", nx=4, deltas=(1e-3,), n_boot=0, progress=False,
                                               lanes=LANES, release="float64"))
+    with pytest.raises(ValueError, match="release='sample' is out of range"):
+        E.transients(profile="quick", nx=4, progress=False, release="sample")
 
 
 def test_survival_monotone_and_counts():

@@ -74,7 +74,7 @@ def survival_figure(res):
                     label=f"Eq. (14): <n> = {main.mean_n:.0f}, kappa = {main.kappa:.3f} +- {main.kappa_se_boot:.3f}")
     ax.set_xlabel("n")
     ax.set_ylabel("N(n): orbits still transient")
-    ax.set_title(f"Fig. 11: {res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release_source}\n"
+    ax.set_title(f"Fig. 11: {res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release.value}\n"
                  f"(paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed})", fontsize=9)
     ax.legend(fontsize=8, loc="upper right")  # N(n) falls from the upper left: the upper right is empty
     fig.tight_layout()
