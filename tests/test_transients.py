@@ -111,6 +111,30 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     assert s["fits"]["0.001"]["mean_n"] == pytest.approx(d.mean(), rel=1e-12)
 
 
+def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_only_what_it_uses(tmp_path):
+    """Issue 32 item 5: ``transients --alpha 1.25`` printed and titled the paper's alpha = 1.245 values
+    beside its own and certified T_post for the float64-rounded parameters (23 of its 33 s) only to
+    report it.  Away from the paper's parameters the JSON, the terminal lines and the title say that no
+    comparison is made, the title names the parameters, and the rounding's certification is opt-in."""
+    from gear_rattle.core.params import Params
+    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.plots.transients import survival_figure
+    from gear_rattle.validation.transient.experiments import transients
+
+    p = Params(alpha=1.25, beta=0.1, gamma=0.1, r=0.9)
+    res = transients(profile="quick", nx=6, box=(3.0, 3.5, 0.0, 0.1), deltas=(1e-3,), params=p, n_boot=0,
+                     progress=False, lanes=LANES)
+    s = res.summary()
+    assert res.engine.n_stuck_orbits > 0 and s["release"]["0.001"]["0"]["source"] == "certified"
+    assert "certified_float64_rounding" not in s["release"]["0.001"]["0"] and res.float64_rounding is None
+    assert isinstance(s["paper"], str) and s["paper"].startswith("no comparison with the paper")
+    summary = dict(s, fits={"0.001": {"kappa": 1.0, "kappa_se_boot": 0.1, "mean_n": 500.0}})
+    lines = human_lines(summary)
+    assert not any("paper 2272" in x for x in lines) and "no comparison with the paper" in lines[-1]
+    title = survival_figure(res).axes[0].get_title()
+    assert "alpha = 1.25" in title and "r = 0.9" in title and "2272" not in title and "no comparison" in title
+
+
 def test_the_capture_rule_of_an_orbit_that_sticks():
     """Section 4 / issue 10 item 3: an orbit that first sticks at impact n_s has duration n_s + T_post,
     censored (-1) when T_post < 0 (never captured) or the sum passes the cap -- one rule

@@ -117,7 +117,7 @@ def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0
 def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta=DELTA, deltas=DELTAS,
                params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, n_lo=None, n_hi=None, n_boot=200, seed=0,
                progress=None, lanes=None, stick_time: float = STICK_TIME,
-               release: ReleaseSource | str = ReleaseSource.CERTIFIED, float64_rounding: bool = True) -> SurvivalResult:
+               release: ReleaseSource | str = ReleaseSource.CERTIFIED, float64_rounding: bool = False) -> SurvivalResult:
     """Fig. 11: survival N(n) on an ``nx`` x ``ny`` mesh of ``box``; Eq. (14) fit for every recorded
     delta (the dependence on delta).
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...core.params import Params
+from ...core.paper import PAPER_PARAMS
 from ...mapimpl.engine.release import WALLS, Release, ReleaseSource, certified_dict
 from ...mapimpl.engine.t_post import decimal_params
 from ...mapimpl.engine.transients import TransientResult
@@ -162,6 +163,11 @@ class SurvivalResult:
         """The Eq. (14) fit at the main ``delta``."""
         return self.fits.get(float(self.delta))
 
+    @property
+    def paper_setting(self) -> bool:
+        """Whether the parameters are the paper's Fig. 11 ones: only then is anything compared with the paper."""
+        return paper_setting(self.params)
+
     def durations(self, delta: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``(durations, censored)`` at ``delta`` (default the main one), censored set to ``cap``."""
         h = self.hit[:, self.engine.column(delta)]
@@ -196,7 +202,8 @@ class SurvivalResult:
         return ["n", "N"], [[self.n[i], self.N[i]] for i in range(0, len(self.n), step)]
 
     def summary(self) -> dict:
-        """The numbers of ``transients.json``."""
+        """The numbers of ``transients.json``; ``paper``: the paper's values where the parameters are
+        the paper's, else a line saying that no comparison is made."""
         fs = self.fit_float64_sample
         return {"figure": "11", "nx": self.nx, "ny": self.ny, "cap": self.cap, "box": list(self.box),
                 "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0, "stick_time": self.stick_time,
@@ -205,8 +212,21 @@ class SurvivalResult:
                 "fits_float64_sample": fs.as_dict() if fs is not None else None,
                 "stick_counts": self.stick_counts, "n_composed": int(self.composed.sum()),
                 "release": self.release_info(),
-                "paper": {"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]},
+                "paper": ({"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]}
+                          if self.paper_setting else no_comparison(self.params)),
                 "engine": self.engine.summary()}
+
+
+def paper_setting(params: Params) -> bool:
+    """Whether ``params`` are the paper's Figs. 9-11 parameters (alpha = 1.245, beta = gamma = 0.1, r = 0.9)."""
+    return params == PAPER_PARAMS
+
+
+def no_comparison(params: Params) -> str:
+    """The line a result carries instead of the paper's values when its parameters are not the paper's."""
+    mine = ", ".join(f"{k}={v}" for k, v in decimal_params(params).items())
+    paper = ", ".join(f"{k}={v}" for k, v in decimal_params(PAPER_PARAMS).items())
+    return f"no comparison with the paper: the parameters ({mine}) are not the paper's Fig. 11 setting ({paper})"
 
 
 @dataclass
