@@ -135,6 +135,21 @@ def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_on
     assert "alpha = 1.25" in title and "r = 0.9" in title and "2272" not in title and "no comparison" in title
 
 
+def test_old_spellings_of_the_release_warn_and_still_work(target):
+    """Issue 32 item 1: ``release=`` means the source of T_post everywhere; the engine's own mode of
+    handling orbits that stick is ``sticking=``.  The old spellings -- ``transient_times(release=)``,
+    ``TransientResult.release`` -- still work, with a DeprecationWarning."""
+    kw = dict(cap=300, lanes=LANES, progress=False, target=target)
+    new = transient_times([3.2, 3.3], [1e-4, 2e-4], sticking="compose", **kw)
+    with pytest.warns(DeprecationWarning, match="sticking="):
+        old = transient_times([3.2, 3.3], [1e-4, 2e-4], release="compose", **kw)
+    assert np.array_equal(old.hit, new.hit) and np.array_equal(old.duration()[0], new.duration()[0])
+    with pytest.warns(DeprecationWarning, match="post_release"):
+        assert old.release == [p.as_dict() for p in new.post_release]
+    with pytest.raises(ValueError, match="release"):
+        transient_times([3.2], [0.3], release="certified", **kw)
+
+
 def test_the_capture_rule_of_an_orbit_that_sticks():
     """Section 4 / issue 10 item 3: an orbit that first sticks at impact n_s has duration n_s + T_post,
     censored (-1) when T_post < 0 (never captured) or the sum passes the cap -- one rule
