@@ -94,6 +94,7 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
     for r in runs:
         for name in ("hit", "n", "status", "nstick", "first_stick"):
             assert np.array_equal(getattr(r, name), getattr(ref, name)), name
+        assert all(np.array_equal(r.duration(d)[0], ref.duration(d)[0]) for d in ref.deltas)  # composed too
     assert (ref.status == Status.CAPPED).any() and (ref.status == Status.STOPPED).any()  # censored and finished
 
 
@@ -103,6 +104,7 @@ def test_single_orbit_equals_batch(target):
     one = transient_times([3.2], [0.3], lanes=1, devices=1, progress=False, target=target)
     many = transient_times([3.2] * 3, [0.3] * 3, lanes=LANES, devices=1, progress=False, target=target)
     assert np.array_equal(one.hit[0], many.hit[0]) and np.array_equal(many.hit[0], many.hit[2])
+    assert one.duration()[0][0] == many.duration()[0][0] == many.duration()[0][2]  # hit is raw: the durations too
 
 
 def test_composed_release_equals_following_every_orbit(target):
