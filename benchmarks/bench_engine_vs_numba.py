@@ -106,6 +106,13 @@ def _spread(xs):
             "rel_spread": float((xs.max() - xs.min()) / np.median(xs))}
 
 
+def engine_hit(re, col: int) -> np.ndarray:
+    """The engine's durations within ``re.deltas[col]`` (-1: censored), the orbits that stick composed with
+    its own post-release orbit (``TransientResult.duration``; ``re.hit`` holds the raw first hits)."""
+    dur, censored = re.duration(re.deltas[col])
+    return np.where(censored, -1, dur)
+
+
 def agreement(rn: dict, re, cap: int, col: int) -> dict:
     """Per-IC equality and statistical agreement of the durations (censored orbits count as ``cap``).
 
@@ -116,7 +123,7 @@ def agreement(rn: dict, re, cap: int, col: int) -> dict:
     (libm vs the engine's fdlibm sin/cos) change completely.  The statistical comparison is therefore
     made on the orbits that never stick (in both); the shared post-release durations are reported.
     """
-    hn, he = rn["hit"][:, col], re.hit[:, col]
+    hn, he = rn["hit"][:, col], engine_hit(re, col)
     dn, de = np.where(hn < 0, cap, hn), np.where(he < 0, cap, he)
     short = (de < SHORT) | (dn < SHORT)
     free = (rn["nstick"] == 0) & (re.nstick == 0)
@@ -152,7 +159,7 @@ def short_check(target, deltas, delta, n_ic=4000, cap=300, seed=0) -> dict:
     re = transient_times(P, tau, sd, cap=cap, delta=delta, deltas=deltas, progress=False)
     out = {"n_ic": n_ic, "cap": cap, "seed": seed}
     for j, d in enumerate(re.deltas):
-        hn, he = rn["hit"][:, j], re.hit[:, j]
+        hn, he = rn["hit"][:, j], engine_hit(re, j)
         short = ((he >= 0) & (he < SHORT)) | ((hn >= 0) & (hn < SHORT))
         out[f"delta={d:g}"] = {"short": int(short.sum()), "short_identical": int(np.sum(hn[short] == he[short])),
                                "all_identical_fraction": float(np.mean(hn == he))}

@@ -47,8 +47,8 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
 
     tau0, sdot0 = stick_at_once_state(params, wall)
     res = transient_times(params, [tau0], [sdot0], delta=delta, cap=cap, lanes=1, devices=1, progress=False)
-    hit = int(res.hit[0, res.column(delta)])
-    return {"value": hit if hit >= 0 else None, "status": Status(int(res.status[0])).label,
+    dur, censored = res.duration(delta)
+    return {"value": None if censored[0] else int(dur[0]), "status": Status(int(res.status[0])).label,
             "tau0": tau0, "sdot0": sdot0, "nstick": int(res.nstick[0]), "cap": int(cap)}
 
 
@@ -145,7 +145,7 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
 def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: int | None = None,
                    delta: float = DELTA, progress=None) -> dict:
     """Which wall every pre-impact initial condition first sticks to within ``cap`` iterations (before a
-    capture within ``delta``): the transient engine itself (``release="compose"``, which stops each orbit
+    capture within ``delta``): the transient engine itself (``sticking="compose"``, which stops each orbit
     at its first sticking).
 
     Returns numpy arrays ``{"first_wall" (0, -1, or 1 = never stuck), "first_stick" (impact index,
@@ -156,7 +156,7 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
     from .engine.transients import transient_times
 
     res = transient_times(params, np.atleast_1d(np.asarray(tau0, float)), np.atleast_1d(np.asarray(sdot0, float)),
-                          delta=delta, deltas=(delta,), cap=int(cap), release="compose", lanes=lanes,
+                          delta=delta, deltas=(delta,), cap=int(cap), sticking="compose", lanes=lanes,
                           progress=progress, label="sticking walls")
     stuck = res.first_stick >= 0
     return {"first_wall": np.where(stuck, res.stick_wall, 1), "first_stick": np.asarray(res.first_stick),

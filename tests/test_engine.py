@@ -95,6 +95,7 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
     for r in runs:
         for name in ("hit", "n", "status", "nstick", "first_stick"):
             assert np.array_equal(getattr(r, name), getattr(ref, name)), name
+        assert all(np.array_equal(r.duration(d)[0], ref.duration(d)[0]) for d in ref.deltas)  # composed too
     assert (ref.status == Status.CAPPED).any() and (ref.status == Status.STOPPED).any()  # censored and finished
 
 
@@ -104,6 +105,7 @@ def test_single_orbit_equals_batch(target):
     one = transient_times(None, [3.2], [0.3], lanes=1, devices=1, progress=False, target=target)
     many = transient_times(None, [3.2] * 3, [0.3] * 3, lanes=LANES, devices=1, progress=False, target=target)
     assert np.array_equal(one.hit[0], many.hit[0]) and np.array_equal(many.hit[0], many.hit[2])
+    assert one.duration()[0][0] == many.duration()[0][0] == many.duration()[0][2]  # hit is raw: the durations too
 
 
 def test_composed_release_equals_following_every_orbit(target):
@@ -112,19 +114,27 @@ def test_composed_release_equals_following_every_orbit(target):
     gives bit-identical durations (Fig. 11 setting, ICs near sdot0 = 0 that chatter and stick)."""
     T, S = grid(nx=12, ny=12, box=(3.0, 3.5, 0.0, 0.1))
     kw = dict(cap=20000, lanes=LANES, devices=1, progress=False, target=target)
-    comp = transient_times(None, T.ravel(), S.ravel(), release="compose", **kw)
-    foll = transient_times(None, T.ravel(), S.ravel(), release="follow", **kw)
-    assert comp.n_stuck_orbits >= 10 and comp.release and comp.release[0]["wall"] == 0
-    assert np.array_equal(comp.hit, foll.hit) and np.array_equal(comp.status, foll.status)
+    comp = transient_times(None, T.ravel(), S.ravel(), sticking="compose", **kw)
+    foll = transient_times(None, T.ravel(), S.ravel(), sticking="follow", **kw)
+    assert comp.n_stuck_orbits >= 10 and comp.post_release and comp.post_release[0].wall == 0
+    assert all(np.array_equal(comp.duration(d)[0], foll.duration(d)[0]) for d in comp.deltas)
+    assert np.array_equal(comp.status, foll.status)
     assert comp.impacts < foll.impacts
-    # every stuck orbit's duration is first_stick + T_post (one post-release orbit)
+    # the engine returns raw facts: an orbit that stuck before capture has no hit of its own, and its
+    # duration is first_stick + T_post (one post-release orbit)
     st = comp.first_stick >= 0
-    tp = comp.release[0]["T_post"][comp.column()]
-    late = comp.meta["hit_before_stick"][st, comp.column()] < 0
-    assert np.all(comp.duration()[0][st][late] == comp.first_stick[st][late] + tp)
-    # a certified T_post replaces the float64 one for exactly those orbits
-    d2, _ = comp.duration(t_post={0: 7})
-    assert np.all(d2[st][late] == comp.first_stick[st][late] + 7) and np.array_equal(d2[~st], comp.duration()[0][~st])
+    tp = int(comp.post_release[0].t_post[comp.column()])
+    late = comp.composed() & st
+    assert late.any() and np.all(comp.hit[late, comp.column()] == -1)
+    assert np.all(comp.duration()[0][late] == comp.first_stick[late] + tp)
+    # another T_post (e.g. a certified one) replaces the float64 one for exactly those orbits
+    from gear_rattle.mapimpl.engine.release import Release, ReleaseSource, WallTPost
+
+    seven = Release(ReleaseSource.CERTIFIED, comp.delta, {0: WallTPost(0, 7, ReleaseSource.CERTIFIED, tp)})
+    d2, _ = comp.duration(release=seven)
+    assert np.all(d2[late] == comp.first_stick[late] + 7) and np.array_equal(d2[~late], comp.duration()[0][~late])
+    with pytest.warns(DeprecationWarning, match="t_post"):
+        assert np.array_equal(comp.duration(t_post={0: 7})[0], d2)
 
 
 def test_early_exit_and_refill():

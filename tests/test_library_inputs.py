@@ -110,8 +110,8 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
                                   transient="count", tau0="phase", sdot0="real")),
     "gear_rattle:transient_times": (dict(params=None, tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
                                     dict(tau0="array", sdot0="array", params="params?", ic_mode="choice",
-                                         delta="real?", deltas="array?", cap="count", release="choice",
-                                         lanes="count?", stick_time="real?", devices="count?")),
+                                         delta="real?", deltas="array?", cap="count", sticking="choice",
+                                         release="choice?", lanes="count?", stick_time="real?", devices="count?")),
     "gear_rattle:use_cpu_devices": (dict(n=1), dict(n="count?")),
     # the documented entry points (tests/test_doctests.py, docs/api/index.md)
     "gear_rattle.mapimpl.finder:first_impact": (dict(tau0=0.0, s0=-0.5, v0=0.3, alpha=3.0, beta=0.1, gamma=0.1),
@@ -132,8 +132,8 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
     "gear_rattle.mapimpl.engine.transients:transient_times": (
         dict(params=PAPER_PARAMS, tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
         dict(tau0="array", sdot0="array", params="params?", ic_mode="choice", delta="real", deltas="array",
-             cap="count", release="choice", lanes="count?", block="count", chunk="count?", stick_time="real",
-             devices="count?")),
+             cap="count", sticking="choice", release="choice?", lanes="count?", block="count", chunk="count?",
+             stick_time="real", devices="count?")),
     "gear_rattle.mapimpl.certified.contact:certified_flight": (
         dict(model=_model, tau0=arb(0), s0=-0.5, v0=arb(0.3)),
         dict(s0="real", prec="prec", t_max="real", max_evals="count")),

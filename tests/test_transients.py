@@ -84,7 +84,8 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     from gear_rattle.validation.io.transients import write_survival
     from gear_rattle.validation.transient.experiments import transients
 
-    res = transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
+    res = transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES,
+                     float64_rounding=True)
     write_survival(tmp_path, res)
     s = json.loads((tmp_path / "transients.json").read_text())
     dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
@@ -110,11 +111,50 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     assert s["fits"]["0.001"]["mean_n"] == pytest.approx(d.mean(), rel=1e-12)
 
 
+def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_only_what_it_uses(tmp_path):
+    """Issue 32 item 5: ``transients --alpha 1.25`` printed and titled the paper's alpha = 1.245 values
+    beside its own and certified T_post for the float64-rounded parameters (23 of its 33 s) only to
+    report it.  Away from the paper's parameters the JSON, the terminal lines and the title say that no
+    comparison is made, the title names the parameters, and the rounding's certification is opt-in."""
+    from gear_rattle.core.params import Params
+    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.plots.transients import survival_figure
+    from gear_rattle.validation.transient.experiments import transients
+
+    p = Params(alpha=1.25, beta=0.1, gamma=0.1, r=0.9)
+    res = transients(profile="quick", nx=6, box=(3.0, 3.5, 0.0, 0.1), deltas=(1e-3,), params=p, n_boot=0,
+                     progress=False, lanes=LANES)
+    s = res.summary()
+    assert res.engine.n_stuck_orbits > 0 and s["release"]["0.001"]["0"]["source"] == "certified"
+    assert "certified_float64_rounding" not in s["release"]["0.001"]["0"] and res.float64_rounding is None
+    assert isinstance(s["paper"], str) and s["paper"].startswith("no comparison with the paper")
+    summary = dict(s, fits={"0.001": {"kappa": 1.0, "kappa_se_boot": 0.1, "mean_n": 500.0}})
+    lines = human_lines(summary)
+    assert not any("paper 2272" in x for x in lines) and "no comparison with the paper" in lines[-1]
+    title = survival_figure(res).axes[0].get_title()
+    assert "alpha = 1.25" in title and "r = 0.9" in title and "2272" not in title and "no comparison" in title
+
+
+def test_old_spellings_of_the_release_warn_and_still_work(target):
+    """Issue 32 item 1: ``release=`` means the source of T_post everywhere; the engine's own mode of
+    handling orbits that stick is ``sticking=``.  The old spellings -- ``transient_times(release=)``,
+    ``TransientResult.release`` -- still work, with a DeprecationWarning."""
+    kw = dict(cap=300, lanes=LANES, progress=False, target=target)
+    new = transient_times(None, [3.2, 3.3], [1e-4, 2e-4], sticking="compose", **kw)
+    with pytest.warns(DeprecationWarning, match="sticking="):
+        old = transient_times(None, [3.2, 3.3], [1e-4, 2e-4], release="compose", **kw)
+    assert np.array_equal(old.hit, new.hit) and np.array_equal(old.duration()[0], new.duration()[0])
+    with pytest.warns(DeprecationWarning, match="post_release"):
+        assert old.release == [p.as_dict() for p in new.post_release]
+    with pytest.raises(ValueError, match="release"):
+        transient_times(None, [3.2], [0.3], release="certified", **kw)
+
+
 def test_the_capture_rule_of_an_orbit_that_sticks():
     """Section 4 / issue 10 item 3: an orbit that first sticks at impact n_s has duration n_s + T_post,
     censored (-1) when T_post < 0 (never captured) or the sum passes the cap -- one rule
     (compose_release), used by the engine's composition, a certified T_post and the analyses."""
-    from gear_rattle.mapimpl.engine.transients import compose_release
+    from gear_rattle.mapimpl.engine.release import compose_release
 
     first = np.array([0, 5, 100, 7])
     assert compose_release(first, 10, 110).tolist() == [10, 15, 110, 17]
@@ -144,6 +184,8 @@ def test_stick_time_sensitivity_takes_the_fig11_result_not_a_file(tmp_path, monk
     with pytest.raises(ValueError, match="certified"):
         E.stick_time_sensitivity(E.transients(profile="quick", nx=4, deltas=(1e-3,), n_boot=0, progress=False,
                                               lanes=LANES, release="float64"))
+    with pytest.raises(ValueError, match="release='sample' is out of range"):
+        E.transients(profile="quick", nx=4, progress=False, release="sample")
 
 
 def test_survival_monotone_and_counts():

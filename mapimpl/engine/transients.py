@@ -21,20 +21,23 @@ becomes iteration 0.
 **Sticking.**  Initial conditions that chatter and stick go through the sticking policy of
 :mod:`mapimpl.sticking`; the tooth leaves the wall at the canonical release phase
 (:func:`mapimpl.sticking.release_phase`), so every orbit that sticks to a wall continues on ONE
-post-release orbit.  With ``release="compose"`` (default) the engine stops each orbit at its first
+post-release orbit.  With ``sticking="compose"`` (default) the engine stops each orbit at its first
 sticking episode (impact ``first_stick``) and runs the post-release orbit once per wall (from the
-first initial condition that stuck there): the duration is ``first_stick + T_post``, where
-``T_post[delta]`` is the post-release orbit's own duration counted from the release (its first
-impact is 1).  This equals, bit for bit, following every orbit through (``release="follow"``,
-tested), and saves re-computing the same orbit thousands of times.  ``T_post`` is a float64 sample of
-a chaotic orbit; :meth:`TransientResult.duration` takes a certified value instead
-(:mod:`gear_rattle.mapimpl.certified.duration`).
+first initial condition that stuck there, :class:`~.release.PostRelease`): the results are raw facts
+(``hit`` before the first sticking, ``first_stick``, ``stick_wall``, the post-release orbits), and a
+duration is composed from them by the one rule :func:`.release.compose_durations`, ``first_stick +
+T_post`` with ``T_post[delta]`` the post-release orbit's own duration counted from the release (its
+first impact is 1).  This equals, bit for bit, following every orbit through (``sticking="follow"``,
+tested), and saves re-computing the same orbit thousands of times.  The engine's ``T_post`` is a
+float64 sample of a chaotic orbit; :meth:`TransientResult.duration` takes a
+:class:`~.release.Release` from another source instead (a certified value: :func:`.t_post.release_for`).
 """
 
 from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -54,10 +57,11 @@ from ...core.status import Status
 from ..sticking import STICK_TIME
 from .driver import check_engine_options, run
 from .observers import Capture
+from .release import PostRelease, Release, ReleaseSource, WallTPost, compose_durations, composed_mask, float64_release
 
 IC_MODES = ("pre-impact", "free")
 #: How orbits that stick are followed (see the module docstring).
-RELEASE_MODES = ("compose", "follow")
+STICKING_MODES = ("compose", "follow")
 
 
 @dataclass
@@ -123,32 +127,21 @@ def _periodic_target(params: Params, impacts: int, guess: tuple[float, float], s
                           np.asarray(po.multipliers), float(po.residual))
 
 
-def compose_release(first_stick, t_post, cap: int) -> np.ndarray:
-    """The capture rule of an orbit that sticks (see the module docstring): its duration is
-    ``first_stick + T_post`` -- the impact at which it first stuck plus the post-release orbit's own
-    duration counted from the release -- or -1 (censored) when ``T_post < 0`` (never captured) or the
-    sum exceeds ``cap``.  Broadcasts ``first_stick`` against ``t_post``; returns int64.  The one
-    implementation of the rule: the engine's composition (:func:`transient_times`), a certified
-    ``T_post`` (:meth:`TransientResult.duration`) and the analyses all use it."""
-    first = np.asarray(first_stick, np.int64)
-    tp = np.asarray(t_post, np.int64)
-    comp = first + tp
-    return np.where((tp >= 0) & (comp <= int(cap)), comp, -1)
-
-
 @dataclass
 class TransientResult(Outcome):
-    """Per-initial-condition results (flat arrays of length N, in input order).
+    """Per-initial-condition results (flat arrays of length N, in input order): raw facts, from which
+    :meth:`duration` composes the durations (:func:`.release.compose_durations`).
 
-    ``hit[:, j]``: first iteration within ``deltas[j]`` (-1: never, within the cap); for orbits that
-    stuck, composed with the post-release orbit (see the module docstring);
+    ``hit[:, j]``: first iteration within ``deltas[j]`` before the orbit first stuck (-1: never, within
+    the cap, or not before it stuck: see ``first_stick``);
     ``n``: iterations the engine performed for the orbit; ``status``: orbit status codes
-    (:class:`~gear_rattle.core.status.Status`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...);
+    (:class:`~gear_rattle.core.status.Status`: ``STOPPED`` = captured, ``CAPPED`` = censored, ...; an
+    orbit that stuck: its outcome with the engine's own post-release orbit);
     ``nstick``: sticking episodes computed; ``first_stick``: impact index at which the orbit first
-    stuck (-1: never); ``stick_wall``: its wall (``release="compose"``; 1 = not recorded when followed).  ``release``: per wall that was stuck to, the
-    post-release orbit: ``{"wall", "ic", "first_stick", "T_post" (one per delta, -1: beyond the cap)}``.
-    :meth:`duration` gives the durations, censored orbits set to ``cap``.  ``ok``, ``message``
-    (:class:`~gear_rattle.core.outcome.Outcome`): built on ``status``, one code per orbit.
+    stuck (-1: never); ``stick_wall``: its wall (``sticking="compose"``; 1 = not recorded when followed).
+    ``post_release``: per wall that was stuck to, the engine's post-release orbit
+    (:class:`~.release.PostRelease`).  :meth:`duration` gives the durations, censored orbits set to ``cap``.
+    ``ok``, ``message`` (:class:`~gear_rattle.core.outcome.Outcome`): built on ``status``, one code per orbit.
     """
 
     tau0: np.ndarray
@@ -167,7 +160,7 @@ class TransientResult(Outcome):
     s0: float | None
     target: PeriodicTarget
     elapsed: float
-    release: list = field(default_factory=list)
+    post_release: tuple[PostRelease, ...] = ()
     meta: dict = field(default_factory=dict)
 
     def column(self, delta: float | None = None) -> int:
@@ -177,26 +170,44 @@ class TransientResult(Outcome):
             raise ValueError(f"delta={delta!r} is out of range: allowed one of the recorded deltas {list(self.deltas)}")
         return int(j[0])
 
-    def duration(self, delta: float | None = None, t_post: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """``(durations, censored)``: iterations to come within ``delta`` (``cap`` when never).
-
-        ``t_post``: ``{wall: T_post}`` replaces the float64 post-release duration of that wall (e.g. a
-        certified value, :mod:`gear_rattle.mapimpl.certified.duration`) for every orbit that stuck there
-        before coming within ``delta``: its duration is ``first_stick + T_post`` (censored beyond the
-        cap; ``T_post < 0`` or None: never captured)."""
+    def float64_release(self, delta: float | None = None) -> Release:
+        """The :class:`~.release.Release` of the engine's own post-release orbits at ``delta`` (a float64
+        sample)."""
         j = self.column(delta)
-        h = self.hit[:, j].astype(np.int64)
+        return float64_release(self.post_release, self.deltas, float(self.deltas[j]), j)
+
+    def duration(self, delta: float | None = None, t_post: dict | None = None, *,
+                 release: Release | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(durations, censored)``: iterations to come within ``delta`` (``cap`` when never), the
+        orbits that stuck before composed with ``release`` (:func:`.release.compose_durations`;
+        default the engine's own post-release orbits, a float64 sample; a certified one:
+        :func:`.t_post.release_for`).
+
+        ``t_post``: ``{wall: T_post}`` (deprecated: give ``release``) replaces the post-release duration
+        of that wall (``T_post < 0`` or None: never captured)."""
+        if release is None:
+            release = self.float64_release(delta)
+        elif not isinstance(release, Release):
+            raise TypeError(f"release is a {type(release).__name__}: allowed a Release "
+                            "(gear_rattle.mapimpl.engine.t_post.release_for)")
+        elif delta is not None and self.column(delta) != self.column(release.delta):
+            raise ValueError(f"delta={delta!r} is out of range: allowed the release's delta={release.delta!r}")
         if t_post:
-            raw = self.meta.get("hit_before_stick")
-            for wall, tp in t_post.items():
-                if int(wall) not in (0, -1):
-                    raise ValueError(f"t_post wall={wall!r} is out of range: allowed 0 or -1")
-                sel = (self.first_stick >= 0) & (self.stick_wall == int(wall))
-                if raw is not None:
-                    sel &= raw[:, j] < 0
-                h = np.where(sel, compose_release(self.first_stick, -1 if tp is None else tp, self.cap), h)
-        censored = h < 0
-        return np.where(censored, self.cap, h), censored
+            warnings.warn("TransientResult.duration(t_post=) is deprecated: give release= (a Release, "
+                          "gear_rattle.mapimpl.engine.t_post.release_for)", DeprecationWarning, stacklevel=2)
+            release = _given_release(release, t_post)
+        j = self.column(release.delta)
+        return compose_durations(self.hit[:, j], self.first_stick, self.stick_wall, self.cap, release)
+
+    def composed(self, delta: float | None = None) -> np.ndarray:
+        """The orbits whose duration comes from the release: they stuck before coming within ``delta``."""
+        return composed_mask(self.hit[:, self.column(delta)], self.first_stick)
+
+    @property
+    def release(self) -> list[dict]:
+        """Deprecated: :attr:`post_release` (typed); the post-release orbits as dicts."""
+        warnings.warn("TransientResult.release is deprecated: use post_release", DeprecationWarning, stacklevel=2)
+        return [r.as_dict() for r in self.post_release]
 
     @property
     def impacts(self) -> int:
@@ -214,12 +225,24 @@ class TransientResult(Outcome):
             "n_ic": int(len(self.n)), "cap": self.cap, "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0,
             "censored": int(c.sum()), "mean_duration_uncensored": float(d[~c].mean()) if (~c).any() else math.nan,
             "orbits_with_sticking": self.n_stuck_orbits, "sticking_episodes": int(self.nstick.sum()),
-            "release": [{k: (v if not isinstance(v, np.ndarray) else v.tolist()) for k, v in r.items()}
-                        for r in self.release],
+            "release": [r.as_dict() for r in self.post_release],
             "status_counts": {Status(int(s)).label: int(np.sum(self.status == s)) for s in np.unique(self.status)},
             "impacts": self.impacts, "elapsed_s": self.elapsed,
             "impacts_per_s": self.impacts / self.elapsed if self.elapsed > 0 else math.nan,
         }
+
+
+def _given_release(base: Release, t_post: dict) -> Release:
+    """``base`` with the walls of ``t_post = {wall: T_post}`` (the deprecated argument of
+    :meth:`TransientResult.duration`; ``T_post < 0`` or None: never captured) replaced."""
+    walls = dict(base.walls)
+    for wall, tp in t_post.items():
+        if wall not in (0, -1) or isinstance(wall, bool):
+            raise ValueError(f"t_post wall={wall!r} is out of range: allowed 0 or -1")
+        old = walls.get(int(wall))
+        walls[int(wall)] = WallTPost(int(wall), None if tp is None or tp < 0 else int(tp), ReleaseSource.CERTIFIED,
+                                     old.float64_sample if old is not None else -1)
+    return Release(base.source, base.delta, walls)
 
 
 def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
@@ -268,10 +291,10 @@ def _validate_deltas(deltas, delta):
 
 
 def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = "pre-impact", s0=None,
-                    delta: float = DELTA, deltas=DELTAS, cap: int = 20000, release: str = "compose",
+                    delta: float = DELTA, deltas=DELTAS, cap: int = 20000, sticking: str = "compose",
                     lanes: int | None = None, block: int = 32, chunk: int | None = None, progress=None,
                     label: str = "transients", target: PeriodicTarget | None = None,
-                    stick_time: float = STICK_TIME, devices=None) -> TransientResult:
+                    stick_time: float = STICK_TIME, devices=None, release: str | None = None) -> TransientResult:
     """Transient duration of every initial condition ``(tau0[i], sdot0[i])`` (see the module docstring).
 
     Deterministic: no randomness inside, and results do not depend on ``lanes``, ``block``, ``chunk``
@@ -295,9 +318,13 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
         Capture distances recorded at once (one column of ``hit`` each).
     cap : int, optional
         Most map iterations per orbit (censored beyond), ``1 <= cap <= 1e8``.
+    sticking : {"compose", "follow"}, optional
+        ``"compose"``: stop at the first sticking episode and run the one post-release orbit per wall
+        (durations: :meth:`TransientResult.duration`); ``"follow"``: follow every orbit through (same
+        durations, slower).
     release : {"compose", "follow"}, optional
-        ``"compose"``: stop at the first sticking episode and add the one post-release orbit's duration;
-        ``"follow"``: follow every orbit through (same results, slower).
+        Deprecated spelling of ``sticking`` (``release=`` means the source of the post-release duration
+        everywhere else: :class:`~.release.ReleaseSource`).
     lanes, block, chunk, devices, progress, label, stick_time : optional
         See :func:`gear_rattle.mapimpl.engine.driver.run`.
     target : PeriodicTarget, optional
@@ -306,9 +333,9 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
     Returns
     -------
     TransientResult
-        First capture iteration per initial condition and capture distance, with status, sticking and
-        the post-release orbits; :meth:`TransientResult.duration` gives the durations and the censoring;
-        ``ok`` and ``message`` say whether it worked.
+        First capture iteration per initial condition and capture distance (before sticking), with
+        status, sticking and the post-release orbits; :meth:`TransientResult.duration` gives the durations
+        and the censoring; ``ok`` and ``message`` say whether it worked.
 
     Examples
     --------
@@ -325,7 +352,7 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
 
     Following every orbit through its sticking episodes gives the same durations, bit for bit:
 
-    >>> slow = gr.transient_times(None, np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, release="follow",
+    >>> slow = gr.transient_times(None, np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, sticking="follow",
     ...                           progress=False)
     >>> bool(np.array_equal(slow.duration()[0], dur))
     True
@@ -333,7 +360,7 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
     params, tau0, sdot0 = _params_first(params, tau0, sdot0)
     check_params(params)
     d = _validate_deltas(deltas, delta)
-    check_choice("release", release, RELEASE_MODES)
+    sticking = _sticking_mode(sticking, release)
     cap = check_engine_options(cap, lanes, block, chunk, stick_time, devices, max_cap=MAX_CAP)[0]
     _check_ic_arrays(tau0, sdot0, ic_mode, s0)  # all before any work
     if target is not None and not isinstance(target, PeriodicTarget):
@@ -355,39 +382,51 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
     idx = np.flatnonzero(ok)
     kw = dict(lanes=lanes, block=block, chunk=chunk, devices=devices, stick_time=stick_time)
     t0 = time.perf_counter()
-    res = run(tau[idx], sd[idx], wall[idx], params, (cap_obs,), cap=cap, stop_at_stick=(release == "compose"),
+    res = run(tau[idx], sd[idx], wall[idx], params, (cap_obs,), cap=cap, stop_at_stick=(sticking == "compose"),
               progress=progress, label=label, **kw)
     hit[idx] = res.obs[0]["hit"]
     nn[idx], status[idx], nstick[idx], first[idx] = res.n, res.status, res.nstick, res.first_stick
     # the wall the orbit stopped on: its first sticking wall in compose mode (unknown when followed: 1)
-    swall[idx] = res.wall if release == "compose" else 1
-    hit_before_stick = hit.copy()
-    releases = []
+    swall[idx] = res.wall if sticking == "compose" else 1
     stuck = status == int(Status.STUCK)
+    post = []
     for w in (0, -1):
         sel = np.flatnonzero(stuck & (swall == w))
-        if sel.size == 0:
-            continue
-        i = int(sel[0])
-        # the post-release orbit, once: follow this orbit through from its start (its first stick is
-        # at first[i]) and count from the release
-        rep = run(tau[i:i + 1], sd[i:i + 1], wall[i:i + 1], params, (cap_obs,), cap=int(first[i]) + cap,
-                  stop_at_stick=False, progress=False, **kw)
-        h = rep.obs[0]["hit"][0].astype(np.int64)
-        if int(rep.first_stick[0]) != int(first[i]):  # pragma: no cover - would be an engine bug
-            raise RuntimeError("post-release orbit: the representative orbit stuck at a different impact")
-        t_post = np.where(h >= 0, h - int(first[i]), -1)
-        releases.append({"wall": w, "ic": i, "first_stick": int(first[i]),
-                         "T_post": t_post, "impacts": int(rep.n[0]) - int(first[i])})
-        # compose: first_stick + T_post, censored beyond the cap, for deltas not reached before sticking
-        comp = compose_release(first[sel][:, None], t_post[None, :], cap)
-        hs = hit[sel]
-        hit[sel] = np.where(hs >= 0, hs, comp).astype(np.int32)
-        status[sel] = np.where(hit[sel][:, -1] >= 0, int(Status.STOPPED), int(Status.CAPPED))
-    elapsed = time.perf_counter() - t0
-    meta = dict(res.meta, release_mode=release, hit_before_stick=hit_before_stick)
-    return TransientResult(tau0a, sdot0a, hit, nn, status, nstick, first, swall, d, float(delta), cap, params,
-                           ic_mode, None if s0 is None else float(s0), target, elapsed, releases, meta)
+        if sel.size:
+            post.append(_post_release(tau, sd, wall, int(sel[0]), int(first[sel[0]]), w, params, cap_obs, cap, kw))
+    out = TransientResult(tau0a, sdot0a, hit, nn, status, nstick, first, swall, d, float(delta), cap, params, ic_mode,
+                          None if s0 is None else float(s0), target, 0.0, tuple(post),
+                          dict(res.meta, sticking=sticking))
+    # an orbit stopped at its first sticking: its outcome with the engine's own post-release orbit
+    # (within the smallest delta)
+    released = stuck & np.isin(swall, [p.wall for p in post])
+    captured = ~out.duration(d[-1])[1]
+    status[released] = np.where(captured[released], int(Status.STOPPED), int(Status.CAPPED))
+    out.elapsed = time.perf_counter() - t0
+    return out
+
+
+def _sticking_mode(sticking: str, release: str | None) -> str:
+    """``sticking`` checked, or the deprecated ``release`` (its old spelling) with a warning."""
+    if release is None:
+        return check_choice("sticking", sticking, STICKING_MODES)
+    check_choice("release", release, STICKING_MODES)
+    warnings.warn("transient_times(release=) is deprecated: the engine's handling of orbits that stick is "
+                  "sticking= ('compose' or 'follow'); release= names the source of T_post elsewhere",
+                  DeprecationWarning, stacklevel=3)
+    return release
+
+
+def _post_release(tau, sd, wall, i: int, first: int, w: int, params: Params, cap_obs, cap: int,
+                  kw: dict) -> PostRelease:
+    """The post-release orbit of wall ``w``, once: initial condition ``i`` (which first stuck at impact
+    ``first``) followed through from its start, its capture counted from the release."""
+    rep = run(tau[i:i + 1], sd[i:i + 1], wall[i:i + 1], params, (cap_obs,), cap=first + cap, stop_at_stick=False,
+              progress=False, **kw)
+    h = rep.obs[0]["hit"][0].astype(np.int64)
+    if int(rep.first_stick[0]) != first:  # pragma: no cover - would be an engine bug
+        raise RuntimeError("post-release orbit: the representative orbit stuck at a different impact")
+    return PostRelease(w, i, first, np.where(h >= 0, h - first, -1), int(rep.n[0]) - first)
 
 
 def _params_first(params, tau0, sdot0):

@@ -53,8 +53,11 @@ def human_lines(summary: dict) -> list[str]:
     if f is None:
         return [head, "  no Eq. (14) fit (see the notes above)"]
     p = summary.get("paper", {})
-    return [head, f"  delta = {d}: kappa = {_fmt(f['kappa'])} +- {_fmt(f['kappa_se_boot'], '.2g')} (paper "
-                  f"{p.get('kappa', ['?'])[0]}), <n> = {_fmt(f['mean_n'], '.1f')} (paper {p.get('mean_n', '?')})"]
+    ours = f"  delta = {d}: kappa = {_fmt(f['kappa'])} +- {_fmt(f['kappa_se_boot'], '.2g')}"
+    if not isinstance(p, dict):  # not the paper's parameters: the line saying so
+        return [head, f"{ours}, <n> = {_fmt(f['mean_n'], '.1f')}", f"  {p}"]
+    return [head, f"{ours} (paper {p.get('kappa', ['?'])[0]}), <n> = {_fmt(f['mean_n'], '.1f')} "
+                  f"(paper {p.get('mean_n', '?')})"]
 
 
 def print_summary(summary: dict, notes=(), files=()) -> None:

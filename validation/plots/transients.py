@@ -8,6 +8,7 @@ import numpy as np
 from matplotlib.patches import Rectangle
 
 from ...core.paper import PAPER_BOX
+from ...mapimpl.engine.t_post import decimal_params
 from ..paper import PAPER
 from .base import params_text, subplots
 
@@ -65,7 +66,8 @@ def uncertainty_figure(res):
 
 def survival_figure(res):
     """Fig. 11: N(n) at the main delta and the Eq. (14) fit over its range (a
-    :class:`~gear_rattle.validation.transient.results.SurvivalResult`)."""
+    :class:`~gear_rattle.validation.transient.results.SurvivalResult`); the title names the parameters
+    and gives the paper's values only where the parameters are the paper's."""
     n, N, main = res.n, res.N, res.main_fit
     fig, ax = subplots(figsize=(6, 4.5))
     ax.semilogy(n, np.where(N > 0, N, np.nan), "-", lw=1, label=f"N(n), delta = {res.delta:g}")
@@ -75,8 +77,11 @@ def survival_figure(res):
                     label=f"Eq. (14): <n> = {main.mean_n:.0f}, kappa = {main.kappa:.3f} +- {main.kappa_se_boot:.3f}")
     ax.set_xlabel("n")
     ax.set_ylabel("N(n): orbits still transient")
-    ax.set_title(f"Fig. 11: {res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release_source}\n"
-                 f"(paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed})", fontsize=9)
+    named = ", ".join(f"{k} = {v}" for k, v in decimal_params(res.params).items())
+    paper = (f"paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed}" if res.paper_setting else
+             "not the paper's parameters: no comparison with the paper")
+    ax.set_title(f"Fig. 11: {named}\n{res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, "
+                 f"T_post {res.release.value}\n({paper})", fontsize=9)
     ax.legend(fontsize=8, loc="upper right")  # N(n) falls from the upper left: the upper right is empty
     fig.tight_layout()
     return fig

@@ -14,7 +14,8 @@ from ..paper import PAPER
 from ..plots.transients import basins_figure, survival_figure, uncertainty_figure
 from ..transient import experiments as E
 from ..transient.conventions import sticking_conventions
-from ..transient.post_release import certified_t_post, decimal_params
+from ...mapimpl.engine.release import certified_dict
+from ...mapimpl.engine.t_post import certified_t_post, decimal_params
 from ..profiles import get_profile
 from .document import Section
 from .verdict import row
@@ -54,7 +55,7 @@ def build(ctx) -> Section:
     write_uncertainty(data, u)
     save_figure(uncertainty_figure(u), data / "fig10_uncertainty.png")
     ctx.say("Fig. 11 transient-time statistics")
-    t = E.transients(profile=ctx.profile, seed=ctx.seed, progress=prog)
+    t = E.transients(profile=ctx.profile, seed=ctx.seed, progress=prog, float64_rounding=True)
     write_survival(data, t)
     save_figure(survival_figure(t), data / "fig11_survival.png")
     for note in u.notes + t.notes:
@@ -78,7 +79,7 @@ def build(ctx) -> Section:
     _horizon(sec, E.float64_horizon(PAPER_PARAMS, profile=ctx.profile, delta=t.delta), t)
     ctx.say("Fig. 11 with the alternative initial-condition reading (free flight from s = -1)")
     alt = E.transients(profile=ctx.profile, seed=ctx.seed, progress=prog, ic_mode="free", s0=-1.0,
-                       nx=get_profile(ctx.profile, "alt_ic")["n"])
+                       nx=get_profile(ctx.profile, "alt_ic")["n"], float64_rounding=True)
     write_survival(data / "alt_ic_s0_-1", alt)
     save_figure(survival_figure(alt), data / "alt_ic_s0_-1" / "fig11_survival.png")
     _readings(sec, t, alt)
@@ -132,11 +133,11 @@ def _figs_9_10(sec: Section, data, b, u) -> None:
 def _release(ctx, sec: Section, t) -> dict:
     """The release orbit: one certified number per wall (a table), and the upper wall's values for the
     summary row (``dec``, ``f64``, the float64 ``sample``)."""
-    delta, rel = float(t.delta), t.release[f"{float(t.delta):g}"]
+    delta, rel = float(t.delta), t.release_info()[f"{float(t.delta):g}"]
     up = rel.get("0")
-    dec = up["certified"] if up else certified_t_post(PAPER_PARAMS, 0, delta, confirm=t.confirm)
-    f64 = up["certified_float64_rounding"] if up else certified_t_post(PAPER_PARAMS, 0, delta, rounding="float64",
-                                                                       confirm=t.confirm)
+    dec = up["certified"] if up else certified_dict(certified_t_post(PAPER_PARAMS, 0, (delta,), confirm=t.confirm)[delta])
+    f64 = up["certified_float64_rounding"] if up else certified_dict(
+        certified_t_post(PAPER_PARAMS, 0, (delta,), rounding="float64", confirm=t.confirm)[delta])
     counts, n_comp, n_ic = t.stick_counts, int(t.composed.sum()), t.nx * t.ny
     sec.p(f"Orbits that chatter and stick before coming within delta = {delta:g}: {n_comp} of {n_ic} "
           f"({100 * n_comp / n_ic:.1f}% of the mesh); by the wall of their first sticking episode "
@@ -173,13 +174,13 @@ def _release(ctx, sec: Section, t) -> dict:
 
 
 def _fits_per_delta(sec: Section, t) -> None:
-    fits = {f"{d:g}": f for d, f in t.fits.items()}
+    fits, rel = {f"{d:g}": f for d, f in t.fits.items()}, t.release_info()
     sec.table(["delta", "T_post (upper wall, certified)", "<n>", "+-", "kappa", "+- (bootstrap)",
                "decay time <n>/kappa", "+- (bootstrap)", "censored"],
-              [[d, _cert_text(t.release[d]["0"]["certified"]) if "0" in t.release[d] else "",
+              [[d, _cert_text(rel[d]["0"]["certified"]) if "0" in rel[d] else "",
                 f.mean_n, f.mean_n_se, f.kappa, f.kappa_se_boot, f.tau_fit, f.tau_fit_se_boot,
                 f.n_censored] for d, f in fits.items() if f is not None])
-    certs = [t.release[d]["0"]["certified"] for d in fits if "0" in t.release[d]]
+    certs = [rel[d]["0"]["certified"] for d in fits if "0" in rel[d]]
     n_conf = sum(bool(c["confirmed"]) for c in certs)
     sec.p("Eq. (14) written with the decay time T of N(n): N(n) = N0 exp(-n/T), so kappa = <n>/T; for a pure "
           "exponential whose mean is <n>, kappa = 1. One schedule of certified runs gives T_post at every delta (one "

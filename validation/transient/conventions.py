@@ -4,7 +4,7 @@ conventions (the paper does not say how chattering orbits were treated; docs/tra
 Conventions (:func:`sticking_conventions`): followed with the certified ``T_post`` of the decimal
 parameters (ours), with the certified ``T_post`` of their float64 roundings, with the float64 engine's
 own post-release orbit (a sample); counted as decayed at once (duration 0); left out.  Every one uses
-the capture rule :func:`mapimpl.engine.transients.compose_release` through
+the one composition :func:`mapimpl.engine.release.compose_durations` through
 :meth:`~gear_rattle.mapimpl.engine.transients.TransientResult.duration`.
 """
 
@@ -14,9 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...mapimpl.engine.release import Release, ReleaseSource
+from ...mapimpl.engine.t_post import release_for
 from ..paper import PAPER
 from .analysis import SurvivalFit, fit_survival
-from .post_release import t_post_value
 
 OURS = "followed, certified T_post of the decimal parameters (ours)"
 FLOAT64_ROUNDING = "followed, certified T_post of the float64-rounded parameters"
@@ -59,15 +60,14 @@ class StickingConventions:
         return next((r for r in self.rows if r.name == SAMPLE), None)
 
 
-def _rounding_t_post(fig11, entries: dict) -> dict:
-    """``{wall: T_post}`` of the certified values for the float64-rounded parameters; the float64 sample
-    where that certification was undecided (as :func:`.post_release.release_durations` does)."""
-    out = {}
-    for w, e in entries.items():
-        v, ok = t_post_value(e["certified_float64_rounding"])
-        sample = e["float64_sample"]
-        out[int(w)] = v if ok else (sample if sample >= 0 else None)
-    return out
+def rounding_release(fig11) -> Release:
+    """The certified ``T_post`` for the float64-rounded parameters that the Fig. 11 run ``fig11`` was
+    given (``transients(float64_rounding=True)``), or certified now at its main delta (the float64 sample
+    where that certification is undecided, as for every certified source)."""
+    if fig11.float64_rounding is not None:
+        return fig11.float64_rounding
+    return release_for(fig11.engine, fig11.delta, ReleaseSource.CERTIFIED_FLOAT64_ROUNDING, deltas=(fig11.delta,),
+                       confirm=fig11.confirm, stick_time=fig11.stick_time)
 
 
 def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> StickingConventions:
@@ -77,10 +77,9 @@ def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> Sticking
     res, delta, cap = fig11.engine, fig11.delta, fig11.cap
     dur, cens = fig11.durations(delta)
     stuck = fig11.composed
-    rel = fig11.release[f"{float(delta):g}"]
     variants = [(OURS, dur, cens)]
-    if rel:
-        variants.append((FLOAT64_ROUNDING, *res.duration(delta, t_post=_rounding_t_post(fig11, rel))))
+    if fig11.main_release.walls:
+        variants.append((FLOAT64_ROUNDING, *res.duration(release=rounding_release(fig11))))
         variants.append((SAMPLE, *res.duration(delta)))
     variants += [(DECAYED, np.where(stuck, 0, dur), cens & ~stuck), (LEFT_OUT, dur[~stuck], cens[~stuck])]
     rows = [ConventionFit(name, int(d.size), fit_survival(d, c, cap=cap, n_boot=n_boot, seed=seed))

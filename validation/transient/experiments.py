@@ -16,13 +16,14 @@ import numpy as np
 
 from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
 from ...core.params import Params
+from ...mapimpl.engine.release import ReleaseSource
+from ...mapimpl.engine.t_post import certified_t_post, release_for
 from ...mapimpl.engine.transients import grid, transient_times
 from ...mapimpl.sticking import STICK_TIME
 from . import analysis as A
-from .post_release import RELEASE_SOURCES, certified_t_post, composed_mask, release_durations, stick_counts
 from ..profiles import get_profile
 from .results import (BasinsResult, Float64Horizon, StickTimeRow, StickTimeSensitivity, SurvivalResult,
-                      UncertaintyResult)
+                      UncertaintyResult, stick_counts)
 
 BASIN_NS = (90, 500, 1000, 2000)
 #: Fig. 9 window: the whole phase circle, 0 < sdot0 < 0.5 (contains the paper's box).
@@ -64,11 +65,12 @@ def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, 
     T, S = grid(window, nx, ny)
     res = transient_times(params, T.ravel(), S.ravel(), ic_mode=ic_mode, s0=s0, delta=delta, deltas=(delta,),
                           cap=ns[-1], progress=progress, label="basins", lanes=lanes)
-    dur, cens, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"), progress=progress)
+    rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=get_profile(profile, "confirm"), progress=progress)
+    dur, cens = res.duration(release=rel)
     D = dur.reshape(T.shape)
     fractions = {int(n): float(np.mean(D < n)) for n in ns}
     return BasinsResult(params, tuple(window), nx, ny, ns, delta, ic_mode, T, S, D, cens.reshape(T.shape), fractions,
-                        stick_counts(res, delta), rinfo, res)
+                        stick_counts(res, delta), rel.info(), res)
 
 
 # ------------------------------------------------------------------------------------ Fig. 10
@@ -99,33 +101,36 @@ def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0
     sd = np.concatenate([sA, np.repeat(sA, E), np.repeat(sA, E)])
     res = transient_times(params, tau, sd, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress,
                           label="uncertainty", lanes=lanes)
-    dur, _, rinfo = release_durations(res, delta, confirm=get_profile(profile, "confirm"), progress=progress)
+    rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=get_profile(profile, "confirm"), progress=progress)
+    dur = res.duration(release=rel)[0]
     dA = dur[:n_points]
     dB = dur[n_points:n_points * (1 + E)].reshape(n_points, E)
     dC = dur[n_points * (1 + E):].reshape(n_points, E)
     notes: list = []
     fits = {n: _fit_or_note(notes, f"uncertainty: n={n}", A.fit_uncertainty, eps, A.uncertain_mask(dA, dB, dC, n),
                             n, n_boot=n_boot, seed=seed) for n in ns}
-    return UncertaintyResult(params, n_points, eps, seed, delta, ns, tA, sA, dA, dB, dC, fits, rinfo, res, notes)
+    return UncertaintyResult(params, n_points, eps, seed, delta, ns, tA, sA, dA, dB, dC, fits, rel.info(), res, notes)
 
 
 # ------------------------------------------------------------------------------------ Fig. 11
 
 def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta=DELTA, deltas=DELTAS,
                params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, n_lo=None, n_hi=None, n_boot=200, seed=0,
-               progress=None, lanes=None, stick_time: float = STICK_TIME, release: str = "certified") -> SurvivalResult:
+               progress=None, lanes=None, stick_time: float = STICK_TIME,
+               release: ReleaseSource | str = ReleaseSource.CERTIFIED, float64_rounding: bool = False) -> SurvivalResult:
     """Fig. 11: survival N(n) on an ``nx`` x ``ny`` mesh of ``box``; Eq. (14) fit for every recorded
     delta (the dependence on delta).
 
     The orbits that stick are composed with their wall's post-release duration, ``first_stick +
-    T_post`` (:func:`.post_release.release_durations`): ``release="certified"`` (default) uses ``T_post`` certified
-    in ball arithmetic for the decimal parameters (confirmed at a second precision in the paper
-    profile), ``"float64"`` the engine's own post-release orbit (a sample).  The result's ``release``
-    gives, per wall stuck to, the certified values for the decimal parameters and for their float64
-    roundings at the main ``delta``, and the float64 sample; ``fit_float64_sample`` is the Eq. (14)
-    fit with the sample instead."""
-    if release not in RELEASE_SOURCES:
-        raise ValueError(f"release={release!r} is out of range: allowed one of {', '.join(RELEASE_SOURCES)}")
+    T_post`` (:meth:`~gear_rattle.mapimpl.engine.transients.TransientResult.duration`), from the source
+    ``release`` (:class:`~gear_rattle.mapimpl.engine.release.ReleaseSource`): ``"certified"`` (default)
+    ``T_post`` certified in ball arithmetic for the decimal parameters (confirmed at a second precision in
+    the paper profile), ``"float64"`` the engine's own post-release orbit (a sample).  The result's
+    ``t_post`` gives, per delta and wall stuck to, the value used and the float64 sample;
+    ``fit_float64_sample`` is the Eq. (14) fit with the sample instead.  ``float64_rounding``: also
+    certify ``T_post`` for the float64 roundings of the parameters at the main ``delta`` (reported
+    beside, not used for the durations; the report's conventions refit with it)."""
+    release = ReleaseSource.of(release)
     size = get_profile(profile, "transients")
     nx = size["n"] if nx is None else int(nx)
     ny = nx if ny is None else int(ny)
@@ -136,23 +141,18 @@ def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta
                           progress=progress, label="transients", lanes=lanes, stick_time=stick_time)
     fit_kw = dict(cap=cap, n_lo=n_lo, n_hi=n_hi, n_boot=n_boot, seed=seed)
     notes: list = []
-    fits, release_info = {}, {}
-    hit_used = np.empty(res.hit.shape, np.int64)
-    for j, d in enumerate(res.deltas):
-        dur, cens, info = release_durations(res, d, source=release, confirm=confirm, stick_time=stick_time,
-                                            progress=progress)
-        release_info[f"{d:g}"] = info
-        hit_used[:, j] = np.where(cens, -1, dur)
-        fits[float(d)] = _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **fit_kw)
-    # the main delta: also the float64 roundings of the parameters (certified) and the float64 sample
-    for w, entry in release_info[f"{float(delta):g}"].items():
-        entry["certified_float64_rounding"] = certified_t_post(params, int(w), float(delta), rounding="float64",
-                                                               stick_time=stick_time, confirm=confirm)
+    t_post = {float(d): release_for(res, d, release, confirm=confirm, stick_time=stick_time, progress=progress)
+              for d in res.deltas}
+    composed = {d: res.duration(release=r) for d, r in t_post.items()}
+    fits = {d: _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **fit_kw)
+            for d, (dur, cens) in composed.items()}
+    hit = np.stack([np.where(cens, -1, dur) for dur, cens in composed.values()], axis=1)
+    rounding = (release_for(res, delta, ReleaseSource.CERTIFIED_FLOAT64_ROUNDING, deltas=(delta,), confirm=confirm,
+                            stick_time=stick_time, progress=progress) if float64_rounding else None)
     fit_sample = _fit_or_note([], "", A.fit_survival, *res.duration(delta), **fit_kw)
-    h = hit_used[:, res.column(delta)]
-    n, N = A.survival(np.where(h < 0, cap, h), cap)
+    n, N = A.survival(composed[float(res.deltas[res.column(delta)])][0], cap)
     return SurvivalResult(params, tuple(box), nx, ny, cap, delta, ic_mode, s0, stick_time, release, confirm, T, S,
-                          hit_used, fits, fit_sample, release_info, n, N, composed_mask(res, delta), res, notes)
+                          hit, fits, fit_sample, t_post, rounding, n, N, res, notes)
 
 
 # ------------------------------------------------------------ sensitivity to the sticking decision
@@ -186,7 +186,7 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
     for st in stick_times:
         if not (math.isfinite(float(st)) and 0 < float(st) <= 1e-2):
             raise ValueError(f"stick_times: {st!r} is out of range: allowed 0 < stick_time <= 1e-2")
-    if fig11.release_source != "certified":
+    if fig11.release is not ReleaseSource.CERTIFIED:
         raise ValueError("the Fig. 11 run did not use the certified T_post")
     p, base, cap, delta = fig11.params, float(fig11.stick_time), fig11.cap, float(fig11.delta)
     k = [float(x) for x in fig11.engine.deltas].index(delta)
@@ -200,12 +200,12 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
         else:
             res = transient_times(p, T.ravel(), S.ravel(), delta=delta, deltas=(delta,), cap=cap, progress=progress,
                                   label=f"stick_time={st:g}", lanes=lanes, stick_time=st)
-            dur, cens, _ = release_durations(res, delta, confirm=confirm, stick_time=st, progress=progress)
-            comp, counts = composed_mask(res, delta), stick_counts(res, delta)
-        tp = certified_t_post(p, 0, delta, stick_time=st, confirm=confirm)
+            rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=confirm, stick_time=st, progress=progress)
+            dur, cens = res.duration(release=rel)
+            comp, counts = res.composed(delta), stick_counts(res, delta)
+        tp = certified_t_post(p, 0, (delta,), stick_time=st, confirm=confirm)[delta]
         f = _fit_or_note(notes, f"stick_time={st:g}", A.fit_survival, dur, cens, cap=cap, n_boot=n_boot, seed=seed)
-        rows.append(StickTimeRow(st, st == base, int(dur.size), float(comp.mean()), counts, tp["value"], tp["status"],
-                                 f))
+        rows.append(StickTimeRow(st, st == base, int(dur.size), float(comp.mean()), counts, tp.value, tp.status, f))
     return StickTimeSensitivity(stride, int(T.shape[1]), int(T.shape[0]), cap, delta, rows, notes)
 
 

@@ -10,13 +10,22 @@ import numpy as np
 
 from ...core.outcome import Outcome
 from ...core.params import Params
+from ...core.paper import PAPER_PARAMS
+from ...mapimpl.engine.release import WALLS, Release, ReleaseSource, certified_dict
+from ...mapimpl.engine.t_post import decimal_params
 from ...mapimpl.engine.transients import TransientResult
 from ..paper import PAPER
 from . import analysis as A
-from .post_release import decimal_params, stick_counts
 
 #: Most rows of the survival table written beside Fig. 11 (the curve is subsampled beyond).
 SURVIVAL_ROWS = 4000
+
+
+def stick_counts(res: TransientResult, delta: float | None = None) -> dict:
+    """Orbits that stick before coming within ``delta``, per wall of their first sticking episode
+    (``"0"``, ``"-1"``: the engine's ``stick_wall``)."""
+    m = res.composed(delta)
+    return {str(w): int(np.sum(m & (res.stick_wall == w))) for w in WALLS}
 
 
 @dataclass
@@ -103,14 +112,15 @@ class UncertaintyResult:
 @dataclass
 class SurvivalResult(Outcome):
     """Fig. 11: the transient durations on an ``nx`` x ``ny`` mesh of ``box`` (``tau0``, ``sdot0`` of
-    shape ``(ny, nx)``), the orbits that stick composed with the ``release_source`` post-release
-    duration; ``hit[:, j]``: the duration within ``engine.deltas[j]`` (-1: censored at ``cap``);
-    ``fits[delta]``: the Eq. (14) fit (None if it failed; reason in ``notes``);
-    ``fit_float64_sample``: the fit at ``delta`` with the engine's float64 T_post instead; ``n``,
-    ``N``: the survival curve at ``delta``; ``composed``: the orbits whose duration comes from the
-    release; ``release``: per delta (``f"{d:g}"``) and wall the T_post used (:func:`.post_release.release_durations`),
-    at ``delta`` also ``certified_float64_rounding``.  ``ok``, ``status``, ``message``:
-    :class:`~gear_rattle.core.outcome.Outcome` (the engine's codes, and the fit at ``delta``)."""
+    shape ``(ny, nx)``); ``hit[:, j]``: the duration within ``engine.deltas[j]`` (-1: censored at
+    ``cap``), the orbits that stick composed with the post-release duration from ``release`` (the
+    source asked for) -- ``t_post[delta]``: the :class:`~gear_rattle.mapimpl.engine.release.Release`
+    each column was composed with (per wall the value used, its source, the float64 sample);
+    ``float64_rounding``: the certified ``T_post`` for the float64 roundings of the parameters at
+    ``delta`` (None unless asked for; reported, not used); ``fits[delta]``: the Eq. (14) fit (None if
+    it failed; reason in ``notes``); ``fit_float64_sample``: the fit at ``delta`` with the engine's
+    float64 T_post instead; ``n``, ``N``: the survival curve at ``delta``.  ``ok``, ``status``,
+    ``message``: :class:`~gear_rattle.core.outcome.Outcome` (the engine's codes, and the fit at ``delta``)."""
 
     params: Params
     box: tuple
@@ -121,19 +131,29 @@ class SurvivalResult(Outcome):
     ic_mode: str
     s0: float | None
     stick_time: float
-    release_source: str
+    release: ReleaseSource
     confirm: bool
     tau0: np.ndarray
     sdot0: np.ndarray
     hit: np.ndarray
     fits: dict
     fit_float64_sample: A.SurvivalFit | None
-    release: dict
+    t_post: dict[float, Release]
+    float64_rounding: Release | None
     n: np.ndarray
     N: np.ndarray
-    composed: np.ndarray
     engine: TransientResult
     notes: list = field(default_factory=list)
+
+    @property
+    def composed(self) -> np.ndarray:
+        """The orbits whose duration at ``delta`` comes from the release (they stuck before coming within it)."""
+        return self.engine.composed(self.delta)
+
+    @property
+    def main_release(self) -> Release:
+        """The :class:`~gear_rattle.mapimpl.engine.release.Release` of the main ``delta``."""
+        return self.t_post[float(self.engine.deltas[self.engine.column(self.delta)])]
 
     @property
     def stick_counts(self) -> dict:
@@ -161,20 +181,37 @@ class SurvivalResult(Outcome):
         """The Eq. (14) fit at the main ``delta``."""
         return self.fits.get(float(self.delta))
 
+    @property
+    def paper_setting(self) -> bool:
+        """Whether the parameters are the paper's Fig. 11 ones: only then is anything compared with the paper."""
+        return paper_setting(self.params)
+
     def durations(self, delta: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``(durations, censored)`` at ``delta`` (default the main one), censored set to ``cap``."""
         h = self.hit[:, self.engine.column(delta)]
         cens = h < 0
         return np.where(cens, self.cap, h), cens
 
+    def release_info(self) -> dict:
+        """Per delta (``f"{d:g}"``) and wall the ``T_post`` used (the entries of ``transients.json``), at
+        ``delta`` with ``certified_float64_rounding`` when it was certified."""
+        out = {f"{d:g}": r.info() for d, r in self.t_post.items()}
+        if self.float64_rounding is not None:
+            main = out[f"{float(self.delta):g}"]
+            for w, t in self.float64_rounding.walls.items():
+                if t.certified is not None:
+                    main[str(w)]["certified_float64_rounding"] = certified_dict(t.certified)
+        return out
+
     def arrays(self) -> dict:
         """The arrays of ``transients.npz``."""
         shape, r, p = self.tau0.shape, self.engine, self.params
+        sample = np.stack([np.where(c, -1, d) for d, c in (r.duration(x) for x in r.deltas)], axis=1)
         return dict(tau0=self.tau0, sdot0=self.sdot0, hit=self.hit.reshape(shape + (-1,)),
-                    hit_float64_sample=r.hit.reshape(shape + (-1,)), deltas=r.deltas, delta=self.delta, cap=self.cap,
+                    hit_float64_sample=sample.reshape(shape + (-1,)), deltas=r.deltas, delta=self.delta, cap=self.cap,
                     status=r.status.reshape(shape), nstick=r.nstick.reshape(shape),
                     first_stick=r.first_stick.reshape(shape), stick_wall=r.stick_wall.reshape(shape),
-                    composed=self.composed.reshape(shape), stick_time=self.stick_time, release=self.release_source,
+                    composed=self.composed.reshape(shape), stick_time=self.stick_time, release=self.release.value,
                     params=np.array([p.alpha, p.beta, p.gamma, p.r]), n=self.n, N=self.N)
 
     def survival_table(self, rows: int = SURVIVAL_ROWS) -> tuple[list, list]:
@@ -183,17 +220,31 @@ class SurvivalResult(Outcome):
         return ["n", "N"], [[self.n[i], self.N[i]] for i in range(0, len(self.n), step)]
 
     def summary(self) -> dict:
-        """The numbers of ``transients.json``."""
+        """The numbers of ``transients.json``; ``paper``: the paper's values where the parameters are
+        the paper's, else a line saying that no comparison is made."""
         fs = self.fit_float64_sample
         return {"figure": "11", "nx": self.nx, "ny": self.ny, "cap": self.cap, "box": list(self.box),
                 "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0, "stick_time": self.stick_time,
-                "release_source": self.release_source, "params_decimal": decimal_params(self.params),
+                "release_source": self.release.value, "params_decimal": decimal_params(self.params),
                 "fits": {f"{d:g}": (f.as_dict() if f is not None else None) for d, f in self.fits.items()},
                 "fits_float64_sample": fs.as_dict() if fs is not None else None,
                 "stick_counts": self.stick_counts, "n_composed": int(self.composed.sum()),
-                "release": self.release,
-                "paper": {"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]},
+                "release": self.release_info(),
+                "paper": ({"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]}
+                          if self.paper_setting else no_comparison(self.params)),
                 "engine": self.engine.summary()}
+
+
+def paper_setting(params: Params) -> bool:
+    """Whether ``params`` are the paper's Figs. 9-11 parameters (alpha = 1.245, beta = gamma = 0.1, r = 0.9)."""
+    return params == PAPER_PARAMS
+
+
+def no_comparison(params: Params) -> str:
+    """The line a result carries instead of the paper's values when its parameters are not the paper's."""
+    mine = ", ".join(f"{k}={v}" for k, v in decimal_params(params).items())
+    paper = ", ".join(f"{k}={v}" for k, v in decimal_params(PAPER_PARAMS).items())
+    return f"no comparison with the paper: the parameters ({mine}) are not the paper's Fig. 11 setting ({paper})"
 
 
 @dataclass
