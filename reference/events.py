@@ -38,11 +38,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import _jax  # noqa: F401  (float64)
+from ..core.horizons import T_MAX  # (a flight longer than it ends the orbit with "no_impact")
 import jax.numpy as jnp
 
-#: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
-#: :data:`mapimpl.finder.T_MAX`, restated here so the reference does not import the finder).
-T_MAX = 2000.0
 #: Most monotone segments (velocity reversals + 1) integrated in one flight before ``"step_cap"``.
 MAX_SEGMENTS = 4000
 #: Speed a segment that starts at rest is solved from (:func:`start_velocity`): far below every error of
