@@ -40,6 +40,7 @@ from ...core.phase import TWO_PI
 from ...mapimpl.impact_map import step
 from ...core.state import make_state
 from ...core.params import ParamArrays, Params, check_value
+from ...core.checks import MAX_PERIOD, check_int
 from ...mapimpl.periodic import find_periodic, pfold
 from .newton import newton
 
@@ -55,11 +56,7 @@ def _check_mu_name(name: str) -> str:
 
 
 def _check_counts(impacts: int, turns: int) -> tuple[int, int]:
-    if int(impacts) != impacts or int(impacts) < 1:
-        raise ValueError(f"impacts={impacts!r} is out of range: allowed an integer >= 1")
-    if int(turns) != turns or int(turns) < 1:
-        raise ValueError(f"turns={turns!r} is out of range: allowed an integer >= 1")
-    return int(impacts), int(turns)
+    return check_int("impacts", impacts, 1, MAX_PERIOD), check_int("turns", turns, 1, MAX_PERIOD)
 
 
 #: Position of each continued parameter in :class:`ParamArrays`.

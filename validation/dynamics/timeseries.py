@@ -24,6 +24,7 @@ from ...core.phase import TWO_PI
 from ...mapimpl.orbit import map_orbit
 from ...core.results import ImpactSequence
 from ...core.params import Params
+from ...core.checks import MAX_IMPACTS, check_int
 from ..paper import PAPER
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
@@ -81,10 +82,8 @@ def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, ta
                 sdot0: float = 0.5, progress=False) -> TimeSeries:
     """Discrete and stroboscopic velocity series after ``transient`` impacts (n counted after it);
     ``progress``: see :func:`gear_rattle.mapimpl.orbit.map_orbit`."""
-    if int(n_impacts) != n_impacts or not 2 <= int(n_impacts) <= 10_000_000:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer 2 <= n_impacts <= 1e7")
-    if int(transient) != transient or not 0 <= int(transient) <= 10_000_000:
-        raise ValueError(f"transient={transient!r} is out of range: allowed an integer 0 <= transient <= 1e7")
+    check_int("n_impacts", n_impacts, 2, MAX_IMPACTS)
+    check_int("transient", transient, 0, MAX_IMPACTS)
     seq = map_orbit(params, tau0, sdot0, int(n_impacts) + int(transient), progress=progress)
     keep = seq.n >= int(transient)
     sub = ImpactSequence(params, seq.n[keep] - int(transient), seq.tau[keep], seq.theta[keep], seq.wall[keep],

@@ -39,7 +39,7 @@ from dataclasses import dataclass, replace
 from collections.abc import Callable
 from pathlib import Path
 
-from ...core.checks import check_real
+from ...core.checks import check_int, check_real
 from ...core.params import RANGES, Params, check_value
 from ...mapimpl import certified as cert
 from ...mapimpl.sticking import STICK_TIME
@@ -118,12 +118,11 @@ def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, st
     elif sdot0 == 0.0:
         raise ValueError("sdot0=0.0 is out of range: a pre-impact start needs sdot0 != 0 (> 0: upper wall s = 0, "
                          "< 0: lower wall s = -1); give s0 for a start in free flight")
-    n = _finite("impacts", impacts, 0, MAX_CASE_IMPACTS, f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}")
-    if n != int(n):
-        raise ValueError(f"impacts={impacts!r} is not an integer: allowed 0 <= impacts <= {MAX_CASE_IMPACTS}")
+    n = check_int("impacts", _finite("impacts", impacts, allowed=f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}"),
+                  0, MAX_CASE_IMPACTS)
     st = STICK_TIME if stick_time is None else _finite("stick_time", stick_time, 0.0, 1.0,
                                                         "a finite number 0 <= stick_time <= 1")
-    return CaseInput(id, params, tau0, sdot0, int(n), s0, st)
+    return CaseInput(id, params, tau0, sdot0, n, s0, st)
 
 
 def _blank(v) -> bool:

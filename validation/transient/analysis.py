@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from ...core.checks import MAX_ORBITS, MAX_RESAMPLES, check_int
+
 
 def _check_durations(durations, censored=None):
     d = np.asarray(durations)
@@ -162,10 +164,8 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
     """
     d, c = _check_durations(durations, censored)
     cap = int(d.max()) if cap is None else int(cap)
-    if n_boot < 0 or int(n_boot) != n_boot:
-        raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
-    if n_min_count < 1:
-        raise ValueError(f"n_min_count={n_min_count!r} is out of range: allowed >= 1")
+    n_boot = check_int("n_boot", n_boot, 0, MAX_RESAMPLES)
+    n_min_count = check_int("n_min_count", n_min_count, 1, MAX_ORBITS)
     if n_hi is None and d.size < n_min_count:
         raise ValueError(f"{d.size} orbits are too few to fit: allowed at least n_min_count={n_min_count} (the fit "
                          "range ends where fewer than n_min_count orbits are still transient)")
@@ -257,8 +257,7 @@ def fit_uncertainty(eps, unc: np.ndarray, n_threshold: int, n_boot: int = 200, s
         raise ValueError("unc must have shape (n_points, len(eps))")
     if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
         raise ValueError("eps is out of range: allowed eps > 0")
-    if n_boot < 0 or int(n_boot) != n_boot:
-        raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
+    n_boot = check_int("n_boot", n_boot, 0, MAX_RESAMPLES)
     f = unc.mean(axis=0)
     ok = f > 0
     if ok.sum() < 3:
