@@ -19,7 +19,8 @@ from pathlib import Path
 
 from ..core.checks import TAU0_MAX
 from ..core.checks import MAX_AVERAGED as MAX_AVERAGED, MAX_IMPACTS as MAX_IMPACTS, MAX_VALUES as MAX_VALUES  # re-exported
-from ..core.params import Params
+from ..core.paper import PAPER_FIG3
+from ..core.params import PARAM_NAMES, Params
 
 
 class CliError(Exception):
@@ -40,26 +41,28 @@ MAX_MESH = 2_000                # mesh points per axis of the transient experime
 MAX_SEED = 2**32 - 1            # numpy's seed range
 
 
-def add_param_args(p: argparse.ArgumentParser, alpha=3.0, beta=0.1, gamma=0.1, r=0.9) -> None:
-    """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults (kept apart, so that
-    :func:`given_params` knows which were given)."""
+def add_param_args(p: argparse.ArgumentParser, defaults: Params = PAPER_FIG3) -> None:
+    """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults (default: the paper's
+    Figs. 3-7, :data:`core.paper.PAPER_FIG3`), kept apart so that :func:`given_params` knows which
+    were given."""
+    d = defaults.as_dict()
     g = p.add_argument_group("model parameters (Eqs. 4-6, 11)")
-    g.add_argument("--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {alpha})")
-    g.add_argument("--beta", type=float, default=None, help=f"damping, 0 < beta <= 1e10 (default {beta})")
-    g.add_argument("--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {gamma})")
-    g.add_argument("--r", type=float, default=None, help=f"restitution coefficient, 0 < r <= 1 (default {r})")
-    p.set_defaults(_param_defaults={"alpha": alpha, "beta": beta, "gamma": gamma, "r": r})
+    g.add_argument("--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {d['alpha']})")
+    g.add_argument("--beta", type=float, default=None, help=f"damping, 0 < beta <= 1e10 (default {d['beta']})")
+    g.add_argument("--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {d['gamma']})")
+    g.add_argument("--r", type=float, default=None, help=f"restitution coefficient, 0 < r <= 1 (default {d['r']})")
+    p.set_defaults(_param_defaults=d)
 
 
 def given_params(args: argparse.Namespace) -> list[str]:
     """The parameter options given on the command line (``['--r']``)."""
-    return [f"--{k}" for k in ("alpha", "beta", "gamma", "r") if getattr(args, k, None) is not None]
+    return [f"--{k}" for k in PARAM_NAMES if getattr(args, k, None) is not None]
 
 
 def params_from(args: argparse.Namespace) -> Params:
     """Validated Params from parsed arguments (ValueError names the parameter and its range)."""
     d = args._param_defaults
-    return Params(*(d[k] if getattr(args, k) is None else getattr(args, k) for k in ("alpha", "beta", "gamma", "r")))
+    return Params(*(d[k] if getattr(args, k) is None else getattr(args, k) for k in PARAM_NAMES))
 
 
 def check_scan(args: argparse.Namespace, lo: float, hi: float, *, strict: bool = False) -> tuple[float, float]:

@@ -35,7 +35,7 @@ import jax.numpy as jnp
 from ...core._jax import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
 from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_int, check_real
-from ...core.params import Params, validate_arrays
+from ...core.params import PARAM_NAMES, Params, validate_arrays
 from ...core.progress import Bar, sink, wanted
 from ...core.status import Status
 from ..sticking import MAX_STICK_TIME, STICK_TIME
@@ -121,14 +121,14 @@ def _params_arrays(params, n: int) -> dict:
         vals = (params.alpha, params.beta, params.gamma, params.r)
     else:
         try:
-            vals = tuple(params[k] for k in ("alpha", "beta", "gamma", "r")) if isinstance(params, dict) \
+            vals = tuple(params[k] for k in PARAM_NAMES) if isinstance(params, dict) \
                 else tuple(params)
         except (TypeError, KeyError):
             raise InputTypeError(f"params is a {type(params).__name__}: allowed a Params or per-orbit arrays "
                                  "(alpha, beta, gamma, r)") from None
     pa = validate_arrays(*vals)
     out = {}
-    for name, x in zip(("alpha", "beta", "gamma", "r"), pa):
+    for name, x in zip(PARAM_NAMES, pa):
         a = np.asarray(x, np.float64)
         if a.ndim and a.size != n:
             raise ValueError(f"params.{name} has {a.size} values: allowed one or one per initial condition ({n})")
@@ -405,7 +405,7 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     lanes = K.padded_lanes(lanes)
     uniform = all(np.all(a == a[0]) for a in pa.values())
     k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps,
-                      params=tuple(float(pa[nm][0]) for nm in ("alpha", "beta", "gamma", "r")) if uniform else None)
+                      params=tuple(float(pa[nm][0]) for nm in PARAM_NAMES) if uniform else None)
     k_dev = [jax.device_put(k, dv) for dv in devs]
     n = th.size
     out = {name: np.zeros(n, dt) for name, dt in (("n", np.int32), ("status", np.int32), ("nst", np.int32),

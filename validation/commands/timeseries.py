@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 
+from ...core.paper import PAPER_FIG3
 from ..cliutil import (MAX_IMPACTS, CliError, add_output_options, add_param_args, check_outputs, given_params, int_range,
                        nonneg_int, params_from, progress_arg, real, tau0_type, write_output, write_plot)
 
@@ -36,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
         if given:
             raise CliError(f"{', '.join(given)}: not allowed with --figure {args.figure} (it sets alpha = 3, "
                            f"beta = gamma = 0.1, r = {FIGURE_R[args.figure]}): give one or the other")
-        base = base.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[args.figure])
+        base = PAPER_FIG3.replace(r=FIGURE_R[args.figure])
     check_outputs(args)
     if args.sdot0 == 0:
         raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ...core.paper import recorded_deltas
 from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, nonneg_int, positive_int, progress_arg, real, seed_int
 from ._transient_common import add_common, check_common, print_summary
 
@@ -45,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     params = params_from(args)
     check_common(args)
     res = transients(profile=args.profile, nx=args.nx, ny=args.ny, cap=args.cap, delta=args.delta,
-                   deltas=(1e-2, args.delta, 1e-4, 1e-6), params=params,
+                   deltas=recorded_deltas(args.delta), params=params,
                    ic_mode="pre-impact" if args.s0 is None else "free", s0=args.s0, n_lo=args.n_lo, seed=args.seed,
                    progress=progress_arg(args), lanes=args.lanes)
     files = write_survival(args.out, res)

@@ -64,9 +64,8 @@ _MU_INDEX = {"alpha": 0, "r": 3}
 
 
 def _arrays(params: Params, name: str, mu: float) -> ParamArrays:
-    d = {"alpha": params.alpha, "beta": params.beta, "gamma": params.gamma, "r": params.r}
-    d[name] = mu
-    return ParamArrays(*(jnp.asarray(d[k], jnp.float64) for k in ("alpha", "beta", "gamma", "r")))
+    d = {**params.as_dict(), name: mu}
+    return ParamArrays(*(jnp.asarray(v, jnp.float64) for v in d.values()))
 
 
 def closed_form_det(params: Params, impacts: int, turns: int = 1) -> float:

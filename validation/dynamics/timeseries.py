@@ -45,8 +45,7 @@ class TimeSeries:
     def arrays(self) -> dict:
         """The arrays of the series' NPZ file."""
         p = self.params
-        return dict(n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe, alpha=p.alpha, beta=p.beta,
-                    gamma=p.gamma, r=p.r)
+        return dict(n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe, **p.as_dict())
 
     def table(self) -> tuple[list, list]:
         """``(header, rows)`` of the series' CSV: ``n, sdot_n`` beside ``k, sdot_strobe`` (the shorter

@@ -28,7 +28,7 @@ WALLS = (0, -1)
 def decimal_params(params: Params) -> dict:
     """The parameters as printed: the shortest decimal of each float64 (``repr``), e.g. ``"1.245"``;
     the certified ``T_post`` is computed for these exact decimals."""
-    return {k: repr(float(getattr(params, k))) for k in ("alpha", "beta", "gamma", "r")}
+    return {k: repr(float(v)) for k, v in params.as_dict().items()}
 
 
 #: The certifications done in this process (the report asks for the same orbit in several experiments).

@@ -88,9 +88,7 @@ def engine_run(cost: Cost | None, label: str, theta, sdot, wall, params: dict | 
 def per_orbit(base: Params, name: str, values) -> dict:
     """Per-orbit parameter arrays for :func:`engine_run`: ``name`` takes ``values``, the rest ``base``."""
     v = np.asarray(values, np.float64)
-    d = {"alpha": base.alpha, "beta": base.beta, "gamma": base.gamma, "r": base.r}
-    d[name] = v
-    return d
+    return {**base.as_dict(), name: v}
 
 
 def box_ics(n: int, seed: int, box=BOX) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
