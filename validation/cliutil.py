@@ -182,6 +182,43 @@ def tau0_type(name: str = "--tau0"):
     return real(name, max_abs=TAU0_MAX)
 
 
+# ------------------------------------------------------------------------- the start of an orbit
+#: The default start of an orbit on the command line: ``(tau0, sdot0)`` just before an impact on ``s = 0``.
+START = (0.0, 0.5)
+
+
+def add_s0_arg(p, help: str) -> None:
+    """Add ``--s0``: a free-flight start at ``s = s0``, ``-1 <= s0 <= 0`` (default none: pre-impact starts)."""
+    p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None, help=help)
+
+
+def add_start_args(p, start: tuple[float, float] | None = START, *, what: str = "initial",
+                   none: str = "none", s0: str | None = None) -> None:
+    """Add the start options of an orbit to ``p`` (a parser or an argument group): ``--tau0`` (a time,
+    ``|tau0| <= 1e6``) and ``--sdot0`` (the velocity just before impact 0, nonzero: > 0 hits ``s = 0``,
+    < 0 hits ``s = -1``); with ``s0`` (its help text) also ``--s0``, a free-flight start, where any
+    finite ``--sdot0`` is allowed.  ``start``: their defaults (None: no default, the help says ``none``);
+    ``what``: the word before "time" and "velocity".  :func:`check_start_args` checks them together."""
+    d_tau, d_sdot = (None, None) if start is None else start
+    p.add_argument("--tau0", type=tau0_type(), default=d_tau,
+                   help=f"{what} time, |tau0| <= 1e6 (default {none if start is None else d_tau})")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=d_sdot,
+                   help=f"{what} pre-impact velocity, nonzero (> 0 hits s = 0, < 0 hits s = -1"
+                        f"{'; with --s0 any finite value' if s0 else ''}) (default {none if start is None else d_sdot})")
+    if s0 is not None:
+        add_s0_arg(p, s0)
+
+
+def check_start_args(args: argparse.Namespace) -> None:
+    """The start options' joint rules, before computing: ``--tau0`` and ``--sdot0`` both or neither
+    (where they have no default), and ``--sdot0`` nonzero unless ``--s0`` starts in free flight."""
+    if (args.tau0 is None) != (args.sdot0 is None):
+        raise CliError("--tau0 and --sdot0 must be given together")
+    if args.sdot0 == 0 and getattr(args, "s0", None) is None:
+        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0, "
+                       "< 0 hits s = -1)")
+
+
 # ---------------------------------------------------------------------------------- messages
 
 #: The command running (``gear-rattle simulate``), set by :mod:`validation.cli`: the label of notes.
