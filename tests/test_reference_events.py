@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from gear_rattle.core import _jax  # noqa: F401
+import gear_rattle  # noqa: F401  (float64: importing the package switches JAX to it)
 import jax
 import jax.numpy as jnp
 
