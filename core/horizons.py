@@ -14,11 +14,13 @@ and diffrax tracks, the certified track and the certified single-flight search):
   :data:`T_MAX` because a certified flight pays for its horizon: the interval cover of ``[0, t_max]``
   that proves "no wall yet" uses steps of at most 1/2 time unit, two enclosures each, so its cost
   grows linearly with ``t_max`` (at least ``4 t_max`` enclosures at a few hundred bits).  Those flights
-  are short (the longest impact-to-impact flight of a golden case is a few tens of units), and a flight
-  not certified within this horizon ends a golden case at its last certified impact (it is never
-  reported as ``no_impact``), so the shorter horizon changes no result; it only bounds the cost of a
-  search that is going nowhere.  A caller that needs the orbit meaning passes ``t_max=T_MAX``, as the
-  certified track does.
+  are short, and a flight not certified within this horizon raises ``NoContactError`` (a
+  ``CertificationError``): a user's golden case then ends at its last certified impact, a ``T_post``
+  attempt ends ``failed`` with that reason -- it is never reported as the orbit status ``no_impact``
+  (the suite's ``no_impact`` case is proven for all time, ``certify_no_impact_orbit``).  So the shorter
+  horizon bounds the cost of a search that is going nowhere without changing what an orbit means; the
+  committed golden cases were certified with this value.  A caller that needs the orbit meaning passes
+  ``t_max=T_MAX``, as the certified track does.
 """
 
 from __future__ import annotations
