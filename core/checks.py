@@ -50,6 +50,12 @@ MAX_PERIOD = 100_000
 #: Most iterations of a solver (Newton's ``max_iter``).
 MAX_ITER = 10_000
 
+#: Bootstrap resamples of one fit (``n_boot`` of the transient fits).
+MAX_RESAMPLES = 1_000_000
+
+#: Largest count summed over many orbits (the escapes of an exposure): every such count is exact in float64.
+MAX_TOTAL = 2**53
+
 #: Smallest tolerance accepted: a residual of float64 states of size ~2 pi cannot be asked below ~1e-15.
 TOL_FLOOR = 1e-15
 

@@ -14,6 +14,10 @@ from .params import Params
 PAPER_DECIMAL = {"alpha": "1.245", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
 #: The setting of Figs. 9-11 (the float64 values of :data:`PAPER_DECIMAL`): just past the crisis alpha_1.
 PAPER_PARAMS = Params(**{k: float(v) for k, v in PAPER_DECIMAL.items()})
+#: The parameters of Fig. 2 as printed (regular motion: alpha = 0.5, beta = gamma = 0.1, r = 0.9).
+PAPER_FIG2_DECIMAL = {"alpha": "0.5", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
+#: The parameters of Fig. 2: the float64 values of :data:`PAPER_FIG2_DECIMAL`.
+PAPER_FIG2 = Params(**{k: float(v) for k, v in PAPER_FIG2_DECIMAL.items()})
 #: The parameters of Figs. 3-7 as printed (exact decimals: the certified r2 encloses the fold of these).
 PAPER_FIG3_DECIMAL = {"alpha": "3.0", "beta": "0.1", "gamma": "0.1", "r": "0.9"}
 #: The parameters of Figs. 3-7 (alpha = 3, beta = gamma = 0.1, r = 0.9): the float64 values of
@@ -27,8 +31,17 @@ PAPER_BOX = (3.0, 3.5, 0.0, 0.5)
 DELTA = 1e-3
 #: The capture distances recorded alongside :data:`DELTA` (Fig. 11's sensitivity to the rule).
 DELTAS = (1e-2, 1e-3, 1e-4, 1e-6)
+
+
+def recorded_deltas(delta: float) -> tuple[float, ...]:
+    """The capture distances a Fig. 11 run records: :data:`DELTAS` with the run's own ``delta`` in the
+    place of :data:`DELTA` (``recorded_deltas(DELTA) == DELTAS``)."""
+    return tuple(delta if d == DELTA else d for d in DELTAS)
+
+
 #: Largest capture distance accepted anywhere (``0 < delta <= MAX_DELTA``): a distance the size of the
 #: phase space would capture every orbit at once.
 MAX_DELTA = 10.0
 
-__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG3_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS", "MAX_DELTA"]
+__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG2_DECIMAL", "PAPER_FIG2", "PAPER_FIG3_DECIMAL", "PAPER_FIG3",
+           "PAPER_BOX", "DELTA", "DELTAS", "MAX_DELTA", "recorded_deltas"]

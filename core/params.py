@@ -42,6 +42,10 @@ from . import _jax  # noqa: F401  (enables float64)
 if TYPE_CHECKING:  # JAX is imported where arrays are made, not on import (``gear-rattle check``: numpy only)
     import jax.numpy as jnp
 
+#: The names of the model's parameters, in the order of Eqs. (3)-(6) and (11) and of :class:`Params`'s fields:
+#: every module that lists them takes them from here.
+PARAM_NAMES = ("alpha", "beta", "gamma", "r")
+
 #: Largest magnitude of alpha, beta and gamma (see the module docstring: where the float64 map is valid).
 PARAM_MAX = 1e10
 
@@ -124,7 +128,7 @@ class Params:
     r: float
 
     def __post_init__(self) -> None:
-        for name in ("alpha", "beta", "gamma", "r"):
+        for name in PARAM_NAMES:
             object.__setattr__(self, name, check_param(name, getattr(self, name)))
 
     def arrays(self) -> ParamArrays:
@@ -133,11 +137,13 @@ class Params:
 
         return ParamArrays(*(jnp.asarray(v, dtype=jnp.float64) for v in (self.alpha, self.beta, self.gamma, self.r)))
 
+    def as_dict(self) -> dict[str, float]:
+        """``{"alpha": ..., "beta": ..., "gamma": ..., "r": ...}`` (the order of :data:`PARAM_NAMES`)."""
+        return {k: getattr(self, k) for k in PARAM_NAMES}
+
     def replace(self, **changes: float) -> "Params":
         """A copy with some parameters changed (validated again)."""
-        d = {"alpha": self.alpha, "beta": self.beta, "gamma": self.gamma, "r": self.r}
-        d.update(changes)
-        return Params(**d)
+        return Params(**{**self.as_dict(), **changes})
 
 
 
@@ -146,7 +152,7 @@ def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:
     import jax.numpy as jnp
 
     out = []
-    for name, v in (("alpha", alpha), ("beta", beta), ("gamma", gamma), ("r", r)):
+    for name, v in zip(PARAM_NAMES, (alpha, beta, gamma, r)):
         a = np.asarray(v, dtype=np.float64)
         with np.errstate(invalid="ignore"):
             bad = ~np.isfinite(a)
@@ -173,6 +179,6 @@ def param_arrays(base: Params, name: str, values) -> ParamArrays:
     if name not in DIAGRAM_PARAMS:
         raise ValueError(f"parameter {name!r} is out of range: allowed one of {DIAGRAM_PARAMS}")
     v = np.atleast_1d(np.asarray(values, dtype=np.float64))
-    d = {k: np.full(v.shape, getattr(base, k)) for k in ("alpha", "beta", "gamma", "r")}
+    d = {k: np.full(v.shape, getattr(base, k)) for k in PARAM_NAMES}
     d[name] = v
-    return validate_arrays(d["alpha"], d["beta"], d["gamma"], d["r"])
+    return validate_arrays(*(d[k] for k in PARAM_NAMES))

@@ -100,14 +100,14 @@ class ImpactSequence(Outcome):
         content."""
         p = self.params
         return dict(n=self.n, tau=self.tau, tau_mod_2pi=self.theta, wall=self.wall, sdot=self.sdot,
-                    kind=np.asarray(self.kind, dtype=str), alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r,
+                    kind=np.asarray(self.kind, dtype=str), **p.as_dict(),
                     track=self.track, status=self.status)
 
     def as_dict(self) -> dict:
         """The parameters, status, track, the call's arguments (``meta``) and the event rows: a JSON
         file's content (:meth:`to_json`)."""
         p = self.params
-        return {"params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
+        return {"params": p.as_dict(),
                 "track": self.track, "status": self.status, "n_sticking": self.n_sticking,
                 "meta": self.meta, "events": self.rows()}
 

@@ -16,7 +16,7 @@ import jax.numpy as jnp
 
 from .impact_map import iterate, step
 from ..core.state import MapState, Trajectory, make_state
-from ..core.params import ParamArrays, Params
+from ..core.params import PARAM_NAMES, ParamArrays, Params
 
 
 def states(tau, sdot, wall=None) -> MapState:
@@ -52,5 +52,5 @@ def params_batch(params: list[Params] | None = None, **arrays) -> ParamArrays:
     from ..core.params import validate_arrays
 
     if params is not None:
-        arrays = {k: np.array([getattr(q, k) for q in params]) for k in ("alpha", "beta", "gamma", "r")}
-    return validate_arrays(arrays["alpha"], arrays["beta"], arrays["gamma"], arrays["r"])
+        arrays = {k: np.array([getattr(q, k) for q in params]) for k in PARAM_NAMES}
+    return validate_arrays(*(arrays[k] for k in PARAM_NAMES))

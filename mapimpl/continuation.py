@@ -40,6 +40,7 @@ from ..core.phase import TWO_PI
 from .impact_map import step
 from ..core.state import make_state
 from ..core.params import ParamArrays, Params, check_value
+from ..core.checks import MAX_PERIOD, check_int
 from .periodic import find_periodic, pfold
 from .newton import newton
 
@@ -55,11 +56,7 @@ def _check_mu_name(name: str) -> str:
 
 
 def _check_counts(impacts: int, turns: int) -> tuple[int, int]:
-    if int(impacts) != impacts or int(impacts) < 1:
-        raise ValueError(f"impacts={impacts!r} is out of range: allowed an integer >= 1")
-    if int(turns) != turns or int(turns) < 1:
-        raise ValueError(f"turns={turns!r} is out of range: allowed an integer >= 1")
-    return int(impacts), int(turns)
+    return check_int("impacts", impacts, 1, MAX_PERIOD), check_int("turns", turns, 1, MAX_PERIOD)
 
 
 #: Position of each continued parameter in :class:`ParamArrays`.
@@ -67,9 +64,8 @@ _MU_INDEX = {"alpha": 0, "r": 3}
 
 
 def _arrays(params: Params, name: str, mu: float) -> ParamArrays:
-    d = {"alpha": params.alpha, "beta": params.beta, "gamma": params.gamma, "r": params.r}
-    d[name] = mu
-    return ParamArrays(*(jnp.asarray(d[k], jnp.float64) for k in ("alpha", "beta", "gamma", "r")))
+    d = {**params.as_dict(), name: mu}
+    return ParamArrays(*(jnp.asarray(v, jnp.float64) for v in d.values()))
 
 
 def closed_form_det(params: Params, impacts: int, turns: int = 1) -> float:

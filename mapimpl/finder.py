@@ -47,10 +47,9 @@ from .forcing import forcing_rate_sc, forcing_sc
 from ..core.status import FlightOutcome
 from ..core.checks import check_int, check_real, check_tau0, is_traced
 from ..core.params import check_param
+from ..core.horizons import T_MAX  # the orbit horizon: NO_IMPACT beyond it (every track's rule)
 
 
-#: Longest flight searched (in units of tau) before giving up with NO_IMPACT.
-T_MAX = 2000.0
 #: Most safe-step iterations per flight before giving up with STEP_CAP.
 MAX_STEPS = 4000
 _H0, _H_MAX = 0.5, 2.0

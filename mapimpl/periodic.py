@@ -99,7 +99,7 @@ class PeriodicOrbit(Outcome):
         return dict(tau_mod_2pi=self.theta, sdot=self.sdot, wall=self.walls, multipliers=self.multipliers,
                     monodromy=self.monodromy, residual=self.residual, converged=self.converged,
                     iterations=self.iterations, stable=self.stable, impacts=self.period, turns=self.turns,
-                    alpha=p.alpha, beta=p.beta, gamma=p.gamma, r=p.r)
+                    **p.as_dict())
 
     def as_dict(self) -> dict:
         """The orbit as JSON data: :meth:`arrays` with the multipliers as ``[real, imag]`` pairs and the

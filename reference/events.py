@@ -17,13 +17,13 @@ integrate every flight as a chain of **monotone segments** defined here:
   solver step, scipy issue 9228 / diffrax issue 507; ``s`` is monotone from the segment start to
   the extremum, so the tracks solve again on exactly that interval watching the wall only, where
   the crossing is a sign change; if that solve finds no crossing the extremum is a reversal), or
-  without an event (:data:`OPEN_END`: the flight horizon :data:`T_MAX` or a solver failure);
+  without an event (:data:`OPEN_END`: the flight horizon :data:`~gear_rattle.core.horizons.T_MAX` or a solver failure);
 * a flight starts (:func:`initial_direction`) in the direction of ``sdot``; at rest on a wall,
   away from it; at rest inside, in the direction of the acceleration.  After an impact or a release
   the flight restarts on the wall (:func:`restart_direction`) moving away from it, so the wall it
   starts on is watched again only after a reversal (a restart never re-fires the impact);
 * caps: at most :data:`MAX_SEGMENTS` segments per flight (else ``"step_cap"``) and a flight of at
-  most :data:`T_MAX` (else ``"no_impact"``, as in the map);
+  most :data:`~gear_rattle.core.horizons.T_MAX` (else ``"no_impact"``, as in every track);
 * event accuracy: an event time found on the interpolant is refined by one Newton step
   (:func:`newton_step`) on the event function, whose rate along the vector field ``f = (sdot,
   sddot)`` is :func:`condition_rate`.
@@ -40,11 +40,9 @@ import math
 import numpy as np
 
 from ..core import _jax  # noqa: F401  (float64)
+from ..core.horizons import T_MAX  # (a flight longer than it ends the orbit with "no_impact")
 import jax.numpy as jnp
 
-#: Longest flight integrated before the orbit is declared ``"no_impact"`` (same value as the map's
-#: :data:`mapimpl.finder.T_MAX`, restated here so the reference does not import the finder).
-T_MAX = 2000.0
 #: Most monotone segments (velocity reversals + 1) integrated in one flight before ``"step_cap"``.
 MAX_SEGMENTS = 4000
 #: Speed a segment that starts at rest is solved from (:func:`start_velocity`): far below every error of

@@ -17,10 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from gear_rattle.mapimpl import _jax  # noqa: F401  (float64)
+import gear_rattle  # noqa: F401  (float64: importing the package switches JAX to it)
 import jax
 
-from gear_rattle.mapimpl.finder import T_MAX, first_impact
+from gear_rattle.core.horizons import T_MAX
+from gear_rattle.mapimpl.finder import first_impact
 from gear_rattle.mapimpl.flight import flight
 from gear_rattle.validation.golden.conditioning import FLIGHT_ERROR, POSITION_STEP
 

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from hypothesis import strategies as st
 
-from gear_rattle.core import _jax  # noqa: F401
+import gear_rattle  # noqa: F401  (float64: importing the package switches JAX to it)
 import jax
 
 from gear_rattle.mapimpl.finder import first_impact

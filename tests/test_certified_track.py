@@ -159,10 +159,24 @@ def test_the_precision_limit_gives_a_certified_prefix_and_the_first_uncertified_
 
 
 def test_the_flight_horizon_is_the_map_tracks():
-    from gear_rattle.mapimpl.certified.track import MAP_T_MAX
-    from gear_rattle.mapimpl.finder import T_MAX
+    import inspect
 
-    assert MAP_T_MAX == T_MAX
+    from gear_rattle.core.horizons import T_MAX
+    from gear_rattle.mapimpl.finder import first_impact
+
+    assert inspect.signature(certified_orbit).parameters["t_max"].default == T_MAX
+    assert inspect.signature(first_impact).parameters["t_max"].default == T_MAX
+
+
+def test_the_certified_flight_horizon_is_a_fifth_of_the_orbit_horizon():
+    import inspect
+
+    from gear_rattle.core.horizons import CERTIFIED_FLIGHT_T_MAX, T_MAX
+    from gear_rattle.mapimpl.certified import certified_flight, certified_step, certify_orbit
+
+    assert CERTIFIED_FLIGHT_T_MAX == T_MAX / 5 == 400.0  # the golden cases were certified with 400
+    for f in (certified_flight, certified_step, certify_orbit):
+        assert inspect.signature(f).parameters["t_max"].default == CERTIFIED_FLIGHT_T_MAX, f.__name__
 
 
 def test_a_time_budget_stops_the_schedule_with_a_certified_prefix():

@@ -1,5 +1,6 @@
 """The layers of the package (docs/architecture.md): the import-linter contract of pyproject.toml, and
-one definition of each of the paper's settings.
+the length of functions.  (One definition of each paper setting, parameter name and integer check:
+tests/test_one_definition.py.)
 
 ``lint-imports`` needs the installed layout (``gear_rattle/{core,mapimpl,reference,validation}``); the
 repository maps its top-level folders onto that namespace, so the test copies the sources into that
@@ -78,88 +79,6 @@ def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions
     assert r.returncode != 0 and "BROKEN" in out, out[-3000:]
     assert "gear_rattle.validation.golden is not allowed to import gear_rattle.validation.transient" in out
     assert "gear_rattle.validation.io is not allowed to import gear_rattle.validation.plots" in out
-
-
-# ------------------------------------------------------------------------------------------------
-# one definition of each paper constant
-
-#: The only modules that may spell the paper's numbers: the settings the library uses, and the values
-#: the paper reports (with its quotes).
-PAPER_MODULES = {"core/paper.py", "validation/paper.py"}
-#: Distinctive numbers of the paper (Figs. 9-11 alpha, <n>, kappa, r2, r1, alpha1): a literal equal to
-#: one of these, or a string that spells one, outside PAPER_MODULES is a second definition.
-PAPER_NUMBERS = (1.245, 2272.0, 0.893, 0.82144, 0.82145, 0.74001, 1.2437)
-PAPER_TEXTS = ("1.245", "2272", "0.893", "0.82144", "0.74001")
-#: Names that only PAPER_MODULES may assign at module level.
-PAPER_NAMES = ("PAPER_PARAMS", "PAPER_DECIMAL", "PAPER_FIG3_DECIMAL", "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS", "PAPER")
-
-
-#: Where the paper's words may be quoted in text written to files (the golden cases' descriptions).
-TEXT_ALLOWED = {"validation/golden/generate.py"}
-
-
-def _grid_points(tree: ast.AST) -> set:
-    """Numbers that are points of a scan grid (a list or tuple of three or more numbers)."""
-    ids = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.List, ast.Tuple)) and len(node.elts) >= 3:
-            ids.update(id(e) for e in node.elts if isinstance(e, ast.Constant))
-    return ids
-
-
-def _docstrings(tree: ast.AST) -> set:
-    ids = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
-            first = node.body[0]
-            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
-                ids.add(id(first.value))
-    return ids
-
-
-def paper_constant_violations(repo: Path = REPO) -> list[str]:
-    """Every literal or module-level assignment that re-types a paper constant outside PAPER_MODULES."""
-    out = []
-    for folder in ("gear_rattle",) + PACKAGES:
-        for path in sorted((repo / folder).rglob("*.py")):
-            rel = path.relative_to(repo).as_posix()
-            if rel in PAPER_MODULES:
-                continue
-            tree = ast.parse(path.read_text(), rel)
-            docs, grid = _docstrings(tree), _grid_points(tree)
-            for node in ast.walk(tree):
-                if isinstance(node, ast.Constant) and id(node) not in docs:
-                    v = node.value
-                    if isinstance(v, (int, float)) and not isinstance(v, bool) and float(v) in PAPER_NUMBERS:
-                        if id(node) not in grid:
-                            out.append(f"{rel}:{node.lineno}: literal {v!r}")
-                    elif isinstance(v, str) and rel not in TEXT_ALLOWED and any(t in v for t in PAPER_TEXTS):
-                        out.append(f"{rel}:{node.lineno}: string {v[:60]!r}")
-            for node in tree.body:
-                targets = node.targets if isinstance(node, ast.Assign) else \
-                    [node.target] if isinstance(node, ast.AnnAssign) else []
-                for t in targets:
-                    for n in ast.walk(t):
-                        if isinstance(n, ast.Name) and n.id in PAPER_NAMES:
-                            out.append(f"{rel}:{node.lineno}: defines {n.id}")
-    return out
-
-
-def test_every_paper_constant_is_defined_once():
-    """The paper's settings (core/paper.py) and reported values (validation/paper.py) are typed in one
-    module each; every other module imports them (issue 24 item 2)."""
-    bad = paper_constant_violations()
-    assert not bad, "paper constants re-typed outside core/paper.py, validation/paper.py:\n" + "\n".join(bad)
-
-
-def test_the_guard_finds_a_retyped_constant(tmp_path):
-    for sub in ("gear_rattle",) + PACKAGES:
-        (tmp_path / sub).mkdir()
-    (tmp_path / "core" / "paper.py").write_text("DELTA = 1e-3\n")
-    (tmp_path / "mapimpl" / "x.py").write_text('"""alpha = 1.245 in a docstring is prose."""\nA = 1.245\n'
-                                                'DELTA = 1e-3\nT = f"kappa = 0.893"\nGRID = [1.2437, 1.244, 1.245]\n')
-    bad = paper_constant_violations(tmp_path)
-    assert len(bad) == 3 and all(b.startswith("mapimpl/x.py") for b in bad), bad
 
 
 # ------------------------------------------------------------------------------------------------

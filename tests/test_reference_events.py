@@ -9,11 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from gear_rattle.core import _jax  # noqa: F401
+import gear_rattle  # noqa: F401  (float64: importing the package switches JAX to it)
 import jax
 import jax.numpy as jnp
 
-from gear_rattle.mapimpl.finder import T_MAX as MAP_T_MAX
+from gear_rattle.core.horizons import T_MAX as MAP_T_MAX
 from gear_rattle.reference import events as ev
 
 UP, DOWN = 1.0, -1.0
@@ -159,7 +159,7 @@ def test_a_segment_at_rest_is_solved_from_a_velocity_along_it(sigma):
 
 
 def test_caps():
-    assert ev.T_MAX == MAP_T_MAX  # restated, not imported: the reference does not use the finder
+    assert ev.T_MAX is MAP_T_MAX  # the one orbit horizon (core.horizons), imported, not restated
     assert isinstance(ev.MAX_SEGMENTS, int) and ev.MAX_SEGMENTS >= 1000
 
 

@@ -30,6 +30,10 @@ from gear_rattle.validation.report.verdict import (AGREES, DISAGREES, NOT_COMPAR
 REPO = Path(__file__).resolve().parents[1]
 PAPER_TXT = Path(os.environ.get("GEAR_RATTLE_PAPER_TXT") or REPO.parent / "shared" / "paper.txt")
 REQUIRED_KEYS = ("r2", "r1", "alpha1", "mean_n", "kappa", "decay_time", "phi_500", "phi_1000")
+#: Why the quote checks skip, and how to run them: the paper's text is not part of the repository.
+PAPER_MISSING = (f"the paper's text is not at {PAPER_TXT}: to check the quotes, put the text of de Souza et al., "
+                 f"Chaos Solitons Fractals 21 (2004) 763-772 (plain text, math in LaTeX) at ../shared/paper.txt "
+                 f"beside the clone ({REPO.parent / 'shared' / 'paper.txt'}) or set GEAR_RATTLE_PAPER_TXT=/path/to/it")
 
 
 def _norm(s: str) -> str:
@@ -38,7 +42,7 @@ def _norm(s: str) -> str:
 
 # ---------------------------------------------------------------------------------------- paper.py
 
-@pytest.mark.skipif(not PAPER_TXT.exists(), reason=f"the paper's text is not at {PAPER_TXT} (set GEAR_RATTLE_PAPER_TXT to its path)")
+@pytest.mark.skipif(not PAPER_TXT.exists(), reason=PAPER_MISSING)
 @pytest.mark.parametrize("key", sorted(PAPER))
 def test_every_quote_is_verbatim_in_the_paper(key):
     """Each paper value quotes the paper's own words (whitespace normalised), and its printed number

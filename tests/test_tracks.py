@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from gear_rattle.core import _jax  # noqa: F401
+import gear_rattle  # noqa: F401  (float64: importing the package switches JAX to it)
 import jax
 
 from gear_rattle.mapimpl.impact_map import step

@@ -19,7 +19,8 @@ from pathlib import Path
 
 from ..core.checks import TAU0_MAX
 from ..core.checks import MAX_AVERAGED as MAX_AVERAGED, MAX_IMPACTS as MAX_IMPACTS, MAX_VALUES as MAX_VALUES  # re-exported
-from ..core.params import Params
+from ..core.paper import PAPER_FIG3
+from ..core.params import PARAM_NAMES, Params
 
 
 class CliError(Exception):
@@ -40,26 +41,28 @@ MAX_MESH = 2_000                # mesh points per axis of the transient experime
 MAX_SEED = 2**32 - 1            # numpy's seed range
 
 
-def add_param_args(p: argparse.ArgumentParser, alpha=3.0, beta=0.1, gamma=0.1, r=0.9) -> None:
-    """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults (kept apart, so that
-    :func:`given_params` knows which were given)."""
+def add_param_args(p: argparse.ArgumentParser, defaults: Params = PAPER_FIG3) -> None:
+    """Add --alpha --beta --gamma --r (Eqs. 4-6 and 11) with the given defaults (default: the paper's
+    Figs. 3-7, :data:`core.paper.PAPER_FIG3`), kept apart so that :func:`given_params` knows which
+    were given."""
+    d = defaults.as_dict()
     g = p.add_argument_group("model parameters (Eqs. 4-6, 11)")
-    g.add_argument("--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {alpha})")
-    g.add_argument("--beta", type=float, default=None, help=f"damping, 0 < beta <= 1e10 (default {beta})")
-    g.add_argument("--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {gamma})")
-    g.add_argument("--r", type=float, default=None, help=f"restitution coefficient, 0 < r <= 1 (default {r})")
-    p.set_defaults(_param_defaults={"alpha": alpha, "beta": beta, "gamma": gamma, "r": r})
+    g.add_argument("--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {d['alpha']})")
+    g.add_argument("--beta", type=float, default=None, help=f"damping, 0 < beta <= 1e10 (default {d['beta']})")
+    g.add_argument("--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {d['gamma']})")
+    g.add_argument("--r", type=float, default=None, help=f"restitution coefficient, 0 < r <= 1 (default {d['r']})")
+    p.set_defaults(_param_defaults=d)
 
 
 def given_params(args: argparse.Namespace) -> list[str]:
     """The parameter options given on the command line (``['--r']``)."""
-    return [f"--{k}" for k in ("alpha", "beta", "gamma", "r") if getattr(args, k, None) is not None]
+    return [f"--{k}" for k in PARAM_NAMES if getattr(args, k, None) is not None]
 
 
 def params_from(args: argparse.Namespace) -> Params:
     """Validated Params from parsed arguments (ValueError names the parameter and its range)."""
     d = args._param_defaults
-    return Params(*(d[k] if getattr(args, k) is None else getattr(args, k) for k in ("alpha", "beta", "gamma", "r")))
+    return Params(*(d[k] if getattr(args, k) is None else getattr(args, k) for k in PARAM_NAMES))
 
 
 def check_scan(args: argparse.Namespace, lo: float, hi: float, *, strict: bool = False) -> tuple[float, float]:
@@ -177,6 +180,43 @@ def tau0_type(name: str = "--tau0"):
     """argparse type of an initial time: finite, ``|tau0| <= TAU0_MAX`` (the library's range,
     :func:`core.checks.check_tau0`)."""
     return real(name, max_abs=TAU0_MAX)
+
+
+# ------------------------------------------------------------------------- the start of an orbit
+#: The default start of an orbit on the command line: ``(tau0, sdot0)`` just before an impact on ``s = 0``.
+START = (0.0, 0.5)
+
+
+def add_s0_arg(p, help: str) -> None:
+    """Add ``--s0``: a free-flight start at ``s = s0``, ``-1 <= s0 <= 0`` (default none: pre-impact starts)."""
+    p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None, help=help)
+
+
+def add_start_args(p, start: tuple[float, float] | None = START, *, what: str = "initial",
+                   none: str = "none", s0: str | None = None) -> None:
+    """Add the start options of an orbit to ``p`` (a parser or an argument group): ``--tau0`` (a time,
+    ``|tau0| <= 1e6``) and ``--sdot0`` (the velocity just before impact 0, nonzero: > 0 hits ``s = 0``,
+    < 0 hits ``s = -1``); with ``s0`` (its help text) also ``--s0``, a free-flight start, where any
+    finite ``--sdot0`` is allowed.  ``start``: their defaults (None: no default, the help says ``none``);
+    ``what``: the word before "time" and "velocity".  :func:`check_start_args` checks them together."""
+    d_tau, d_sdot = (None, None) if start is None else start
+    p.add_argument("--tau0", type=tau0_type(), default=d_tau,
+                   help=f"{what} time, |tau0| <= 1e6 (default {none if start is None else d_tau})")
+    p.add_argument("--sdot0", type=real("--sdot0"), default=d_sdot,
+                   help=f"{what} pre-impact velocity, nonzero (> 0 hits s = 0, < 0 hits s = -1"
+                        f"{'; with --s0 any finite value' if s0 else ''}) (default {none if start is None else d_sdot})")
+    if s0 is not None:
+        add_s0_arg(p, s0)
+
+
+def check_start_args(args: argparse.Namespace) -> None:
+    """The start options' joint rules, before computing: ``--tau0`` and ``--sdot0`` both or neither
+    (where they have no default), and ``--sdot0`` nonzero unless ``--s0`` starts in free flight."""
+    if (args.tau0 is None) != (args.sdot0 is None):
+        raise CliError("--tau0 and --sdot0 must be given together")
+    if args.sdot0 == 0 and getattr(args, "s0", None) is None:
+        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0, "
+                       "< 0 hits s = -1)")
 
 
 # ---------------------------------------------------------------------------------- messages

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..mapimpl import Params
 from ..mapimpl.forcing import forcing
+from ..core.params import PARAM_NAMES
 from ..core.status import Status
 
 #: The declared cross-validation domain (issue 3).
@@ -32,7 +33,7 @@ def random_cases(n: int, seed: int) -> list[tuple[Params, float, float]]:
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(int(n)):
-        p = Params(*(rng.uniform(*DOMAIN[k]) for k in ("alpha", "beta", "gamma", "r")))
+        p = Params(*(rng.uniform(*DOMAIN[k]) for k in PARAM_NAMES))
         sd = rng.uniform(*DOMAIN["sdot"]) * rng.choice([-1.0, 1.0])
         out.append((p, float(rng.uniform(0, 2 * np.pi)), float(sd)))
     return out

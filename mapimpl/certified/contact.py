@@ -31,11 +31,13 @@ from dataclasses import dataclass, field
 from flint import arb, ctx
 
 from ...core.checks import InputTypeError, check_int, check_real
+from ...core.horizons import CERTIFIED_FLIGHT_T_MAX
 from .balls import PREC, CertificationError, check_ball, check_prec, exact, span, upper_float
 from .model import Flight, Model
 
-#: Longest flight searched (tau units), as the map's ``T_MAX`` order of magnitude for golden cases.
-T_MAX = 400.0
+#: Longest flight searched (tau units) by one certified flight: :data:`core.horizons.CERTIFIED_FLIGHT_T_MAX`
+#: (a fifth of the orbit horizon; the module core/horizons.py says why).
+T_MAX = CERTIFIED_FLIGHT_T_MAX
 #: Most interval evaluations per flight.
 MAX_EVALS = 200_000
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from flint import arb
 
+from ...core.checks import MAX_PERIOD, check_int
+
 
 class Jet:
     """``val + sum_k der[k] dx_k``: a value and its gradient, all balls."""
@@ -60,8 +62,7 @@ class Jet:
         return Jet(q, tuple(-q * a / self.val for a in self.der))
 
     def __pow__(self, n: int):
-        if not (isinstance(n, int) and n >= 1):
-            raise ValueError(f"Jet ** {n!r}: allowed a positive integer exponent")
+        check_int("exponent", n, 1, MAX_PERIOD, strict=True)
         out = self
         for _ in range(n - 1):
             out = out * self

@@ -21,11 +21,9 @@ from collections.abc import Mapping
 from flint import arb
 
 from ...core.checks import InputTypeError
-from ...core.params import Params
+from ...core.params import PARAM_NAMES, Params
 from .balls import exact, span
 
-#: Parameter names of the model, in the order of :class:`core.params.Params`.
-PARAM_NAMES = ("alpha", "beta", "gamma", "r")
 
 
 def parameter_ball(name: str, value) -> arb:
@@ -61,7 +59,7 @@ class Model:
 
     def __init__(self, params):
         if isinstance(params, Params):
-            values = {k: getattr(params, k) for k in PARAM_NAMES}
+            values = params.as_dict()
         else:
             if not isinstance(params, Mapping):
                 raise InputTypeError(f"params is a {type(params).__name__}: allowed a gear_rattle.Params or a mapping "
@@ -84,6 +82,10 @@ class Model:
         self.alpha, self.beta, self.gamma, self.r = (arb(b) for b in (alpha, beta, gamma, r))
         self.params = Params(**{k: float(getattr(self, k).mid()) for k in PARAM_NAMES})
         return self
+
+    def balls(self) -> dict[str, arb]:
+        """The parameters' balls by name (the order of :data:`core.params.PARAM_NAMES`)."""
+        return {k: getattr(self, k) for k in PARAM_NAMES}
 
     def forcing(self, tau: arb) -> arb:
         """f(tau) = -alpha sin tau + alpha beta cos tau + gamma."""

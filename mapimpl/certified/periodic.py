@@ -275,7 +275,7 @@ def certify_bifurcation(kind: str, params, name: str, tau, sdot, mu: float, turn
                 check_value(name, float(end))
         except ValueError as e:
             raise CertificationError(f"the {kind} found from the guess is outside the parameter range: {e}") from None
-        balls = {k: getattr(base, k) for k in ("alpha", "beta", "gamma", "r")}
+        balls = base.balls()
         balls[name] = value
         model = Model.from_balls(**balls)
         orbit = _orbit(model, Numbers(model), shape, res.box[:-1], res, prec)

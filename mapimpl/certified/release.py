@@ -44,7 +44,8 @@ from dataclasses import dataclass, field
 
 from flint import arb
 
-from ...core.checks import check_array, check_real
+from ...core import checks
+from ...core.checks import check_array, check_int, check_real
 from ...core.paper import DELTA, MAX_DELTA
 from ..sticking import STICK_TIME
 from .balls import CertificationError, mod_two_pi, nearest_float, precision, span
@@ -187,8 +188,7 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
     """
     if wall not in (0, -1):
         raise ValueError(f"wall={wall!r} is out of range: allowed 0 (upper, s = 0) or -1 (lower, s = -1)")
-    if not (isinstance(max_impacts, int) and max_impacts >= 1):
-        raise ValueError(f"max_impacts={max_impacts!r} is out of range: allowed integer >= 1")
+    check_int("max_impacts", max_impacts, 1, checks.MAX_IMPACTS, strict=True)
     pending = list(check_deltas(deltas))
     t0 = time.monotonic()
     xs: list[int] = []  # post-release impacts with a nonzero radius, and log2 of that radius

@@ -37,6 +37,8 @@ from dataclasses import dataclass
 
 from flint import arb
 
+from ...core.checks import MAX_PERIOD, check_int
+
 from .jets import cos, expm1, sin
 from .model import Model
 
@@ -57,8 +59,7 @@ class Shape:
     def __post_init__(self):
         if not self.walls or any(w not in (0, -1) for w in self.walls):
             raise ValueError(f"walls={self.walls!r} is out of range: allowed a non-empty sequence of 0 and -1")
-        if not (isinstance(self.turns, int) and self.turns >= 1):
-            raise ValueError(f"turns={self.turns!r} is out of range: allowed an integer >= 1")
+        check_int("turns", self.turns, 1, MAX_PERIOD, strict=True)
 
     @property
     def impacts(self) -> int:

@@ -28,8 +28,8 @@ and the impact's root is refined by one interval Newton step at the working prec
 
 **Endings** (``status``): ``active`` (every requested impact), ``stuck_forever`` (the policy proves the
 tooth stays stuck: a ``stick`` row, no release), ``no_impact`` (the flight after the last impact, or a
-free-flight start, is proven to reach no wall within the flight horizon ``T_MAX`` of the map,
-:data:`mapimpl.finder.T_MAX`; with ``gamma = 0`` also for all time, :func:`.noimpact.certify_never_lands`),
+free-flight start, is proven to reach no wall within the orbit horizon of every track,
+:data:`core.horizons.T_MAX`; with ``gamma = 0`` also for all time, :func:`.noimpact.certify_never_lands`),
 or ``uncertified`` (``first_uncertified``: the first impact no precision up to ``max_prec``
 certified, ``reason`` why; ``rows`` hold the certified prefix: every event of impacts
 ``0 .. first_uncertified - 1``, the stick/release rows after the last one left out).
@@ -47,6 +47,8 @@ from flint import arb
 from ...core.params import Params
 from ...core.results import ImpactSequence
 from ...core.checks import MAX_IMPACTS, check_int, check_real, check_start
+# the orbit horizon of every track: a flight proven to reach no wall within it ends the orbit with no_impact
+from ...core.horizons import T_MAX
 from ..sticking import MAX_STICK_TIME, STICK_TIME
 from .balls import (PREC, check_prec, CertificationError, decimal_interval, exact, float_bounds, mod_two_pi,
                     nearest_float, precision)
@@ -54,10 +56,6 @@ from .contact import NoContactError, certified_flight, mean_value_impact
 from .model import Model
 from .orbit import Event, certified_departure
 
-#: The flight horizon of the map track (:data:`mapimpl.finder.T_MAX`, restated: the certified track does not
-#: import the float64 kernels; a test checks they agree): a flight proven to reach no wall within it ends
-#: the orbit with ``no_impact``, as on the other tracks.
-MAP_T_MAX = 2000.0
 #: The first precision of the schedule (bits).
 START_PREC = PREC
 #: Highest precision the schedule reaches by default (bits): about 30 000 impacts of a chaotic orbit
@@ -412,7 +410,7 @@ def _bits_for(growth: float, impacts: int) -> int:
 
 def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: float | None = None,
                     stick_time: float = STICK_TIME, prec: int = START_PREC, max_prec: int = MAX_TRACK_PREC,
-                    t_max: float = MAP_T_MAX, time_budget_s: float | None = None, progress=None) -> CertifiedRun:
+                    t_max: float = T_MAX, time_budget_s: float | None = None, progress=None) -> CertifiedRun:
     """The certified orbit: impact 0 and ``n_impacts`` further impacts, every row proven (module docstring).
 
     Parameters

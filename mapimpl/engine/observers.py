@@ -32,6 +32,7 @@ import numpy as np
 from ...core import _jax  # noqa: F401
 import jax.numpy as jnp
 
+from ...core.checks import MAX_AVERAGED, MAX_PERIOD, check_int
 from ...core.phase import TWO_PI
 
 _I32, _F64, _BOOL = jnp.int32, jnp.float64, jnp.bool_
@@ -175,12 +176,12 @@ class BandEscape(Observer):
     n_start: int = 0
 
     def __post_init__(self):
-        if int(self.p) < 1 or int(self.m) < 1:
-            raise ValueError(f"p={self.p!r}, m={self.m!r} are out of range: allowed integers >= 1")
+        check_int("p", self.p, 1, MAX_PERIOD)
+        check_int("m", self.m, 1, MAX_PERIOD)
         if not (np.isfinite(self.threshold) and 0 < self.threshold < np.pi):
             raise ValueError(f"threshold={self.threshold!r} is out of range: allowed 0 < threshold < pi")
-        if int(self.min_inside) < 0 or int(self.n_start) < 0:
-            raise ValueError("min_inside and n_start are out of range: allowed integers >= 0")
+        check_int("min_inside", self.min_inside, 0, MAX_AVERAGED)
+        check_int("n_start", self.n_start, 0, MAX_AVERAGED)
 
     def __hash__(self):
         return hash(("BandEscape", self.p, self.stop_at_first))
@@ -287,10 +288,8 @@ class Sample(Observer):
     n_start: int = 0
 
     def __post_init__(self):
-        if not (1 <= int(self.keep) <= 1_000_000):
-            raise ValueError(f"keep={self.keep!r} is out of range: allowed an integer 1 <= keep <= 1e6")
-        if int(self.n_start) < 0:
-            raise ValueError(f"n_start={self.n_start!r} is out of range: allowed >= 0")
+        check_int("keep", self.keep, 1, 1_000_000)
+        check_int("n_start", self.n_start, 0, MAX_AVERAGED)
 
     def __hash__(self):
         return hash(("Sample", int(self.keep)))

@@ -27,7 +27,7 @@ NEVER_CAPTURED = ("periodic", "stuck_forever", "no_capture")
 def decimal_params(params: Params) -> dict:
     """The parameters as printed: the shortest decimal of each float64 (``repr``), e.g. ``"1.245"``;
     the certified ``T_post`` is computed for these exact decimals."""
-    return {k: repr(float(getattr(params, k))) for k in ("alpha", "beta", "gamma", "r")}
+    return {k: repr(float(v)) for k, v in params.as_dict().items()}
 
 
 @dataclass(frozen=True)

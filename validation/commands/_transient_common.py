@@ -5,19 +5,19 @@ from __future__ import annotations
 import argparse
 
 from ..cliutil import add_output_options, add_param_args, check_outputs, positive_int, real
-from ...core.paper import PAPER_PARAMS
+from ...core.paper import DELTA, PAPER_PARAMS
 
 #: Most orbits advanced together per device.
 MAX_LANES = 65536
 
 
 def add_common(p: argparse.ArgumentParser) -> None:
-    add_param_args(p, **{k: getattr(PAPER_PARAMS, k) for k in ("alpha", "beta", "gamma", "r")})
+    add_param_args(p, PAPER_PARAMS)
     p.add_argument("--profile", choices=("quick", "paper"), default="quick",
                    help="quick: small (< 1 min); paper: the paper's scale (default quick)")
-    p.add_argument("--delta", type=real("--delta", lo=0.0, lo_open=True, hi=1.0), default=1e-3,
+    p.add_argument("--delta", type=real("--delta", lo=0.0, lo_open=True, hi=1.0), default=DELTA,
                    help="capture distance to the periodic orbit, sup norm of (tau mod 2pi, sdot), 0 < delta <= 1 "
-                        "(default 0.001)")
+                        f"(default {DELTA:g})")
     p.add_argument("--lanes", type=positive_int("--lanes", MAX_LANES), default=None,
                    help=f"orbits advanced together per device, 1 to {MAX_LANES} "
                         "(default: the orbits per device, at most 256 on a CPU with the engine's XLA options, 512 "

@@ -14,7 +14,7 @@ import re
 import sys
 from pathlib import Path
 
-from ..cliutil import CliError, CommandFailed, add_output_options, nonneg_int, positive_int, real, tau0_type
+from ..cliutil import CliError, CommandFailed, add_output_options, add_start_args, nonneg_int, positive_int, real
 
 #: Exit status of a lost Dask cluster: the scheduler does not answer or was lost, or no worker for --timeout.
 EXIT_CLUSTER_LOST = 3
@@ -42,8 +42,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument("--beta", type=float, default=d.beta, help=f"damping, 0 < beta <= 1e10 (default {d.beta})")
     g.add_argument("--gamma", type=float, default=d.gamma, help=f"constant torque term, |gamma| <= 1e10 (default {d.gamma})")
     m = p.add_argument_group("orbits")
-    m.add_argument("--tau0", type=tau0_type(), default=d.tau0, help=f"initial time, |tau0| <= 1e6 (default {d.tau0})")
-    m.add_argument("--sdot0", type=float, default=d.sdot0, help=f"initial pre-impact velocity, finite, != 0 (default {d.sdot0})")
+    add_start_args(m, (d.tau0, d.sdot0))
     m.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=d.transient,
                    help=f"impacts discarded first, 0 to {MAX_IMPACTS} (default {d.transient})")
     m.add_argument("--impacts", type=positive_int("--impacts", MAX_IMPACTS), default=d.impacts,

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from ..cliutil import (MAX_AVERAGED, MAX_IMPACTS, MAX_VALUES, CliError, add_output_options, add_param_args,
                        add_renamed, check_outputs, check_scan, nonneg_int, params_from, positive_int, progress_arg, real,
-                       tau0_type, write_output, write_plot)
+                       add_start_args, check_start_args, write_output, write_plot)
 from ..paper import SCAN_OF
 
 if TYPE_CHECKING:
@@ -43,8 +43,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mode", choices=("fixed", "sweep"), default="fixed",
                    help="fixed initial condition or sweep (default fixed)")
     p.add_argument("--reverse", action="store_true", help="sweep from hi down to lo")
-    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
+    add_start_args(p)
     p.add_argument("--lyapunov", type=nonneg_int("--lyapunov", MAX_AVERAGED), default=0, metavar="N",
                    help=f"also compute Lyapunov exponents over N impacts, 0 to {MAX_AVERAGED}, figure panel b (default 0: "
                         "not computed)")
@@ -59,8 +58,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args)
     if args.values * args.impacts > MAX_RECORDED:
         raise CliError(f"--values x --impacts = {args.values * args.impacts} is out of range: allowed <= {MAX_RECORDED}")
-    if args.sdot0 == 0:
-        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
+    check_start_args(args)
     lo, hi = check_scan(args, SCAN_OF[args.param].lo, SCAN_OF[args.param].hi)
     d = bifurcation_diagram(base, args.param, lo, hi, args.values, args.transient, args.impacts, args.mode,
                             args.tau0, args.sdot0, args.reverse, progress=progress_arg(args))

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ...core.params import PARAM_NAMES
 from ..cliutil import CliError, CommandFailed, nonneg_int, note, progress_arg, real, tau0_type
 
 NAME = "case"
@@ -50,7 +51,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar (notes and errors still go to stderr)")
 
 
-ONE = ("alpha", "beta", "gamma", "r", "tau0", "sdot0", "impacts", "id")
+ONE = (*PARAM_NAMES, "tau0", "sdot0", "impacts", "id")
 
 
 def _inputs(args: argparse.Namespace):

@@ -9,8 +9,8 @@ import argparse
 
 import numpy as np
 
-from ..cliutil import (MAX_AVERAGED, MAX_VALUES, CliError, add_output_options, add_param_args, check_outputs,
-                       check_scan, nonneg_int, note, params_from, positive_int, progress_arg, real, tau0_type, write_output,
+from ..cliutil import (MAX_AVERAGED, MAX_VALUES, add_output_options, add_param_args, check_outputs,
+                       check_scan, nonneg_int, note, params_from, positive_int, progress_arg, real, add_start_args, check_start_args, write_output,
                        write_plot)
 
 NAME = "lyapunov"
@@ -30,8 +30,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"impacts averaged after --transient, 1 to {MAX_AVERAGED} (default 20000)")
     p.add_argument("--transient", type=nonneg_int("--transient", MAX_AVERAGED), default=1000,
                    help=f"impacts discarded first, 0 to {MAX_AVERAGED} (default 1000)")
-    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
+    add_start_args(p)
     add_output_options(p, output="the exponents", plot="write the figure (default: no figure)")
 
 
@@ -40,8 +39,7 @@ def run(args: argparse.Namespace) -> int:
 
     base = params_from(args)
     check_outputs(args)
-    if args.sdot0 == 0:
-        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
+    check_start_args(args)
     lo = args.lo if args.lo is not None else getattr(base, args.param)
     lo, hi = check_scan(args, lo, lo if args.hi is None else args.hi)
     values = np.linspace(lo, hi, args.values)

@@ -13,7 +13,7 @@ import argparse
 import numpy as np
 
 from ..cliutil import (MAX_IMPACTS, MAX_VALUES, CliError, CommandFailed, add_output_options, add_param_args, add_renamed,
-                       check_outputs, check_scan, int_range, note, params_from, positive_int, real, tau0_type, write_output,
+                       check_outputs, check_scan, int_range, note, params_from, positive_int, real, add_start_args, check_start_args, write_output,
                        write_plot)
 
 NAME = "orbit"
@@ -33,10 +33,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_renamed(p, "--impacts", "--period", type=positive_int("--impacts", MAX_PERIOD))
     p.add_argument("--turns", type=positive_int("--turns", MAX_PERIOD), default=1,
                    help=f"m: driving periods per orbit, 1 to {MAX_PERIOD} (default 1)")
-    p.add_argument("--tau0", type=tau0_type(), default=None,
-                   help="guess: time of a point of the orbit, |tau0| <= 1e6 (default: from a --settle run)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=None,
-                   help="guess: its pre-impact velocity, nonzero (default: from a --settle run)")
+    add_start_args(p, None, what="guess: a point of the orbit's", none="from a --settle run")
     p.add_argument("--settle", type=positive_int("--settle", MAX_IMPACTS), default=5000,
                    help=f"impacts of the guess run from (0, 0.5), 1 to {MAX_IMPACTS} (default 5000)")
     c = p.add_argument_group("continue only")
@@ -84,10 +81,7 @@ def run(args: argparse.Namespace) -> int:
     base = params_from(args)
     check_outputs(args)
     bounds = _check(args, base)
-    if (args.tau0 is None) != (args.sdot0 is None):
-        raise CliError("--tau0 and --sdot0 must be given together")
-    if args.sdot0 == 0:
-        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
+    check_start_args(args)
     if args.tau0 is None:
         tau0, sdot0 = attractor_point(base, args.settle)
     else:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 
 from ..cliutil import (MAX_IMPACTS, CliError, CommandFailed, add_output_options, int_range, add_param_args, check_outputs, nonneg_int, note, params_from, progress_arg,
-                       real, tau0_type, write_output, write_plot)
+                       real, add_start_args, check_start_args, write_output, write_plot)
 
 NAME = "simulate"
 HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
@@ -29,10 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     from ...mapimpl.certified.track import MAX_TRACK_PREC
 
     add_param_args(p)
-    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time tau0, |tau0| <= 1e6 (default 0.0)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial pre-impact velocity, finite (> 0 hits s = 0, < 0 hits s = -1; with --s0 any) (default 0.5)")
-    p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
-                   help="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
+    add_start_args(p, s0="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
     p.add_argument("--impacts", type=nonneg_int("--impacts", MAX_IMPACTS), default=1000,
                    help=f"impacts after impact 0, 0 to {MAX_IMPACTS} (default 1000)")
     p.add_argument("--track", choices=("map", "scipy", "diffrax", "certified"), default="map",
@@ -52,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     if args.max_precision is not None and args.track != "certified":
         raise CliError("--max-precision: allowed with --track certified only")
     check_outputs(args)
+    check_start_args(args)
     if args.track == "certified":
         return _run_certified(args, params)
     seq = orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, track=args.track,

@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import argparse
 
+from ...core.paper import PAPER_FIG3
 from ..cliutil import (MAX_IMPACTS, CliError, add_output_options, add_param_args, check_outputs, given_params, int_range,
-                       nonneg_int, params_from, progress_arg, real, tau0_type, write_output, write_plot)
+                       nonneg_int, params_from, progress_arg, add_start_args, check_start_args, write_output, write_plot)
 
 NAME = "timeseries"
 HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
@@ -22,8 +23,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"impacts recorded after --transient, 2 to {MAX_IMPACTS} (default 3000)")
     p.add_argument("--transient", type=nonneg_int("--transient", MAX_IMPACTS), default=2000,
                    help=f"impacts discarded first, 0 to {MAX_IMPACTS} (default 2000)")
-    p.add_argument("--tau0", type=tau0_type(), default=0.0, help="initial time, |tau0| <= 1e6 (default 0.0)")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=0.5, help="initial velocity, nonzero (default 0.5)")
+    add_start_args(p)
     add_output_options(p, output="the two series", plot="write the figure (default: no figure)")
 
 
@@ -36,10 +36,9 @@ def run(args: argparse.Namespace) -> int:
         if given:
             raise CliError(f"{', '.join(given)}: not allowed with --figure {args.figure} (it sets alpha = 3, "
                            f"beta = gamma = 0.1, r = {FIGURE_R[args.figure]}): give one or the other")
-        base = base.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[args.figure])
+        base = PAPER_FIG3.replace(r=FIGURE_R[args.figure])
     check_outputs(args)
-    if args.sdot0 == 0:
-        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0)")
+    check_start_args(args)
     ts = time_series(base, args.impacts, args.transient, args.tau0, args.sdot0, progress=progress_arg(args))
     if ts.k.size == 0:
         raise CliError(f"--impacts={args.impacts} is too small: the impacts kept after --transient={args.transient} "

@@ -13,7 +13,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, nonneg_int, positive_int, progress_arg, real, seed_int
+from ...core.paper import recorded_deltas
+from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, add_s0_arg, nonneg_int, positive_int, progress_arg, seed_int
 from ._transient_common import add_common, check_common, print_summary
 
 NAME = "transients"
@@ -29,8 +30,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_renamed(p, "--n", "--nx", type=positive_int("--n", MAX_MESH))
     p.add_argument("--cap", type=positive_int("--cap", MAX_IMPACTS), default=None,
                    help=f"most impacts per orbit, 1 to {MAX_IMPACTS} (default 20000)")
-    p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None,
-                   help="read (tau0, sdot0) as a free-flight state at s = s0, -1 <= s0 <= 0 "
+    add_s0_arg(p, help="read (tau0, sdot0) as a free-flight state at s = s0, -1 <= s0 <= 0 "
                         "(default: none, pre-impact states)")
     p.add_argument("--n-lo", type=nonneg_int("--n-lo", MAX_IMPACTS), default=None,
                    help=f"start of the fit range in impacts, 0 to {MAX_IMPACTS} (default: the median duration)")
@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     params = params_from(args)
     check_common(args)
     res = transients(profile=args.profile, nx=args.nx, ny=args.ny, cap=args.cap, delta=args.delta,
-                   deltas=(1e-2, args.delta, 1e-4, 1e-6), params=params,
+                   deltas=recorded_deltas(args.delta), params=params,
                    ic_mode="pre-impact" if args.s0 is None else "free", s0=args.s0, n_lo=args.n_lo, seed=args.seed,
                    progress=progress_arg(args), lanes=args.lanes, float64_rounding=args.float64_rounding)
     files = write_survival(args.out, res)

@@ -24,6 +24,7 @@ from ...core.phase import TWO_PI
 from ...mapimpl.orbit import map_orbit
 from ...core.results import ImpactSequence
 from ...core.params import Params
+from ...core.checks import MAX_IMPACTS, check_int
 from ..paper import PAPER
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
@@ -45,8 +46,7 @@ class TimeSeries:
     def arrays(self) -> dict:
         """The arrays of the series' NPZ file."""
         p = self.params
-        return dict(n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe, alpha=p.alpha, beta=p.beta,
-                    gamma=p.gamma, r=p.r)
+        return dict(n=self.n, sdot_n=self.sdot_n, k=self.k, sdot_strobe=self.sdot_strobe, **p.as_dict())
 
     def table(self) -> tuple[list, list]:
         """``(header, rows)`` of the series' CSV: ``n, sdot_n`` beside ``k, sdot_strobe`` (the shorter
@@ -82,10 +82,8 @@ def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, ta
                 sdot0: float = 0.5, progress=False) -> TimeSeries:
     """Discrete and stroboscopic velocity series after ``transient`` impacts (n counted after it);
     ``progress``: see :func:`gear_rattle.mapimpl.orbit.map_orbit`."""
-    if int(n_impacts) != n_impacts or not 2 <= int(n_impacts) <= 10_000_000:
-        raise ValueError(f"n_impacts={n_impacts!r} is out of range: allowed an integer 2 <= n_impacts <= 1e7")
-    if int(transient) != transient or not 0 <= int(transient) <= 10_000_000:
-        raise ValueError(f"transient={transient!r} is out of range: allowed an integer 0 <= transient <= 1e7")
+    check_int("n_impacts", n_impacts, 2, MAX_IMPACTS)
+    check_int("transient", transient, 0, MAX_IMPACTS)
     seq = map_orbit(params, tau0, sdot0, int(n_impacts) + int(transient), progress=progress)
     keep = seq.n >= int(transient)
     sub = ImpactSequence(params, seq.n[keep] - int(transient), seq.tau[keep], seq.theta[keep], seq.wall[keep],

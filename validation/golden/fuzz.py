@@ -36,8 +36,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
-from ...core.paper import PAPER_PARAMS
-from ...core.params import Params
+from ...core.paper import PAPER_FIG2, PAPER_FIG3, PAPER_PARAMS
+from ...core.params import PARAM_NAMES, Params
 from ..extras import require
 from . import generate, ondemand
 from .ondemand import CaseError, CaseInput, UserCase
@@ -60,7 +60,7 @@ BATCH, TIMEOUT = 24, 300.0
 #: at most the budget.
 SHRINK_TIME = 90.0
 #: The paper's parameter sets, targets of the shrinker (Figs. 2, 3 and 9-11).
-PAPER_SETS = (Params(0.5, 0.1, 0.1, 0.9), Params(3.0, 0.1, 0.1, 0.9), PAPER_PARAMS)
+PAPER_SETS = (PAPER_FIG2, PAPER_FIG3, PAPER_PARAMS)
 TWO_PI = 2.0 * math.pi
 
 
@@ -332,7 +332,7 @@ def complexity(inp: CaseInput) -> tuple:
     nums = [inp.params.alpha, inp.params.beta, inp.params.gamma, inp.params.r, inp.tau0, inp.sdot0]
     nums += [] if inp.s0 is None else [inp.s0]
     digits = sum(_digits(x) for x in nums)
-    off = min(sum(getattr(inp.params, k) != getattr(q, k) for k in ("alpha", "beta", "gamma", "r"))
+    off = min(sum(getattr(inp.params, k) != getattr(q, k) for k in PARAM_NAMES)
               for q in PAPER_SETS)
     return (inp.impacts, digits, off)
 
@@ -365,7 +365,7 @@ def shrink_candidates(inp: CaseInput, fail_impact: int | None) -> list[CaseInput
     for k in sorted({0, 1, 2, n // 8, n // 4, n // 2, (3 * n) // 4, n - 1} | near):
         if 0 <= k < n:
             add(impacts=k)
-    for name in ("alpha", "beta", "gamma", "r", "tau0", "sdot0", "s0"):
+    for name in (*PARAM_NAMES, "tau0", "sdot0", "s0"):
         x = _fields(inp)[name]
         if x is None:
             continue
@@ -374,15 +374,15 @@ def shrink_candidates(inp: CaseInput, fail_impact: int | None) -> list[CaseInput
         if name in ("gamma", "tau0"):
             add(**{name: 0.0})
     for q in PAPER_SETS:
-        add(alpha=q.alpha, beta=q.beta, gamma=q.gamma, r=q.r)
-        for name in ("alpha", "beta", "gamma", "r"):
+        add(**q.as_dict())
+        for name in PARAM_NAMES:
             add(**{name: getattr(q, name)})
     return out
 
 
 def _fields(inp: CaseInput) -> dict:
     p = inp.params
-    return {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r, "tau0": inp.tau0, "sdot0": inp.sdot0,
+    return {**p.as_dict(), "tau0": inp.tau0, "sdot0": inp.sdot0,
             "impacts": inp.impacts, "s0": inp.s0, "stick_time": inp.stick_time}
 
 
@@ -433,7 +433,7 @@ def _merged(inp: CaseInput, failing: list[CaseInput]) -> CaseInput | None:
                 continue
             if k == "impacts":
                 fields[k] = min(fields[k], v)
-            elif k in ("alpha", "beta", "gamma", "r") and fields[k] != _fields(inp)[k]:
+            elif k in PARAM_NAMES and fields[k] != _fields(inp)[k]:
                 continue  # a paper set's parameters: the first one found
             elif fields[k] == _fields(inp)[k] or _digits(v) < _digits(fields[k]):
                 fields[k] = v

@@ -26,7 +26,7 @@ from typing import Callable
 import numpy as np
 from flint import arb
 
-from ...core.paper import PAPER_PARAMS
+from ...core.paper import PAPER_FIG2, PAPER_FIG3, PAPER_PARAMS
 from ...core.params import Params
 from ...mapimpl.sticking import STICK_TIME
 from ...mapimpl import certified as cert
@@ -35,8 +35,8 @@ from .conditioning import FLIGHT_ERROR, POSITION_STEP, SAFETY, round_up_1
 from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, Sequence, read_sequence, score_sequence, \
     sequence_from_impacts
 
-FIG2 = Params(0.5, 0.1, 0.1, 0.9)
-FIG3 = Params(3.0, 0.1, 0.1, 0.9)
+FIG2 = PAPER_FIG2
+FIG3 = PAPER_FIG3
 #: The transient setting of Figs. 9-11 (float64 values of the printed decimals).
 FIG11 = PAPER_PARAMS
 #: Phase of the release case's initial state: the centre of the Fig. 11 box in tau (3.0 < tau0 < 3.5).
@@ -577,7 +577,7 @@ def settings_json(spec: Spec, orb: cert.CertifiedOrbit) -> dict:
     return {
         "id": spec.id, "description": spec.description, "tags": list(spec.tags),
         "level": spec.level, "catches": list(spec.catches),
-        "params": {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r},
+        "params": p.as_dict(),
         "initial_state": ini, "n_impacts": spec.n_impacts, "stick_time": spec.stick_time,
         "expected_rows": len(orb.events), "expected_status": orb.status,
         "tolerances": spec.tolerances,

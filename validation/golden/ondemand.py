@@ -39,8 +39,8 @@ from dataclasses import dataclass, replace
 from collections.abc import Callable
 from pathlib import Path
 
-from ...core.checks import check_real
-from ...core.params import RANGES, Params, check_value
+from ...core.checks import check_int, check_real
+from ...core.params import PARAM_NAMES, RANGES, Params, check_value
 from ...mapimpl import certified as cert
 from ...mapimpl.sticking import STICK_TIME
 from . import generate
@@ -57,7 +57,7 @@ TAU0_MAX, SDOT0_MAX = 1e6, 1e6
 #: A case id: a folder name (letters, digits, ``.``, ``_``, ``-``; not starting with ``.``).
 ID_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9._-]{0,99}")
 #: The fields of an input (a ``--from`` file's columns or keys): required, then optional.
-REQUIRED_FIELDS = ("id", "alpha", "beta", "gamma", "r", "tau0", "sdot0", "impacts")
+REQUIRED_FIELDS = ("id", *PARAM_NAMES, "tau0", "sdot0", "impacts")
 OPTIONAL_FIELDS = ("s0", "stick_time")
 
 
@@ -77,7 +77,7 @@ class CaseInput:
     def as_dict(self) -> dict:
         """The input as a ``--from`` JSON entry."""
         p = self.params
-        d = {"id": self.id, "alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r, "tau0": self.tau0,
+        d = {"id": self.id, **p.as_dict(), "tau0": self.tau0,
              "sdot0": self.sdot0, "impacts": self.impacts}
         if self.s0 is not None:
             d["s0"] = self.s0
@@ -103,7 +103,7 @@ def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, st
     if not isinstance(id, str) or not ID_PATTERN.fullmatch(id):
         raise ValueError(f"id={id!r} is out of range: allowed a folder name of 1-100 letters, digits, '.', '_' "
                          "or '-', not starting with '.' or '-'")
-    values = {"alpha": alpha, "beta": beta, "gamma": gamma, "r": r}
+    values = dict(zip(PARAM_NAMES, (alpha, beta, gamma, r)))
     for k, v in values.items():
         if isinstance(v, bool):
             raise ValueError(f"parameter {k}={v!r} is not a number: allowed {RANGES[k]} (finite)")
@@ -118,12 +118,11 @@ def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, st
     elif sdot0 == 0.0:
         raise ValueError("sdot0=0.0 is out of range: a pre-impact start needs sdot0 != 0 (> 0: upper wall s = 0, "
                          "< 0: lower wall s = -1); give s0 for a start in free flight")
-    n = _finite("impacts", impacts, 0, MAX_CASE_IMPACTS, f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}")
-    if n != int(n):
-        raise ValueError(f"impacts={impacts!r} is not an integer: allowed 0 <= impacts <= {MAX_CASE_IMPACTS}")
+    n = check_int("impacts", _finite("impacts", impacts, allowed=f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}"),
+                  0, MAX_CASE_IMPACTS)
     st = STICK_TIME if stick_time is None else _finite("stick_time", stick_time, 0.0, 1.0,
                                                         "a finite number 0 <= stick_time <= 1")
-    return CaseInput(id, params, tau0, sdot0, int(n), s0, st)
+    return CaseInput(id, params, tau0, sdot0, n, s0, st)
 
 
 def _blank(v) -> bool:

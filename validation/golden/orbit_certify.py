@@ -165,7 +165,7 @@ def record(case: OrbitCase, result, seed: str) -> dict:
         orbit = result.orbit if isinstance(result, CertifiedBifurcation) else result
         P = Numbers(orbit.model)
         shape = orbit.shape
-        params = {k: getattr(case.params, k) for k in ("alpha", "beta", "gamma", "r")}
+        params = case.params.as_dict()
         rec: dict[str, object] = {"id": case.id, "kind": case.kind, "description": case.description, "params": params}
         x = [v for pair in zip(orbit.tau, orbit.sdot) for v in pair]
         if isinstance(result, CertifiedBifurcation):
@@ -267,7 +267,7 @@ def verify_record(rec: dict, prec: int = PREC) -> Verified:
         x = tight[:2 * shape.impacts]
         model = base
         if kind != "periodic-orbit":
-            balls = {k: getattr(base, k) for k in ("alpha", "beta", "gamma", "r")}
+            balls = base.balls()
             balls[rec["parameter"]] = tight[-1]
             model = Model.from_balls(**balls)
             if not _inside(tight[-1], rec["value"]):

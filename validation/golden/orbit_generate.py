@@ -18,7 +18,7 @@ import sys
 import time
 from pathlib import Path
 
-from ...core.paper import PAPER_PARAMS
+from ...core.paper import PAPER_FIG2, PAPER_PARAMS
 from ...core.params import Params
 from ...mapimpl.certified.periodic import certify_bifurcation, certify_periodic_orbit
 from .orbit_certify import OrbitCase, dumps, loads_exact, record, verify_record
@@ -29,7 +29,7 @@ DEFAULT_ORBITS = Path(__file__).resolve().parent / "orbits"
 _FIG4 = Params(3.0, 0.1, 0.1, 0.8)       # Fig. 4's window: the 6-impact period-1 orbit (alpha = 3)
 _FIG11 = PAPER_PARAMS                    # Figs. 9-11: the capture target, a 4-impact period-1 orbit
 _AT11 = f"alpha{_FIG11.alpha:g}-r{_FIG11.r:g}"
-_FIG2 = Params(0.5, 0.1, 0.1, 0.9)       # Fig. 2: regular motion, a 3-impact period-1 orbit
+_FIG2 = PAPER_FIG2                       # Fig. 2: regular motion, a 3-impact period-1 orbit
 
 CASES = (
     OrbitCase("orbit-6-impact-stable-alpha3-r0.8", "periodic-orbit",

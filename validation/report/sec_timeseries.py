@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from ...core.params import Params
+from ...core.paper import PAPER_FIG2, PAPER_FIG3
 from .document import Section
 from .verdict import row
 
@@ -18,8 +18,8 @@ def build(ctx) -> Section:
 
     sec = Section(KEY, TITLE)
     rows = []
-    for fig, alpha in (("Fig. 2", 0.5), ("Fig. 3", 3.0)):
-        P = Params(alpha, 0.1, 0.1, 0.9)
+    for fig, P in (("Fig. 2", PAPER_FIG2), ("Fig. 3", PAPER_FIG3)):
+        alpha = P.alpha
         m = motion(P, ctx.profile)
         path = ctx.fig_dir / f"fig{fig[-1]}_timeseries.png"
         save_figure(time_series_figure(m.seq, span=50.0, title=f"{fig}: alpha={P.alpha:g}, beta={P.beta:g}, "

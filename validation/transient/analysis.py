@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from ...core.checks import MAX_AVERAGED, MAX_ORBITS, MAX_RESAMPLES, check_int
+
 
 def _check_durations(durations, censored=None):
     d = np.asarray(durations)
@@ -45,9 +47,7 @@ def _check_durations(durations, censored=None):
 def survival(durations, n_max: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """``(n, N)``: number of initial conditions with duration > n, for n = 0..n_max (non-increasing)."""
     d, _ = _check_durations(durations)
-    n_max = int(d.max()) if n_max is None else int(n_max)
-    if n_max < 0:
-        raise ValueError(f"n_max={n_max} is out of range: allowed n_max >= 0")
+    n_max = int(d.max()) if n_max is None else check_int("n_max", n_max, 0, MAX_AVERAGED)
     counts = np.bincount(np.minimum(d, n_max + 1), minlength=n_max + 2)
     # N(n) = #(d > n) = total - #(d <= n)
     N = d.size - np.cumsum(counts)[: n_max + 1]
@@ -161,16 +161,14 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
     empty range.
     """
     d, c = _check_durations(durations, censored)
-    cap = int(d.max()) if cap is None else int(cap)
-    if n_boot < 0 or int(n_boot) != n_boot:
-        raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
-    if n_min_count < 1:
-        raise ValueError(f"n_min_count={n_min_count!r} is out of range: allowed >= 1")
+    cap = int(d.max()) if cap is None else check_int("cap", cap, 0, MAX_AVERAGED)
+    n_boot = check_int("n_boot", n_boot, 0, MAX_RESAMPLES)
+    n_min_count = check_int("n_min_count", n_min_count, 1, MAX_ORBITS)
     if n_hi is None and d.size < n_min_count:
         raise ValueError(f"{d.size} orbits are too few to fit: allowed at least n_min_count={n_min_count} (the fit "
                          "range ends where fewer than n_min_count orbits are still transient)")
     auto_hi = "" if n_hi is not None else f" (n_hi: the last n with at least n_min_count={n_min_count} orbits left)"
-    n_lo = int(np.median(d)) if n_lo is None else int(n_lo)
+    n_lo = int(np.median(d)) if n_lo is None else check_int("n_lo", n_lo, 0, MAX_AVERAGED)
     _, N = survival(d, cap)
     n_lo, n_hi = _fit_range(N, n_lo, n_hi, n_min_count)
     if n_hi >= cap and c.any():
@@ -257,8 +255,7 @@ def fit_uncertainty(eps, unc: np.ndarray, n_threshold: int, n_boot: int = 200, s
         raise ValueError("unc must have shape (n_points, len(eps))")
     if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
         raise ValueError("eps is out of range: allowed eps > 0")
-    if n_boot < 0 or int(n_boot) != n_boot:
-        raise ValueError(f"n_boot={n_boot!r} is out of range: allowed integer >= 0")
+    n_boot = check_int("n_boot", n_boot, 0, MAX_RESAMPLES)
     f = unc.mean(axis=0)
     ok = f > 0
     if ok.sum() < 3:

@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from ...core.checks import MAX_AVERAGED, MAX_ORBITS, check_int
 from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
 from ...core.params import Params
 from ...mapimpl.engine.release import ReleaseSource
@@ -59,9 +60,9 @@ def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, 
     n: black = duration < n ("short" transients).  Defaults: the profile's mesh; ``ny`` with ``nx``
     given keeps the profile's ratio ``ny/nx`` (quick: 120 x 60, so ``nx=121`` gives 121 x 60)."""
     nx, ny = basins_mesh(profile, nx, ny)
-    ns = tuple(sorted(int(n) for n in ns))
-    if not ns or ns[0] < 1:
-        raise ValueError(f"ns={ns!r} is out of range: allowed integers >= 1")
+    ns = tuple(sorted(check_int("ns", n, 1, MAX_AVERAGED) for n in ns))
+    if not ns:
+        raise ValueError(f"ns=() is out of range: allowed one or more integers 1 <= n <= {MAX_AVERAGED}")
     T, S = grid(window, nx, ny)
     res = transient_times(params, T.ravel(), S.ravel(), ic_mode=ic_mode, s0=s0, delta=delta, deltas=(delta,),
                           cap=ns[-1], progress=progress, label="basins", lanes=lanes)
@@ -180,9 +181,8 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
     the quick profile, 4 in the paper profile -- a 100 x 100 sub-mesh -- to bound the cost).  The run's
     own threshold is taken from its durations (not recomputed); every threshold uses its own certified
     ``T_post`` (the post-release orbit's sticking decisions depend on it too)."""
-    stride = get_profile(profile, "stick_time")["stride"] if stride is None else int(stride)
-    if stride < 1:
-        raise ValueError(f"stride={stride!r} is out of range: allowed an integer >= 1")
+    stride = get_profile(profile, "stick_time")["stride"] if stride is None else check_int("stride", stride, 1,
+                                                                                             MAX_ORBITS)
     for st in stick_times:
         if not (math.isfinite(float(st)) and 0 < float(st) <= 1e-2):
             raise ValueError(f"stick_times: {st!r} is out of range: allowed 0 < stick_time <= 1e-2")

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from ....core.checks import MAX_AVERAGED, MAX_TOTAL, check_int
+
 #: Confidence level of the intervals of mean times and of the bracket.
 LEVEL = 0.95
 SIDES = ("above", "below")
@@ -61,8 +63,7 @@ class MeanTime:
     level: float = LEVEL
 
     def __post_init__(self):
-        if int(self.events) != self.events or self.events < 0:
-            raise ValueError(f"events={self.events!r} is out of range: allowed an integer >= 0")
+        check_int("events", self.events, 0, MAX_TOTAL)
         if not (math.isfinite(self.exposure) and self.exposure > 0):
             raise ValueError(f"exposure={self.exposure!r} is out of range: allowed a finite exposure > 0")
         if not (math.isfinite(self.dispersion) and self.dispersion >= 1.0):
@@ -154,8 +155,7 @@ def censored_lifetimes(escape, n_run, n0: int = 0, level: float = LEVEL) -> tupl
     n = np.asarray(n_run).ravel()
     if esc.shape != n.shape or esc.size == 0:
         raise ValueError("escape and n_run must be non-empty arrays of the same length")
-    if int(n0) != n0 or n0 < 0:
-        raise ValueError(f"n0={n0!r} is out of range: allowed an integer >= 0")
+    check_int("n0", n0, 0, MAX_AVERAGED)
     escaped = esc >= 0
     end = np.where(escaped, esc, n)
     alive = end > n0
