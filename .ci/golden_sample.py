@@ -32,9 +32,13 @@ def write_sample(golden: Path, out: Path, broken: str | None = None) -> tuple[Pa
             csv.writer(fh, lineterminator="\n").writerows(rows)
     for path in sorted((golden / "orbits").glob("*.json")):
         rec = json.loads(path.read_text(encoding="utf-8"))
-        d = {"points": [{"tau_mod_2pi": sum(p["tau_mod_2pi"]) / 2, "sdot": sum(p["sdot"]) / 2, "wall": p["wall"]}
-                        for p in rec["points"]],
-             "multipliers": [{"re": sum(m["re"]) / 2, "im": sum(m["im"]) / 2} for m in rec["multipliers"]]}
+        d = {
+            "points": [
+                {"tau_mod_2pi": sum(p["tau_mod_2pi"]) / 2, "sdot": sum(p["sdot"]) / 2, "wall": p["wall"]}
+                for p in rec["points"]
+            ],
+            "multipliers": [{"re": sum(m["re"]) / 2, "im": sum(m["im"]) / 2} for m in rec["multipliers"]],
+        }
         if "value" in rec:
             d["value"] = sum(rec["value"]) / 2
         if path.stem == broken:

@@ -22,9 +22,32 @@ from pathlib import Path
 import numpy as np
 
 GR = [sys.executable, "-m", "gear_rattle"]
-ARGS = ["atlas", "--alpha-lo", "2", "--alpha-hi", "3", "--n-alpha", "16", "--r-lo", "0.8", "--r-hi", "0.9", "--n-r",
-        "6", "--transient", "300", "--impacts", "500", "--period-max", "16", "--tile", "2", "--scheduler", "serial",
-        "--quiet"]
+ARGS = [
+    "atlas",
+    "--alpha-lo",
+    "2",
+    "--alpha-hi",
+    "3",
+    "--n-alpha",
+    "16",
+    "--r-lo",
+    "0.8",
+    "--r-hi",
+    "0.9",
+    "--n-r",
+    "6",
+    "--transient",
+    "300",
+    "--impacts",
+    "500",
+    "--period-max",
+    "16",
+    "--tile",
+    "2",
+    "--scheduler",
+    "serial",
+    "--quiet",
+]
 TILES = 24
 DAMAGES = ("flip", "truncate", "delete", "copy", "truncate_done")
 
@@ -35,8 +58,9 @@ def ndone(out: Path) -> int:
 
 
 def run(out: Path, rng, kill_after=None, extra=()):
-    p = subprocess.Popen([*GR, *ARGS, "--out", str(out), *extra], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                         text=True)
+    p = subprocess.Popen(
+        [*GR, *ARGS, "--out", str(out), *extra], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
     if kill_after is not None:  # SIGKILL once kill_after more tiles are stored, a random fraction of a second later
         start = ndone(out)
         while p.poll() is None and ndone(out) < start + kill_after:
@@ -86,8 +110,15 @@ def main():
     rc, err = run(w / "ref", rng)
     assert rc == 0, err
     out = w / "x"
-    c = {"runs": 0, "kills": 0, "damages": 0, "damage_notes": 0, "stale_lock_notes": 0, "tracebacks": 0,
-         "other_exit_status": 0}
+    c = {
+        "runs": 0,
+        "kills": 0,
+        "damages": 0,
+        "damage_notes": 0,
+        "stale_lock_notes": 0,
+        "tracebacks": 0,
+        "other_exit_status": 0,
+    }
     for _ in range(40):
         rc, err = run(out, rng, kill_after=rng.randint(1, 2))
         c["runs"] += 1
@@ -107,17 +138,27 @@ def main():
     c["stale_lock_notes"] += err.count("took over the lock")
     c["final_exit_status"] = rc
     ref, got = zarr.open_group(str(w / "ref/atlas.zarr"), mode="r"), zarr.open_group(str(out / "atlas.zarr"), mode="r")
-    c["identical_to_uninterrupted"] = all(np.array_equal(ref[k][...], got[k][...], equal_nan=True)
-                                          for k in ("lambda1", "lambda2", "period_p", "period_m", "status"))
+    c["identical_to_uninterrupted"] = all(
+        np.array_equal(ref[k][...], got[k][...], equal_nan=True)
+        for k in ("lambda1", "lambda2", "period_p", "period_m", "status")
+    )
     c["two_at_once_exit_statuses"], c["second_writer_refused_in_one_line"] = [], 0
     for n in range(2):
         o = w / f"two{n}"
-        ps = [subprocess.Popen([*GR, *ARGS, "--store", str(o / "s.zarr"), "--out", str(o / f"o{m}")],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True) for m in range(2)]
+        ps = [
+            subprocess.Popen(
+                [*GR, *ARGS, "--store", str(o / "s.zarr"), "--out", str(o / f"o{m}")],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            for m in range(2)
+        ]
         res = sorted((p.wait(), p.stderr.read()) for p in ps)
         c["two_at_once_exit_statuses"].append([r for r, _ in res])
-        c["second_writer_refused_in_one_line"] += sum(r == 1 and e.count("\n") == 1 and "in use by another writer" in e
-                                                      for r, e in res)
+        c["second_writer_refused_in_one_line"] += sum(
+            r == 1 and e.count("\n") == 1 and "in use by another writer" in e for r, e in res
+        )
     print(json.dumps(c))
 
 

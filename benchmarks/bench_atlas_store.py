@@ -43,6 +43,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def old_run_atlas(rev: str):
     """``run_atlas`` of commit ``rev`` with that commit's store module (the compute seam is today's)."""
+
     def load(name, source):
         spec = importlib.util.spec_from_loader(f"{PKG}.{name}", loader=None)
         mod = importlib.util.module_from_spec(spec)
@@ -51,8 +52,15 @@ def old_run_atlas(rev: str):
         exec(compile(source, f"{rev}:{name}.py", "exec"), mod.__dict__)
         return mod
 
-    show = lambda path: subprocess.run(["git", "show", f"{rev}:{path}"], cwd=ROOT, check=True,  # noqa: E731
-                                       capture_output=True, text=True).stdout
+    show = lambda path: (  # noqa: E731
+        subprocess.run(
+            ["git", "show", f"{rev}:{path}"],
+            cwd=ROOT,
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
+    )
     load("_old_store", show("validation/atlas/store.py"))
     run = load("_old_run", show("validation/atlas/run.py").replace("from .store import", "from ._old_store import"))
     return run.run_atlas
@@ -66,8 +74,9 @@ def main():
     ap.add_argument("--big", type=int, default=256, help="grid side of the resume-only store (default 256)")
     ap.add_argument("--old-rev", default="1252113", help="commit of the store before checksums (default 1252113)")
     a = ap.parse_args()
-    spec = AtlasSpec(alpha_lo=2.0, alpha_hi=3.0, n_alpha=a.n, r_lo=0.8, r_hi=0.9, n_r=a.n, transient=300, impacts=500,
-                     period_max=16)
+    spec = AtlasSpec(
+        alpha_lo=2.0, alpha_hi=3.0, n_alpha=a.n, r_lo=0.8, r_hi=0.9, n_r=a.n, transient=300, impacts=500, period_max=16
+    )
     tile = (a.tile, a.tile)
     versions = {"old": old_run_atlas(a.old_rev), "new": run_atlas}
     work = Path(tempfile.mkdtemp(prefix="bench_atlas_store_"))
@@ -87,9 +96,12 @@ def main():
         # the two stores hold the same atlas
         import zarr
 
-        old, new = zarr.open_group(str(work / "old0.zarr"), mode="r"), zarr.open_group(str(work / "new0.zarr"), mode="r")
+        old, new = (
+            zarr.open_group(str(work / "old0.zarr"), mode="r"),
+            zarr.open_group(str(work / "new0.zarr"), mode="r"),
+        )
         identical = all(np.array_equal(old[k][...], new[k][...], equal_nan=True) for k in FIELDS)
-        out = compute_tile(*np.meshgrid(spec.alphas[:a.tile], spec.rs[:a.tile]), spec)
+        out = compute_tile(*np.meshgrid(spec.alphas[: a.tile], spec.rs[: a.tile]), spec)
         vals = {**out, "tile_seconds": np.ones((1, 1)), "tile_cpu_seconds": np.ones((1, 1))}
         t0 = time.perf_counter()
         for _ in range(200):
@@ -111,16 +123,24 @@ def main():
     med = {f"{v}_{k}_s": statistics.median(t) for (v, k), t in times.items()}
     n_tiles = (-(-a.n // a.tile)) ** 2
     n_big = (-(-a.big // a.tile)) ** 2
-    res = {"grid": [a.n, a.n], "tile": list(tile), "tiles": n_tiles, "reps": a.reps, "old_rev": a.old_rev,
-           "same_atlas": identical, **{k: round(v, 4) for k, v in med.items()},
-           "ratio_full_new_over_old": round(med["new_full_s"] / med["old_full_s"], 3),
-           "ratio_resume_new_over_old": round(med["new_resume_s"] / med["old_resume_s"], 3),
-           "resume_extra_ms_per_tile": round(1e3 * (med["new_resume_s"] - med["old_resume_s"]) / n_tiles, 3),
-           "digest_ms_per_tile": round(1e3 * digest, 4), "big_tiles": n_big,
-           "ratio_big_resume_new_over_old": round(med["new_big_resume_s"] / med["old_big_resume_s"], 3),
-           "big_resume_extra_ms_per_tile": round(1e3 * (med["new_big_resume_s"] - med["old_big_resume_s"]) / n_big, 3),
-           "compute_ms_per_tile": round(1e3 * med["old_full_s"] / n_tiles, 1),
-           "all_times_s": {f"{v}_{k}": [round(x, 4) for x in t] for (v, k), t in times.items()}}
+    res = {
+        "grid": [a.n, a.n],
+        "tile": list(tile),
+        "tiles": n_tiles,
+        "reps": a.reps,
+        "old_rev": a.old_rev,
+        "same_atlas": identical,
+        **{k: round(v, 4) for k, v in med.items()},
+        "ratio_full_new_over_old": round(med["new_full_s"] / med["old_full_s"], 3),
+        "ratio_resume_new_over_old": round(med["new_resume_s"] / med["old_resume_s"], 3),
+        "resume_extra_ms_per_tile": round(1e3 * (med["new_resume_s"] - med["old_resume_s"]) / n_tiles, 3),
+        "digest_ms_per_tile": round(1e3 * digest, 4),
+        "big_tiles": n_big,
+        "ratio_big_resume_new_over_old": round(med["new_big_resume_s"] / med["old_big_resume_s"], 3),
+        "big_resume_extra_ms_per_tile": round(1e3 * (med["new_big_resume_s"] - med["old_big_resume_s"]) / n_big, 3),
+        "compute_ms_per_tile": round(1e3 * med["old_full_s"] / n_tiles, 1),
+        "all_times_s": {f"{v}_{k}": [round(x, 4) for x in t] for (v, k), t in times.items()},
+    }
     print(json.dumps(res, indent=1))
 
 

@@ -72,16 +72,33 @@ def run(n: int, tau0: float, sdot0: float, params=PAPER_PARAMS) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     res = certified_orbit(params, tau0, sdot0, n, progress=progress)
     t_cert, c_cert = time.perf_counter() - t0, time.process_time() - c0
-    return {"alpha": params.alpha, "impacts": n, "tau0": tau0, "sdot0": sdot0, "complete": res.complete, "status": res.status,
-            "seconds": round(t_cert, 2), "cpu_seconds": round(c_cert, 2), "map_seconds": round(t_map, 4),
-            "map_cpu_seconds": round(c_map, 4), "ratio_to_map": round(t_cert / t_map, 1),
-            "cpu_ratio_to_map": round(c_cert / c_map, 1),
-            "load_average": [round(load0, 1), round(os.getloadavg()[0], 1)],
-            "precision_bits": res.precision,
-            "attempts": [{"prec": a.prec, "reached": a.reached, "seconds": round(a.seconds, 2),
-                          "bits_lost_per_impact": None if math.isnan(a.growth) else round(a.growth, 3)}
-                         for a in res.attempts],
-            "capture_impact": capture_impact(res.rows) if params == PAPER_PARAMS else None, "ulp_widths": ulp_widths(res.rows)}
+    return {
+        "alpha": params.alpha,
+        "impacts": n,
+        "tau0": tau0,
+        "sdot0": sdot0,
+        "complete": res.complete,
+        "status": res.status,
+        "seconds": round(t_cert, 2),
+        "cpu_seconds": round(c_cert, 2),
+        "map_seconds": round(t_map, 4),
+        "map_cpu_seconds": round(c_map, 4),
+        "ratio_to_map": round(t_cert / t_map, 1),
+        "cpu_ratio_to_map": round(c_cert / c_map, 1),
+        "load_average": [round(load0, 1), round(os.getloadavg()[0], 1)],
+        "precision_bits": res.precision,
+        "attempts": [
+            {
+                "prec": a.prec,
+                "reached": a.reached,
+                "seconds": round(a.seconds, 2),
+                "bits_lost_per_impact": None if math.isnan(a.growth) else round(a.growth, 3),
+            }
+            for a in res.attempts
+        ],
+        "capture_impact": capture_impact(res.rows) if params == PAPER_PARAMS else None,
+        "ulp_widths": ulp_widths(res.rows),
+    }
 
 
 def main(argv=None) -> int:
@@ -89,9 +106,13 @@ def main(argv=None) -> int:
     ap.add_argument("--impacts", type=int, nargs="+", default=[1000, 10000], help="orbit lengths (default 1000 10000)")
     ap.add_argument("--tau0", type=float, default=3.2)
     ap.add_argument("--sdot0", type=float, default=0.3)
-    ap.add_argument("--alpha", type=float, default=PAPER_PARAMS.alpha,
-                    help="alpha (beta = gamma = 0.1, r = 0.9; default 1.245, Figs. 9-11; 3: Fig. 3's chaotic attractor, "
-                         "an orbit that stays chaotic)")
+    ap.add_argument(
+        "--alpha",
+        type=float,
+        default=PAPER_PARAMS.alpha,
+        help="alpha (beta = gamma = 0.1, r = 0.9; default 1.245, Figs. 9-11; 3: Fig. 3's chaotic attractor, "
+        "an orbit that stays chaotic)",
+    )
     ap.add_argument("--json", default=None, help="also write the results to this file")
     a = ap.parse_args(argv)
     out = []

@@ -56,8 +56,10 @@ def _engine(pkg: str):
 
 
 def _arrays(res) -> dict:
-    out = {f: np.asarray(getattr(res, f)) for f in ("n", "status", "nstick", "first_stick", "theta", "sdot", "wall",
-                                                    "cycles")}
+    out = {
+        f: np.asarray(getattr(res, f))
+        for f in ("n", "status", "nstick", "first_stick", "theta", "sdot", "wall", "cycles")
+    }
     out.update({f"obs.{k}": np.asarray(v) for k, v in res.obs[0].items()})
     return out
 
@@ -74,8 +76,10 @@ def main(argv=None) -> int:
             print(f"bench_engine_ab: --{name}={v} is out of range: allowed >= 1", file=sys.stderr)
             return 2
     if not os.path.isdir(os.path.join(a.other, "mapimpl", "engine")):
-        print(f"bench_engine_ab: --other={a.other!r} is out of range: allowed a checkout with mapimpl/engine/",
-              file=sys.stderr)
+        print(
+            f"bench_engine_ab: --other={a.other!r} is out of range: allowed a checkout with mapimpl/engine/",
+            file=sys.stderr,
+        )
         return 2
     from gear_rattle.core.paper import PAPER_BOX
     from gear_rattle.mapimpl.engine.transients import grid
@@ -91,17 +95,28 @@ def main(argv=None) -> int:
     same = all(np.array_equal(first["this"][k], first["other"][k]) for k in first["this"])
     runs: dict[str, list] = {"this": [], "other": []}
     for rep in range(a.repeats):
-        for name in (("this", "other") if rep % 2 == 0 else ("other", "this")):
+        for name in ("this", "other") if rep % 2 == 0 else ("other", "this"):
             res, wall, cpu = engines[name](tau, sd, a.cap)
-            runs[name].append({"impacts": res.impacts, "wall_s": wall, "cpu_s": cpu,
-                               "impacts_per_s": res.impacts / wall})
+            runs[name].append(
+                {"impacts": res.impacts, "wall_s": wall, "cpu_s": cpu, "impacts_per_s": res.impacts / wall}
+            )
             print(f"{name}: {res.impacts / wall:.3e} impacts/s (wall {wall:.2f} s, cpu {cpu:.2f} s)", file=sys.stderr)
-    med = {name: {k: float(np.median([r[k] for r in rs])) for k in ("wall_s", "cpu_s", "impacts_per_s")}
-           for name, rs in runs.items()}
-    out = {"grid": [a.n, a.n], "cap": a.cap, "repeats": a.repeats, "bit_identical": bool(same), "runs": runs,
-           "median": med, "ratio_this_over_other": {
-               "throughput_wall": med["this"]["impacts_per_s"] / med["other"]["impacts_per_s"],
-               "cpu_time": med["this"]["cpu_s"] / med["other"]["cpu_s"]}}
+    med = {
+        name: {k: float(np.median([r[k] for r in rs])) for k in ("wall_s", "cpu_s", "impacts_per_s")}
+        for name, rs in runs.items()
+    }
+    out = {
+        "grid": [a.n, a.n],
+        "cap": a.cap,
+        "repeats": a.repeats,
+        "bit_identical": bool(same),
+        "runs": runs,
+        "median": med,
+        "ratio_this_over_other": {
+            "throughput_wall": med["this"]["impacts_per_s"] / med["other"]["impacts_per_s"],
+            "cpu_time": med["this"]["cpu_s"] / med["other"]["cpu_s"],
+        },
+    }
     print(json.dumps(out, indent=1))
     return 0
 

@@ -81,8 +81,16 @@ def run_numba(tau, sd, target, deltas, cap, threads):
     r = numba_transients(tau, sd, P, target.theta, target.sdot, target.wall, deltas, cap)
     c, w = time.process_time() - c0, time.perf_counter() - w0
     imp = int(r["n"].sum())
-    return r, {"threads": threads, "impacts": imp, "evaluations": int(r["evals"].sum()), "wall_s": w, "cpu_s": c,
-               "impacts_per_s": imp / w, "per_core": imp / w / threads, "load_avg_before": load}
+    return r, {
+        "threads": threads,
+        "impacts": imp,
+        "evaluations": int(r["evals"].sum()),
+        "wall_s": w,
+        "cpu_s": c,
+        "impacts_per_s": imp / w,
+        "per_core": imp / w / threads,
+        "load_avg_before": load,
+    }
 
 
 def run_engine(tau, sd, deltas, delta, cap, devices=None):
@@ -95,15 +103,27 @@ def run_engine(tau, sd, deltas, delta, cap, devices=None):
     imp = int(r.n.sum())
     # JAX compilations seen during the run (thread time, summed over devices): 0 when the warm-up
     # compiled every shape the run needs
-    return r, {"devices": ndev, "lanes": r.meta.get("lanes"), "impacts": imp, "wall_s": w, "cpu_s": c,
-               "impacts_per_s": imp / w, "per_core": imp / w / ndev, "load_avg_before": load,
-               "jax_compile_s_during_run": _COMPILE_S[0] - comp0}
+    return r, {
+        "devices": ndev,
+        "lanes": r.meta.get("lanes"),
+        "impacts": imp,
+        "wall_s": w,
+        "cpu_s": c,
+        "impacts_per_s": imp / w,
+        "per_core": imp / w / ndev,
+        "load_avg_before": load,
+        "jax_compile_s_during_run": _COMPILE_S[0] - comp0,
+    }
 
 
 def _spread(xs):
     xs = np.asarray(xs, float)
-    return {"median": float(np.median(xs)), "min": float(xs.min()), "max": float(xs.max()),
-            "rel_spread": float((xs.max() - xs.min()) / np.median(xs))}
+    return {
+        "median": float(np.median(xs)),
+        "min": float(xs.min()),
+        "max": float(xs.max()),
+        "rel_spread": float((xs.max() - xs.min()) / np.median(xs)),
+    }
 
 
 def engine_hit(re, col: int) -> np.ndarray:
@@ -131,23 +151,35 @@ def agreement(rn: dict, re, cap: int, col: int) -> dict:
     se = lambda d: float(d.std(ddof=1) / np.sqrt(d.size))  # noqa: E731
     mn, me = dn[free], de[free]
     stuck = ~free
-    return {"n_ic": int(dn.size), "identical_fraction": float(np.mean(dn == de)),
-            "short_transients": int(short.sum()),
-            "short_identical_fraction": float(np.mean(dn[short] == de[short])) if short.any() else None,
-            "non_sticking_ics": int(free.sum()),
-            "mean_numba": float(mn.mean()), "se_numba": se(mn), "mean_engine": float(me.mean()), "se_engine": se(me),
-            "mean_diff_in_se": float((mn.mean() - me.mean()) / np.hypot(se(mn), se(me))),
-            "ks_statistic": float(ks.statistic), "ks_pvalue": float(ks.pvalue),
-            "sticking_ics": int(stuck.sum()),
-            "sticking_durations_numba_min_median_max": [int(x) for x in np.percentile(dn[stuck], [0, 50, 100])]
-            if stuck.any() else None,
-            "sticking_durations_engine_min_median_max": [int(x) for x in np.percentile(de[stuck], [0, 50, 100])]
-            if stuck.any() else None,
-            "mean_all_numba": float(dn.mean()), "mean_all_engine": float(de.mean()),
-            "censored_numba": int(np.sum(hn < 0)), "censored_engine": int(np.sum(he < 0)),
-            "nstick_identical_fraction": float(np.mean(rn["nstick"] == re.nstick)),
-            "status_numba": {STATUS_NAMES[s]: int(np.sum(rn["status"] == s)) for s in np.unique(rn["status"])},
-            "orbits_sticking_numba": int(np.sum(rn["nstick"] > 0)), "orbits_sticking_engine": int(np.sum(re.nstick > 0))}
+    return {
+        "n_ic": int(dn.size),
+        "identical_fraction": float(np.mean(dn == de)),
+        "short_transients": int(short.sum()),
+        "short_identical_fraction": float(np.mean(dn[short] == de[short])) if short.any() else None,
+        "non_sticking_ics": int(free.sum()),
+        "mean_numba": float(mn.mean()),
+        "se_numba": se(mn),
+        "mean_engine": float(me.mean()),
+        "se_engine": se(me),
+        "mean_diff_in_se": float((mn.mean() - me.mean()) / np.hypot(se(mn), se(me))),
+        "ks_statistic": float(ks.statistic),
+        "ks_pvalue": float(ks.pvalue),
+        "sticking_ics": int(stuck.sum()),
+        "sticking_durations_numba_min_median_max": [int(x) for x in np.percentile(dn[stuck], [0, 50, 100])]
+        if stuck.any()
+        else None,
+        "sticking_durations_engine_min_median_max": [int(x) for x in np.percentile(de[stuck], [0, 50, 100])]
+        if stuck.any()
+        else None,
+        "mean_all_numba": float(dn.mean()),
+        "mean_all_engine": float(de.mean()),
+        "censored_numba": int(np.sum(hn < 0)),
+        "censored_engine": int(np.sum(he < 0)),
+        "nstick_identical_fraction": float(np.mean(rn["nstick"] == re.nstick)),
+        "status_numba": {STATUS_NAMES[s]: int(np.sum(rn["status"] == s)) for s in np.unique(rn["status"])},
+        "orbits_sticking_numba": int(np.sum(rn["nstick"] > 0)),
+        "orbits_sticking_engine": int(np.sum(re.nstick > 0)),
+    }
 
 
 def short_check(target, deltas, delta, n_ic=4000, cap=300, seed=0) -> dict:
@@ -161,8 +193,11 @@ def short_check(target, deltas, delta, n_ic=4000, cap=300, seed=0) -> dict:
     for j, d in enumerate(re.deltas):
         hn, he = rn["hit"][:, j], engine_hit(re, j)
         short = ((he >= 0) & (he < SHORT)) | ((hn >= 0) & (hn < SHORT))
-        out[f"delta={d:g}"] = {"short": int(short.sum()), "short_identical": int(np.sum(hn[short] == he[short])),
-                               "all_identical_fraction": float(np.mean(hn == he))}
+        out[f"delta={d:g}"] = {
+            "short": int(short.sum()),
+            "short_identical": int(np.sum(hn[short] == he[short])),
+            "all_identical_fraction": float(np.mean(hn == he)),
+        }
     return out
 
 
@@ -195,9 +230,13 @@ def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
     i0, c0 = impacts(carry), time.process_time()
     carry, nb = jax.block_until_ready(K.run_blocks(carry, q, k, obs, block=block, max_blocks=blocks))
     c_run, imp = time.process_time() - c0, impacts(carry) - i0
-    out = {"lanes": lanes, "clock": "process CPU time", "arrive_every": K.ARRIVE_EVERY,
-           "blocks_ns_per_impact": c_run / imp * 1e9,
-           "search_steps_per_impact": int(nb) * (block // K.ARRIVE_EVERY) * K.ARRIVE_EVERY * lanes / imp}
+    out = {
+        "lanes": lanes,
+        "clock": "process CPU time",
+        "arrive_every": K.ARRIVE_EVERY,
+        "blocks_ns_per_impact": c_run / imp * 1e9,
+        "search_steps_per_impact": int(nb) * (block // K.ARRIVE_EVERY) * K.ARRIVE_EVERY * lanes / imp,
+    }
     lanes0 = carry[0]
     steps = 2000
 
@@ -216,6 +255,7 @@ def engine_split(tau, sd, target, deltas, cap, lanes=256, blocks=40) -> dict:
             f, t = s.flight, s.search.t
             r = K.flight_sc(t, f.sin0, f.cos0, f.v0, P.alpha, P.beta, P.gamma)
             return s._replace(search=s.search._replace(t=t + 1e-300 * sum(r)))
+
         return jax.vmap(one)(x)
 
     def sincos_only(x, _k):
@@ -243,9 +283,13 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--stride", type=int, default=4, help="per-core runs on every stride-th IC (0: skip)")
     ap.add_argument("--no-split", action="store_true", help="skip the engine's cost split")
-    ap.add_argument("--warmup-cap", type=int, default=None,
-                    help="cap of the engine's warm-up run on the same grid (default: --cap; any compilation left "
-                         "for the timed runs is reported as jax_compile_s_during_run)")
+    ap.add_argument(
+        "--warmup-cap",
+        type=int,
+        default=None,
+        help="cap of the engine's warm-up run on the same grid (default: --cap; any compilation left "
+        "for the timed runs is reported as jax_compile_s_during_run)",
+    )
     ap.add_argument("--out", default=None, help="also write the JSON here (rewritten after every stage)")
     a = ap.parse_args(argv)
     for name, v in (("n", a.n), ("cap", a.cap), ("repeats", a.repeats)):
@@ -256,11 +300,24 @@ def main(argv=None):
     target = periodic_target(P)
     T, S = grid(PAPER_BOX, a.n, a.n)
     tau, sd = T.ravel(), S.ravel()
-    out = {"setting": {"params": vars(P) if hasattr(P, "__dict__") else str(P), "grid": [a.n, a.n],
-                       "box": list(PAPER_BOX), "cap": a.cap, "delta": a.delta, "ic": "pre-impact"},
-           "machine": {"cores": NCORES, "cpu_devices": len(jax.devices()), "numba_threads": numba.get_num_threads(),
-                       "numba": numba.__version__, "jax": jax.__version__,
-                       "threading_layer": None}}
+    out = {
+        "setting": {
+            "params": vars(P) if hasattr(P, "__dict__") else str(P),
+            "grid": [a.n, a.n],
+            "box": list(PAPER_BOX),
+            "cap": a.cap,
+            "delta": a.delta,
+            "ic": "pre-impact",
+        },
+        "machine": {
+            "cores": NCORES,
+            "cpu_devices": len(jax.devices()),
+            "numba_threads": numba.get_num_threads(),
+            "numba": numba.__version__,
+            "jax": jax.__version__,
+            "threading_layer": None,
+        },
+    }
     # ---- compilation (excluded from every timing below) ----
     t0 = time.perf_counter()
     numba_transients(tau[:8], sd[:8], P, target.theta, target.sdot, target.wall, deltas, 50)
@@ -279,9 +336,11 @@ def main(argv=None):
         reps_e.append(me)
         ratios.append(me["impacts_per_s"] / mn["impacts_per_s"])
         _save({**out, "partial_repeats": {"numba": reps_n, "engine": reps_e}}, a.out)
-        print(f"repeat: numba {mn['impacts_per_s']:.3e}/s, engine {me['impacts_per_s']:.3e}/s, "
-              f"ratio {ratios[-1]:.3f} (load {mn['load_avg_before']:.1f}/{me['load_avg_before']:.1f})",
-              file=sys.stderr)
+        print(
+            f"repeat: numba {mn['impacts_per_s']:.3e}/s, engine {me['impacts_per_s']:.3e}/s, "
+            f"ratio {ratios[-1]:.3f} (load {mn['load_avg_before']:.1f}/{me['load_avg_before']:.1f})",
+            file=sys.stderr,
+        )
     out["numba_all_cores"] = reps_n
     out["engine_all_cores"] = reps_e
     out["ratio_engine_over_numba"] = {"per_repeat": ratios, **_spread(ratios)}
@@ -291,14 +350,14 @@ def main(argv=None):
     # ---- where the time goes ----
     ev = reps_n[-1]["evaluations"]
     imp_n = reps_n[-1]["impacts"]
-    out["work"] = {"flight_evaluations_per_impact_numba": ev / imp_n,
-                   "numba_ns_per_impact_per_core": np.median([m["wall_s"] * m["threads"] / m["impacts"]
-                                                              for m in reps_n]) * 1e9,
-                   "engine_ns_per_impact_per_core": np.median([m["wall_s"] * m["devices"] / m["impacts"]
-                                                               for m in reps_e]) * 1e9,
-                   "numba_ns_per_evaluation_per_core": np.median([m["wall_s"] * m["threads"] / m["evaluations"]
-                                                                  for m in reps_n]) * 1e9,
-                   "numba_cpu_ns_per_evaluation": np.median([m["cpu_s"] / m["evaluations"] for m in reps_n]) * 1e9}
+    out["work"] = {
+        "flight_evaluations_per_impact_numba": ev / imp_n,
+        "numba_ns_per_impact_per_core": np.median([m["wall_s"] * m["threads"] / m["impacts"] for m in reps_n]) * 1e9,
+        "engine_ns_per_impact_per_core": np.median([m["wall_s"] * m["devices"] / m["impacts"] for m in reps_e]) * 1e9,
+        "numba_ns_per_evaluation_per_core": np.median([m["wall_s"] * m["threads"] / m["evaluations"] for m in reps_n])
+        * 1e9,
+        "numba_cpu_ns_per_evaluation": np.median([m["cpu_s"] / m["evaluations"] for m in reps_n]) * 1e9,
+    }
     # ---- agreement ----
     out["agreement_fig11_grid"] = agreement(rn, re, a.cap, list(re.deltas).index(a.delta))
     out["agreement_short_transients_fig9_window"] = short_check(target, deltas, a.delta)
@@ -311,16 +370,22 @@ def main(argv=None):
         _, m1 = run_numba(ts, ss, target, deltas, a.cap, 1)
         _, e1 = run_engine(ts, ss, deltas, a.delta, a.cap, devices=1)
         numba.set_num_threads(NCORES)
-        out["one_core"] = {"stride": a.stride, "numba": m1, "engine": e1,
-                           "ratio_engine_over_numba": e1["impacts_per_s"] / m1["impacts_per_s"]}
+        out["one_core"] = {
+            "stride": a.stride,
+            "numba": m1,
+            "engine": e1,
+            "ratio_engine_over_numba": e1["impacts_per_s"] / m1["impacts_per_s"],
+        }
         _save(out, a.out)
     # ---- the engine's cost split (internals; best effort) ----
     if not a.no_split:
         try:
             sp = engine_split(tau, sd, target, deltas, a.cap)
-            sp["numba_cpu_ns_per_evaluation"] = (out["one_core"]["numba"]["cpu_s"]
-                                                      / out["one_core"]["numba"]["evaluations"] * 1e9
-                                                      if "one_core" in out else None)
+            sp["numba_cpu_ns_per_evaluation"] = (
+                out["one_core"]["numba"]["cpu_s"] / out["one_core"]["numba"]["evaluations"] * 1e9
+                if "one_core" in out
+                else None
+            )
             out["engine_cost_split_one_core"] = sp
         except Exception as exc:  # noqa: BLE001 - the engine's internals changed: report, do not fail the benchmark
             out["engine_cost_split_one_core"] = f"unavailable: {type(exc).__name__}: {exc}"

@@ -62,7 +62,9 @@ def run(batch: int = 4096, impacts: int = 200, params: Params | None = None) -> 
     t_single = _time(lambda: it(s0, p, impacts).states.sdot.block_until_ready())
     t_batch = _time(lambda: batch_advance(sb, p, impacts).sdot.block_until_ready(), repeat=2)
     r = {
-        "device": str(jax.devices()[0]), "cores": cores, "params": vars(P),
+        "device": str(jax.devices()[0]),
+        "cores": cores,
+        "params": vars(P),
         "baseline_python_loop_impacts_per_s": n_base / t_base,
         "single_scan_impacts_per_s": impacts / t_single,
         "batch_impacts_per_s": batch * impacts / t_batch,

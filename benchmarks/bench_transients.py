@@ -44,8 +44,15 @@ def bench_engine(n_ic, cap, lanes, devices=None, seed=0):
     c0, w0 = time.process_time(), time.perf_counter()
     r = transient_times(None, tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
     c, w = time.process_time() - c0, time.perf_counter() - w0
-    return {"devices": ndev, "impacts": r.impacts, "cpu_s": c, "wall_s": w, "per_wall_s": r.impacts / w,
-            "per_cpu_s": r.impacts / c, "per_core": r.impacts / w / ndev}
+    return {
+        "devices": ndev,
+        "impacts": r.impacts,
+        "cpu_s": c,
+        "wall_s": w,
+        "per_wall_s": r.impacts / w,
+        "per_cpu_s": r.impacts / c,
+        "per_core": r.impacts / w / ndev,
+    }
 
 
 def bench_baseline(n_impacts):
@@ -72,11 +79,15 @@ def main(argv=None):
     eng = bench_engine(a.n_ic, a.cap, a.lanes)
     one = bench_engine(a.n_ic, a.cap, a.lanes, devices=1)
     base = bench_baseline(a.baseline_impacts)
-    out = {"backend": jax.default_backend(), "engine_all_devices": eng, "engine_one_device": one,
-           "baseline_jit_step_loop": base,
-           "ratio_per_core_vs_baseline": eng["per_core"] / base["per_wall_s"],
-           "ratio_all_devices_vs_baseline": eng["per_wall_s"] / base["per_wall_s"],
-           "target_per_core": 1e6}
+    out = {
+        "backend": jax.default_backend(),
+        "engine_all_devices": eng,
+        "engine_one_device": one,
+        "baseline_jit_step_loop": base,
+        "ratio_per_core_vs_baseline": eng["per_core"] / base["per_wall_s"],
+        "ratio_all_devices_vs_baseline": eng["per_wall_s"] / base["per_wall_s"],
+        "target_per_core": 1e6,
+    }
     print(json.dumps(out, indent=1))
 
 

@@ -53,7 +53,7 @@ from numba import njit, prange
 
 # ---- constants of the method (same values as gear_rattle.mapimpl.finder / flight / sticking) ----
 TWO_PI = 2.0 * math.pi
-TWO_PI_HI = float.fromhex("0x1.921fb54400000p+2")   # three-term Cody-Waite split (mapimpl.flight)
+TWO_PI_HI = float.fromhex("0x1.921fb54400000p+2")  # three-term Cody-Waite split (mapimpl.flight)
 TWO_PI_MID = float.fromhex("0x1.0b4611a600000p-32")
 TWO_PI_LO = 8.089064995183803e-21
 TWO_PI_BELOW = float(np.nextafter(TWO_PI, 0.0))
@@ -67,8 +67,13 @@ SERIES_X = 1.0  # phi2 and (in the engine's flight) sigma use their Taylor serie
 
 # status codes (the engine's names; the values of gear_rattle.mapimpl.engine.kernel)
 CONVERGED, CAPPED, STUCK_FOREVER, ESCAPED, FAILED = 0, 1, 2, 3, 4
-STATUS_NAMES = {CONVERGED: "converged", CAPPED: "capped", STUCK_FOREVER: "stuck_forever",
-                ESCAPED: "no_impact", FAILED: "step_cap"}
+STATUS_NAMES = {
+    CONVERGED: "converged",
+    CAPPED: "capped",
+    STUCK_FOREVER: "stuck_forever",
+    ESCAPED: "no_impact",
+    FAILED: "step_cap",
+}
 
 
 def _inv_factorials(start: int, n: int) -> list[float]:
@@ -92,6 +97,7 @@ INF = math.inf
 
 
 # ------------------------------------------------------------------------------ flight, Eqs. (7)-(8)
+
 
 @njit(inline="always", **_JIT)
 def _phi12(x, e):
@@ -170,6 +176,7 @@ def _reduce(theta):
 
 
 # ------------------------------------------------------------------------------ the finder's decisions
+
 
 @njit(inline="always", **_JIT)
 def _bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
@@ -251,9 +258,29 @@ def _distance(theta, sdot, wall, po_th, po_v, po_w):
 
 # ------------------------------------------------------------------------------ one orbit
 
+
 @njit(**_JIT)
-def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, stick_time, t_max, max_steps,
-           rel_th, rel_sn, rel_cs, rel_never):
+def _orbit(
+    th1,
+    v1,
+    alpha,
+    beta,
+    gamma,
+    r,
+    po_th,
+    po_v,
+    po_w,
+    deltas,
+    hit,
+    cap,
+    stick_time,
+    t_max,
+    max_steps,
+    rel_th,
+    rel_sn,
+    rel_cs,
+    rel_never,
+):
     """Run one orbit from the pre-impact state ``(th1, v1)`` (wall from the sign of ``v1``); fills
     ``hit`` (first iteration within each delta, -1 never) and returns ``(n, status, nstick, evals)``,
     ``evals``: closed-form flight evaluations (the engine's micro-steps, less loads and post-sticking set-ups)."""
@@ -413,8 +440,14 @@ def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, 
                 small = m3 * step * step * step * (1.0 / 6.0) if model else 0.5 * m2 * step * step
                 bound_ok = ok and (small <= 5e-4 * EPS * abs(dg) * abs(xn))
                 k += 1
-                conv = ((g == 0.0) or tiny or (step <= 2.0 * EPS * abs(x)) or (hi - lo <= 2.0 * EPS * hi)
-                        or bound_ok or k >= NEWTON_ITERS)
+                conv = (
+                    (g == 0.0)
+                    or tiny
+                    or (step <= 2.0 * EPS * abs(x))
+                    or (hi - lo <= 2.0 * EPS * hi)
+                    or bound_ok
+                    or k >= NEWTON_ITERS
+                )
                 if g == 0.0:
                     xn = x
                 if conv:
@@ -439,12 +472,54 @@ def _orbit(th1, v1, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, hit, cap, 
 
 
 @njit(parallel=True, **_JIT)
-def _run(theta0, sdot0, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, cap, stick_time, t_max, max_steps,
-         rel_th, rel_sn, rel_cs, rel_never, out_n, out_status, out_nstick, out_hit, out_evals):
+def _run(
+    theta0,
+    sdot0,
+    alpha,
+    beta,
+    gamma,
+    r,
+    po_th,
+    po_v,
+    po_w,
+    deltas,
+    cap,
+    stick_time,
+    t_max,
+    max_steps,
+    rel_th,
+    rel_sn,
+    rel_cs,
+    rel_never,
+    out_n,
+    out_status,
+    out_nstick,
+    out_hit,
+    out_evals,
+):
     m = theta0.shape[0]
     for i in prange(m):
-        n, st, ns, ev = _orbit(_reduce(theta0[i]), sdot0[i], alpha, beta, gamma, r, po_th, po_v, po_w, deltas,
-                           out_hit[i], cap, stick_time, t_max, max_steps, rel_th, rel_sn, rel_cs, rel_never)
+        n, st, ns, ev = _orbit(
+            _reduce(theta0[i]),
+            sdot0[i],
+            alpha,
+            beta,
+            gamma,
+            r,
+            po_th,
+            po_v,
+            po_w,
+            deltas,
+            out_hit[i],
+            cap,
+            stick_time,
+            t_max,
+            max_steps,
+            rel_th,
+            rel_sn,
+            rel_cs,
+            rel_never,
+        )
         out_n[i] = n
         out_status[i] = st
         out_nstick[i] = ns
@@ -452,6 +527,7 @@ def _run(theta0, sdot0, alpha, beta, gamma, r, po_th, po_v, po_w, deltas, cap, s
 
 
 # ------------------------------------------------------------------------------ Python entry point
+
 
 def release_phases(alpha: float, beta: float, gamma: float) -> tuple[np.ndarray, np.ndarray]:
     """Canonical release phase of each wall (index 0: s = 0, 1: s = -1) and whether the tooth never
@@ -467,8 +543,19 @@ def release_phases(alpha: float, beta: float, gamma: float) -> tuple[np.ndarray,
     return phase, never
 
 
-def numba_transients(theta0, sdot0, params, target_theta, target_sdot, target_wall, deltas, cap: int,
-                     stick_time: float = STICK_TIME, chunksize: int = 16, release=None) -> dict:
+def numba_transients(
+    theta0,
+    sdot0,
+    params,
+    target_theta,
+    target_sdot,
+    target_wall,
+    deltas,
+    cap: int,
+    stick_time: float = STICK_TIME,
+    chunksize: int = 16,
+    release=None,
+) -> dict:
     """Transient durations of the pre-impact initial states ``(theta0[i], sdot0[i])`` (``sdot0 > 0``
     hits ``s = 0``): the first iteration within each of ``deltas`` (sorted largest first) of the periodic
     orbit ``(target_theta, target_sdot, target_wall)``, at most ``cap`` iterations.
@@ -493,12 +580,38 @@ def numba_transients(theta0, sdot0, params, target_theta, target_sdot, target_wa
     rel_sn = np.array([math.sin(x) for x in rel_th])
     rel_cs = np.array([math.cos(x) for x in rel_th])
     m = theta0.size
-    out = dict(n=np.zeros(m, np.int32), status=np.zeros(m, np.int32), nstick=np.zeros(m, np.int32),
-               hit=np.full((m, deltas.size), -1, np.int32), evals=np.zeros(m, np.int64))
+    out = dict(
+        n=np.zeros(m, np.int32),
+        status=np.zeros(m, np.int32),
+        nstick=np.zeros(m, np.int32),
+        hit=np.full((m, deltas.size), -1, np.int32),
+        evals=np.zeros(m, np.int64),
+    )
     with numba.parallel_chunksize(int(chunksize)):
-        _run(theta0, sdot0, a, b, g, r, np.asarray(target_theta, np.float64), np.asarray(target_sdot, np.float64),
-             np.asarray(target_wall, np.int64), deltas, int(cap), float(stick_time), T_MAX, MAX_STEPS,
-             rel_th, rel_sn, rel_cs, np.asarray(rel_never, dtype=np.bool_),
-             out["n"], out["status"], out["nstick"], out["hit"], out["evals"])
+        _run(
+            theta0,
+            sdot0,
+            a,
+            b,
+            g,
+            r,
+            np.asarray(target_theta, np.float64),
+            np.asarray(target_sdot, np.float64),
+            np.asarray(target_wall, np.int64),
+            deltas,
+            int(cap),
+            float(stick_time),
+            T_MAX,
+            MAX_STEPS,
+            rel_th,
+            rel_sn,
+            rel_cs,
+            np.asarray(rel_never, dtype=np.bool_),
+            out["n"],
+            out["status"],
+            out["nstick"],
+            out["hit"],
+            out["evals"],
+        )
     out["deltas"] = deltas
     return out

@@ -53,6 +53,7 @@ def positive(x):
 
     return jax.lax.bitcast_convert_type(jnp.asarray(x, jnp.float64), jnp.int64) > 0
 
+
 #: Environment variable of the command line's persistent compilation cache (:func:`use_compilation_cache`):
 #: ``0`` turns it off, a path puts it there.
 JAX_CACHE_ENV = "GEAR_RATTLE_JAX_CACHE"
@@ -79,6 +80,7 @@ ENGINE_XLA_TESTED = ((0, 10),)
 def _jaxlib_version() -> tuple[int, int]:
     try:
         from jaxlib.version import __version__ as v
+
         major, minor = (int(x) for x in v.split(".")[:2])
         return major, minor
     except Exception:  # noqa: BLE001  # pragma: no cover - unusual installs: no version, no tuning
@@ -189,8 +191,10 @@ def use_compilation_cache(path: str | None = None, note=None) -> str | None:
         with tempfile.TemporaryFile(dir=path, prefix=".gear-rattle-probe-"):
             pass
     except OSError as e:
-        msg = (f"JAX compilation cache off: cannot write {path!r} ({e.strerror or e}); set {JAX_CACHE_ENV}=0 "
-               "to silence this, or to a writable directory")
+        msg = (
+            f"JAX compilation cache off: cannot write {path!r} ({e.strerror or e}); set {JAX_CACHE_ENV}=0 "
+            "to silence this, or to a writable directory"
+        )
         if note is None:
             print(f"gear-rattle: note: {msg}", file=sys.stderr)  # noqa: T201 - the command line's note
         else:

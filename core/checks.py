@@ -91,13 +91,24 @@ def _not_a_number(value) -> bool:
     return True
 
 
-def check_real(name: str, value, lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False,
-               hi_open: bool = False, nonzero: bool = False, allowed: str | None = None) -> float:
+def check_real(
+    name: str,
+    value,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    nonzero: bool = False,
+    allowed: str | None = None,
+) -> float:
     """``value`` as a finite Python float with ``lo <= value <= hi`` (``<`` at an open end; ``!= 0`` with
     ``nonzero``).  :class:`InputTypeError` for a str, bool, None, complex or non-scalar value;
     ``ValueError`` for NaN, an infinity or a value out of range; both name ``name`` and the range
     (``allowed``: the range in words, default from ``lo`` and ``hi``)."""
-    words = allowed or ("a finite real" + _range(lo, hi, name, lo_open, hi_open) + (f", {name} != 0" if nonzero else ""))
+    words = allowed or (
+        "a finite real" + _range(lo, hi, name, lo_open, hi_open) + (f", {name} != 0" if nonzero else "")
+    )
     if _not_a_number(value):
         raise InputTypeError(f"{name}={value!r} is a {type(value).__name__}: allowed {words}")
     x = float(value)
@@ -144,8 +155,7 @@ TAU0_RANGE = "|tau0| <= " + f"{TAU0_MAX:.0e}".replace("e+0", "e")
 
 def check_tau0(tau0, name: str = "tau0") -> float:
     """An initial time or phase ``name`` as a float with ``|value| <= TAU0_MAX`` (1e6)."""
-    return check_real(name, tau0, -TAU0_MAX, TAU0_MAX,
-                      allowed="a finite real with " + TAU0_RANGE.replace("tau0", name))
+    return check_real(name, tau0, -TAU0_MAX, TAU0_MAX, allowed="a finite real with " + TAU0_RANGE.replace("tau0", name))
 
 
 def check_start(tau0, sdot0, s0=None, names: tuple[str, str] = ("tau0", "sdot0")) -> tuple[float, float, float | None]:
@@ -156,8 +166,16 @@ def check_start(tau0, sdot0, s0=None, names: tuple[str, str] = ("tau0", "sdot0")
     nt, ns = names
     tau0 = check_tau0(tau0, nt)
     if s0 is None:
-        return tau0, check_real(ns, sdot0, nonzero=True, allowed=f"a finite real {ns} != 0 (a pre-impact "
-                                "state: > 0 hits s = 0, < 0 hits s = -1)"), None
+        return (
+            tau0,
+            check_real(
+                ns,
+                sdot0,
+                nonzero=True,
+                allowed=f"a finite real {ns} != 0 (a pre-impact state: > 0 hits s = 0, < 0 hits s = -1)",
+            ),
+            None,
+        )
     return tau0, check_real(ns, sdot0), check_real("s0", s0, -1.0, 0.0)
 
 
@@ -183,8 +201,17 @@ def start_wall(wall: int | None, sdot: float) -> int:
     return check_wall("wall", wall)
 
 
-def check_array(name: str, value, lo: float = -math.inf, hi: float = math.inf, *, nonzero: bool = False,
-                max_size: int = MAX_ORBITS, ndim: int | None = 1, allowed: str | None = None) -> np.ndarray:
+def check_array(
+    name: str,
+    value,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    *,
+    nonzero: bool = False,
+    max_size: int = MAX_ORBITS,
+    ndim: int | None = 1,
+    allowed: str | None = None,
+) -> np.ndarray:
     """``value`` (a scalar, a sequence or an array of real numbers) as a flat float64 numpy array of
     ``1 <= size <= max_size`` finite values in ``[lo, hi]`` (``!= 0`` with ``nonzero``).  ``ndim``: the
     most dimensions allowed (None: any shape, flattened).  :class:`InputTypeError` for strings, None,

@@ -8,6 +8,7 @@ import warnings
 
 from .checks import InputTypeError
 
+
 class _Unset:
     """The type of :data:`UNSET`."""
 

@@ -43,5 +43,16 @@ def recorded_deltas(delta: float) -> tuple[float, ...]:
 #: phase space would capture every orbit at once.
 MAX_DELTA = 10.0
 
-__all__ = ["PAPER_DECIMAL", "PAPER_PARAMS", "PAPER_FIG2_DECIMAL", "PAPER_FIG2", "PAPER_FIG3_DECIMAL", "PAPER_FIG3",
-           "PAPER_BOX", "DELTA", "DELTAS", "MAX_DELTA", "recorded_deltas"]
+__all__ = [
+    "PAPER_DECIMAL",
+    "PAPER_PARAMS",
+    "PAPER_FIG2_DECIMAL",
+    "PAPER_FIG2",
+    "PAPER_FIG3_DECIMAL",
+    "PAPER_FIG3",
+    "PAPER_BOX",
+    "DELTA",
+    "DELTAS",
+    "MAX_DELTA",
+    "recorded_deltas",
+]

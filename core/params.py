@@ -93,8 +93,9 @@ def check_param(name: str, value) -> float:
     from .checks import _not_a_number, InputTypeError
 
     if _not_a_number(value):
-        raise InputTypeError(f"parameter {name}={value!r} is a {type(value).__name__}: allowed a real number, "
-                             f"{RANGES[name]}")
+        raise InputTypeError(
+            f"parameter {name}={value!r} is a {type(value).__name__}: allowed a real number, {RANGES[name]}"
+        )
     return check_value(name, float(value))
 
 
@@ -144,7 +145,6 @@ class Params:
     def replace(self, **changes: float) -> "Params":
         """A copy with some parameters changed (validated again)."""
         return Params(**{**self.as_dict(), **changes})
-
 
 
 def validate_arrays(alpha, beta, gamma, r) -> ParamArrays:

@@ -13,7 +13,7 @@ TWO_PI = 2.0 * jnp.pi
 # Cody-Waite split of 2*pi in three terms: TWO_PI_HI and TWO_PI_MID carry 33 significant bits each, so
 # m * TWO_PI_HI and m * TWO_PI_MID are exact for |m| < 2^20 (|tau| < 6.5e6, beyond TAU0_MAX), and
 # TWO_PI_HI + TWO_PI_MID + TWO_PI_LO == 2*pi to 4e-37.
-TWO_PI_HI = float.fromhex("0x1.921fb54400000p+2")   # 6.2831853069365025
+TWO_PI_HI = float.fromhex("0x1.921fb54400000p+2")  # 6.2831853069365025
 TWO_PI_MID = float.fromhex("0x1.0b4611a600000p-32")  # 2.4308402025215864e-10
 TWO_PI_LO = 8.089064995183803e-21
 

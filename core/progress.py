@@ -77,8 +77,15 @@ class Bar:
     Drawn by the registered display (:func:`set_display`); :attr:`drawn` says whether it is.  Callable
     as ``bar(done, total)``; a context manager that closes it (aborts it on an exception)."""
 
-    def __init__(self, label: str, total: float | None = None, unit: str = "impacts", enabled: bool | str = True,
-                 phase: str | None = None, delay: float = 0.0):
+    def __init__(
+        self,
+        label: str,
+        total: float | None = None,
+        unit: str = "impacts",
+        enabled: bool | str = True,
+        phase: str | None = None,
+        delay: float = 0.0,
+    ):
         if not isinstance(label, str) or not label.strip():
             raise ValueError(f"label={label!r} is out of range: allowed a non-empty string (every bar is labelled)")
         self.label = label

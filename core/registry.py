@@ -35,8 +35,10 @@ def load_track(name: str) -> Track:
     try:
         load = _LOADERS[name]
     except KeyError:
-        raise LookupError(f"track {name!r} has no registered loader (gear_rattle/__init__.py registers "
-                          "the numerical tracks when the package is imported)") from None
+        raise LookupError(
+            f"track {name!r} has no registered loader (gear_rattle/__init__.py registers "
+            "the numerical tracks when the package is imported)"
+        ) from None
     return load()
 
 

@@ -38,7 +38,6 @@ KINDS = ("impact", "stick", "release")
 COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
 
 
-
 @dataclass
 class ImpactSequence(Outcome):
     """Events of one orbit (numpy arrays of equal length, time-ordered).
@@ -85,8 +84,14 @@ class ImpactSequence(Outcome):
     def rows(self) -> list[dict]:
         """The events as a list of dicts with the :data:`COLUMNS` keys."""
         return [
-            {"n": int(n), "tau": float(t), "tau_mod_2pi": float(th), "wall": int(w),
-             "sdot": (None if np.isnan(v) else float(v)), "kind": str(k)}
+            {
+                "n": int(n),
+                "tau": float(t),
+                "tau_mod_2pi": float(th),
+                "wall": int(w),
+                "sdot": (None if np.isnan(v) else float(v)),
+                "kind": str(k),
+            }
             for n, t, th, w, v, k in zip(self.n, self.tau, self.theta, self.wall, self.sdot, self.kind)
         ]
 
@@ -99,17 +104,30 @@ class ImpactSequence(Outcome):
         """The events as arrays (``kind`` as text), the parameters, track and status: an NPZ file's
         content."""
         p = self.params
-        return dict(n=self.n, tau=self.tau, tau_mod_2pi=self.theta, wall=self.wall, sdot=self.sdot,
-                    kind=np.asarray(self.kind, dtype=str), **p.as_dict(),
-                    track=self.track, status=self.status)
+        return dict(
+            n=self.n,
+            tau=self.tau,
+            tau_mod_2pi=self.theta,
+            wall=self.wall,
+            sdot=self.sdot,
+            kind=np.asarray(self.kind, dtype=str),
+            **p.as_dict(),
+            track=self.track,
+            status=self.status,
+        )
 
     def as_dict(self) -> dict:
         """The parameters, status, track, the call's arguments (``meta``) and the event rows: a JSON
         file's content (:meth:`to_json`)."""
         p = self.params
-        return {"params": p.as_dict(),
-                "track": self.track, "status": self.status, "n_sticking": self.n_sticking,
-                "meta": self.meta, "events": self.rows()}
+        return {
+            "params": p.as_dict(),
+            "track": self.track,
+            "status": self.status,
+            "n_sticking": self.n_sticking,
+            "meta": self.meta,
+            "events": self.rows(),
+        }
 
     def to_csv(self) -> str:
         """CSV text, one row per event, columns :data:`COLUMNS` (17 significant digits)."""
@@ -168,11 +186,13 @@ class Track(Protocol):
     @property
     def name(self) -> str: ...
 
-    def orbit(self, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
-              **options) -> ImpactSequence: ...
+    def orbit(
+        self, params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, **options
+    ) -> ImpactSequence: ...
 
-    def step_jacobian(self, params: Params, tau: float, sdot: float, wall: int | None = None,
-                      **options) -> StepJacobian: ...
+    def step_jacobian(
+        self, params: Params, tau: float, sdot: float, wall: int | None = None, **options
+    ) -> StepJacobian: ...
 
 
 @dataclass(frozen=True)
@@ -184,5 +204,4 @@ class TrackFunctions:
     step_jacobian: Callable[..., StepJacobian]
 
 
-__all__ = ["TRACKS", "KINDS", "COLUMNS",
-           "ImpactSequence", "StepJacobian", "Track", "TrackFunctions"]
+__all__ = ["TRACKS", "KINDS", "COLUMNS", "ImpactSequence", "StepJacobian", "Track", "TrackFunctions"]

@@ -69,8 +69,13 @@ def make_state(tau, sdot, wall=None, status=Status.ACTIVE) -> MapState:
     if wall is None:
         wall = jnp.where(positive(sdot), 0, -1)
     theta, cycles = reduce_phase(tau, jnp.zeros(jnp.shape(tau), jnp.int64))
-    return MapState(theta, cycles, sdot, jnp.asarray(wall, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
-                    jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32))
+    return MapState(
+        theta,
+        cycles,
+        sdot,
+        jnp.asarray(wall, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
+        jnp.asarray(status, jnp.int32) + jnp.zeros(jnp.shape(sdot), jnp.int32),
+    )
 
 
 class Trajectory(NamedTuple):
@@ -94,19 +99,38 @@ def sequence_from_states(params: Params, first: MapState, traj, track: str = "ma
     for i in range(len(taus)):
         if not alive[i]:
             break
-        rows_n.append(i); rows_t.append(taus[i]); rows_w.append(walls[i]); rows_v.append(sdots[i]); rows_k.append("impact")
+        rows_n.append(i)
+        rows_t.append(taus[i])
+        rows_w.append(walls[i])
+        rows_v.append(sdots[i])
+        rows_k.append("impact")
         if i < len(stuck) and stuck[i]:
-            rows_n.append(i); rows_t.append(stick_tau[i]); rows_w.append(walls[i]); rows_v.append(np.nan)
+            rows_n.append(i)
+            rows_t.append(stick_tau[i])
+            rows_w.append(walls[i])
+            rows_v.append(np.nan)
             rows_k.append("stick")
             if np.isfinite(rel_tau[i]):
-                rows_n.append(i); rows_t.append(rel_tau[i]); rows_w.append(walls[i]); rows_v.append(np.nan)
+                rows_n.append(i)
+                rows_t.append(rel_tau[i])
+                rows_w.append(walls[i])
+                rows_v.append(np.nan)
                 rows_k.append("release")
-    final = int(first.status) if int(first.status) != Status.ACTIVE else (int(status[-1]) if len(status) else Status.ACTIVE)
+    final = (
+        int(first.status) if int(first.status) != Status.ACTIVE else (int(status[-1]) if len(status) else Status.ACTIVE)
+    )
     t = np.asarray(rows_t, dtype=np.float64)
     return ImpactSequence(
-        params=params, n=np.asarray(rows_n, dtype=np.int64), tau=t, theta=np.mod(t, TWO_PI),
-        wall=np.asarray(rows_w, dtype=np.int64), sdot=np.asarray(rows_v, dtype=np.float64),
-        kind=np.asarray(rows_k), status=Status(final).label, track=track, meta=dict(meta or {}),
+        params=params,
+        n=np.asarray(rows_n, dtype=np.int64),
+        tau=t,
+        theta=np.mod(t, TWO_PI),
+        wall=np.asarray(rows_w, dtype=np.int64),
+        sdot=np.asarray(rows_v, dtype=np.float64),
+        kind=np.asarray(rows_k),
+        status=Status(final).label,
+        track=track,
+        meta=dict(meta or {}),
     )
 
 

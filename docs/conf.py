@@ -59,7 +59,10 @@ nitpicky = True
 _EXTERNAL = r"(numpy|np|jax|jnp|jaxlib|flint|arb|acb|fmpz|scipy|diffrax|optimistix|optx|equinox|eqx|matplotlib|dask|distributed|zarr|mpmath|decimal|fractions|numbers|collections|concurrent|threading|typing|pathlib|os|io|argparse|json|math|functools|warnings|subprocess|types|enum|dataclasses)"
 nitpick_ignore_regex = [
     (r"py:.*", _EXTERNAL + r"(\..*)?"),
-    (r"py:.*", r"(ndarray|Array|ArrayLike|PyTree|Figure|Figure\..*|Axes|Path|Callable|Iterable|Iterator|Sequence|Mapping)"),
+    (
+        r"py:.*",
+        r"(ndarray|Array|ArrayLike|PyTree|Figure|Figure\..*|Axes|Path|Callable|Iterable|Iterator|Sequence|Mapping)",
+    ),
 ]
 
 html_theme = "pydata_sphinx_theme"
@@ -87,7 +90,9 @@ _FOLDERS = ("core.", "mapimpl.", "reference.", "validation.")
 
 def _candidates(target: str, module: str | None) -> list[str]:
     t = target.lstrip(".~")
-    names = ["gear_rattle." + t] if t.startswith(_FOLDERS) or t in ("core", "mapimpl", "reference", "validation") else []
+    names = (
+        ["gear_rattle." + t] if t.startswith(_FOLDERS) or t in ("core", "mapimpl", "reference", "validation") else []
+    )
     parts = (module or "").split(".")
     names += [".".join(parts[:i]) + "." + t for i in range(len(parts), 0, -1) if parts[0] == "gear_rattle"]
     return names + [t]
@@ -127,22 +132,25 @@ def _resolve(app, env, node, contnode):
             ref = node.deepcopy()
             ref["reftarget"] = target
             ref.attributes.pop("refspecific", None)
-            found = domain.resolve_xref(env, node.get("refdoc"), app.builder, node.get("reftype"), target, ref,
-                                        contnode)
+            found = domain.resolve_xref(
+                env, node.get("refdoc"), app.builder, node.get("reftype"), target, ref, contnode
+            )
             if found is not None:
                 return found
     # a name written as it reads in its context (``Track`` in a summary line shown on the package's page):
     # the one documented object whose full name ends with it
     target = node.get("reftarget", "").lstrip(".~")
     objtypes = domain.objtypes_for_role(node.get("reftype")) or []
-    matches = [name for name, obj in domain.objects.items()
-               if (name == target or name.endswith("." + target)) and obj.objtype in objtypes]
+    matches = [
+        name
+        for name, obj in domain.objects.items()
+        if (name == target or name.endswith("." + target)) and obj.objtype in objtypes
+    ]
     if len(matches) == 1:
         ref = node.deepcopy()
         ref["reftarget"] = matches[0]
         ref.attributes.pop("refspecific", None)
-        return domain.resolve_xref(env, node.get("refdoc"), app.builder, node.get("reftype"), matches[0], ref,
-                                   contnode)
+        return domain.resolve_xref(env, node.get("refdoc"), app.builder, node.get("reftype"), matches[0], ref, contnode)
     return None
 
 

@@ -18,6 +18,7 @@ entry points and the types they return, each the library's own object under the 
 (``gr.orbit is gear_rattle.mapimpl.tracks.orbit``)::
 
     import gear_rattle as gr
+
     p = gr.Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
     seq = gr.orbit(p, tau0=0.0, sdot0=0.5, n_impacts=1000, track="map")
 
@@ -55,13 +56,36 @@ except _metadata.PackageNotFoundError:  # a source tree on sys.path without an i
     __version__ = "0+unknown"
 
 #: The public names loaded on first use (they import JAX or the analyses): see :func:`_module`.
-_LAZY = ("orbit", "find_periodic", "lyapunov", "transient_times",
-         "PeriodicOrbit", "LyapunovResult", "TransientResult", "SurvivalResult", "CertifiedSequence")
+_LAZY = (
+    "orbit",
+    "find_periodic",
+    "lyapunov",
+    "transient_times",
+    "PeriodicOrbit",
+    "LyapunovResult",
+    "TransientResult",
+    "SurvivalResult",
+    "CertifiedSequence",
+)
 
-__all__ = ["__version__", "Params", "TRACKS", "Status", "use_cpu_devices",
-           "orbit", "find_periodic", "lyapunov", "transient_times",
-           "ImpactSequence", "CertifiedSequence", "StepJacobian", "PeriodicOrbit", "LyapunovResult",
-           "TransientResult", "SurvivalResult"]
+__all__ = [
+    "__version__",
+    "Params",
+    "TRACKS",
+    "Status",
+    "use_cpu_devices",
+    "orbit",
+    "find_periodic",
+    "lyapunov",
+    "transient_times",
+    "ImpactSequence",
+    "CertifiedSequence",
+    "StepJacobian",
+    "PeriodicOrbit",
+    "LyapunovResult",
+    "TransientResult",
+    "SurvivalResult",
+]
 
 
 def _module(name: str):

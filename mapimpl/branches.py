@@ -21,8 +21,9 @@ from .engine.driver import run
 from .periodic import PeriodicOrbit, find_periodic
 
 #: Starting guesses on the attractors of the paper (any nearby guess works).
-R2_START = Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.80)      # stable 6-impact orbit (Fig. 4)
+R2_START = Params(alpha=3.0, beta=0.1, gamma=0.1, r=0.80)  # stable 6-impact orbit (Fig. 4)
 ALPHA1_START = Params(alpha=1.30, beta=0.1, gamma=0.1, r=0.9)  # stable 4-impact orbit (Fig. 8)
+
 
 def attractor_point(params: Params, n: int = 5000, tau0: float = 0.0, sdot0: float = 0.5) -> tuple[float, float]:
     """The pre-impact state ``(theta, sdot)`` after ``n`` impacts from ``(tau0, sdot0)`` (engine run): a
@@ -34,22 +35,24 @@ def attractor_point(params: Params, n: int = 5000, tau0: float = 0.0, sdot0: flo
     return float(r.theta[0]), float(r.sdot[0])
 
 
-def six_impact_branch(base: Params = R2_START, r_min: float = 0.735, r_max: float = 0.83, ds: float = 2e-3,
-                      max_points: int = 200) -> Branch:
+def six_impact_branch(
+    base: Params = R2_START, r_min: float = 0.735, r_max: float = 0.83, ds: float = 2e-3, max_points: int = 200
+) -> Branch:
     """Continue the 6-impact period-1 orbit of Fig. 4 from ``base`` (r = 0.8) up through its fold r2 and
     down the saddle branch to ``r_min``.  ``branch.folds[0]`` is r2."""
     th, sd = attractor_point(base)
-    return continue_orbit(base, "r", th, sd, 6, 1, mu_range=(r_min, r_max), direction=1, ds=ds,
-                          max_points=max_points)
+    return continue_orbit(base, "r", th, sd, 6, 1, mu_range=(r_min, r_max), direction=1, ds=ds, max_points=max_points)
 
 
-def four_impact_branch(base: Params = ALPHA1_START, a_min: float = 1.15, a_max: float = 1.32, ds: float = 2e-3,
-                       max_points: int = 200) -> Branch:
+def four_impact_branch(
+    base: Params = ALPHA1_START, a_min: float = 1.15, a_max: float = 1.32, ds: float = 2e-3, max_points: int = 200
+) -> Branch:
     """Continue the 4-impact period-1 orbit of Fig. 8 from ``base`` (alpha = 1.3) down through its fold
     alpha_sn and up the saddle branch to ``a_max``.  ``branch.folds[0]`` is alpha_sn."""
     th, sd = attractor_point(base)
-    return continue_orbit(base, "alpha", th, sd, 4, 1, mu_range=(a_min, a_max), direction=-1, ds=ds,
-                          max_points=max_points)
+    return continue_orbit(
+        base, "alpha", th, sd, 4, 1, mu_range=(a_min, a_max), direction=-1, ds=ds, max_points=max_points
+    )
 
 
 def orbit_on_branch(branch: Branch, mu: float, part: str = "saddle") -> PeriodicOrbit:
@@ -64,7 +67,9 @@ def orbit_on_branch(branch: Branch, mu: float, part: str = "saddle") -> Periodic
     sl = slice(k, None) if part == "saddle" else slice(0, k + 1)
     mus, taus, sds = a["mu"][sl], a["tau"][sl], a["sdot"][sl]
     if not (mus.min() <= mu <= mus.max()):
-        raise ValueError(f"{branch.param}={mu!r} is out of range: allowed [{mus.min()}, {mus.max()}] on the {part} branch")
+        raise ValueError(
+            f"{branch.param}={mu!r} is out of range: allowed [{mus.min()}, {mus.max()}] on the {part} branch"
+        )
     j = int(np.argmin(np.abs(mus - mu)))
     params = branch.params.replace(**{branch.param: float(mu)})
     o = find_periodic(params, taus[j], sds[j], branch.impacts, branch.turns)

@@ -100,8 +100,9 @@ class _Problem:
         Jacobian :func:`locate` compiles for the same number of impacts), central differences where it
         is not finite or the step is not valid (one-sided at ``r = 1``)."""
         base = np.array([self.params.alpha, self.params.beta, self.params.gamma, self.params.r], dtype=np.float64)
-        Jm, ok = _extended_jacobian(jnp.asarray(y, jnp.float64), base, _MU_INDEX[self.name], float(self.turns),
-                                    self.wall, -1.0, self.impacts)
+        Jm, ok = _extended_jacobian(
+            jnp.asarray(y, jnp.float64), base, _MU_INDEX[self.name], float(self.turns), self.wall, -1.0, self.impacts
+        )
         col = np.asarray(Jm, dtype=np.float64)[:2, 2]
         if bool(ok) and np.all(np.isfinite(col)):
             return col
@@ -153,10 +154,14 @@ class BifurcationPoint:
     param: str = "r"
 
     def describe(self) -> str:
-        m = ", ".join(f"{complex(z).real:+.10f}" if abs(complex(z).imag) < 1e-12 else f"{complex(z):.6f}"
-                      for z in self.multipliers)
-        return (f"{self.kind} at {self.param} = {self.mu:.12f} (tau = {self.tau:.10f}, sdot = {self.sdot:.10f}; "
-                f"multipliers {m}; residual {self.residual:.1e}, {'converged' if self.converged else 'NOT converged'})")
+        m = ", ".join(
+            f"{complex(z).real:+.10f}" if abs(complex(z).imag) < 1e-12 else f"{complex(z):.6f}"
+            for z in self.multipliers
+        )
+        return (
+            f"{self.kind} at {self.param} = {self.mu:.12f} (tau = {self.tau:.10f}, sdot = {self.sdot:.10f}; "
+            f"multipliers {m}; residual {self.residual:.1e}, {'converged' if self.converged else 'NOT converged'})"
+        )
 
 
 @dataclass
@@ -176,8 +181,11 @@ class Branch:
         """The branch as arrays: ``mu``, ``tau``, ``sdot``, ``mult_re``/``mult_im`` (n, 2), ``stable``."""
         mult = np.array([np.sort_complex(np.asarray(p.multipliers, complex)) for p in self.points]).reshape(-1, 2)
         return {
-            "mu": np.array([p.mu for p in self.points]), "tau": np.array([p.tau for p in self.points]),
-            "sdot": np.array([p.sdot for p in self.points]), "mult_re": mult.real, "mult_im": mult.imag,
+            "mu": np.array([p.mu for p in self.points]),
+            "tau": np.array([p.tau for p in self.points]),
+            "sdot": np.array([p.sdot for p in self.points]),
+            "mult_re": mult.real,
+            "mult_im": mult.imag,
             "stable": np.array([p.stable for p in self.points]),
         }
 
@@ -185,9 +193,18 @@ class Branch:
         """``(header, rows)``: one row per point (parameter, tau, sdot, the two multipliers, stable)."""
         a = self.arrays()
         return [self.param, "tau", "sdot", "mult1_re", "mult1_im", "mult2_re", "mult2_im", "stable"], [
-            [float(a["mu"][i]), float(a["tau"][i]), float(a["sdot"][i]), float(a["mult_re"][i, 0]),
-             float(a["mult_im"][i, 0]), float(a["mult_re"][i, 1]), float(a["mult_im"][i, 1]), bool(a["stable"][i])]
-            for i in range(a["mu"].size)]
+            [
+                float(a["mu"][i]),
+                float(a["tau"][i]),
+                float(a["sdot"][i]),
+                float(a["mult_re"][i, 0]),
+                float(a["mult_im"][i, 0]),
+                float(a["mult_re"][i, 1]),
+                float(a["mult_im"][i, 1]),
+                bool(a["stable"][i]),
+            ]
+            for i in range(a["mu"].size)
+        ]
 
 
 #: Newton steps taken by :func:`locate` after the tolerance is met, each kept only if it lowers the residual: the
@@ -212,8 +229,18 @@ def _extended_residual(y, base, mu_index, turns, wall, sign, impacts):
 _extended_jacobian = jax.jit(jax.jacfwd(_extended_residual, has_aux=True), static_argnums=(6,))
 
 
-def locate(params: Params, param: str, kind: str, tau: float, sdot: float, mu: float, impacts: int,
-           turns: int = 1, tol: float = 1e-11, max_iter: int = 40) -> BifurcationPoint:
+def locate(
+    params: Params,
+    param: str,
+    kind: str,
+    tau: float,
+    sdot: float,
+    mu: float,
+    impacts: int,
+    turns: int = 1,
+    tol: float = 1e-11,
+    max_iter: int = 40,
+) -> BifurcationPoint:
     """Newton on the extended system ``(G, det(M - I)) = 0`` (``kind="fold"``) or ``(G, det(M + I)) = 0``
     (``kind="flip"``) from a guess ``(tau, sdot, mu)`` near the bifurcation point.  The Jacobian is
     ``jax.jacfwd`` of ``_extended_residual`` (forward differences where it is not finite); the
@@ -231,15 +258,17 @@ def locate(params: Params, param: str, kind: str, tau: float, sdot: float, mu: f
     sign = -1.0 if kind == "fold" else 1.0
 
     def jac(y):
-        Jm, ok = _extended_jacobian(jnp.asarray(y, jnp.float64), base, _MU_INDEX[prob.name], float(prob.turns),
-                                    prob.wall, sign, prob.impacts)
+        Jm, ok = _extended_jacobian(
+            jnp.asarray(y, jnp.float64), base, _MU_INDEX[prob.name], float(prob.turns), prob.wall, sign, prob.impacts
+        )
         Jm = np.asarray(Jm, dtype=np.float64)
         return Jm if bool(ok) and np.all(np.isfinite(Jm)) else None
 
     y, res, it, conv = newton(fun, [tau, sdot, mu], max_iter=max_iter, tol=tol, polish_steps=POLISH_STEPS, jac=jac)
     _, M, _ = prob.eval(y)
-    return BifurcationPoint(kind, float(y[2]), float(y[0] % _TWO_PI), float(y[1]), np.linalg.eigvals(M), res,
-                            bool(conv), it, param)
+    return BifurcationPoint(
+        kind, float(y[2]), float(y[0] % _TWO_PI), float(y[1]), np.linalg.eigvals(M), res, bool(conv), it, param
+    )
 
 
 def _tangent(A: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
@@ -251,9 +280,21 @@ def _tangent(A: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
     return t / np.linalg.norm(t)
 
 
-def continue_orbit(params: Params, param: str, tau0: float, sdot0: float, impacts: int, turns: int = 1,
-                   mu_range: tuple[float, float] | None = None, direction: int = 1, ds: float = 2e-3, ds_max: float = 2e-2,
-                   max_points: int = 400, locate_points: bool = True, progress=None) -> Branch:
+def continue_orbit(
+    params: Params,
+    param: str,
+    tau0: float,
+    sdot0: float,
+    impacts: int,
+    turns: int = 1,
+    mu_range: tuple[float, float] | None = None,
+    direction: int = 1,
+    ds: float = 2e-3,
+    ds_max: float = 2e-2,
+    max_points: int = 400,
+    locate_points: bool = True,
+    progress=None,
+) -> Branch:
     """Pseudo-arclength continuation of a p-impact, m-turn periodic orbit in ``param`` (``"r"`` or
     ``"alpha"``) starting from the orbit through the guess ``(tau0, sdot0)`` at ``params``.
 
@@ -281,8 +322,10 @@ def continue_orbit(params: Params, param: str, tau0: float, sdot0: float, impact
         lo, hi = -np.inf, np.inf
     orb = find_periodic(params, tau0, sdot0, impacts, turns)
     if not orb.converged:
-        raise ValueError(f"no {impacts}-impact, {turns}-turn periodic orbit found from the guess "
-                         f"(tau0={tau0!r}, sdot0={sdot0!r}) at {name}={mu0!r}")
+        raise ValueError(
+            f"no {impacts}-impact, {turns}-turn periodic orbit found from the guess "
+            f"(tau0={tau0!r}, sdot0={sdot0!r}) at {name}={mu0!r}"
+        )
     x0 = (float(orb.theta[0]), float(orb.sdot[0]))
     prob = _Problem(params, name, impacts, turns, int(orb.walls[0]))
     br = Branch(params, name, impacts, turns)
@@ -332,10 +375,12 @@ def continue_orbit(params: Params, param: str, tau0: float, sdot0: float, impact
         record(y, M, float(np.max(np.abs(G))))
         cur = br.points[-1]
         if locate_points:
-            f0 = np.real(np.prod(prev.multipliers - 1.0)); f1 = np.real(np.prod(cur.multipliers - 1.0))
+            f0 = np.real(np.prod(prev.multipliers - 1.0))
+            f1 = np.real(np.prod(cur.multipliers - 1.0))
             if np.sign(f0) != np.sign(f1):
                 br.folds.append(locate(params, name, "fold", y[0], y[1], y[2], impacts, turns))
-            g0 = np.real(np.prod(prev.multipliers + 1.0)); g1 = np.real(np.prod(cur.multipliers + 1.0))
+            g0 = np.real(np.prod(prev.multipliers + 1.0))
+            g1 = np.real(np.prod(cur.multipliers + 1.0))
             if np.sign(g0) != np.sign(g1):
                 br.flips.append(locate(params, name, "flip", y[0], y[1], y[2], impacts, turns))
         t = t_new
@@ -360,5 +405,6 @@ def orbit_states(params: Params, tau: float, sdot: float, impacts: int) -> tuple
     th, sd = [float(s.theta)], [float(s.sdot)]
     for _ in range(int(impacts) - 1):
         s, _ = step(s, p)
-        th.append(float(s.theta)); sd.append(float(s.sdot))
+        th.append(float(s.theta))
+        sd.append(float(s.sdot))
     return np.array(th), np.array(sd)

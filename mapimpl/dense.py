@@ -80,12 +80,15 @@ def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | Non
         m = max(2, int(np.ceil((t1 - t0) * points_per_unit)) + 1)
         grid = np.linspace(t0, t1, m)[:-1]  # the next event's own sample closes the flight
         pieces.append((grid, None, len(fl_t)))
-        fl_t.append(grid - t0); fl_th.append(np.full(grid.size, np.mod(t0, TWO_PI)))
-        fl_v.append(np.full(grid.size, v0)); fl_w.append(np.full(grid.size, w))
+        fl_t.append(grid - t0)
+        fl_th.append(np.full(grid.size, np.mod(t0, TWO_PI)))
+        fl_v.append(np.full(grid.size, v0))
+        fl_w.append(np.full(grid.size, w))
     if fl_t:
         sizes = [g.size for g in fl_t]
-        ds, v = flight_samples(np.concatenate(fl_t), np.concatenate(fl_th), np.concatenate(fl_v),
-                               p.alpha, p.beta, p.gamma)
+        ds, v = flight_samples(
+            np.concatenate(fl_t), np.concatenate(fl_th), np.concatenate(fl_v), p.alpha, p.beta, p.gamma
+        )
         s = np.clip(np.concatenate(fl_w) + ds, -1.0, 0.0)
         bounds = np.concatenate([[0], np.cumsum(sizes)])
     taus, ss, vs = [], [], []
@@ -93,11 +96,14 @@ def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | Non
         taus.append(grid)
         if s_const is None:
             j = v_or_index
-            ss.append(s[bounds[j]:bounds[j + 1]]); vs.append(v[bounds[j]:bounds[j + 1]])
+            ss.append(s[bounds[j] : bounds[j + 1]])
+            vs.append(v[bounds[j] : bounds[j + 1]])
         else:
-            ss.append(s_const); vs.append(v_or_index)
+            ss.append(s_const)
+            vs.append(v_or_index)
     if len(t_ev):
-        taus.append(np.array([t_ev[-1]])); ss.append(np.array([float(walls[-1])]))
+        taus.append(np.array([t_ev[-1]]))
+        ss.append(np.array([float(walls[-1])]))
         vs.append(np.array([sd[-1] if np.isfinite(sd[-1]) else 0.0]))
     if not taus:
         return np.empty(0), np.empty(0), np.empty(0)

@@ -202,8 +202,17 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
     H_new = jnp.where(windowed, jnp.minimum(2.0 * H, _H_MAX), jnp.clip(3.0 * h_near, 1e-300, _H_MAX))
     it_new = it + 1
     t_next = jnp.where(windowed, t_a + H, t_a + h_near)
-    return SafeStep(move=windowed | skip_test, t_next=t_next, H_new=H_new, beyond=t_next > t_max,
-                    capped=it_new >= max_steps, it=it_new, top_near=top_near, h_near=h_near, t_b=t_a + w_b)
+    return SafeStep(
+        move=windowed | skip_test,
+        t_next=t_next,
+        H_new=H_new,
+        beyond=t_next > t_max,
+        capped=it_new >= max_steps,
+        it=it_new,
+        top_near=top_near,
+        h_near=h_near,
+        t_b=t_a + w_b,
+    )
 
 
 def bracket_unique(v_a, a_a, v_b, a_b, m2, m3, ell):
@@ -357,8 +366,7 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         unique = bracket_unique(fp.v, fp.a, fb.v, fb.a, m2, m3, st.t_b - t_a)
         bracket, stalled = bracket_test(g_b, t_a, st.h_near, unique)
         # the first root step, from t_b with this evaluation (d2g = -+ s''; the bracket is [t_a, t_b])
-        x0, _, _, done0, _ = root_step(st.t_b, g_b, dg_b, jnp.where(st.top_near, -fb.a, fb.a), t_a, st.t_b, m2, m3,
-                                       0)
+        x0, _, _, done0, _ = root_step(st.t_b, g_b, dg_b, jnp.where(st.top_near, -fb.a, fb.a), t_a, st.t_b, m2, m3, 0)
         bracket, stalled = bracket & ~st.move, stalled & ~st.move
         t_new = jnp.where(st.move, st.t_next, jnp.where(bracket | stalled, t_a, t_a + st.h_near))
         beyond = t_new > t_max
@@ -366,15 +374,27 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         F = FlightOutcome
         status = jnp.where(bracket, F.HIT, jnp.where(stalled, F.GRAZE, jnp.where(beyond, F.NO_IMPACT, F.STEP_CAP)))
         return dict(
-            t=t_new, H=st.H_new, it=st.it, done=bracket | stalled | beyond | capped,
-            hi=jnp.where(bracket, st.t_b, t_new), x0=x0, rdone=done0,
-            top=jnp.where(bracket | stalled, st.top_near, c["top"]), status=status,
+            t=t_new,
+            H=st.H_new,
+            it=st.it,
+            done=bracket | stalled | beyond | capped,
+            hi=jnp.where(bracket, st.t_b, t_new),
+            x0=x0,
+            rdone=done0,
+            top=jnp.where(bracket | stalled, st.top_near, c["top"]),
+            status=status,
         )
 
     init = dict(
-        t=jnp.zeros_like(v0), H=jnp.asarray(_H0, jnp.float64), it=jnp.asarray(0, jnp.int32),
-        done=jnp.asarray(False), hi=jnp.zeros_like(v0), x0=jnp.zeros_like(v0), rdone=jnp.asarray(False),
-        top=jnp.asarray(True), status=jnp.asarray(FlightOutcome.STEP_CAP),
+        t=jnp.zeros_like(v0),
+        H=jnp.asarray(_H0, jnp.float64),
+        it=jnp.asarray(0, jnp.int32),
+        done=jnp.asarray(False),
+        hi=jnp.zeros_like(v0),
+        x0=jnp.zeros_like(v0),
+        rdone=jnp.asarray(False),
+        top=jnp.asarray(True),
+        status=jnp.asarray(FlightOutcome.STEP_CAP),
     )
     c = jax.lax.while_loop(cond, body, init)
     lo, hi, top, status = c["t"], c["hi"], c["top"], c["status"]
@@ -384,8 +404,7 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
 
     def nbody(n):
         g, dg, fp = gap_of(n["x"], top)
-        x, lo_n, hi_n, done, k = root_step(n["x"], g, dg, jnp.where(top, -fp.a, fp.a), n["lo"], n["hi"], m2, m3,
-                                           n["k"])
+        x, lo_n, hi_n, done, k = root_step(n["x"], g, dg, jnp.where(top, -fp.a, fp.a), n["lo"], n["hi"], m2, m3, n["k"])
         return dict(x=x, lo=lo_n, hi=hi_n, done=done, k=k)
 
     need = status == FlightOutcome.HIT
@@ -396,6 +415,9 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
     v_hit = flight(t_hit, tau0, v0, alpha, beta, gamma).v
     wall = jnp.where(top, 0, -1).astype(jnp.int32)
     return Hit(
-        t=jnp.where(ok, t_hit, jnp.inf), wall=wall, v=jnp.where(ok, v_hit, jnp.nan),
-        status=status.astype(jnp.int32), steps=c["it"],
+        t=jnp.where(ok, t_hit, jnp.inf),
+        wall=wall,
+        v=jnp.where(ok, v_hit, jnp.nan),
+        status=status.astype(jnp.int32),
+        steps=c["it"],
     )

@@ -70,8 +70,7 @@ def phi12(x, e):
     xb = jnp.where(big, x, 1.0)
     em1 = e - 1.0
     p2 = _horner(jnp.where(big, 0.0, x), _PHI2_COEFFS)
-    return (jnp.where(big, -em1 / xb, 1.0 - x * p2),
-            jnp.where(big, ((xb - 1.0) + e) / (xb * xb), p2))
+    return (jnp.where(big, -em1 / xb, 1.0 - x * p2), jnp.where(big, ((xb - 1.0) + e) / (xb * xb), p2))
 
 
 def phi1(x):

@@ -31,8 +31,10 @@ def stick_at_once_state(params: Params, wall: int = 0, tau0: float | None = None
     f = -params.alpha * math.sin(tau0) + params.alpha * params.beta * math.cos(tau0) + params.gamma
     f_in = d * f
     if not (f_in > 0 and params.r < 1.0):
-        raise ValueError(f"tau0={tau0!r}: the contact force does not press into wall {wall} there "
-                         "(or r = 1): no state sticks at once")
+        raise ValueError(
+            f"tau0={tau0!r}: the contact force does not press into wall {wall} there "
+            "(or r = 1): no state sticks at once"
+        )
     speed = float(f"{STICK_TIME * (1 - params.r) * f_in / (4 * params.r):.3g}")
     return float(tau0), d * speed
 
@@ -48,8 +50,14 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
     tau0, sdot0 = stick_at_once_state(params, wall)
     res = transient_times(params, [tau0], [sdot0], delta=delta, cap=cap, lanes=1, devices=1, progress=False)
     dur, censored = res.duration(delta)
-    return {"value": None if censored[0] else int(dur[0]), "status": Status(int(res.status[0])).label,
-            "tau0": tau0, "sdot0": sdot0, "nstick": int(res.nstick[0]), "cap": int(cap)}
+    return {
+        "value": None if censored[0] else int(dur[0]),
+        "status": Status(int(res.status[0])).label,
+        "tau0": tau0,
+        "sdot0": sdot0,
+        "nstick": int(res.nstick[0]),
+        "cap": int(cap),
+    }
 
 
 def float64_horizon(lam: float, distance: float = 1.0) -> float:
@@ -58,11 +66,17 @@ def float64_horizon(lam: float, distance: float = 1.0) -> float:
     ``distance = 1`` the float64 orbit has no digit left in common with the true one."""
     if not lam > 0:
         raise ValueError(f"lam={lam!r} is out of range: allowed lam > 0 (a chaotic orbit)")
-    return math.log(distance / 2.0 ** -53) / lam
+    return math.log(distance / 2.0**-53) / lam
 
 
-def float64_departure(params: Params, wall: int = 0, n: int = 300, prec: int = 1024,
-                      thresholds=(1e-12, 1e-8, 1e-3, 1e-1), target: Target | None = None) -> dict:
+def float64_departure(
+    params: Params,
+    wall: int = 0,
+    n: int = 300,
+    prec: int = 1024,
+    thresholds=(1e-12, 1e-8, 1e-3, 1e-1),
+    target: Target | None = None,
+) -> dict:
     """Where the float64 map's post-release orbit leaves the true one: the map track
     (:func:`mapimpl.orbit.map_orbit`) from a state that sticks at once to ``wall``, compared with the
     certified orbit (``prec`` bits, midpoints) impact by impact; for each threshold, the first
@@ -84,12 +98,12 @@ def float64_departure(params: Params, wall: int = 0, n: int = 300, prec: int = 1
         dth = abs(th[k] - th_c) % (2 * math.pi)
         err.append(max(min(dth, 2 * math.pi - dth), abs(sd[k] - sd_c)))
     first = {f"{t:g}": next((k for k, e in enumerate(err, start=1) if e > t), None) for t in thresholds}
-    return {"first_impact_above": first, "certified_impacts": len(a.orbit), "certified_status": a.status,
-            "errors": err}
+    return {"first_impact_above": first, "certified_impacts": len(a.orbit), "certified_status": a.status, "errors": err}
 
 
-def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, delta_far: float = 1e-2,
-                       box=None) -> dict:
+def transient_lyapunov(
+    params: Params, n_side: int = 16, impacts: int = 3000, delta_far: float = 1e-2, box=None
+) -> dict:
     """Largest Lyapunov exponent of the *transient* (the chaotic saddle), per impact: QR method
     (:mod:`mapimpl.lyapunov`) along the orbits of an ``n_side`` x ``n_side`` cell-centred
     grid of the Fig. 11 box, counting only the impacts before the orbit first comes within
@@ -138,12 +152,17 @@ def transient_lyapunov(params: Params, n_side: int = 16, impacts: int = 3000, de
     used = int(cnt.sum())
     if used == 0:
         raise RuntimeError("no transient impacts to measure")
-    return {"lambda1": float(acc.sum() / used), "impacts_used": used, "orbits": int(acc.size),
-            "orbits_reaching_target": int((~live).sum())}
+    return {
+        "lambda1": float(acc.sum() / used),
+        "impacts_used": used,
+        "orbits": int(acc.size),
+        "orbits_reaching_target": int((~live).sum()),
+    }
 
 
-def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: int | None = None,
-                   delta: float = DELTA, progress=None) -> dict:
+def sticking_walls(
+    tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: int | None = None, delta: float = DELTA, progress=None
+) -> dict:
     """Which wall every pre-impact initial condition first sticks to within ``cap`` iterations (before a
     capture within ``delta``): the transient engine itself (``sticking="compose"``, which stops each orbit
     at its first sticking).
@@ -155,10 +174,22 @@ def sticking_walls(tau0, sdot0, params: Params, *, cap: int = 200_000, lanes: in
 
     from .engine.transients import transient_times
 
-    res = transient_times(params, np.atleast_1d(np.asarray(tau0, float)), np.atleast_1d(np.asarray(sdot0, float)),
-                          delta=delta, deltas=(delta,), cap=int(cap), sticking="compose", lanes=lanes,
-                          progress=progress, label="sticking walls")
+    res = transient_times(
+        params,
+        np.atleast_1d(np.asarray(tau0, float)),
+        np.atleast_1d(np.asarray(sdot0, float)),
+        delta=delta,
+        deltas=(delta,),
+        cap=int(cap),
+        sticking="compose",
+        lanes=lanes,
+        progress=progress,
+        label="sticking walls",
+    )
     stuck = res.first_stick >= 0
-    return {"first_wall": np.where(stuck, res.stick_wall, 1), "first_stick": np.asarray(res.first_stick),
-            "status": np.asarray(res.status), "n": np.asarray(res.n)}
-
+    return {
+        "first_wall": np.where(stuck, res.stick_wall, 1),
+        "first_stick": np.asarray(res.first_stick),
+        "status": np.asarray(res.status),
+        "n": np.asarray(res.n),
+    }

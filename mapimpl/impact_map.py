@@ -58,8 +58,9 @@ def jacobian_sc(sin0, cos0, v0, dt, sin1, cos1, v1, alpha, beta, gamma, r):
 def jacobian(theta0, v0, dt, theta1, v1, p: ParamArrays):
     """:func:`jacobian_sc` at the phases ``theta0`` (start) and ``theta1`` (impact)."""
     alpha, beta, gamma, r = p
-    return jacobian_sc(jnp.sin(theta0), jnp.cos(theta0), v0, dt, jnp.sin(theta1), jnp.cos(theta1), v1, alpha, beta,
-                       gamma, r)
+    return jacobian_sc(
+        jnp.sin(theta0), jnp.cos(theta0), v0, dt, jnp.sin(theta1), jnp.cos(theta1), v1, alpha, beta, gamma, r
+    )
 
 
 def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
@@ -83,14 +84,17 @@ def step(state: MapState, p: ParamArrays, stick_time=STICK_TIME, t_max=T_MAX):
     th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
     ok = (hit.status == FlightOutcome.HIT) | (hit.status == FlightOutcome.GRAZE)
     status = jnp.where(
-        state.status != Status.ACTIVE, state.status,
-        jnp.where(never, Status.STUCK_FOREVER,
-                  jnp.where(ok, Status.ACTIVE, hit.status)),
+        state.status != Status.ACTIVE,
+        state.status,
+        jnp.where(never, Status.STUCK_FOREVER, jnp.where(ok, Status.ACTIVE, hit.status)),
     ).astype(jnp.int32)
     advance = status == Status.ACTIVE
     new = MapState(
-        theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
-        sdot=jnp.where(advance, hit.v, sd), wall=jnp.where(advance, hit.wall, wall), status=status,
+        theta=jnp.where(advance, th1, th),
+        cycles=jnp.where(advance, cyc1, state.cycles),
+        sdot=jnp.where(advance, hit.v, sd),
+        wall=jnp.where(advance, hit.wall, wall),
+        status=status,
     )
     tau_n = state.tau
     jac = jacobian(th, v0, hit.t, th1, hit.v, p)
@@ -113,13 +117,19 @@ def free_flight_start(tau0, s0, sdot0, p: ParamArrays, t_max=T_MAX) -> MapState:
     (or on a wall, moving away from it).  Scalar inputs."""
     alpha, beta, gamma, _ = p
     th0, cyc0 = reduce_phase(jnp.asarray(tau0, jnp.float64), jnp.asarray(0, jnp.int64))
-    hit = first_impact(th0, jnp.asarray(s0, jnp.float64), jnp.asarray(sdot0, jnp.float64), alpha, beta, gamma,
-                       t_max=t_max)
+    hit = first_impact(
+        th0, jnp.asarray(s0, jnp.float64), jnp.asarray(sdot0, jnp.float64), alpha, beta, gamma, t_max=t_max
+    )
     th1, cyc1 = reduce_phase(th0 + hit.t, cyc0)
     ok = (hit.status == FlightOutcome.HIT) | (hit.status == FlightOutcome.GRAZE)
     status = jnp.where(ok, Status.ACTIVE, hit.status).astype(jnp.int32)
-    return MapState(jnp.where(ok, th1, th0), jnp.where(ok, cyc1, cyc0), jnp.where(ok, hit.v, sdot0),
-                    jnp.where(ok, hit.wall, 0).astype(jnp.int32), status)
+    return MapState(
+        jnp.where(ok, th1, th0),
+        jnp.where(ok, cyc1, cyc0),
+        jnp.where(ok, hit.v, sdot0),
+        jnp.where(ok, hit.wall, 0).astype(jnp.int32),
+        status,
+    )
 
 
 def iterate(state: MapState, p: ParamArrays, n: int, stick_time=STICK_TIME, t_max=T_MAX) -> Trajectory:
@@ -134,5 +144,7 @@ def iterate(state: MapState, p: ParamArrays, n: int, stick_time=STICK_TIME, t_ma
 
 
 __all__ = [
-    "step", "iterate", "free_flight_start",
+    "step",
+    "iterate",
+    "free_flight_start",
 ]

@@ -87,16 +87,33 @@ class LyapunovResult(Outcome):
 
     def arrays(self) -> dict:
         """The arrays of the result (an NPZ file's content)."""
-        return dict(param=self.param, values=self.values, lam=self.lam, lam_free=self.lam_free,
-                    det_mean=self.det_mean, n_stuck=self.n_stuck, n_steps=self.n_steps, active=self.active)
+        return dict(
+            param=self.param,
+            values=self.values,
+            lam=self.lam,
+            lam_free=self.lam_free,
+            det_mean=self.det_mean,
+            n_stuck=self.n_stuck,
+            n_steps=self.n_steps,
+            active=self.active,
+        )
 
     def table(self) -> tuple[list, list]:
         """``(header, rows)``: one row per parameter value (a CSV file's content)."""
-        header = [self.param, "lambda1", "lambda2", "lambda1_free", "lambda2_free", "mean_log_det", "n_stuck",
-                  "active"]
-        return header, [[float(v), float(self.lam[i, 0]), float(self.lam[i, 1]), float(self.lam_free[i, 0]),
-                         float(self.lam_free[i, 1]), float(self.det_mean[i]), int(self.n_stuck[i]),
-                         bool(self.active[i])] for i, v in enumerate(self.values)]
+        header = [self.param, "lambda1", "lambda2", "lambda1_free", "lambda2_free", "mean_log_det", "n_stuck", "active"]
+        return header, [
+            [
+                float(v),
+                float(self.lam[i, 0]),
+                float(self.lam[i, 1]),
+                float(self.lam_free[i, 0]),
+                float(self.lam_free[i, 1]),
+                float(self.det_mean[i]),
+                int(self.n_stuck[i]),
+                bool(self.active[i]),
+            ]
+            for i, v in enumerate(self.values)
+        ]
 
 
 def check_arguments(params, param, values, n_impacts, transient, tau0, sdot0):
@@ -120,8 +137,18 @@ def check_arguments(params, param, values, n_impacts, transient, tau0, sdot0):
     return param, values, n, transient, tau0, sdot0
 
 
-def lyapunov(params: Params, param: str = "r", values=None, n_impacts=UNSET, transient: int = 1000,
-             tau0: float = 0.0, sdot0: float = 0.5, progress=None, *, n=UNSET) -> LyapunovResult:
+def lyapunov(
+    params: Params,
+    param: str = "r",
+    values=None,
+    n_impacts=UNSET,
+    transient: int = 1000,
+    tau0: float = 0.0,
+    sdot0: float = 0.5,
+    progress=None,
+    *,
+    n=UNSET,
+) -> LyapunovResult:
     """Lyapunov exponents (QR method) of the orbit from ``(tau0, sdot0)`` at each value of ``param``
     (``"r"`` or ``"alpha"``), after ``transient`` impacts, over ``n_impacts`` impacts (default 20000): one
     orbit per value on the many-orbit engine (the :class:`~gear_rattle.mapimpl.engine.observers.Tangent`
@@ -139,8 +166,16 @@ def lyapunov(params: Params, param: str = "r", values=None, n_impacts=UNSET, tra
     param, values, n, transient, tau0, sdot0 = check_arguments(base, param, values, n_impacts, transient, tau0, sdot0)
     p = param_arrays(base, param, values)
     m = values.size
-    res = run(np.full(m, float(tau0)), np.full(m, float(sdot0)), np.full(m, 0 if sdot0 > 0 else -1, np.int32),
-              p, Tangent(n_start=transient), cap=transient + n, progress=progress, label="lyapunov")
+    res = run(
+        np.full(m, float(tau0)),
+        np.full(m, float(sdot0)),
+        np.full(m, 0 if sdot0 > 0 else -1, np.int32),
+        p,
+        Tangent(n_start=transient),
+        cap=transient + n,
+        progress=progress,
+        label="lyapunov",
+    )
     t, ex = res.obs[0], exponents(res)  # the one rule for sticking steps and orbits that ended early
     rr = np.asarray(p.r) * np.ones(m)
     beta = np.asarray(p.beta) * np.ones(m)
@@ -152,8 +187,9 @@ def lyapunov(params: Params, param: str = "r", values=None, n_impacts=UNSET, tra
     return LyapunovResult(param, values, ex.lam, ex.lam_free, det_mean, ex.n_stuck, n, status)
 
 
-def raw_product_overflow(params: Params, n: int = 5000, tau0: float = 0.0, sdot0: float = 0.5,
-                         transient: int = 1000) -> int | None:
+def raw_product_overflow(
+    params: Params, n: int = 5000, tau0: float = 0.0, sdot0: float = 0.5, transient: int = 1000
+) -> int | None:
     """First impact count at which the paper's raw product ``J_n ... J_1`` overflows to inf/NaN in
     float64 along the orbit (None if it does not within ``n``): the reason for the QR method."""
     from ..core.params import check_params

@@ -12,7 +12,8 @@ def fd_jacobian(fun, y, F, fd_h=None):
     Jm = np.empty((3, 3))
     for j in range(3):
         h = (fd_h or 1e-7) * max(1.0, abs(y[j]))
-        e = np.zeros(3); e[j] = h
+        e = np.zeros(3)
+        e[j] = h
         Fp = fun(y + e)
         if Fp is None or not np.all(np.isfinite(Fp)):
             Fm = fun(y - e)

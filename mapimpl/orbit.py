@@ -25,9 +25,6 @@ _iterate_jit = jax.jit(iterate, static_argnums=2, static_argnames=("stick_time",
 _free_start_jit = jax.jit(free_flight_start)
 
 
-
-
-
 #: Impacts per XLA call of :func:`map_orbit` (about 0.1 s on a CPU core): Ctrl-C acts between
 #: chunks, and one compilation serves every orbit length.
 CHUNK = 1024
@@ -61,8 +58,16 @@ def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK,
     return run_in_chunks(_iterate_jit, first, params, n, chunk, progress=progress, label="map orbit")
 
 
-def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-              chunk: int = CHUNK, progress=None) -> ImpactSequence:
+def map_orbit(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    *,
+    chunk: int = CHUNK,
+    progress=None,
+) -> ImpactSequence:
     """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13).
 
     Runs in chunks of ``chunk`` impacts (:func:`iterate_chunked`): interruptible with Ctrl-C, and the
@@ -122,5 +127,6 @@ def map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: flo
     chunk = check_int("chunk", chunk, 1, MAX_CHUNK)
     first = initial_state(params, tau0, sdot0, s0)
     traj = iterate_chunked(first, params, n_impacts, chunk, progress=progress)
-    return sequence_from_states(params, first, traj, track="map",
-                                meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)})
+    return sequence_from_states(
+        params, first, traj, track="map", meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)}
+    )

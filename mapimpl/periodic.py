@@ -89,17 +89,28 @@ class PeriodicOrbit(Outcome):
 
     def table(self) -> tuple[list[str], list[list]]:
         """``(header, rows)``: the p points of the orbit, ``k, tau_mod_2pi, sdot, wall`` (a CSV file)."""
-        return ["k", "tau_mod_2pi", "sdot", "wall"], [[k, float(t), float(s), int(w)] for k, (t, s, w) in
-                                                      enumerate(zip(self.theta, self.sdot, self.walls))]
+        return ["k", "tau_mod_2pi", "sdot", "wall"], [
+            [k, float(t), float(s), int(w)] for k, (t, s, w) in enumerate(zip(self.theta, self.sdot, self.walls))
+        ]
 
     def arrays(self) -> dict:
         """The orbit's arrays and numbers (an NPZ file): points, multipliers (complex), monodromy matrix,
         Newton's residual, iterations and convergence, p, m and the parameters."""
         p = self.params
-        return dict(tau_mod_2pi=self.theta, sdot=self.sdot, wall=self.walls, multipliers=self.multipliers,
-                    monodromy=self.monodromy, residual=self.residual, converged=self.converged,
-                    iterations=self.iterations, stable=self.stable, impacts=self.period, turns=self.turns,
-                    **p.as_dict())
+        return dict(
+            tau_mod_2pi=self.theta,
+            sdot=self.sdot,
+            wall=self.walls,
+            multipliers=self.multipliers,
+            monodromy=self.monodromy,
+            residual=self.residual,
+            converged=self.converged,
+            iterations=self.iterations,
+            stable=self.stable,
+            impacts=self.period,
+            turns=self.turns,
+            **p.as_dict(),
+        )
 
     def as_dict(self) -> dict:
         """The orbit as JSON data: :meth:`arrays` with the multipliers as ``[real, imag]`` pairs and the
@@ -118,12 +129,25 @@ def check_newton(period, turns, tol, max_iter):
     """The shape and the solver settings of :func:`find_periodic`, checked (:mod:`core.checks`):
     ``1 <= period, turns <= MAX_PERIOD``, ``TOL_FLOOR <= tol <= MAX_TOL`` (1e-15 .. 1e-6),
     ``1 <= max_iter <= MAX_ITER`` (1e4)."""
-    return (check_int("period", period, 1, MAX_PERIOD), check_int("turns", turns, 1, MAX_PERIOD),
-            check_tol("tol", tol, MAX_TOL), check_int("max_iter", max_iter, 1, MAX_ITER))
+    return (
+        check_int("period", period, 1, MAX_PERIOD),
+        check_int("turns", turns, 1, MAX_PERIOD),
+        check_tol("tol", tol, MAX_TOL),
+        check_int("max_iter", max_iter, 1, MAX_ITER),
+    )
 
 
-def find_periodic(params: Params, tau0: float, sdot0: float, period=UNSET, turns: int = 1,
-                  tol: float = 1e-12, max_iter: int = 60, *, impacts=UNSET) -> PeriodicOrbit:
+def find_periodic(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    period=UNSET,
+    turns: int = 1,
+    tol: float = 1e-12,
+    max_iter: int = 60,
+    *,
+    impacts=UNSET,
+) -> PeriodicOrbit:
     """Newton search for an orbit with ``period`` impacts per ``turns`` driving periods.
 
     Solves ``G(tau, sdot) = F^p(tau, sdot) - (tau + 2 pi turns, sdot) = 0`` for the p-fold impact map
@@ -175,7 +199,7 @@ def find_periodic(params: Params, tau0: float, sdot0: float, period=UNSET, turns
     of the step Jacobian, telescoped over one period):
 
     >>> import numpy as np
-    >>> print(f"{np.prod(orb.multipliers).real:.12f} {0.9 ** 6 * np.exp(-0.2 * np.pi):.12f}")
+    >>> print(f"{np.prod(orb.multipliers).real:.12f} {0.9**6 * np.exp(-0.2 * np.pi):.12f}")
     0.283517444618 0.283517444618
     """
     from ..core.params import check_params
@@ -203,9 +227,11 @@ def find_periodic(params: Params, tau0: float, sdot0: float, period=UNSET, turns
         except np.linalg.LinAlgError:
             if it > 1:  # at a later iterate: Newton failed there (not converged), the guess was fine
                 break
-            raise ValueError(f"the Newton step is singular at (tau, sdot) = ({float(x[0])!r}, {float(x[1])!r}) (DF^p - I has no "
-                             f"inverse: a multiplier is 1): allowed a guess (tau0, sdot0) where it is "
-                             "invertible, e.g. closer to the orbit") from None
+            raise ValueError(
+                f"the Newton step is singular at (tau, sdot) = ({float(x[0])!r}, {float(x[1])!r}) (DF^p - I has no "
+                f"inverse: a multiplier is 1): allowed a guess (tau0, sdot0) where it is "
+                "invertible, e.g. closer to the orbit"
+            ) from None
         # damped step: never flip the wall the orbit starts on
         lam = 1.0
         while lam > 1e-4 and np.sign(x[1] + lam * dx[1]) != np.sign(x[1]):
@@ -220,12 +246,24 @@ def find_periodic(params: Params, tau0: float, sdot0: float, period=UNSET, turns
     s = make_state(x[0], x[1], wall0)
     for _ in range(int(period) - 1):
         s, _info = _step(s, p)
-        taus.append(float(s.theta)); sds.append(float(s.sdot))
+        taus.append(float(s.theta))
+        sds.append(float(s.sdot))
     Jn = np.asarray(J)
     # the scan records the walls of states 1..p; state p is state 0, so roll to align with tau/sdot
     status = Status.CONVERGED if conv else Status.NOT_CONVERGED
-    return PeriodicOrbit(params, int(period), int(turns), np.mod(np.array(taus), float(TWO_PI)), np.array(sds),
-                         np.roll(np.asarray(walls), 1), _multipliers(Jn), Jn, res, status.label, it)
+    return PeriodicOrbit(
+        params,
+        int(period),
+        int(turns),
+        np.mod(np.array(taus), float(TWO_PI)),
+        np.array(sds),
+        np.roll(np.asarray(walls), 1),
+        _multipliers(Jn),
+        Jn,
+        res,
+        status.label,
+        it,
+    )
 
 
 def _multipliers(J: np.ndarray) -> np.ndarray:

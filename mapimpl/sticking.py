@@ -123,8 +123,9 @@ def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME
     return decide_stick_sc(theta, jnp.sin(theta), jnp.cos(theta), wall, sdot, alpha, beta, gamma, r, stick_time)
 
 
-def decide_stick_sc(theta, sin_t, cos_t, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME,
-                    release=None) -> StickDecision:
+def decide_stick_sc(
+    theta, sin_t, cos_t, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME, release=None
+) -> StickDecision:
     """:func:`decide_stick` with ``sin(theta), cos(theta)`` given; ``release``: ``(phase, never)`` of
     :func:`release_phase` for ``wall`` when the caller has it already (the engine computes it once
     per orbit: it depends on the parameters alone)."""

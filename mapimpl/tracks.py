@@ -44,14 +44,14 @@ def _no_options(options: dict) -> None:
         raise ValueError(f"option {name}={options[name]!r} is out of range: the map track takes no options")
 
 
-def _map_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None,
-               progress=None, **options) -> ImpactSequence:
+def _map_orbit(
+    params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, progress=None, **options
+) -> ImpactSequence:
     _no_options(options)
     return map_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress)
 
 
-def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None = None,
-                       **options) -> StepJacobian:
+def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None = None, **options) -> StepJacobian:
     """One map step (Eqs. 11-13 with the sticking policy) from the pre-impact state ``(tau, sdot)``
     with the analytic Jacobian of :func:`mapimpl.impact_map.step` (implicit differentiation of the
     impact condition; 0 if the step sticks)."""
@@ -64,8 +64,9 @@ def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None
     if status != Status.ACTIVE:
         jac = np.zeros((2, 2)) if stuck else np.full((2, 2), np.nan)
         return StepJacobian(math.nan, math.nan, wall, jac, stuck, Status(status).label)
-    return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.asarray(info.jac), stuck,
-                        Status(status).label)
+    return StepJacobian(
+        float(new.tau), float(new.sdot), int(new.wall), np.asarray(info.jac), stuck, Status(status).label
+    )
 
 
 #: The closed-form track.
@@ -81,8 +82,17 @@ def get(track: str) -> Track:
     return load_track(track)
 
 
-def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-          track: str = "map", progress=None, **solver_options) -> ImpactSequence:
+def orbit(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    *,
+    track: str = "map",
+    progress=None,
+    **solver_options,
+) -> ImpactSequence:
     """Impact sequence of one orbit on ``track``: impact 0, then ``n_impacts`` further impacts.
 
     Parameters
@@ -145,8 +155,9 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float |
     True
     """
     if isinstance(params, str):  # the old order: orbit(track, params, tau0, sdot0, n_impacts)
-        warn_renamed("orbit(track, params, tau0, sdot0, n_impacts)",
-                     "orbit(params, tau0, sdot0, n_impacts, track=track)")
+        warn_renamed(
+            "orbit(track, params, tau0, sdot0, n_impacts)", "orbit(params, tau0, sdot0, n_impacts, track=track)"
+        )
         track, params, tau0, sdot0, n_impacts, s0 = params, tau0, sdot0, n_impacts, s0, solver_options.pop("s0", None)
     check_choice("track", track, ORBIT_TRACKS)
     check_params(params)
@@ -159,8 +170,9 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float |
     return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
 
 
-def step_jacobian(track: str, params: Params, tau: float, sdot: float, wall: int | None = None,
-                  **options) -> StepJacobian:
+def step_jacobian(
+    track: str, params: Params, tau: float, sdot: float, wall: int | None = None, **options
+) -> StepJacobian:
     """One impact-to-impact step with its Jacobian on the chosen track (:meth:`Track.step_jacobian`); the
     arguments are checked first (:mod:`core.checks`), naming them."""
     check_choice("track", track, TRACKS)

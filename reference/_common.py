@@ -58,8 +58,14 @@ def check_option(name: str, value: float, lo: float, hi: float) -> float:
     return check_real(name, value, lo, hi, lo_open=True)
 
 
-def validate_start(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None,
-                   names: tuple[str, str] = ("tau0", "sdot0")) -> int:
+def validate_start(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None,
+    names: tuple[str, str] = ("tau0", "sdot0"),
+) -> int:
     """Validate the arguments of an ``orbit`` call (the rules and messages of :func:`mapimpl.orbit.map_orbit`:
     :mod:`core.checks`; ``names`` of tau0 and sdot0 as in :func:`core.checks.check_start`); returns
     ``n_impacts`` as an int."""
@@ -120,12 +126,27 @@ class TrajectoryRecorder:
 
     @staticmethod
     def _state(theta, cycles, sdot, wall, status, scalar=False) -> MapState:
-        st = MapState(np.asarray(theta, np.float64), np.asarray(cycles, np.int64), np.asarray(sdot, np.float64),
-                      np.asarray(wall, np.int32), np.asarray(status, np.int32))
+        st = MapState(
+            np.asarray(theta, np.float64),
+            np.asarray(cycles, np.int64),
+            np.asarray(sdot, np.float64),
+            np.asarray(wall, np.int32),
+            np.asarray(status, np.int32),
+        )
         return MapState(*(x[0] for x in st)) if scalar else st
 
-    def step(self, theta: float, cycles: int, sdot: float, wall: int, status: int, stuck: bool = False,
-             stick_tau: float = math.nan, release_tau: float = math.nan, segments: int = 0) -> None:
+    def step(
+        self,
+        theta: float,
+        cycles: int,
+        sdot: float,
+        wall: int,
+        status: int,
+        stuck: bool = False,
+        stick_tau: float = math.nan,
+        release_tau: float = math.nan,
+        segments: int = 0,
+    ) -> None:
         """Record the state after one step and what happened during it."""
         self._states.append((theta, cycles, sdot, wall, status))
         self._infos.append((stuck, stick_tau, release_tau, segments))
@@ -134,7 +155,13 @@ class TrajectoryRecorder:
         """The event table of the recorded orbit."""
         cols: list = list(zip(*self._states)) or [[]] * 5
         info: list = list(zip(*self._infos)) or [[]] * 4
-        traj = Trajectory(self._state(*cols),
-                          StepInfo(np.asarray(info[0], bool), np.asarray(info[1], np.float64),
-                                   np.asarray(info[2], np.float64), np.asarray(info[3], np.int64)))
+        traj = Trajectory(
+            self._state(*cols),
+            StepInfo(
+                np.asarray(info[0], bool),
+                np.asarray(info[1], np.float64),
+                np.asarray(info[2], np.float64),
+                np.asarray(info[3], np.int64),
+            ),
+        )
         return sequence_from_states(params, self.first, traj, track=track, meta=meta)

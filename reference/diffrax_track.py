@@ -76,12 +76,18 @@ class Options(NamedTuple):
     max_steps: int = MAX_STEPS
 
 
-def options(rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
-            max_steps: int = MAX_STEPS) -> Options:
+def options(
+    rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX, max_steps: int = MAX_STEPS
+) -> Options:
     """Validated :class:`Options`; ``ValueError`` names a bad option and its range."""
     ms = check_int("max_steps", max_steps, 1, 10_000_000)
-    return Options(check_option("rtol", rtol, 1e-15, 1e-3), check_option("atol", atol, 0.0, 1e-3),
-                   check_option("dtmax", dtmax, 0.0, 10.0), check_option("t_max", t_max, 0.0, 1e6), ms)
+    return Options(
+        check_option("rtol", rtol, 1e-15, 1e-3),
+        check_option("atol", atol, 0.0, 1e-3),
+        check_option("dtmax", dtmax, 0.0, 10.0),
+        check_option("t_max", t_max, 0.0, 1e6),
+        ms,
+    )
 
 
 def _vector_field(t, y, args):
@@ -130,18 +136,28 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol, dtmax=opts.dtmax)
     # (mypy reads optimistix's ClassVar `norm` as a field without a default)
     bisection: optx.Bisection = optx.Bisection(rtol=ROOT_RTOL, atol=ROOT_ATOL, flip=False)  # type: ignore[call-arg]
-    event = diffrax.Event(_cond, root_finder=bisection,
-                          direction=ev.DIRECTION > 0)
+    event = diffrax.Event(_cond, root_finder=bisection, direction=ev.DIRECTION > 0)
     sol = diffrax.diffeqsolve(
-        _TERM, _SOLVER, t0=t0, t1=t_end, dt0=None, y0=y0, args=args, stepsize_controller=controller,
-        event=event, saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False,
+        _TERM,
+        _SOLVER,
+        t0=t0,
+        t1=t_end,
+        dt0=None,
+        y0=y0,
+        args=args,
+        stepsize_controller=controller,
+        event=event,
+        saveat=diffrax.SaveAt(t1=True),
+        max_steps=opts.max_steps,
+        throw=False,
         adjoint=diffrax.ForwardMode(),
     )
     # Under vmap diffrax runs the root find for every lane once any lane has an event; lanes without
     # an event then get a meaningless bisection result and a nonlinear-solver result code.  So the
     # event flag is taken from the event mask, and a lane without event has reached t_end (or failed).
-    nonlin = ((sol.result == diffrax.RESULTS.nonlinear_max_steps_reached)
-              | (sol.result == diffrax.RESULTS.nonlinear_divergence))
+    nonlin = (sol.result == diffrax.RESULTS.nonlinear_max_steps_reached) | (
+        sol.result == diffrax.RESULTS.nonlinear_divergence
+    )
     evt = sol.event_mask & ((sol.result == diffrax.RESULTS.event_occurred) | nonlin)
     ok = ~sol.event_mask & ((sol.result == diffrax.RESULTS.successful) | nonlin)
     y_i = sol.ys[-1]
@@ -152,8 +168,18 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     # needed (the bounded re-solve of a missed crossing), else a short dummy solve
     t_land = jnp.where(evt & (t_e > t0), t_e, jnp.where(jnp.asarray(watch), t0 + opts.dtmax, t_end))
     sol2 = diffrax.diffeqsolve(
-        _TERM, _SOLVER, t0=t0, t1=t_land, dt0=None, y0=y0, args=args, stepsize_controller=controller,
-        saveat=diffrax.SaveAt(t1=True), max_steps=opts.max_steps, throw=False, adjoint=diffrax.ForwardMode(),
+        _TERM,
+        _SOLVER,
+        t0=t0,
+        t1=t_land,
+        dt0=None,
+        y0=y0,
+        args=args,
+        stepsize_controller=controller,
+        saveat=diffrax.SaveAt(t1=True),
+        max_steps=opts.max_steps,
+        throw=False,
+        adjoint=diffrax.ForwardMode(),
     )
     y_n = sol2.ys[-1]
     landed = evt & (t_e > t0) & (sol2.result == diffrax.RESULTS.successful)
@@ -192,17 +218,25 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
     direction ``sigma`` (+-1).  Scalar, jit/vmap/jacfwd-able.  ``active=False`` returns at once."""
     dtype = jnp.float64
     t_max = jnp.asarray(opts.t_max, dtype)
-    init = dict(t=jnp.asarray(0.0, dtype), y=jnp.stack([jnp.asarray(s0, dtype), jnp.asarray(v0, dtype)]),
-                sigma=jnp.asarray(sigma, dtype), seg=jnp.asarray(0, jnp.int32), done=~jnp.asarray(active),
-                status=jnp.asarray(FlightOutcome.STEP_CAP, jnp.int32), t_end=t_max, watch=jnp.asarray(True))
+    init = dict(
+        t=jnp.asarray(0.0, dtype),
+        y=jnp.stack([jnp.asarray(s0, dtype), jnp.asarray(v0, dtype)]),
+        sigma=jnp.asarray(sigma, dtype),
+        seg=jnp.asarray(0, jnp.int32),
+        done=~jnp.asarray(active),
+        status=jnp.asarray(FlightOutcome.STEP_CAP, jnp.int32),
+        t_end=t_max,
+        watch=jnp.asarray(True),
+    )
 
     def cond(c):
         return (~c["done"]) & (c["seg"] < MAX_SEGMENTS)
 
     def body(c):
         sig, watch = c["sigma"], c["watch"]
-        t1, y1, hit, rev, reached, resume = _segment(c["t"], c["y"], theta0, sig, alpha, beta, gamma, opts,
-                                                     c["t_end"], watch)
+        t1, y1, hit, rev, reached, resume = _segment(
+            c["t"], c["y"], theta0, sig, alpha, beta, gamma, opts, c["t_end"], watch
+        )
         end = ev.segment_end(hit, rev, y1[0], sig)
         # MISSED_CROSSING: the extremum lies beyond the wall ahead, the crossing happened inside one
         # step (diffrax issue 507).  s is monotone on [t, t1]: solve again on exactly that interval,
@@ -212,23 +246,31 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         # resume: the wall event was the interpolant's (ev.false_wall_hit); the segment goes on from the
         # landed node state, still moving along sig, with the same watch and end
         done = hit | (~retry & ~turn & ~resume)
-        status = jnp.where(hit, FlightOutcome.HIT, jnp.where(watch & reached, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP)).astype(jnp.int32)
+        status = jnp.where(
+            hit, FlightOutcome.HIT, jnp.where(watch & reached, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP)
+        ).astype(jnp.int32)
         advance = ~retry
         # restart at an extremum with sdot = -sigma * START_SPEED (it is 0 there to rounding, and its
         # derivative along the extremum is 0): the combined condition then starts strictly negative,
         # so a short return to a wall inside the first step is an upcrossing with a valid bracket
         y1 = jnp.where(turn, y1.at[1].set(-sig * ev.START_SPEED), y1)
-        return dict(t=jnp.where(advance, t1, c["t"]), y=jnp.where(advance, y1, c["y"]),
-                    sigma=jnp.where(turn, -sig, sig), seg=c["seg"] + 1, done=done,
-                    status=jnp.where(done, status, c["status"]),
-                    t_end=jnp.where(retry, t1, jnp.where(resume, c["t_end"], t_max)),
-                    watch=jnp.where(resume, watch, ~retry))
+        return dict(
+            t=jnp.where(advance, t1, c["t"]),
+            y=jnp.where(advance, y1, c["y"]),
+            sigma=jnp.where(turn, -sig, sig),
+            seg=c["seg"] + 1,
+            done=done,
+            status=jnp.where(done, status, c["status"]),
+            t_end=jnp.where(retry, t1, jnp.where(resume, c["t_end"], t_max)),
+            watch=jnp.where(resume, watch, ~retry),
+        )
 
     c = jax.lax.while_loop(cond, body, init)
     hit = c["status"] == FlightOutcome.HIT
     wall = ev.wall_ahead(c["sigma"]).astype(jnp.int32)
-    return FlightResult(c["status"], jnp.where(hit, c["t"], jnp.inf), wall, jnp.where(hit, c["y"][1], jnp.nan),
-                        c["seg"])
+    return FlightResult(
+        c["status"], jnp.where(hit, c["t"], jnp.inf), wall, jnp.where(hit, c["y"][1], jnp.nan), c["seg"]
+    )
 
 
 def _start(wall, stick, sd, r):
@@ -252,17 +294,25 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     fl = flight(th0, wall.astype(jnp.float64), v0, sigma, alpha, beta, gamma, opts, active=active)
     th1, cyc1 = reduce_phase(th0 + jnp.where(fl.status == FlightOutcome.HIT, fl.t, 0.0), cyc0)
     status = jnp.where(
-        state.status != Status.ACTIVE, state.status,
-        jnp.where(never, Status.STUCK_FOREVER,
-                  jnp.where(fl.status == FlightOutcome.HIT, Status.ACTIVE, fl.status)),
+        state.status != Status.ACTIVE,
+        state.status,
+        jnp.where(never, Status.STUCK_FOREVER, jnp.where(fl.status == FlightOutcome.HIT, Status.ACTIVE, fl.status)),
     ).astype(jnp.int32)
     advance = status == Status.ACTIVE
-    new = MapState(theta=jnp.where(advance, th1, th), cycles=jnp.where(advance, cyc1, state.cycles),
-                   sdot=jnp.where(advance, fl.v, sd), wall=jnp.where(advance, fl.wall, wall), status=status)
+    new = MapState(
+        theta=jnp.where(advance, th1, th),
+        cycles=jnp.where(advance, cyc1, state.cycles),
+        sdot=jnp.where(advance, fl.v, sd),
+        wall=jnp.where(advance, fl.wall, wall),
+        status=status,
+    )
     tau_n = state.tau
-    info = StepInfo(stuck=dec.stick & (state.status == Status.ACTIVE),
-                    stick_tau=jnp.where(dec.stick, tau_n + dec.t_acc, jnp.nan),
-                    release_tau=jnp.where(dec.stick & ~never, tau_n + delay, jnp.nan), segments=fl.segments)
+    info = StepInfo(
+        stuck=dec.stick & (state.status == Status.ACTIVE),
+        stick_tau=jnp.where(dec.stick, tau_n + dec.t_acc, jnp.nan),
+        release_tau=jnp.where(dec.stick & ~never, tau_n + delay, jnp.nan),
+        segments=fl.segments,
+    )
     return new, info
 
 
@@ -310,9 +360,20 @@ def _initial(params: Params, tau0: float, sdot0: float, s0: float | None, opts: 
     return st._replace(cycles=st.cycles + cycles)
 
 
-def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-          rtol: float = RTOL, atol: float = ATOL, dtmax: float = DTMAX, t_max: float = T_MAX,
-          max_steps: int = MAX_STEPS, progress=None) -> ImpactSequence:
+def orbit(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    dtmax: float = DTMAX,
+    t_max: float = T_MAX,
+    max_steps: int = MAX_STEPS,
+    progress=None,
+) -> ImpactSequence:
     """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`; runs in chunks of
@@ -323,10 +384,26 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float |
     opts = options(rtol, atol, dtmax, t_max, max_steps)
     first = _initial(params, tau0, sdot0, s0, opts)
     # in chunks of CHUNK impacts (Ctrl-C acts between them), bitwise the same as one scan of n steps
-    traj = run_in_chunks(lambda s, p, length: iterate(s, p, length, opts), first, params, n, CHUNK,
-                         progress=progress, label="diffrax orbit")
-    meta = {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": n, "method": "Dopri8", "rtol": opts.rtol,
-            "atol": opts.atol, "dtmax": opts.dtmax, "t_max": opts.t_max}
+    traj = run_in_chunks(
+        lambda s, p, length: iterate(s, p, length, opts),
+        first,
+        params,
+        n,
+        CHUNK,
+        progress=progress,
+        label="diffrax orbit",
+    )
+    meta = {
+        "tau0": tau0,
+        "sdot0": sdot0,
+        "s0": s0,
+        "n_impacts": n,
+        "method": "Dopri8",
+        "rtol": opts.rtol,
+        "atol": opts.atol,
+        "dtmax": opts.dtmax,
+        "t_max": opts.t_max,
+    }
     return sequence_from_states(params, first, traj, track="diffrax", meta=meta)
 
 
@@ -379,10 +456,13 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
         if status != Status.ACTIVE:
             return StepJacobian(math.nan, math.nan, wall, np.zeros((2, 2)), True, Status(status).label)
         return StepJacobian(float(new.tau), float(new.sdot), int(new.wall), np.zeros((2, 2)), True, Status.ACTIVE.label)
-    out, w, fstat, jac = _step_and_jac(jnp.stack([theta, jnp.asarray(float(sdot_n))]),
-                                       jnp.asarray(int(wall), jnp.int32), p, opts)
+    out, w, fstat, jac = _step_and_jac(
+        jnp.stack([theta, jnp.asarray(float(sdot_n))]), jnp.asarray(int(wall), jnp.int32), p, opts
+    )
     if int(fstat) != FlightOutcome.HIT:
-        return StepJacobian(math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[FlightOutcome(int(fstat))])
+        return StepJacobian(
+            math.nan, math.nan, wall, np.full((2, 2), np.nan), False, _FLIGHT_FAILURE[FlightOutcome(int(fstat))]
+        )
     tau1 = float(cycles) * 2.0 * np.pi + float(out[0])
     return StepJacobian(tau1, float(out[1]), int(w), np.asarray(jac), False, Status.ACTIVE.label)
 
@@ -391,5 +471,20 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
 #: ``rtol``, ``atol``, ``dtmax``, ``t_max``, ``max_steps``).
 TRACK = TrackFunctions("diffrax", orbit, step_jacobian)
 
-__all__ = ["Options", "options", "flight", "FlightResult", "StepInfo", "step", "iterate", "batch_iterate", "orbit",
-           "batch_orbit", "step_jacobian", "TRACK", "RTOL", "ATOL", "DTMAX"]
+__all__ = [
+    "Options",
+    "options",
+    "flight",
+    "FlightResult",
+    "StepInfo",
+    "step",
+    "iterate",
+    "batch_iterate",
+    "orbit",
+    "batch_orbit",
+    "step_jacobian",
+    "TRACK",
+    "RTOL",
+    "ATOL",
+    "DTMAX",
+]

@@ -60,7 +60,6 @@ TERMINAL = True
 WALL_REACHED, REVERSAL, MISSED_CROSSING, OPEN_END = 0, 1, 2, 3
 
 
-
 def select(cond, a, b):
     """``a if cond else b``: a Python conditional for a Python/numpy bool, elementwise otherwise
     (``np.where`` on a numpy array, ``jnp.where`` on a JAX array or tracer)."""
@@ -188,8 +187,9 @@ def segment_end(hit, reversal, s_end, sigma):
     """How a segment of direction ``sigma`` ended: :data:`WALL_REACHED` when the wall event fired,
     :data:`MISSED_CROSSING` when the reversal fired at ``s_end`` beyond the wall, :data:`REVERSAL`
     when it fired inside the gap, :data:`OPEN_END` when neither fired."""
-    return select(hit, WALL_REACHED,
-                  select(reversal, select(beyond_wall(s_end, sigma), MISSED_CROSSING, REVERSAL), OPEN_END))
+    return select(
+        hit, WALL_REACHED, select(reversal, select(beyond_wall(s_end, sigma), MISSED_CROSSING, REVERSAL), OPEN_END)
+    )
 
 
 def initial_direction(s0, v0, a0):
@@ -240,9 +240,33 @@ def pre_impact_wall(s0: float, sdot0: float, a0: float) -> int | None:
     return None
 
 
-__all__ = ["T_MAX", "MAX_SEGMENTS", "START_SPEED", "UPPER_WALL", "LOWER_WALL", "DIRECTION", "TERMINAL",
-           "WALL_REACHED", "REVERSAL", "MISSED_CROSSING", "OPEN_END",
-           "select", "wall_ahead", "wall_condition", "reversal_condition",
-           "wall_rate", "reversal_rate", "condition", "condition_rate", "newton_step", "beyond_wall", "segment_end",
-           "moving_along", "wall_step",
-           "initial_direction", "restart_direction", "start_velocity", "pre_impact_wall"]
+__all__ = [
+    "T_MAX",
+    "MAX_SEGMENTS",
+    "START_SPEED",
+    "UPPER_WALL",
+    "LOWER_WALL",
+    "DIRECTION",
+    "TERMINAL",
+    "WALL_REACHED",
+    "REVERSAL",
+    "MISSED_CROSSING",
+    "OPEN_END",
+    "select",
+    "wall_ahead",
+    "wall_condition",
+    "reversal_condition",
+    "wall_rate",
+    "reversal_rate",
+    "condition",
+    "condition_rate",
+    "newton_step",
+    "beyond_wall",
+    "segment_end",
+    "moving_along",
+    "wall_step",
+    "initial_direction",
+    "restart_direction",
+    "start_velocity",
+    "pre_impact_wall",
+]

@@ -71,7 +71,13 @@ from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
 from . import events as ev
 from ._common import (
-    TWO_PI, TrajectoryRecorder, check_option, forcing_rhs, reduce_phase, release_start, stick_decision,
+    TWO_PI,
+    TrajectoryRecorder,
+    check_option,
+    forcing_rhs,
+    reduce_phase,
+    release_start,
+    stick_decision,
     validate_start,
 )
 from .events import MAX_SEGMENTS, T_MAX
@@ -123,16 +129,20 @@ def _make_rhs(theta0: float, p: Params, variational: bool) -> Callable:
     a, b, g = p.alpha, p.beta, p.gamma
 
     if not variational:
+
         def rhs(t, y):
             tau = theta0 + t
             return np.array([y[1], -a * math.sin(tau) + a * b * math.cos(tau) + g - b * y[1]])
+
         return rhs
 
     def rhs_var(t, y):
         tau = theta0 + t
         # y = [s, v, Phi00, Phi01, Phi10, Phi11];  Phi' = [[0, 1], [0, -beta]] Phi
-        return np.array([y[1], -a * math.sin(tau) + a * b * math.cos(tau) + g - b * y[1],
-                         y[4], y[5], -b * y[4], -b * y[5]])
+        return np.array(
+            [y[1], -a * math.sin(tau) + a * b * math.cos(tau) + g - b * y[1], y[4], y[5], -b * y[4], -b * y[5]]
+        )
+
     return rhs_var
 
 
@@ -174,8 +184,16 @@ def _hidden_dip(sol, sigma: int, atol: float) -> float | None:
     return None
 
 
-def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Options(), sigma: int | None = None,
-           variational: bool = False, points_per_unit: float | None = None) -> Flight:
+def flight(
+    theta0: float,
+    s0: float,
+    v0: float,
+    p: Params,
+    opts: Options = Options(),
+    sigma: int | None = None,
+    variational: bool = False,
+    points_per_unit: float | None = None,
+) -> Flight:
     """Integrate Eq. (3) from ``(theta0, s0, v0)`` (local time 0) to the first wall contact.
 
     ``sigma`` is the direction of the first monotone segment (default: the sign of ``v0``; for
@@ -195,14 +213,32 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
         # condition then starts strictly negative, reference.events.start_velocity)
         y_s = y.copy()
         y_s[1] = ev.start_velocity(float(y[1]), sigma)
-        sol = solve_ivp(rhs, (t, opts.t_max), y_s, method="DOP853", rtol=opts.rtol, atol=opts.atol,
-                        max_step=opts.max_step, events=_events(sigma, rhs), dense_output=samples is not None)
+        sol = solve_ivp(
+            rhs,
+            (t, opts.t_max),
+            y_s,
+            method="DOP853",
+            rtol=opts.rtol,
+            atol=opts.atol,
+            max_step=opts.max_step,
+            events=_events(sigma, rhs),
+            dense_output=samples is not None,
+        )
         t_dip = _hidden_dip(sol, sigma, opts.atol) if sol.status >= 0 else None
         if t_dip is not None:
             # sdot reversed and reversed back inside one step before t_dip: solve again up to the speed
             # minimum, where sdot has the opposite sign, so the reversal (or a wall before it) is found
-            redo = solve_ivp(rhs, (t, t_dip), y_s, method="DOP853", rtol=opts.rtol, atol=opts.atol,
-                             max_step=opts.max_step, events=_events(sigma), dense_output=samples is not None)
+            redo = solve_ivp(
+                rhs,
+                (t, t_dip),
+                y_s,
+                method="DOP853",
+                rtol=opts.rtol,
+                atol=opts.atol,
+                max_step=opts.max_step,
+                events=_events(sigma),
+                dense_output=samples is not None,
+            )
             if redo.status == 1:  # else the dip was a rounding-level tangency: keep the first solve
                 sol = redo
         if sol.status < 0:
@@ -220,12 +256,27 @@ def flight(theta0: float, s0: float, v0: float, p: Params, opts: Options = Optio
             # the extremum lies beyond the wall ahead: s crossed it and came back inside one step
             # (scipy issue 9228).  s is monotone on [t, t_e], so a solve that ends at t_e sees the
             # crossing as a sign change and locates it; without one, the extremum is a reversal.
-            sol2 = solve_ivp(rhs, (t, t_e), y_s, method="DOP853", rtol=opts.rtol, atol=opts.atol,
-                             max_step=opts.max_step, events=_events(sigma)[:1])
+            sol2 = solve_ivp(
+                rhs,
+                (t, t_e),
+                y_s,
+                method="DOP853",
+                rtol=opts.rtol,
+                atol=opts.atol,
+                max_step=opts.max_step,
+                events=_events(sigma)[:1],
+            )
             if sol2.status == 1 and len(sol2.t_events[0]):
                 hit = True
-                t_e, y_e = _land(rhs, sol2, float(sol2.t_events[0][-1]),
-                                 np.array(sol2.y_events[0][-1], dtype=np.float64), sigma, True, opts)
+                t_e, y_e = _land(
+                    rhs,
+                    sol2,
+                    float(sol2.t_events[0][-1]),
+                    np.array(sol2.y_events[0][-1], dtype=np.float64),
+                    sigma,
+                    True,
+                    opts,
+                )
         if samples is not None:
             _sample(sol, t, t_e, ppu, samples, y, y_e)
         if hit:
@@ -243,8 +294,9 @@ def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: O
     t_prev, y_prev = float(sol.t[-2]), sol.y[:, -2]
     if not t_e > t_prev:
         return t_e, y_e
-    land = solve_ivp(rhs, (t_prev, t_e), y_prev, method="DOP853", rtol=opts.rtol, atol=opts.atol,
-                     max_step=opts.max_step)
+    land = solve_ivp(
+        rhs, (t_prev, t_e), y_prev, method="DOP853", rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step
+    )
     if land.status != 0:
         return t_e, y_e
     y_n = land.y[:, -1]
@@ -279,8 +331,16 @@ class DenseTrajectory(NamedTuple):
     segment: np.ndarray
 
 
-def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, opts: Options,
-         points_per_unit: float | None, progress=None):
+def _run(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None,
+    opts: Options,
+    points_per_unit: float | None,
+    progress=None,
+):
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     p = params
     s0 = None if s0 is None else float(s0)
@@ -340,13 +400,13 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
         else:
             th0, cyc0 = theta, cycles
             v0 = -p.r * sdot
-        fl = flight(th0, float(wall), v0, p, opts, sigma=ev.restart_direction(wall, v0),
-                    points_per_unit=points_per_unit)
+        fl = flight(
+            th0, float(wall), v0, p, opts, sigma=ev.restart_direction(wall, v0), points_per_unit=points_per_unit
+        )
         record(fl, th0, cyc0)
         flights += 1
         if fl.status != _HIT:
-            rec.step(theta, cycles, sdot, wall, _FLIGHT_FAILURE[fl.status], stick, stick_tau, release_tau,
-                     fl.segments)
+            rec.step(theta, cycles, sdot, wall, _FLIGHT_FAILURE[fl.status], stick, stick_tau, release_tau, fl.segments)
             break
         theta, cycles = reduce_phase(th0 + fl.t, cyc0)
         sdot, wall = fl.v, fl.wall
@@ -356,13 +416,32 @@ def _run(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | 
 
 
 def _meta(tau0, sdot0, s0, n, opts: Options) -> dict:
-    return {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": n, "method": "DOP853",
-            "rtol": opts.rtol, "atol": opts.atol, "max_step": opts.max_step, "t_max": opts.t_max}
+    return {
+        "tau0": tau0,
+        "sdot0": sdot0,
+        "s0": s0,
+        "n_impacts": n,
+        "method": "DOP853",
+        "rtol": opts.rtol,
+        "atol": opts.atol,
+        "max_step": opts.max_step,
+        "t_max": opts.t_max,
+    }
 
 
-def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-          rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX,
-          progress=None) -> ImpactSequence:
+def orbit(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_step: float = MAX_STEP,
+    t_max: float = T_MAX,
+    progress=None,
+) -> ImpactSequence:
     """Orbit of Eq. (3) integrated numerically: impact 0 plus ``n_impacts`` impacts (track ``"scipy"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`: with ``s0`` None,
@@ -373,9 +452,19 @@ def orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float |
     return seq
 
 
-def dense_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-                points_per_unit: float = 40.0, rtol: float = RTOL, atol: float = ATOL, max_step: float = MAX_STEP,
-                t_max: float = T_MAX) -> tuple[ImpactSequence, DenseTrajectory]:
+def dense_orbit(
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    *,
+    points_per_unit: float = 40.0,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_step: float = MAX_STEP,
+    t_max: float = T_MAX,
+) -> tuple[ImpactSequence, DenseTrajectory]:
     """Like :func:`orbit`, plus the dense trajectory ``s(tau)`` between the impacts (for plots, invariants)."""
     ppu = check_option("points_per_unit", points_per_unit, 0.0, 1e6)
     seq, parts = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), ppu)
@@ -386,8 +475,17 @@ def dense_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: f
     return seq, DenseTrajectory(tau, s, v, g.astype(np.int64))
 
 
-def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None = None, *, rtol: float = RTOL,
-                  atol: float = ATOL, max_step: float = MAX_STEP, t_max: float = T_MAX) -> StepJacobian:
+def step_jacobian(
+    params: Params,
+    tau_n: float,
+    sdot_n: float,
+    wall: int | None = None,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_step: float = MAX_STEP,
+    t_max: float = T_MAX,
+) -> StepJacobian:
     """One impact-to-impact step from the pre-impact state ``(tau_n, sdot_n)`` with its Jacobian.
 
     ``J = d(tau_{n+1}, sdot_{n+1}) / d(tau_n, sdot_n) = P_{n+1} Phi S_n E_n`` (module docstring):
@@ -417,8 +515,8 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
     if stick:
         return StepJacobian(tau1, fl.v, fl.wall, np.zeros((2, 2)), True, Status.ACTIVE.label)
     f_n = forcing_rhs(theta, p.alpha, p.beta, p.gamma)
-    a_pre = f_n - p.beta * sdot_n          # acceleration just before impact n
-    a_post = f_n - p.beta * v0             # ... just after it
+    a_pre = f_n - p.beta * sdot_n  # acceleration just before impact n
+    a_post = f_n - p.beta * v0  # ... just after it
     # E: (dtau_n, dsdot_n) -> state perturbation at fixed time just before impact n
     E = np.array([[-sdot_n, 0.0], [-a_pre, 1.0]])
     # S: saltation matrix of the impact s = wall, reset R = diag(1, -r) (Eq. 11)
@@ -438,5 +536,16 @@ def step_jacobian(params: Params, tau_n: float, sdot_n: float, wall: int | None 
 #: ``rtol``, ``atol``, ``max_step``, ``t_max``).
 TRACK = TrackFunctions("scipy", orbit, step_jacobian)
 
-__all__ = ["Options", "Flight", "flight", "orbit", "dense_orbit", "DenseTrajectory", "step_jacobian", "TRACK",
-           "RTOL", "ATOL", "MAX_STEP"]
+__all__ = [
+    "Options",
+    "Flight",
+    "flight",
+    "orbit",
+    "dense_orbit",
+    "DenseTrajectory",
+    "step_jacobian",
+    "TRACK",
+    "RTOL",
+    "ATOL",
+    "MAX_STEP",
+]

@@ -20,7 +20,7 @@ def mutant(name: str) -> Mutant:
     if name == "base":
         return BASE
     if name.startswith("fixed-step-"):
-        return Mutant(name, "skipped-graze", step=float(name[len("fixed-step-"):]))
+        return Mutant(name, "skipped-graze", step=float(name[len("fixed-step-") :]))
     from test_golden_mutants import MUTANTS, VARIANTS
 
     return MUTANTS[name][0] if name in MUTANTS else VARIANTS[name]

@@ -51,7 +51,8 @@ params_st = st.builds(
     r=st.floats(0.3, 1.0),
 )
 state_st = st.tuples(st.floats(0.0, 2 * math.pi, exclude_max=True), st.floats(0.01, 3.0), st.sampled_from([1, -1])).map(
-    lambda t: (t[0], t[1] * t[2]))
+    lambda t: (t[0], t[1] * t[2])
+)
 
 map_step = jax.jit(step)
 _first_impact_jit = jax.jit(first_impact)
@@ -116,12 +117,28 @@ def map_first_impact(theta0: float, s0: float, v0: float, p: Params):
 #: on the return (test_reference_diffrax.test_slow_departure_returns_to_start_wall); the scipy track
 #: sees it through its speed-minimum event (sdot reverses twice inside one solver step).
 SLOW_DEPARTURES = [
-    (Params(alpha=4.6168717169904765, beta=0.017982731450984075, gamma=0.12349509747636322, r=0.8),
-     3.0697833122893763, -1.0, 0.005999804323986333),
-    (Params(alpha=3.047008979183677, beta=0.4669046657843772, gamma=-0.22646652577989967, r=0.8),
-     0.30597442621146964, 0.0, -0.002751415394370448),
-    (Params(alpha=0.5547155104534512, beta=0.8222156238490161, gamma=0.35698969614507003, r=0.8),
-     1.114728251517847, 0.0, -0.0016216572858345428),
-    (Params(alpha=3.2689699465688875, beta=0.01576781054845978, gamma=0.12923962616508344, r=0.8),
-     3.084112855352131, -1.0, 0.0011463565835196682),
+    (
+        Params(alpha=4.6168717169904765, beta=0.017982731450984075, gamma=0.12349509747636322, r=0.8),
+        3.0697833122893763,
+        -1.0,
+        0.005999804323986333,
+    ),
+    (
+        Params(alpha=3.047008979183677, beta=0.4669046657843772, gamma=-0.22646652577989967, r=0.8),
+        0.30597442621146964,
+        0.0,
+        -0.002751415394370448,
+    ),
+    (
+        Params(alpha=0.5547155104534512, beta=0.8222156238490161, gamma=0.35698969614507003, r=0.8),
+        1.114728251517847,
+        0.0,
+        -0.0016216572858345428,
+    ),
+    (
+        Params(alpha=3.2689699465688875, beta=0.01576781054845978, gamma=0.12923962616508344, r=0.8),
+        3.084112855352131,
+        -1.0,
+        0.0011463565835196682,
+    ),
 ]

@@ -29,10 +29,32 @@ from gear_rattle.validation.cli import main
 cloudpickle.register_pickle_by_value(sys.modules[__name__])
 
 # 4 x 3 grid through the paper's Fig. 4 scan: alpha = 2, 2.33, 2.67, 3 and r = 0.8, 0.85, 0.9
-SMALL = AtlasSpec(alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500,
-                  period_max=16)
-CLI_SMALL = ["atlas", "--alpha-lo", "2", "--alpha-hi", "3", "--n-alpha", "4", "--r-lo", "0.8", "--r-hi", "0.9",
-             "--n-r", "3", "--transient", "300", "--impacts", "500", "--period-max", "16", "--tile", "2"]
+SMALL = AtlasSpec(
+    alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500, period_max=16
+)
+CLI_SMALL = [
+    "atlas",
+    "--alpha-lo",
+    "2",
+    "--alpha-hi",
+    "3",
+    "--n-alpha",
+    "4",
+    "--r-lo",
+    "0.8",
+    "--r-hi",
+    "0.9",
+    "--n-r",
+    "3",
+    "--transient",
+    "300",
+    "--impacts",
+    "500",
+    "--period-max",
+    "16",
+    "--tile",
+    "2",
+]
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -67,6 +89,7 @@ def idx(data, alpha, r):
 
 # --- the compute seam ------------------------------------------------------------------------------
 
+
 def test_compute_tile_contract():
     # an orbit that ends (alpha = 0: the tooth rests on a wall for ever), one that sticks (alpha = 0.15,
     # r = 0.3), a chaotic one (Fig. 3: alpha = 3, r = 0.9) and the 6-impact orbit of Fig. 4 (r = 0.8)
@@ -100,16 +123,26 @@ def test_compute_tile_bad_input():
     assert all(v.shape == (0, 2) and v.dtype == FIELDS[k][0] for k, v in empty.items())
 
 
-@pytest.mark.parametrize("kw, name", [(dict(n_alpha=0), "n_alpha"), (dict(r_hi=1.5), "r_hi"),
-                                      (dict(alpha_lo=-1.0), "alpha_lo"), (dict(alpha_lo=3.0, alpha_hi=2.0), "alpha_lo"),
-                                      (dict(sdot0=0.0), "sdot0"), (dict(period_tol=0.0), "period_tol"),
-                                      (dict(impacts=0), "impacts"), (dict(beta=0.0), "beta")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        (dict(n_alpha=0), "n_alpha"),
+        (dict(r_hi=1.5), "r_hi"),
+        (dict(alpha_lo=-1.0), "alpha_lo"),
+        (dict(alpha_lo=3.0, alpha_hi=2.0), "alpha_lo"),
+        (dict(sdot0=0.0), "sdot0"),
+        (dict(period_tol=0.0), "period_tol"),
+        (dict(impacts=0), "impacts"),
+        (dict(beta=0.0), "beta"),
+    ],
+)
 def test_spec_validation(kw, name):
     with pytest.raises(ValueError, match=name):
         AtlasSpec(**kw)
 
 
 # --- the paper's scans on the atlas -------------------------------------------------------------------
+
 
 def test_fig4_points_on_the_atlas(serial):
     # Fig. 4 (alpha = 3): chaotic at r = 0.9 (lambda1 > 0, Fig. 3), the stable 6-impact period-1 orbit at
@@ -123,6 +156,7 @@ def test_fig4_points_on_the_atlas(serial):
 
 
 # --- tiles on Dask ------------------------------------------------------------------------------------
+
 
 def test_local_cluster_equals_serial(serial, tmp_path):
     # another tiling (1 x 4 tiles instead of 2 x 2) on 2 worker processes: the same atlas, bit for bit
@@ -146,8 +180,14 @@ def _kill_first(marker, alpha, r, spec):
 
 def test_killed_worker_loses_nothing(serial, tmp_path):
     marker = tmp_path / "killed"
-    run = run_atlas(SMALL, str(tmp_path / "a.zarr"), tile=(2, 2), scheduler="local", workers=2,
-                    compute=functools.partial(_kill_first, str(marker)))
+    run = run_atlas(
+        SMALL,
+        str(tmp_path / "a.zarr"),
+        tile=(2, 2),
+        scheduler="local",
+        workers=2,
+        compute=functools.partial(_kill_first, str(marker)),
+    )
     assert marker.exists() and int(marker.read_text()) != os.getpid()  # a worker did die
     assert len(run.computed) == 4
     got = load_store(str(tmp_path / "a.zarr")).read()
@@ -155,6 +195,7 @@ def test_killed_worker_loses_nothing(serial, tmp_path):
 
 
 # --- resume -------------------------------------------------------------------------------------------
+
 
 def test_resume_computes_only_missing_tiles(serial, tmp_path):
     path = str(tmp_path / "a.zarr")
@@ -204,6 +245,7 @@ def test_spec_mismatch_refused(tmp_path):
 
 # --- command line -------------------------------------------------------------------------------------
 
+
 def test_cli_serial_run_resume_and_mismatch(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
@@ -230,12 +272,20 @@ def test_cli_serial_run_resume_and_mismatch(tmp_path, capsys):
     assert rc == 2 and err.count("\n") == 1 and "different spec" in err and "--overwrite" in err
 
 
-@pytest.mark.parametrize("args, what", [
-    (["--alpha-lo", "-1"], "--alpha-lo=-1.0"), (["--r-hi", "1.5"], "--r-hi=1.5"),
-    (["--r-lo", "0.9", "--r-hi", "0.8"], "r_lo"), (["--sdot0", "0"], "--sdot0"),
-    (["--period-tol", "2"], "--period-tol"), (["--beta", "0"], "beta"),
-    (["--scheduler", "serial", "--workers", "2"], "--workers"), (["--scheduler", " "], "--scheduler"), (["--scheduler", "lcoal"], "--scheduler='lcoal'"),
-])
+@pytest.mark.parametrize(
+    "args, what",
+    [
+        (["--alpha-lo", "-1"], "--alpha-lo=-1.0"),
+        (["--r-hi", "1.5"], "--r-hi=1.5"),
+        (["--r-lo", "0.9", "--r-hi", "0.8"], "r_lo"),
+        (["--sdot0", "0"], "--sdot0"),
+        (["--period-tol", "2"], "--period-tol"),
+        (["--beta", "0"], "beta"),
+        (["--scheduler", "serial", "--workers", "2"], "--workers"),
+        (["--scheduler", " "], "--scheduler"),
+        (["--scheduler", "lcoal"], "--scheduler='lcoal'"),
+    ],
+)
 def test_cli_bad_input_one_line_exit_2(args, what, tmp_path, capsys):
     rc = main(["atlas", "--out", str(tmp_path / "o")] + args)
     err = capsys.readouterr().err
@@ -250,6 +300,7 @@ def test_cli_bad_integer_exit_2(capsys):
 
 
 # --- paper scale (opt-in) -----------------------------------------------------------------------------
+
 
 @pytest.mark.slow
 def test_paper_scans_agree_with_the_1d_lyapunov_code():
@@ -266,7 +317,9 @@ def test_paper_scans_agree_with_the_1d_lyapunov_code():
         a = values if param == "alpha" else np.full(values.size, 3.0)
         r = values if param == "r" else np.full(values.size, 0.9)
         out = compute_tile(a, r, AtlasSpec(transient=tr, impacts=n, period_max=32))
-        ref = lyapunov(Params(3.0, 0.1, 0.1, 0.9), param, values, n_impacts=n, transient=tr)  # the varied one is replaced
+        ref = lyapunov(
+            Params(3.0, 0.1, 0.1, 0.9), param, values, n_impacts=n, transient=tr
+        )  # the varied one is replaced
         lam, per = out["lambda1"], out["period_p"] > 0
         assert np.all(np.isfinite(lam)) and np.all(out["status"] == 0)
         # the same orbit and the same exponent where the orbit is periodic (no chaos to amplify rounding) ...
@@ -293,6 +346,7 @@ def test_paper_scans_agree_with_the_1d_lyapunov_code():
 
 # --- issue 23: tiles fitted to the grid, nothing left behind, Ctrl-C -----------------------------------
 
+
 def test_tile_is_fitted_to_the_grid_and_bounded(tmp_path):
     """--tile 256 on a 2 x 2 grid computed 65536 padded orbits; --tile 100000 allocated 74.5 GiB."""
     from gear_rattle.validation.atlas.store import MAX_TILE_POINTS, fit_tile
@@ -308,20 +362,41 @@ def test_tile_is_fitted_to_the_grid_and_bounded(tmp_path):
     # a store of the format before checksums (issue 29; also the one before tiles were fitted) is not
     # resumed -- its tiles cannot be verified -- but recognised: --overwrite replaces it
     old = open_store(str(tmp_path / "old.zarr"), SMALL, (3, 4))
-    old.group.attrs.put({"format": "gear-rattle-atlas/1", "spec": SMALL.to_dict(), "tile": [16, 16],
-                         "engine": old.group.attrs["engine"]})
+    old.group.attrs.put(
+        {
+            "format": "gear-rattle-atlas/1",
+            "spec": SMALL.to_dict(),
+            "tile": [16, 16],
+            "engine": old.group.attrs["engine"],
+        }
+    )
     with pytest.raises(ValueError, match=r"format 'gear-rattle-atlas/1' of an older version, without checksums"):
         open_store(str(tmp_path / "old.zarr"), SMALL, (16, 16))
     assert open_store(str(tmp_path / "old.zarr"), SMALL, (16, 16), overwrite=True).tile == (3, 4)
 
 
-@pytest.mark.parametrize("args, what, status", [
-    (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler='tcp://127.0.0.1:1': cannot connect", 3),
-    (["--alpha-lo", "1e308", "--alpha-hi", "1e308"], "--alpha-lo=1e+308 is out of range: allowed 0 <= alpha <= 1e10", 2),
-    (["--alpha-hi", "1e11"], "--alpha-hi=100000000000.0 is out of range", 2),
-    (["--store", "/proc/s.zarr"], "--store: cannot create '/proc/s.zarr': directory '/proc': it does not accept new files", 2),
-    (["--n-alpha", "2000", "--n-r", "2000", "--tile", "100000"], "--tile=100000 is out of range on a 2000 x 2000 grid", 2),
-])
+@pytest.mark.parametrize(
+    "args, what, status",
+    [
+        (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler='tcp://127.0.0.1:1': cannot connect", 3),
+        (
+            ["--alpha-lo", "1e308", "--alpha-hi", "1e308"],
+            "--alpha-lo=1e+308 is out of range: allowed 0 <= alpha <= 1e10",
+            2,
+        ),
+        (["--alpha-hi", "1e11"], "--alpha-hi=100000000000.0 is out of range", 2),
+        (
+            ["--store", "/proc/s.zarr"],
+            "--store: cannot create '/proc/s.zarr': directory '/proc': it does not accept new files",
+            2,
+        ),
+        (
+            ["--n-alpha", "2000", "--n-r", "2000", "--tile", "100000"],
+            "--tile=100000 is out of range on a 2000 x 2000 grid",
+            2,
+        ),
+    ],
+)
 def test_cli_failures_leave_nothing_behind(args, what, status, tmp_path, capsys):
     """Issue 23 item 12: each of these left a store or the --out folder behind and printed internal
     messages ("arange: cannot compute length"); now: one line naming the option, nothing created.  A
@@ -342,9 +417,27 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
 
     # 12 points x 1e7 transient impacts: minutes of work on 2 cores, so the run is still computing when
     # the signal comes however warm the compilation cache and however idle the machine
-    p = subprocess.Popen([sys.executable, "-m", "gear_rattle", *CLI_SMALL[:-2], "--tile", "1", "--transient",
-                          "10000000", "--workers", "2", "--quiet", "--out", str(tmp_path / "o")],
-                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True, cwd=tmp_path)
+    p = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "gear_rattle",
+            *CLI_SMALL[:-2],
+            "--tile",
+            "1",
+            "--transient",
+            "10000000",
+            "--workers",
+            "2",
+            "--quiet",
+            "--out",
+            str(tmp_path / "o"),
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+        cwd=tmp_path,
+    )
     time.sleep(12)  # the cluster is up and computing
     os.killpg(p.pid, signal.SIGINT)
     t0 = time.perf_counter()

@@ -31,24 +31,51 @@ from gear_rattle.validation.cli import main
 
 cloudpickle.register_pickle_by_value(sys.modules[__name__])  # fake() runs on Dask workers
 
-SMALL = AtlasSpec(alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500,
-                  period_max=16)
-CLI_SMALL = ["atlas", "--alpha-lo", "2", "--alpha-hi", "3", "--n-alpha", "4", "--r-lo", "0.8", "--r-hi", "0.9",
-             "--n-r", "3", "--transient", "300", "--impacts", "500", "--period-max", "16", "--tile", "2"]
+SMALL = AtlasSpec(
+    alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500, period_max=16
+)
+CLI_SMALL = [
+    "atlas",
+    "--alpha-lo",
+    "2",
+    "--alpha-hi",
+    "3",
+    "--n-alpha",
+    "4",
+    "--r-lo",
+    "0.8",
+    "--r-hi",
+    "0.9",
+    "--n-r",
+    "3",
+    "--transient",
+    "300",
+    "--impacts",
+    "500",
+    "--period-max",
+    "16",
+    "--tile",
+    "2",
+]
 TILES = [(0, 0), (0, 1), (1, 0), (1, 1)]  # SMALL in 2 x 2 tiles; tile (0, 1) is alpha 2.67, 3 at r 0.8, 0.85
 
 
 def fake(alpha, r, spec):
     """A stand-in for the compute seam: every field a distinct function of the point."""
-    return {"lambda1": np.sin(alpha * 7.0 + r), "lambda2": -alpha * r,
-            "period_p": np.round(alpha * 10 + r * 100).astype(np.int32), "period_m": np.ones(alpha.shape, np.int32),
-            "status": np.zeros(alpha.shape, np.int8)}
+    return {
+        "lambda1": np.sin(alpha * 7.0 + r),
+        "lambda2": -alpha * r,
+        "period_p": np.round(alpha * 10 + r * 100).astype(np.int32),
+        "period_m": np.ones(alpha.shape, np.int32),
+        "status": np.zeros(alpha.shape, np.int8),
+    }
 
 
 def counting(calls, compute=fake):
     def seam(alpha, r, spec):
         calls.append((float(alpha.min()), float(r.min())))
         return compute(alpha, r, spec)
+
     return seam
 
 
@@ -71,11 +98,15 @@ def made(tmp_path):
 
 def snapshot(path: Path) -> dict:
     """Every file of a folder with a digest of its bytes."""
-    return {str(f.relative_to(path)): hashlib.sha256(f.read_bytes()).hexdigest()
-            for f in sorted(path.rglob("*")) if f.is_file()}
+    return {
+        str(f.relative_to(path)): hashlib.sha256(f.read_bytes()).hexdigest()
+        for f in sorted(path.rglob("*"))
+        if f.is_file()
+    }
 
 
 # --- damaged tiles: found on resume, named, computed again --------------------------------------------
+
 
 def _flip_value(p):  # a flipped bit in a value, written through Zarr (a valid chunk, its old checksum)
     import zarr
@@ -97,6 +128,7 @@ def _truncate(rel):
     def damage(p):
         f = p / rel
         f.write_bytes(f.read_bytes()[: len(f.read_bytes()) // 2])
+
     return damage
 
 
@@ -106,14 +138,16 @@ DAMAGE = {
     "deleted lambda1 chunk": (lambda p: (p / "lambda1/c/0/1").unlink(), "lambda1 chunk lambda1/c/0/1 is missing"),
     "lambda1 chunk copied from tile (0, 0)": (
         lambda p: (p / "lambda1/c/0/1").write_bytes((p / "lambda1/c/0/0").read_bytes()),
-        "lambda1 chunk lambda1/c/0/1 does not match its checksum"),
+        "lambda1 chunk lambda1/c/0/1 does not match its checksum",
+    ),
     "truncated lambda1 chunk": (_truncate("lambda1/c/0/1"), "lambda1 chunk lambda1/c/0/1 is unreadable"),
     "truncated period_p chunk": (_truncate("period_p/c/0/1"), "period_p chunk period_p/c/0/1 is unreadable"),
     "truncated done chunk": (_truncate("done/c/0/1"), "its done flag done/c/0/1 is unreadable"),
     "deleted checksum chunk": (lambda p: (p / "checksum/c/0/1/0/0").unlink(), "has no checksum recorded"),
     "tile_seconds chunk copied": (
         lambda p: (p / "tile_seconds/c/0/1").write_bytes((p / "tile_seconds/c/1/1").read_bytes()),
-        "tile_seconds chunk tile_seconds/c/0/1 does not match its checksum"),
+        "tile_seconds chunk tile_seconds/c/0/1 does not match its checksum",
+    ),
 }
 
 
@@ -130,7 +164,9 @@ def test_damaged_tile_is_named_and_computed_again(kind, made):
     run = run_atlas(SMALL, str(path), tile=(2, 2), scheduler="serial", compute=counting(calls), note=notes.append)
     assert run.computed == [(0, 1)] and len(calls) == 1 and run.skipped == 3
     assert [d.tile for d in run.store.damaged] == [(0, 1)]
-    assert len(notes) == 1 and "tile (0, 1)" in notes[0] and what in notes[0] and "computing it again" in notes[0], notes
+    assert len(notes) == 1 and "tile (0, 1)" in notes[0] and what in notes[0] and "computing it again" in notes[0], (
+        notes
+    )
     assert same(fields(path), before) and load_store(str(path)).done().all()
     assert load_store(str(path)).verify() == []
     again = run_atlas(SMALL, str(path), tile=(2, 2), scheduler="serial", compute=counting(calls), note=notes.append)
@@ -146,12 +182,14 @@ def test_undamaged_resume_says_nothing(made):
 
 # --- damaged metadata: refused in one line, nothing deleted --------------------------------------------
 
+
 def _edit_json(rel, old, new):
     def damage(p):
         f = p / rel
         text = f.read_text()
         assert old in text
         f.write_text(text.replace(old, new, 1))
+
     return damage
 
 
@@ -164,8 +202,10 @@ def _empty_attrs(p):
 META_DAMAGE = {
     "emptied attributes": (_empty_attrs, "zarr.json) are not an atlas's (empty)"),
     "truncated group zarr.json": (_truncate("zarr.json"), "zarr.json is unreadable"),
-    "a spec value changed": (_edit_json("zarr.json", '"impacts": 500', '"impacts": 501'),
-                             "zarr.json) do not match their checksum"),
+    "a spec value changed": (
+        _edit_json("zarr.json", '"impacts": 500', '"impacts": 501'),
+        "zarr.json) do not match their checksum",
+    ),
     "truncated lambda1/zarr.json": (_truncate("lambda1/zarr.json"), "array 'lambda1'"),
     "deleted done/zarr.json": (lambda p: (p / "done/zarr.json").unlink(), "array 'done'"),
     "a grid value changed": (lambda p: _set_first(p, "alpha", 2.5), "its grid (alpha, r) differs from its spec"),
@@ -233,8 +273,13 @@ for lock in locks:
 
 def _holder(*stores, how="hold"):
     """A process that holds the locks of ``stores`` until its stdin closes (or is killed at once)."""
-    p = subprocess.Popen([sys.executable, "-c", HOLDER, how, *map(str, stores)], stdin=subprocess.PIPE,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, how, *map(str, stores)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     line = p.stdout.readline()
     if how == "hold":
         assert line.strip() == "held", p.stderr.read()
@@ -255,8 +300,21 @@ def test_second_writer_is_refused_in_one_line(made, capsys):
     holder = _holder(path, new)
     try:
         for overwrite in ([], ["--overwrite"]):
-            rc = main(CLI_SMALL + ["--impacts", "400", "--scheduler", "serial", "--store", str(path), "--quiet",
-                                   "--out", str(path.parent / "o")] + overwrite)
+            rc = main(
+                CLI_SMALL
+                + [
+                    "--impacts",
+                    "400",
+                    "--scheduler",
+                    "serial",
+                    "--store",
+                    str(path),
+                    "--quiet",
+                    "--out",
+                    str(path.parent / "o"),
+                ]
+                + overwrite
+            )
             err = capsys.readouterr().err
             assert rc == 1 and err.count("\n") == 1 and "Traceback" not in err, err
             assert f"store {str(path)!r} is in use by another writer: pid {holder.pid} on host" in err
@@ -302,10 +360,23 @@ def test_stale_lock_of_a_killed_writer_is_taken_over(made):
 def test_two_identical_commands_on_a_new_store(tmp_path):
     """Two identical commands started together on a new store: one computes, the other is refused in one
     line (it was Zarr's "An array exists in store"); the store is whole.  (Two JAX processes: slow.)"""
-    args = [sys.executable, "-m", "gear_rattle", *CLI_SMALL, "--scheduler", "serial", "--quiet", "--store",
-            str(tmp_path / "a.zarr")]
-    ps = [subprocess.Popen(args + ["--out", str(tmp_path / f"o{k}")], stdout=subprocess.DEVNULL,
-                           stderr=subprocess.PIPE, text=True) for k in range(2)]
+    args = [
+        sys.executable,
+        "-m",
+        "gear_rattle",
+        *CLI_SMALL,
+        "--scheduler",
+        "serial",
+        "--quiet",
+        "--store",
+        str(tmp_path / "a.zarr"),
+    ]
+    ps = [
+        subprocess.Popen(
+            args + ["--out", str(tmp_path / f"o{k}")], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+        )
+        for k in range(2)
+    ]
     res = sorted((p.wait(timeout=300), p.stderr.read()) for p in ps)
     assert [rc for rc, _ in res] == [0, 1], res
     assert res[1][1].count("\n") == 1 and "is in use by another writer" in res[1][1]
@@ -314,6 +385,7 @@ def test_two_identical_commands_on_a_new_store(tmp_path):
 
 # --- a full disk ---------------------------------------------------------------------------------------
 
+
 @pytest.fixture
 def tiny_disk(tmp_path):
     """A 256 KiB tmpfs (we must be allowed to mount one: root in the test container; else skipped)."""
@@ -321,7 +393,9 @@ def tiny_disk(tmp_path):
     mnt.mkdir()
     r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(mnt)], capture_output=True, text=True)
     if r.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here ({(r.stderr or r.stdout).strip() or r.returncode}): no full disk to test")
+        pytest.skip(
+            f"cannot mount a tmpfs here ({(r.stderr or r.stdout).strip() or r.returncode}): no full disk to test"
+        )
     yield mnt
     subprocess.run(["umount", "-l", str(mnt)], capture_output=True)
 
@@ -372,17 +446,34 @@ def test_disk_full_on_the_command_line_is_one_line(tiny_disk, tmp_path, capsys):
 
 # Dask pickles a function of an importable module by reference: the scheduler and worker processes
 # import this module (fake, _slow) from the tests folder
-ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(Path(__file__).parent),
-                                                                 os.environ.get("PYTHONPATH")]))}
+ENV = {
+    **os.environ,
+    "PYTHONPATH": os.pathsep.join(filter(None, [str(Path(__file__).parent), os.environ.get("PYTHONPATH")])),
+}
 
 
 @pytest.fixture
 def scheduler(tmp_path):
     """A real `dask scheduler` process (no workers) and its address."""
     info = tmp_path / "scheduler.json"
-    p = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
-                          "--no-dashboard", "--scheduler-file", str(info)], env=ENV,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    p = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "distributed.cli.dask_scheduler",
+            "--host",
+            "127.0.0.1",
+            "--port",
+            "0",
+            "--no-dashboard",
+            "--scheduler-file",
+            str(info),
+        ],
+        env=ENV,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     t0 = time.monotonic()
     while not info.exists() or not info.read_text().strip():
         assert p.poll() is None and time.monotonic() - t0 < 60, "the scheduler did not start"
@@ -405,10 +496,13 @@ def test_no_workers_waits_with_a_note_then_gives_up(scheduler, tmp_path, capsys)
     took = time.monotonic() - t0
     err = capsys.readouterr().err.splitlines()
     assert rc == 3 and len(err) == 2, err
-    assert err[0] == ("gear-rattle atlas: note: no worker is connected to the scheduler: waiting for one (at most "
-                      "2 s, --timeout)")
-    assert err[1].startswith("gear-rattle atlas: error: no worker connected to the scheduler for 2 s (--timeout): "
-                             "gave up; the 0 tiles finished are stored")
+    assert err[0] == (
+        "gear-rattle atlas: note: no worker is connected to the scheduler: waiting for one (at most 2 s, --timeout)"
+    )
+    assert err[1].startswith(
+        "gear-rattle atlas: error: no worker connected to the scheduler for 2 s (--timeout): "
+        "gave up; the 0 tiles finished are stored"
+    )
     assert 2 < took < 30
     assert load_store(str(tmp_path / "o" / "atlas.zarr")).done().sum() == 0
 
@@ -423,10 +517,15 @@ def test_scheduler_killed_mid_run_is_one_line(scheduler, tmp_path, capfd):
     exited 2.  Now: ClusterLost (the command line's exit status 3), one line, nothing else on stderr, the
     tiles finished are stored and verified."""
     proc, addr = scheduler
-    worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", addr, "--nthreads", "1",
-                               "--no-nanny", "--no-dashboard"], env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                              start_new_session=True)
+    worker = subprocess.Popen(
+        [sys.executable, "-m", "distributed.cli.dask_worker", addr, "--nthreads", "1", "--no-nanny", "--no-dashboard"],
+        env=ENV,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     try:
+
         def kill_after_first(done, total):
             if done == 1:
                 proc.kill()
@@ -434,8 +533,16 @@ def test_scheduler_killed_mid_run_is_one_line(scheduler, tmp_path, capfd):
         capfd.readouterr()
         t0 = time.monotonic()
         with pytest.raises(ClusterLost) as e:
-            run_atlas(SMALL, str(tmp_path / "a.zarr"), tile=(2, 2), scheduler=addr, compute=_slow,
-                      progress=kill_after_first, timeout=60, note=lambda text: None)  # (waiting for the worker)
+            run_atlas(
+                SMALL,
+                str(tmp_path / "a.zarr"),
+                tile=(2, 2),
+                scheduler=addr,
+                compute=_slow,
+                progress=kill_after_first,
+                timeout=60,
+                note=lambda text: None,
+            )  # (waiting for the worker)
         assert time.monotonic() - t0 < 60
     finally:
         worker.kill()

@@ -16,8 +16,22 @@ from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case, load_s
 #: The issue's chaotic orbit (200 impacts: the amplification rule alone gives tau 5e-3).
 CHAOS = ["--alpha", "2.2", "--beta", "0.05", "--gamma", "0.3", "--r", "0.7", "--tau0", "1", "--sdot0", "0.2"]
 #: The issue's free-flight start (30 impacts: 2e-3 before).
-FREE = ["--alpha", "1.1", "--beta", "0.2", "--gamma", "-0.05", "--r", "0.8", "--tau0", "0", "--s0", "-0.5",
-        "--sdot0", "0"]
+FREE = [
+    "--alpha",
+    "1.1",
+    "--beta",
+    "0.2",
+    "--gamma",
+    "-0.05",
+    "--r",
+    "0.8",
+    "--tau0",
+    "0",
+    "--s0",
+    "-0.5",
+    "--sdot0",
+    "0",
+]
 
 
 def _settings(folder) -> dict:
@@ -33,8 +47,14 @@ def test_long_orbits_become_truncated_cases_with_tight_tolerances(args, impacts,
     """The amplification rule alone (the generator's build_case) gives these orbits tolerances of 1e-4 or
     more (the issue: 5e-3; our free start, the issue's parameters: 5e-4); the case stops at the last impact whose tolerance stays below 1e-6,
     and says so in settings.json and on stderr."""
-    inp = ondemand.case_input("x", *(float(a) for a in args[1:8:2]), float(args[9]), float(args[-1]), impacts,
-                              s0=float(args[11]) if "--s0" in args else None)
+    inp = ondemand.case_input(
+        "x",
+        *(float(a) for a in args[1:8:2]),
+        float(args[9]),
+        float(args[-1]),
+        impacts,
+        s0=float(args[11]) if "--s0" in args else None,
+    )
     spec = generate.Spec("x", "x", inp.params, inp.tau0, inp.sdot0, impacts, s0=inp.s0)
     old, _, _ = generate.build_case(spec, tracks=False)
     assert _loosest(old) >= before  # what the rules gave before (no horizon for user input)
@@ -48,8 +68,9 @@ def test_long_orbits_become_truncated_cases_with_tight_tolerances(args, impacts,
     assert "truncated" in s["tags"]
     assert f"case long: stops at impact {s['n_impacts']} of {impacts}" in err and len(err.strip().splitlines()) == 1
     # the longest such case: one impact more would need a tolerance at or above the limit
-    longer = ondemand.ruled_spec(ondemand._spec(inp, s["n_impacts"] + 1),
-                                 ondemand._certify(inp, s["n_impacts"] + 1, generate.cert.PREC)[0])
+    longer = ondemand.ruled_spec(
+        ondemand._spec(inp, s["n_impacts"] + 1), ondemand._certify(inp, s["n_impacts"] + 1, generate.cert.PREC)[0]
+    )
     assert ondemand._loosest(longer) >= ondemand.TOLERANCE_LIMIT
 
 
@@ -60,9 +81,28 @@ def test_shipped_inputs_give_the_shipped_cases(prefix, tmp_path):
     cid = next(p.name for p in DEFAULT_SUITE.iterdir() if p.name.startswith(prefix))
     s = _settings(DEFAULT_SUITE / cid)
     p, ini = s["params"], s["initial_state"]
-    args = ["case", "--alpha", repr(p["alpha"]), "--beta", repr(p["beta"]), "--gamma", repr(p["gamma"]), "--r",
-            repr(p["r"]), "--tau0", repr(ini["tau0"]), "--sdot0", repr(ini["sdot0"]), "--impacts",
-            str(s["n_impacts"]), "--id", cid, "--out", str(tmp_path), "--quiet"]
+    args = [
+        "case",
+        "--alpha",
+        repr(p["alpha"]),
+        "--beta",
+        repr(p["beta"]),
+        "--gamma",
+        repr(p["gamma"]),
+        "--r",
+        repr(p["r"]),
+        "--tau0",
+        repr(ini["tau0"]),
+        "--sdot0",
+        repr(ini["sdot0"]),
+        "--impacts",
+        str(s["n_impacts"]),
+        "--id",
+        cid,
+        "--out",
+        str(tmp_path),
+        "--quiet",
+    ]
     assert main(args) == 0
     mine = _settings(tmp_path / cid)
     assert (tmp_path / cid / "expected.csv").read_text() == (DEFAULT_SUITE / cid / "expected.csv").read_text()
@@ -97,10 +137,14 @@ def test_batch_from_csv_and_json_and_the_index(tmp_path, capsys):
     suite = tmp_path / "s"
     suite.mkdir()
     (suite / "index.json").write_text(json.dumps({"suite_version": "user-7", "cases": []}))
-    (tmp_path / "in.csv").write_text("id,alpha,beta,gamma,r,tau0,sdot0,s0,impacts\n"
-                                     "a,0.5,0.1,0.1,0.9,0,0.5,,5\nb,1,0.1,-0.2,0.8,0,0,-0.5,5\n")
-    (tmp_path / "in.json").write_text(json.dumps([{"id": "c", "alpha": 2.0, "beta": 0.1, "gamma": -1.0, "r": 0.5,
-                                                   "tau0": 0.0, "sdot0": -0.5, "impacts": 40}]))
+    (tmp_path / "in.csv").write_text(
+        "id,alpha,beta,gamma,r,tau0,sdot0,s0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,,5\nb,1,0.1,-0.2,0.8,0,0,-0.5,5\n"
+    )
+    (tmp_path / "in.json").write_text(
+        json.dumps(
+            [{"id": "c", "alpha": 2.0, "beta": 0.1, "gamma": -1.0, "r": 0.5, "tau0": 0.0, "sdot0": -0.5, "impacts": 40}]
+        )
+    )
     assert main(["case", "--from", str(tmp_path / "in.csv"), "--out", str(suite), "--quiet"]) == 0
     assert main(["case", "--from", str(tmp_path / "in.json"), "--out", str(suite), "--quiet"]) == 0
     idx = json.loads((suite / "index.json").read_text())
@@ -115,17 +159,28 @@ def test_batch_from_csv_and_json_and_the_index(tmp_path, capsys):
     assert main(["case", "--from", str(tmp_path / "in.csv"), "--out", str(suite), "--replace", "--quiet"]) == 0
 
 
-@pytest.mark.parametrize("text, message", [
-    ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,1.5,0,0.5,5\n", "line 2: parameter r='1.5' is out of range"),
-    ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0,5\n", "line 2: sdot0=0.0 is out of range"),
-    ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,2.5\n", "impacts=2.5 is out of range: allowed an integer 0 <= impacts"),
-    ("id,alpha,beta,gamma,r,tau0,sdot0\na,0.5,0.1,0.1,0.9,0,0.5\n", "line 2: missing field(s) impacts"),
-    ("id,alpha,beta,gamma,r,tau0,sdot0,impacts,x\na,0.5,0.1,0.1,0.9,0,0.5,5,1\n", "unknown field(s) x"),
-    ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\n../a,0.5,0.1,0.1,0.9,0,0.5,5\n", "id='../a' is out of range"),
-    ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,5\na,0.5,0.1,0.1,0.9,0,0.5,5\n",
-     "duplicate id 'a'"),
-    ('[{"id": "a"', "invalid JSON"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        (
+            "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,1.5,0,0.5,5\n",
+            "line 2: parameter r='1.5' is out of range",
+        ),
+        ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0,5\n", "line 2: sdot0=0.0 is out of range"),
+        (
+            "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,2.5\n",
+            "impacts=2.5 is out of range: allowed an integer 0 <= impacts",
+        ),
+        ("id,alpha,beta,gamma,r,tau0,sdot0\na,0.5,0.1,0.1,0.9,0,0.5\n", "line 2: missing field(s) impacts"),
+        ("id,alpha,beta,gamma,r,tau0,sdot0,impacts,x\na,0.5,0.1,0.1,0.9,0,0.5,5,1\n", "unknown field(s) x"),
+        ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\n../a,0.5,0.1,0.1,0.9,0,0.5,5\n", "id='../a' is out of range"),
+        (
+            "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,5\na,0.5,0.1,0.1,0.9,0,0.5,5\n",
+            "duplicate id 'a'",
+        ),
+        ('[{"id": "a"', "invalid JSON"),
+    ],
+)
 def test_bad_inputs_are_one_line_usage_errors(text, message, tmp_path, capsys):
     (tmp_path / "in.csv").write_text(text)
     capsys.readouterr()
@@ -148,8 +203,26 @@ def test_single_case_usage_errors(tmp_path, capsys):
 def test_stick_time_is_the_cases_threshold(tmp_path):
     """--stick-time changes the sticking policy of the certified orbit and is recorded in settings.json:
     the chatter of case 0007 sticks at 1e-6 and bounces on (more impact rows, no stick row) at 1e-9."""
-    args = ["case", "--alpha", "2", "--beta", "0.1", "--gamma", "1", "--r", "0.5", "--tau0", "0", "--sdot0", "0.5",
-            "--impacts", "40", "--out", str(tmp_path), "--quiet"]
+    args = [
+        "case",
+        "--alpha",
+        "2",
+        "--beta",
+        "0.1",
+        "--gamma",
+        "1",
+        "--r",
+        "0.5",
+        "--tau0",
+        "0",
+        "--sdot0",
+        "0.5",
+        "--impacts",
+        "40",
+        "--out",
+        str(tmp_path),
+        "--quiet",
+    ]
     assert main([*args, "--id", "default"]) == 0
     assert main([*args, "--id", "short", "--stick-time", "1e-9"]) == 0
     a, b = (read_sequence(tmp_path / i / "expected.csv") for i in ("default", "short"))
@@ -165,10 +238,16 @@ def test_batch_of_1000_cases_within_a_minute(tmp_path):
     rnd = random.Random(1)
     inputs = []
     for k in range(1000):
-        d = {"id": f"c{k:04d}", "alpha": round(rnd.uniform(0.1, 3.5), 3), "beta": round(rnd.uniform(0.01, 0.5), 3),
-             "gamma": round(rnd.uniform(-0.5, 0.5), 3), "r": round(rnd.uniform(0.5, 1.0), 3),
-             "tau0": round(rnd.uniform(0, 6.28), 3), "sdot0": round(rnd.choice([-1, 1]) * rnd.uniform(0.05, 2), 3),
-             "impacts": 10}
+        d = {
+            "id": f"c{k:04d}",
+            "alpha": round(rnd.uniform(0.1, 3.5), 3),
+            "beta": round(rnd.uniform(0.01, 0.5), 3),
+            "gamma": round(rnd.uniform(-0.5, 0.5), 3),
+            "r": round(rnd.uniform(0.5, 1.0), 3),
+            "tau0": round(rnd.uniform(0, 6.28), 3),
+            "sdot0": round(rnd.choice([-1, 1]) * rnd.uniform(0.05, 2), 3),
+            "impacts": 10,
+        }
         if k % 4 == 0:
             d["s0"] = round(rnd.uniform(-0.9, -0.1), 3)
         inputs.append(d)
@@ -183,8 +262,27 @@ def test_near_miss_within_the_gap_error_ends_the_case(tmp_path, capsys):
     """A flight that turns back 2.8e-15 below s = 0 (found by the fuzzer: our diffrax track took it for an
     impact with sdot -6.7e-6) cannot be told from a contact by a correct float64 implementation (gap error
     1e-12): the case stops before the impact that ends it, and says why."""
-    args = ["case", "--alpha", "1.245", "--beta", "0.1", "--gamma", "0.1", "--r", "0.9", "--tau0", "5.951",
-            "--sdot0", "0.135696112133537", "--impacts", "3", "--id", "m", "--out", str(tmp_path)]
+    args = [
+        "case",
+        "--alpha",
+        "1.245",
+        "--beta",
+        "0.1",
+        "--gamma",
+        "0.1",
+        "--r",
+        "0.9",
+        "--tau0",
+        "5.951",
+        "--sdot0",
+        "0.135696112133537",
+        "--impacts",
+        "3",
+        "--id",
+        "m",
+        "--out",
+        str(tmp_path),
+    ]
     capsys.readouterr()
     assert main(args) == 0
     s = _settings(tmp_path / "m")

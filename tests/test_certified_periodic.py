@@ -13,8 +13,13 @@ from gear_rattle.mapimpl.certified import jets
 from gear_rattle.mapimpl.certified.balls import CertificationError, decimal_interval, precision
 from gear_rattle.mapimpl.certified.krawczyk import krawczyk, newton, refine, verify_box
 from gear_rattle.mapimpl.certified.model import Model
-from gear_rattle.mapimpl.certified.periodic import (certify_bifurcation, certify_periodic_orbit, closed_form_det,
-                                                    prove_flights, unwrap)
+from gear_rattle.mapimpl.certified.periodic import (
+    certify_bifurcation,
+    certify_periodic_orbit,
+    closed_form_det,
+    prove_flights,
+    unwrap,
+)
 from gear_rattle.mapimpl.certified.shooting import Shape
 
 FIG2 = Params(0.5, 0.1, 0.1, 0.9)
@@ -37,15 +42,14 @@ def test_jet_gradient_encloses_the_analytic_one():
         x, y = arb("0.7"), arb("-0.3")
         X, Y = jets.variables([x, y])
         f = jets.sin(X) * jets.exp(Y) / (1 + X) - jets.cos(X * Y) + jets.expm1(Y) / X
-        dfx = (x.cos() * y.exp() / (1 + x) - x.sin() * y.exp() / (1 + x) ** 2 + y * (x * y).sin()
-               - y.expm1() / x ** 2)
+        dfx = x.cos() * y.exp() / (1 + x) - x.sin() * y.exp() / (1 + x) ** 2 + y * (x * y).sin() - y.expm1() / x**2
         dfy = x.sin() * y.exp() / (1 + x) + x * (x * y).sin() + y.exp() / x
         for got, want in zip(f.der, (dfx, dfy)):
             assert got.overlaps(want)
             assert float(got.rad()) < 1e-55
-        assert (2 - X).val.overlaps(arb("1.3")) and (2 - X).der[0] == -1 and (X ** 3).der[0].overlaps(3 * x ** 2)
+        assert (2 - X).val.overlaps(arb("1.3")) and (2 - X).der[0] == -1 and (X**3).der[0].overlaps(3 * x**2)
         with pytest.raises(ValueError, match="exponent=0 is out of range: allowed an integer 1 <= exponent"):
-            X ** 0
+            X**0
 
 
 # ---------------------------------------------------------------------------------------------
@@ -71,10 +75,13 @@ def test_krawczyk_proves_the_known_zero_and_refines_it():
         assert all(b.contains(1) for b in tight) and max(float(b.rad()) for b in tight) < 1e-70
 
 
-@pytest.mark.parametrize("box", [
-    [arb(2, 0.1), arb(2, 0.1)],       # no zero in the box
-    [arb(0, 1.5), arb(0, 1.5)],       # both zeros in the box (and a singular Jacobian): no uniqueness
-])
+@pytest.mark.parametrize(
+    "box",
+    [
+        [arb(2, 0.1), arb(2, 0.1)],  # no zero in the box
+        [arb(0, 1.5), arb(0, 1.5)],  # both zeros in the box (and a singular Jacobian): no uniqueness
+    ],
+)
 def test_krawczyk_refuses_boxes_without_a_unique_zero(box):
     with precision(128), pytest.raises(CertificationError):
         verify_box(_circle, box)
@@ -140,8 +147,14 @@ def test_fig2_orbit_from_a_4_digit_guess():
 def test_fold_r2_from_a_4_digit_guess():
     """Figs. 4-5: r2, the fold of the 6-impact orbit, proven on the extended system from a guess with 4
     digits; its multipliers enclose +1 and r^12 exp(-2 pi beta) (the other one, since the product is det M)."""
-    b = certify_bifurcation("fold", FIG4, "r", [1.055, 2.017, 3.013, 4.172, 5.141, 6.102],
-                            [-1.614, -1.343, -0.709, 1.734, 1.448, 0.829], 0.8214)
+    b = certify_bifurcation(
+        "fold",
+        FIG4,
+        "r",
+        [1.055, 2.017, 3.013, 4.172, 5.141, 6.102],
+        [-1.614, -1.343, -0.709, 1.734, 1.448, 0.829],
+        0.8214,
+    )
     assert b.kind == "fold" and b.name == "r"
     with precision(320):
         assert float(b.value.rad()) < 1e-80
@@ -163,15 +176,18 @@ def test_flight_proof_rejects_a_duration_past_the_first_contact():
             prove_flights(o.model, Shape((0, 0, 0)), o.tau, o.sdot, 320)
 
 
-@pytest.mark.parametrize("call, match", [
-    (lambda: certify_periodic_orbit(FIG2, [1.0, 2.0], [0.5]), "equal length"),
-    (lambda: certify_periodic_orbit(FIG2, [1.0], [0.0]), "nonzero"),
-    (lambda: certify_periodic_orbit(FIG2, [1.0], [0.5], turns=0), "turns"),
-    (lambda: certify_bifurcation("cusp", FIG4, "r", [1.0], [0.5], 0.8), "kind"),
-    (lambda: certify_bifurcation("fold", FIG4, "beta", [1.0], [0.5], 0.8), "name='beta'"),  # the argument's name
-    (lambda: unwrap([0.0, 3.0, 6.0, 2.0]), "driving period"),
-    (lambda: Shape(()), "walls"),
-])
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: certify_periodic_orbit(FIG2, [1.0, 2.0], [0.5]), "equal length"),
+        (lambda: certify_periodic_orbit(FIG2, [1.0], [0.0]), "nonzero"),
+        (lambda: certify_periodic_orbit(FIG2, [1.0], [0.5], turns=0), "turns"),
+        (lambda: certify_bifurcation("cusp", FIG4, "r", [1.0], [0.5], 0.8), "kind"),
+        (lambda: certify_bifurcation("fold", FIG4, "beta", [1.0], [0.5], 0.8), "name='beta'"),  # the argument's name
+        (lambda: unwrap([0.0, 3.0, 6.0, 2.0]), "driving period"),
+        (lambda: Shape(()), "walls"),
+    ],
+)
 def test_bad_inputs(call, match):
     with pytest.raises(ValueError, match=match):
         call()

@@ -18,8 +18,14 @@ from gear_rattle.core.paper import PAPER_PARAMS
 from gear_rattle.core.params import Params
 from gear_rattle.core.results import COLUMNS
 from gear_rattle.mapimpl.certified import CertificationError, certify_orbit
-from gear_rattle.mapimpl.certified.track import (BOUND_COLUMNS, START_PREC, CertifiedSequence, UncertifiedOrbit,
-                                                 certified_orbit, working_precision)
+from gear_rattle.mapimpl.certified.track import (
+    BOUND_COLUMNS,
+    START_PREC,
+    CertifiedSequence,
+    UncertifiedOrbit,
+    certified_orbit,
+    working_precision,
+)
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden.suite import load_suite, run_case, score_sequence, sequence_from_impacts
 
@@ -151,8 +157,9 @@ def test_the_precision_limit_gives_a_certified_prefix_and_the_first_uncertified_
     assert list(run.rows["n"]) == list(range(k)) and run.impacts_certified == k
     # the prefix is the longer run's prefix, row for row
     full = certified_orbit(PAPER_PARAMS, 3.2, 0.3, k, progress=False)
-    assert np.array_equal(full.rows["tau"][:k], run.rows["tau"]) and np.array_equal(full.rows["sdot"][:k],
-                                                                                    run.rows["sdot"])
+    assert np.array_equal(full.rows["tau"][:k], run.rows["tau"]) and np.array_equal(
+        full.rows["sdot"][:k], run.rows["sdot"]
+    )
     with pytest.raises(UncertifiedOrbit, match=f"impact {k} not certified") as e:
         gr.orbit(PAPER_PARAMS, 3.2, 0.3, 400, track="certified", max_prec=128)
     assert e.value.sequence.certified["complete"] is False and len(e.value.sequence.tau) == k
@@ -206,12 +213,15 @@ def test_free_flight_start():
     assert np.abs(seq.tau - run.rows["tau"]).max() < 1e-13
 
 
-@pytest.mark.parametrize("params, s0, status", [
-    (Params(0.0, 0.1, 0.5, 0.9), 0.0, "stuck_forever"),   # pressed into s = 0 at rest, never released
-    (Params(1.0, 0.1, 0.5, 0.9), 0.0, "active"),          # pressed into s = 0: sticks at once, released
-    (Params(1.0, 0.1, -0.5, 0.9), 0.0, "active"),         # pulled away from s = 0: a flight from rest
-    (Params(1.0, 0.1, 0.5, 0.9), -1.0, "active"),         # pulled away from s = -1
-])
+@pytest.mark.parametrize(
+    "params, s0, status",
+    [
+        (Params(0.0, 0.1, 0.5, 0.9), 0.0, "stuck_forever"),  # pressed into s = 0 at rest, never released
+        (Params(1.0, 0.1, 0.5, 0.9), 0.0, "active"),  # pressed into s = 0: sticks at once, released
+        (Params(1.0, 0.1, -0.5, 0.9), 0.0, "active"),  # pulled away from s = 0: a flight from rest
+        (Params(1.0, 0.1, 0.5, 0.9), -1.0, "active"),  # pulled away from s = -1
+    ],
+)
 def test_a_start_at_rest_on_a_wall_is_the_map_tracks(params, s0, status):
     """Both failed before (the departure from rest was not certified): impact 0 at once where the force
     presses (sdot 0, then the policy), a flight from rest where it pulls; the map lies within 1e-13
@@ -309,8 +319,27 @@ def test_cli_csv_columns_and_json(tmp_path, capsys):
 
 def test_cli_uncertified_writes_the_certified_prefix_and_one_line(tmp_path, capsys):
     out = tmp_path / "o.csv"
-    args = ["simulate", "--alpha", "1.245", "--beta", "0.1", "--gamma", "0.1", "--r", "0.9", "--tau0", "3.2",
-            "--sdot0", "0.3", "--impacts", "300", "--track", "certified", "--max-precision", "128"]
+    args = [
+        "simulate",
+        "--alpha",
+        "1.245",
+        "--beta",
+        "0.1",
+        "--gamma",
+        "0.1",
+        "--r",
+        "0.9",
+        "--tau0",
+        "3.2",
+        "--sdot0",
+        "0.3",
+        "--impacts",
+        "300",
+        "--track",
+        "certified",
+        "--max-precision",
+        "128",
+    ]
     assert main(args + ["--output", str(out)]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "not certified" in err[0] and "precision limit (128 bits)" in err[0]
@@ -333,8 +362,27 @@ def test_cli_a_tangency_stops_with_one_line_and_the_certified_prefix(tmp_path, c
     certifies it, no_impact, at 2560 bits).  Exit 1, one line naming impact 1 and the reason, and the
     certified prefix (impact 0) written: the CSV's rows, the JSON marked incomplete.  (The float64 map
     reports a graze there, at tau = 76.3 with sdot = 1.3e-17.)"""
-    args = ["simulate", "--alpha", "0", "--beta", "0.5", "--gamma", "0", "--r", "0.5", "--tau0", "0", "--sdot0", "-1",
-            "--impacts", "3", "--track", "certified", "--max-precision", "640"]
+    args = [
+        "simulate",
+        "--alpha",
+        "0",
+        "--beta",
+        "0.5",
+        "--gamma",
+        "0",
+        "--r",
+        "0.5",
+        "--tau0",
+        "0",
+        "--sdot0",
+        "-1",
+        "--impacts",
+        "3",
+        "--track",
+        "certified",
+        "--max-precision",
+        "640",
+    ]
     out, js = tmp_path / "o.csv", tmp_path / "o.json"
     capsys.readouterr()
     assert main(args + ["--output", str(out)]) == 1
@@ -357,8 +405,28 @@ def test_json_gives_decimal_intervals_inside_the_float64_bounds(tmp_path):
     from decimal import Decimal
 
     out = tmp_path / "o.json"
-    assert main(["simulate", "--track", "certified", "--alpha", "0.5", "--gamma", "0.3", "--r", "0.5",
-                 "--sdot0", "0.0004", "--impacts", "14", "--output", str(out)]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "--track",
+                "certified",
+                "--alpha",
+                "0.5",
+                "--gamma",
+                "0.3",
+                "--r",
+                "0.5",
+                "--sdot0",
+                "0.0004",
+                "--impacts",
+                "14",
+                "--output",
+                str(out),
+            ]
+        )
+        == 0
+    )
     events = json.loads(out.read_text())["events"]
     assert any(e["kind"] == "stick" and e["sdot_decimal"] is None for e in events)
     for e in events:

@@ -262,28 +262,47 @@ HEAVY = ("jax", "jaxlib", "scipy", "diffrax", "optimistix", "equinox", "matplotl
 
 def _light_python(code: str, cwd) -> subprocess.CompletedProcess:
     prelude = f"import sys\nfor _m in {HEAVY!r}:\n    sys.modules[_m] = None\n"
-    return subprocess.run([sys.executable, "-c", prelude + code], capture_output=True, text=True, cwd=cwd,
-                          timeout=300, env={**os.environ, "JAX_PLATFORMS": "cpu"})
+    return subprocess.run(
+        [sys.executable, "-c", prelude + code],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=300,
+        env={**os.environ, "JAX_PLATFORMS": "cpu"},
+    )
 
 
 def test_the_light_install_scores_and_the_other_commands_say_what_to_install(tmp_path):
     """With numpy alone: --version, check PATH, check --orbits PATH and check --suite-version work and
     import no heavy package; every other command is one line naming the packages, exit 2."""
     out, orbits = golden_sample.write_sample(GOLDEN, tmp_path / "out")
-    light = [["--version"], ["check", str(out), "--summary"], ["check", "--orbits", str(orbits), "--summary"],
-             ["check", "--suite-version"], ["check", str(out), "--json", "-"]]
-    heavy = [["simulate"], ["report", "--profile", "quick"], ["atlas", "--help"], ["check", "--self"],
-             ["lyapunov"], ["transients"]]
-    code = ("import contextlib, io, json\nfrom gear_rattle.validation.cli import main\nres = []\n"
-            f"for argv in {light + heavy!r}:\n"
-            "    o, e = io.StringIO(), io.StringIO()\n"
-            "    with contextlib.redirect_stdout(o), contextlib.redirect_stderr(e):\n"
-            "        try:\n            rc = main(argv)\n        except SystemExit as x:\n            rc = x.code\n"
-            "    res.append([rc, o.getvalue(), e.getvalue()])\n"
-            "import gear_rattle\n"
-            "res.append(sorted(m for m, mod in sys.modules.items() if mod is not None and m.split('.')[0] in "
-            "('jax', 'scipy', 'matplotlib')))\n"
-            "print(json.dumps(res))\n")
+    light = [
+        ["--version"],
+        ["check", str(out), "--summary"],
+        ["check", "--orbits", str(orbits), "--summary"],
+        ["check", "--suite-version"],
+        ["check", str(out), "--json", "-"],
+    ]
+    heavy = [
+        ["simulate"],
+        ["report", "--profile", "quick"],
+        ["atlas", "--help"],
+        ["check", "--self"],
+        ["lyapunov"],
+        ["transients"],
+    ]
+    code = (
+        "import contextlib, io, json\nfrom gear_rattle.validation.cli import main\nres = []\n"
+        f"for argv in {light + heavy!r}:\n"
+        "    o, e = io.StringIO(), io.StringIO()\n"
+        "    with contextlib.redirect_stdout(o), contextlib.redirect_stderr(e):\n"
+        "        try:\n            rc = main(argv)\n        except SystemExit as x:\n            rc = x.code\n"
+        "    res.append([rc, o.getvalue(), e.getvalue()])\n"
+        "import gear_rattle\n"
+        "res.append(sorted(m for m, mod in sys.modules.items() if mod is not None and m.split('.')[0] in "
+        "('jax', 'scipy', 'matplotlib')))\n"
+        "print(json.dumps(res))\n"
+    )
     p = _light_python(code, tmp_path)
     assert p.returncode == 0, p.stderr[-3000:]
     *res, loaded = json.loads(p.stdout.splitlines()[-1])
@@ -292,18 +311,19 @@ def test_the_light_install_scores_and_the_other_commands_say_what_to_install(tmp
         assert rc == 0 and e == "", (argv, rc, e)
     assert res[0][1].strip() == f"gear-rattle {__import__('gear_rattle').__version__} (golden suite {V.SUITE_VERSION})"
     assert json.loads(res[4][1])["passed"] == len(CASES)
-    for argv, (rc, o, e) in zip(heavy, res[len(light):]):
+    for argv, (rc, o, e) in zip(heavy, res[len(light) :]):
         assert rc == 2 and o == "" and e.count("\n") == 1 and "Traceback" not in e, (argv, rc, e)
         assert e.startswith(f"gear-rattle {argv[0]}: error: this command needs jax") and "pip install gear-rattle" in e
 
 
 def test_import_gear_rattle_does_not_import_jax_and_jax_still_computes_in_float64(tmp_path):
-    code = ("import gear_rattle, sys\nassert 'jax' not in sys.modules, 'import gear_rattle imported JAX'\n"
-            "from gear_rattle.mapimpl import flight\nimport jax.numpy as jnp\n"
-            "print(jnp.zeros(2).dtype, gear_rattle.Params(3.0, 0.1, 0.1, 0.9).arrays().alpha.dtype)\n")
+    code = (
+        "import gear_rattle, sys\nassert 'jax' not in sys.modules, 'import gear_rattle imported JAX'\n"
+        "from gear_rattle.mapimpl import flight\nimport jax.numpy as jnp\n"
+        "print(jnp.zeros(2).dtype, gear_rattle.Params(3.0, 0.1, 0.1, 0.9).arrays().alpha.dtype)\n"
+    )
     env = {k: v for k, v in os.environ.items() if k != "JAX_ENABLE_X64"}
-    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env,
-                       timeout=300)
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300)
     assert p.returncode == 0, p.stderr[-2000:]
     assert p.stdout.split() == ["float64", "float64"]
 
@@ -356,8 +376,9 @@ def test_the_ci_jobs_of_the_docs_run(tmp_path, job):
         wd = tmp_path / (broken or "ok")
         wd.mkdir()
         env = {**os.environ, "GOLDEN_BREAK": f"--break {broken}" if broken else ""}
-        p = subprocess.run(["bash", "-c", "\n".join(script)], cwd=wd, capture_output=True, text=True, env=env,
-                           timeout=300)
+        p = subprocess.run(
+            ["bash", "-c", "\n".join(script)], cwd=wd, capture_output=True, text=True, env=env, timeout=300
+        )
         if not broken:
             assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
             assert p.stdout.startswith(f"gear-rattle {__import__('gear_rattle').__version__} (golden suite ")
@@ -377,6 +398,11 @@ def test_ci_runs_the_light_install_on_the_built_wheel():
     ci = (REPO / ".ci" / "run").read_text()
     stage = ci.split('stage "light install', 1)[1].split("\nstage ", 1)[0]
     assert '-m venv "$W/light"' in stage and '--no-deps "$(ls "$W"/dist/gear_rattle-*.whl)" numpy' in stage
-    for cmd in ("gear-rattle --version", "gear-rattle check --suite-version", ".ci/golden_sample.py",
-                "gear-rattle check light-out --junit-xml", "gear-rattle check --orbits light-out-orbits"):
+    for cmd in (
+        "gear-rattle --version",
+        "gear-rattle check --suite-version",
+        ".ci/golden_sample.py",
+        "gear-rattle check light-out --junit-xml",
+        "gear-rattle check --orbits light-out-orbits",
+    ):
         assert cmd in stage, cmd

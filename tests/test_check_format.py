@@ -71,8 +71,9 @@ def test_a_duplicate_column_name_is_malformed(tmp_path, capsys, column, pos):
 def test_a_duplicate_json_key_is_malformed(tmp_path, capsys):
     """json.loads kept the last of two keys: a wrong value followed by a right one passed."""
     rec = json.loads((DEFAULT_ORBITS / f"{RID}.json").read_text())
-    pts = [{"tau_mod_2pi": sum(p["tau_mod_2pi"]) / 2, "sdot": sum(p["sdot"]) / 2, "wall": p["wall"]}
-           for p in rec["points"]]
+    pts = [
+        {"tau_mod_2pi": sum(p["tau_mod_2pi"]) / 2, "sdot": sum(p["sdot"]) / 2, "wall": p["wall"]} for p in rec["points"]
+    ]
     mult = [{"re": sum(m["re"]) / 2, "im": sum(m["im"]) / 2} for m in rec["multipliers"]]
     wrong = [dict(p, sdot=p["sdot"] + 1) for p in pts]
     d = tmp_path / "out"
@@ -126,8 +127,10 @@ def test_blank_lines_are_skipped_before_the_header_too(tmp_path, capsys):
     assert "first failing: tau at line 12 " in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("what", ["csv-field-131073", "json-depth-1000", "json-int-310-digits", "json-1e400",
-                                  "csv-field-1001", "csv-columns-101"])
+@pytest.mark.parametrize(
+    "what",
+    ["csv-field-131073", "json-depth-1000", "json-int-310-digits", "json-1e400", "csv-field-1001", "csv-columns-101"],
+)
 def test_inputs_that_gave_tracebacks(tmp_path, capsys, what):
     """A CSV field over 131072 characters (csv.Error), JSON nested 1000 deep (RecursionError) and a
     310-digit JSON integer (OverflowError) were tracebacks with exit status 1: now exit 2, one line."""
@@ -148,8 +151,9 @@ def test_inputs_that_gave_tracebacks(tmp_path, capsys, what):
         return
     d = tmp_path / "out"
     d.mkdir()
-    body = {"json-depth-1000": "[" * 1000 + "]" * 1000, "json-int-310-digits": "1" + "0" * 309,
-            "json-1e400": "1e400"}[what]
+    body = {"json-depth-1000": "[" * 1000 + "]" * 1000, "json-int-310-digits": "1" + "0" * 309, "json-1e400": "1e400"}[
+        what
+    ]
     (d / f"{RID}.json").write_text('{"value": %s, "points": [], "multipliers": []}' % body)
     assert main(["check", "--orbits", str(d), "--cases", RID]) == 2
     _one_error(capsys, f"{RID}.json", "line 1, column", "limit" if "1e400" not in what else "not a finite number")

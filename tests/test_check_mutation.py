@@ -71,7 +71,7 @@ def _text(data: bytes, limit: int) -> str:
     for i, c in enumerate(text):
         o = ord(c)
         if c == "\r":
-            if text[i + 1:i + 2] != "\n":
+            if text[i + 1 : i + 2] != "\n":
                 raise Malformed("lone CR")
         elif c in "\t\n":
             continue
@@ -108,7 +108,7 @@ def _decimal(s: str) -> Fraction:
     while i < len(s) and s[i] in DIGITS:
         i += 1
     intd, frac = s[j:i], ""
-    if s[i:i + 1] == ".":
+    if s[i : i + 1] == ".":
         i += 1
         j = i
         while i < len(s) and s[i] in DIGITS:
@@ -117,10 +117,10 @@ def _decimal(s: str) -> Fraction:
     if not intd and not frac:
         raise Malformed("number")
     exp = 0
-    if s[i:i + 1] in ("e", "E"):
+    if s[i : i + 1] in ("e", "E"):
         i += 1
         esign = 1
-        if s[i:i + 1] in ("+", "-"):
+        if s[i : i + 1] in ("+", "-"):
             esign, i = (-1 if s[i] == "-" else 1), i + 1
         j = i
         while i < len(s) and s[i] in DIGITS:
@@ -156,7 +156,7 @@ def _fields(line: str) -> list[str]:
                 if i >= n:
                     raise Malformed("open quote")
                 if line[i] == '"':
-                    if line[i + 1:i + 2] == '"':
+                    if line[i + 1 : i + 2] == '"':
                         buf.append('"')
                         i += 2
                         continue
@@ -333,6 +333,7 @@ def _interval_dist(x: Fraction, lo: Fraction, hi: Fraction, circular=False) -> F
 def _record(rid: str) -> dict:
     def num(lit):
         return Fraction(float(lit))
+
     return json.loads((DEFAULT_ORBITS / f"{rid}.json").read_text(), parse_float=num)
 
 
@@ -352,7 +353,9 @@ def orbit_verdict(rid: str, data: bytes) -> str:
                     raise Malformed("wall")
                 pts.append((_num(p.get("tau_mod_2pi")), _num(p.get("sdot")), int(w)))
         if "multipliers" in d:
-            mult = [(_num(m.get("re")), _num(m["im"]) if "im" in m else Fraction(0)) for m in _objects(d, "multipliers")]
+            mult = [
+                (_num(m.get("re")), _num(m["im"]) if "im" in m else Fraction(0)) for m in _objects(d, "multipliers")
+            ]
         if "value" in d:
             value = _num(d["value"])
     except Malformed:
@@ -368,14 +371,25 @@ def orbit_verdict(rid: str, data: bytes) -> str:
                 continue
             good = good or all(
                 _interval_dist(p[0], *q["tau_mod_2pi"], circular=True) <= Fraction(tol["tau_mod_2pi"])
-                and _interval_dist(p[1], *q["sdot"]) <= Fraction(tol["sdot"]) for p, q in zip(rot, rec["points"]))
+                and _interval_dist(p[1], *q["sdot"]) <= Fraction(tol["sdot"])
+                for p, q in zip(rot, rec["points"])
+            )
         ok = ok and good
     if mult is not None:
         m = rec["multipliers"]
         perms = ([0, 1], [1, 0]) if len(m) == 2 else [list(range(len(m)))]
-        ok = ok and len(mult) == len(m) and any(
-            all(max(_interval_dist(mult[i][0], *q["re"]), _interval_dist(mult[i][1], *q["im"]))
-                <= Fraction(tol["multipliers"]) for i, q in zip(perm, m)) for perm in perms)
+        ok = (
+            ok
+            and len(mult) == len(m)
+            and any(
+                all(
+                    max(_interval_dist(mult[i][0], *q["re"]), _interval_dist(mult[i][1], *q["im"]))
+                    <= Fraction(tol["multipliers"])
+                    for i, q in zip(perm, m)
+                )
+                for perm in perms
+            )
+        )
     if rec["kind"] != "periodic-orbit":
         ok = ok and _interval_dist(value, *rec["value"]) <= Fraction(tol["value"])
     return "right" if ok else "wrong"
@@ -408,15 +422,90 @@ def _agree(verdict: str, rc: int, err: list[str], data: bytes) -> None:
 # ------------------------------------------------------------------------------------------------
 # mutations
 
-ODD = ["\x00", "\x01", "\t", "\x0b", "\x0c", "\r", "\x1c", "\x1e", "\x7f", "\x85", "\xa0", "\u2028", "\u2029",
-       "\ufeff", "\u0662", "\uff11", "\u200b", "é", " ", ",", '"', "\n", "\r\n", "'", "\\", "{", "}", "[", "]",
-       ":", "e", "E", "-", "+", ".", "0", "9", "_", "x"]
+ODD = [
+    "\x00",
+    "\x01",
+    "\t",
+    "\x0b",
+    "\x0c",
+    "\r",
+    "\x1c",
+    "\x1e",
+    "\x7f",
+    "\x85",
+    "\xa0",
+    "\u2028",
+    "\u2029",
+    "\ufeff",
+    "\u0662",
+    "\uff11",
+    "\u200b",
+    "é",
+    " ",
+    ",",
+    '"',
+    "\n",
+    "\r\n",
+    "'",
+    "\\",
+    "{",
+    "}",
+    "[",
+    "]",
+    ":",
+    "e",
+    "E",
+    "-",
+    "+",
+    ".",
+    "0",
+    "9",
+    "_",
+    "x",
+]
 #: The characters the format refuses (the checker must find them even where the content is ignored).
 REFUSED = ["\x00", "\x0b", "\x1f", "\x7f", "\x85", "\x9f", "\u2028", "\u2029", "\ufeff", "\r"]
-SPELLINGS = ["nan", "NaN", "-nan", "+NAN", "inf", "-inf", "Infinity", "-Infinity", "1e999", "-1e400", "1e-400",
-             "0x1p-2", "1_0", "", " ", "١", "1.5.2", "--1", "+-1", ".", "e5", "1e", "1e+", ".5", "5.", "00012",
-             "1E+00", "1e0000000000000000001", "-0", "+0.0", "0e99999", "1" * 30, "0." + "0" * 400 + "1",
-             "9" * 400, "null", "true", '"1.5"', "[]", "{}"]
+SPELLINGS = [
+    "nan",
+    "NaN",
+    "-nan",
+    "+NAN",
+    "inf",
+    "-inf",
+    "Infinity",
+    "-Infinity",
+    "1e999",
+    "-1e400",
+    "1e-400",
+    "0x1p-2",
+    "1_0",
+    "",
+    " ",
+    "١",
+    "1.5.2",
+    "--1",
+    "+-1",
+    ".",
+    "e5",
+    "1e",
+    "1e+",
+    ".5",
+    "5.",
+    "00012",
+    "1E+00",
+    "1e0000000000000000001",
+    "-0",
+    "+0.0",
+    "0e99999",
+    "1" * 30,
+    "0." + "0" * 400 + "1",
+    "9" * 400,
+    "null",
+    "true",
+    '"1.5"',
+    "[]",
+    "{}",
+]
 
 
 def _num_text(x: float, style: int) -> str:
@@ -439,7 +528,7 @@ def near_values(draw, golden: float, tol: float, circular: bool = False):
     if kind == 1:
         return -golden
     if kind == 2 and circular:
-        return golden + draw(st.integers(-10**6, 10**6)) * 2 * math.pi + draw(st.sampled_from([0, tol, -2 * tol]))
+        return golden + draw(st.integers(-(10**6), 10**6)) * 2 * math.pi + draw(st.sampled_from([0, tol, -2 * tol]))
     if kind == 3:
         return golden * (1 + draw(st.sampled_from([1e-17, 1e-15, 1e-12, 1e-9, 1e-6, 0.1])))
     if kind == 4:
@@ -477,11 +566,42 @@ def case_mutant(draw, cid: str) -> bytes:
             x = draw(near_values(float(rows[r][c]), tol[col]["abs"], col == "tau_mod_2pi"))
             rows[r][c] = _num_text(x, draw(st.integers(0, 6)))
         elif op == 2 and r > 0:  # a field spelled otherwise, or another value
-            rows[r][c] = draw(st.sampled_from(SPELLINGS + [rows[r][c].strip(), f'"{rows[r][c]}"', f' "{rows[r][c]}"\t',
-                                                           f" {rows[r][c]} ", f'"{rows[r][c]}""', '"a""b"']))
+            rows[r][c] = draw(
+                st.sampled_from(
+                    SPELLINGS
+                    + [
+                        rows[r][c].strip(),
+                        f'"{rows[r][c]}"',
+                        f' "{rows[r][c]}"\t',
+                        f" {rows[r][c]} ",
+                        f'"{rows[r][c]}""',
+                        '"a""b"',
+                    ]
+                )
+            )
         elif op == 3 and r > 0:  # exact columns
-            rows[r][c] = draw(st.sampled_from(["0", "-1", "1", "-0", "+0", "0.0", "-1.", "1e0", "2.5", "impact",
-                                               "stick", "release", "Impact", "3", "-2", "+2.00"]))
+            rows[r][c] = draw(
+                st.sampled_from(
+                    [
+                        "0",
+                        "-1",
+                        "1",
+                        "-0",
+                        "+0",
+                        "0.0",
+                        "-1.",
+                        "1e0",
+                        "2.5",
+                        "impact",
+                        "stick",
+                        "release",
+                        "Impact",
+                        "3",
+                        "-2",
+                        "+2.00",
+                    ]
+                )
+            )
         elif op == 4:  # rows: swap, duplicate, drop
             if len(rows) > 2:
                 s = draw(st.integers(1, len(rows) - 1))
@@ -513,7 +633,7 @@ def case_mutant(draw, cid: str) -> bytes:
         elif op == 7:  # trailing / missing field
             rows[r] = rows[r] + [""] if draw(st.booleans()) else rows[r][:-1]
         elif op == 8:  # an added row
-            rows.append(list(rows[-1]) if draw(st.booleans()) else ["0", "0", "0", "0", "1", "impact"][:len(rows[0])])
+            rows.append(list(rows[-1]) if draw(st.booleans()) else ["0", "0", "0", "0", "1", "impact"][: len(rows[0])])
         elif op == 9:  # an extra column whose text is ignored, but not its characters, quotes or length
             name = draw(st.sampled_from(["note", "tau", "kind", "", '"note"', "no\u2028te", "n o"]))
             odd = draw(st.sampled_from(REFUSED + ODD))
@@ -545,9 +665,11 @@ def _n_mutants() -> int:
 def _settings(n: int, key: str):
     """``n`` examples; the default run is reproducible and each case or record has its own seed (one
     seed for all would give each the same mutation recipes), the long profile is random."""
+
     def deco(f):
         f = settings(max_examples=n, deadline=None, database=None, suppress_health_check=list(HealthCheck))(f)
         return f if "GEAR_RATTLE_CHECK_MUTANTS" in os.environ else seed(zlib.crc32(key.encode()))(f)
+
     return deco
 
 
@@ -589,8 +711,9 @@ def _mid(iv) -> float:
 def orbit_mutant(draw, rid: str) -> bytes:
     rec = json.loads((DEFAULT_ORBITS / f"{rid}.json").read_text())
     tol = rec["tolerances"]
-    pts = [[["tau_mod_2pi", _mid(p["tau_mod_2pi"])], ["sdot", _mid(p["sdot"])], ["wall", p["wall"]]]
-           for p in rec["points"]]
+    pts = [
+        [["tau_mod_2pi", _mid(p["tau_mod_2pi"])], ["sdot", _mid(p["sdot"])], ["wall", p["wall"]]] for p in rec["points"]
+    ]
     mult = [[["re", _mid(m["re"])], ["im", _mid(m["im"])]] for m in rec["multipliers"]]
     top = [["points", pts], ["multipliers", mult]]
     if "value" in rec:
@@ -631,8 +754,26 @@ def orbit_mutant(draw, rid: str) -> bytes:
                 pts.insert(k, pts[k])
         elif op == 4 and pts:  # walls
             p = draw(st.sampled_from(pts))
-            p[2][1] = draw(st.sampled_from([0, -1, -1.0, 0.0, -0.0, "\x001e-400", True, None, "0", 2, -2, "\x00-1e0",
-                                            "\x00-10e-1", "\x00-1.0000000000000000001"]))
+            p[2][1] = draw(
+                st.sampled_from(
+                    [
+                        0,
+                        -1,
+                        -1.0,
+                        0.0,
+                        -0.0,
+                        "\x001e-400",
+                        True,
+                        None,
+                        "0",
+                        2,
+                        -2,
+                        "\x00-1e0",
+                        "\x00-10e-1",
+                        "\x00-1.0000000000000000001",
+                    ]
+                )
+            )
         elif op == 5:  # multipliers: swap (right), drop im (right when 0), conjugate
             how = draw(st.integers(0, 2))
             if how == 0:
@@ -643,8 +784,9 @@ def orbit_mutant(draw, rid: str) -> bytes:
                 mult[0][1][1] = -mult[0][1][1]
         elif op == 6:  # a number's value replaced by another spelling or type
             target = draw(st.sampled_from(["point", "mult", "top"]))
-            spelled = "\x00" + draw(st.sampled_from(SPELLINGS + ["1" * 100, "1" * 101, "-" + "1" * 99,
-                                                                    "1." + "0" * 98, "1e-99999"]))
+            spelled = "\x00" + draw(
+                st.sampled_from(SPELLINGS + ["1" * 100, "1" * 101, "-" + "1" * 99, "1." + "0" * 98, "1e-99999"])
+            )
             if target == "point" and pts:
                 draw(st.sampled_from(pts))[draw(st.integers(0, 1))][1] = spelled
             elif target == "mult" and mult and mult[0]:
@@ -659,8 +801,17 @@ def orbit_mutant(draw, rid: str) -> bytes:
             elif how == 1 and top:
                 del top[draw(st.integers(0, len(top) - 1))]
             elif how == 2:
-                top.insert(0, [draw(st.sampled_from(["note", "Points", "values", "\x01\\ud800", "\x01\\u2028",
-                                                     "x" * 10_001, "x" * 10_000])), draw(st.sampled_from([1, "s", None]))])
+                top.insert(
+                    0,
+                    [
+                        draw(
+                            st.sampled_from(
+                                ["note", "Points", "values", "\x01\\ud800", "\x01\\u2028", "x" * 10_001, "x" * 10_000]
+                            )
+                        ),
+                        draw(st.sampled_from([1, "s", None])),
+                    ],
+                )
             elif pts:
                 p = draw(st.sampled_from(pts))
                 p.append([draw(st.sampled_from(["wall", "sdot", "extra"])), 0])
@@ -685,7 +836,7 @@ def orbit_mutant(draw, rid: str) -> bytes:
                 return v[1:]  # raw text
             return '"' + (v[1:] if v.startswith("\x01") else v) + '"'
         if v and isinstance(v[0], list) and len(v[0]) == 2 and isinstance(v[0][0], str):  # pairs: an object
-            return "{" + ("," + ws).join(f'{ser(k)}{ws}:{ws}{ser(x)}' for k, x in v) + "}"
+            return "{" + ("," + ws).join(f"{ser(k)}{ws}:{ws}{ser(x)}" for k, x in v) + "}"
         return "[" + ("," + ws).join(ser(x) for x in v) + "]"
 
     text = ws + ser(top) + draw(st.sampled_from(["", "\n", " ", "\n\n", ",", "}"]))

@@ -118,8 +118,8 @@ def test_note_names_the_first_and_the_worst_failing_line(tmp_path, capsys):
     f = d / f"{cid}.csv"
     rows = list(csv.reader(f.read_text().splitlines()))
     j = rows[0].index("tau")
-    rows[3][j] = repr(float(rows[3][j]) + 3e-9)    # line 4: 3 x tolerance
-    rows[8][j] = repr(float(rows[8][j]) + 5e-7)    # line 9: 500 x tolerance
+    rows[3][j] = repr(float(rows[3][j]) + 3e-9)  # line 4: 3 x tolerance
+    rows[8][j] = repr(float(rows[8][j]) + 5e-7)  # line 9: 500 x tolerance
     rows[12][3] = "-1" if rows[12][3] == "0" else "0"  # line 13: wrong wall
     with open(f, "w", newline="") as fh:
         csv.writer(fh, lineterminator="\n").writerows(rows)
@@ -142,21 +142,24 @@ def _one_field(tmp_path, cid, line, column, text):
 
 
 #: Case 0007: line 4 is an impact on the lower wall, line 26 its stick row, line 27 its release row.
-@pytest.mark.parametrize("line,column,text,needle", [
-    (4, "tau", "2_349.97", "not a number"),            # Python's underscores
-    (4, "tau", "0x1.2cp+1", "not a number"),           # hexadecimal
-    (4, "tau", "inf", "not a number"),
-    (4, "tau", "1e999", "not finite"),
-    (4, "tau", "2.3\u00a0", "not a number"),           # a non-ASCII blank
-    (4, "sdot", "nan", "not a number"),                 # no velocity on an impact row
-    (4, "n", "2e0", "not an integer"),
-    (4, "n", "2.5", "not an integer"),
-    (4, "n", "\u0662", "not an integer"),              # ARABIC-INDIC DIGIT TWO: int() took it
-    (4, "n", "1_0", "not an integer"),
-    (4, "wall", "-1e0", "not an integer"),
-    (26, "sdot", "0.0", "on a stick row"),              # a number where no velocity exists
-    (27, "sdot", "1e-300", "on a release row"),
-])
+@pytest.mark.parametrize(
+    "line,column,text,needle",
+    [
+        (4, "tau", "2_349.97", "not a number"),  # Python's underscores
+        (4, "tau", "0x1.2cp+1", "not a number"),  # hexadecimal
+        (4, "tau", "inf", "not a number"),
+        (4, "tau", "1e999", "not finite"),
+        (4, "tau", "2.3\u00a0", "not a number"),  # a non-ASCII blank
+        (4, "sdot", "nan", "not a number"),  # no velocity on an impact row
+        (4, "n", "2e0", "not an integer"),
+        (4, "n", "2.5", "not an integer"),
+        (4, "n", "\u0662", "not an integer"),  # ARABIC-INDIC DIGIT TWO: int() took it
+        (4, "n", "1_0", "not an integer"),
+        (4, "wall", "-1e0", "not an integer"),
+        (26, "sdot", "0.0", "on a stick row"),  # a number where no velocity exists
+        (27, "sdot", "1e-300", "on a release row"),
+    ],
+)
 def test_strict_number_forms_are_malformed(tmp_path, capsys, line, column, text, needle):
     cid = "0007-chatter-sticking"
     d = _one_field(tmp_path, cid, line, column, text)
@@ -165,11 +168,22 @@ def test_strict_number_forms_are_malformed(tmp_path, capsys, line, column, text,
     assert len(err) == 1 and f"line {line}" in err[0] and column in err[0] and needle in err[0], err
 
 
-@pytest.mark.parametrize("line,column,text", [
-    (4, "n", "2.0"), (4, "n", "+2"), (4, "n", " 2 "), (4, "wall", "-1.0"), (4, "wall", "-1."),
-    (4, "tau", "2.3499716642375561e+00"), (4, "tau", "+2.3499716642375561"),
-    (26, "sdot", "nan"), (26, "sdot", "NaN"), (27, "sdot", "-nan"), (27, "sdot", " "),
-])
+@pytest.mark.parametrize(
+    "line,column,text",
+    [
+        (4, "n", "2.0"),
+        (4, "n", "+2"),
+        (4, "n", " 2 "),
+        (4, "wall", "-1.0"),
+        (4, "wall", "-1."),
+        (4, "tau", "2.3499716642375561e+00"),
+        (4, "tau", "+2.3499716642375561"),
+        (26, "sdot", "nan"),
+        (26, "sdot", "NaN"),
+        (27, "sdot", "-nan"),
+        (27, "sdot", " "),
+    ],
+)
 def test_documented_number_forms_are_accepted(tmp_path, capsys, line, column, text):
     cid = "0007-chatter-sticking"
     d = _one_field(tmp_path, cid, line, column, text)

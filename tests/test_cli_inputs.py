@@ -47,6 +47,7 @@ def subparsers():
 
 # ------------------------------------------------------------------ item 2: the range of tau0
 
+
 def test_library_rejects_tau0_out_of_range():
     from gear_rattle.mapimpl.orbit import initial_state, map_orbit
 
@@ -73,12 +74,16 @@ def test_every_command_rejects_tau0_out_of_range(command, value, capsys):
 
 # ------------------------------------------------------------------- item 4: no tracebacks
 
-@pytest.mark.parametrize("args,needle", [
-    (["simulate", "--impacts", "99999999999999999999"], "--impacts"),
-    (["orbit", "find", "--impacts", "99999999999999999999"], "--impacts"),
-    (["simulate", "--impacts", "3", "--plot", "/proc/x.png"], "--plot"),
-    (["bifurcation", "--values", "10", "--keep", "99999999"], "--keep"),
-])
+
+@pytest.mark.parametrize(
+    "args,needle",
+    [
+        (["simulate", "--impacts", "99999999999999999999"], "--impacts"),
+        (["orbit", "find", "--impacts", "99999999999999999999"], "--impacts"),
+        (["simulate", "--impacts", "3", "--plot", "/proc/x.png"], "--plot"),
+        (["bifurcation", "--values", "10", "--keep", "99999999"], "--keep"),
+    ],
+)
 def test_no_traceback(args, needle, capsys):
     assert_usage_error(args, capsys, needle)
 
@@ -92,8 +97,9 @@ def test_report_out_is_a_file(tmp_path, capsys):
 
 def test_timeseries_too_short_for_a_period(capsys):
     """r = 0.5: 30 impacts chatter and stick within one forcing period: no stroboscopic sample."""
-    assert_usage_error(["timeseries", "--r", "0.5", "--impacts", "20", "--transient", "10"], capsys,
-                       "--impacts=20", "--transient=10")
+    assert_usage_error(
+        ["timeseries", "--r", "0.5", "--impacts", "20", "--transient", "10"], capsys, "--impacts=20", "--transient=10"
+    )
 
 
 def test_every_integer_option_has_an_upper_bound():
@@ -109,10 +115,12 @@ def test_every_integer_option_has_an_upper_bound():
 
 # --------------------------------------------------------- item 5: outputs checked up front
 
+
 def test_failed_plot_leaves_no_data_file(tmp_path, capsys):
     data, fig = tmp_path / "p.csv", tmp_path / "x.bogus"
-    assert_usage_error(["simulate", "--impacts", "3", "--output", str(data), "--plot", str(fig)], capsys,
-                       "--plot", "png")
+    assert_usage_error(
+        ["simulate", "--impacts", "3", "--output", str(data), "--plot", str(fig)], capsys, "--plot", "png"
+    )
     assert not data.exists() and not fig.exists()
 
 
@@ -120,10 +128,12 @@ def test_failed_plot_leaves_no_data_file(tmp_path, capsys):
 def test_outputs_validated_before_computing(case, tmp_path, capsys):
     f = tmp_path / "file"
     f.write_text("x")
-    args = {"output-is-dir": ["--output", str(tmp_path)],
-            "parent-is-file": ["--output", str(f / "sub" / "o.csv")],
-            "same-file": ["--output", str(tmp_path / "a.png"), "--plot", str(tmp_path / "a.png")],
-            "plot-no-ext": ["--plot", str(tmp_path / "figure")]}[case]
+    args = {
+        "output-is-dir": ["--output", str(tmp_path)],
+        "parent-is-file": ["--output", str(f / "sub" / "o.csv")],
+        "same-file": ["--output", str(tmp_path / "a.png"), "--plot", str(tmp_path / "a.png")],
+        "plot-no-ext": ["--plot", str(tmp_path / "figure")],
+    }[case]
     for command in ("simulate", "bifurcation", "lyapunov", "timeseries"):
         assert_usage_error([command, *args], capsys, "--output" if case != "plot-no-ext" else "--plot")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
@@ -146,6 +156,7 @@ def test_transient_out_dir_checked_before_computing(command, tmp_path, capsys, m
 
 # --------------------------------------------------------------- item 6: the right names
 
+
 def test_messages_name_the_option(capsys):
     assert_usage_error(["bifurcation", "--tau0", "nan"], capsys, "--tau0", absent=("sdot0",))
     assert_usage_error(["uncertainty", "--ns", "-1"], capsys, "--ns", absent=("cap",))
@@ -156,8 +167,10 @@ def test_messages_name_the_option(capsys):
 
 # --------------------------------------------------------- item 7: negative numbers as values
 
-@pytest.mark.parametrize("text,value", [("-1e-2", -0.01), ("-.5", -0.5), ("-3E+1", -30.0), ("-2", -2.0),
-                                        ("-1.5e0", -1.5)])
+
+@pytest.mark.parametrize(
+    "text,value", [("-1e-2", -0.01), ("-.5", -0.5), ("-3E+1", -30.0), ("-2", -2.0), ("-1.5e0", -1.5)]
+)
 def test_negative_numbers_in_any_notation(text, value):
     p = build_parser()
     assert p.parse_args(["simulate", "--gamma", text]).gamma == value
@@ -176,6 +189,7 @@ def test_negative_inf_is_a_value_not_an_option(capsys):
 
 
 # ----------------------------------------------- item 8: one name per meaning, defaults in help
+
 
 def test_one_name_for_output_directory_and_quiet():
     for name, sp in subparsers().items():
@@ -221,6 +235,7 @@ def test_help_shows_every_default():
 
 # ------------------------------------------------------- the start options: one group, one check
 
+
 @pytest.mark.parametrize("command", COMMANDS_WITH_TAU0)
 def test_every_command_refuses_a_zero_pre_impact_velocity_the_same_way(command, capsys):
     """--tau0/--sdot0 are one option group (cliutil.add_start_args) with one joint check
@@ -228,8 +243,11 @@ def test_every_command_refuses_a_zero_pre_impact_velocity_the_same_way(command, 
     extra = ["--tau0", "1"] if command == "orbit find" else []
     err = assert_usage_error([*command.split(), "--sdot0", "0", *extra], capsys, "--sdot0=0 is out of range")
     assert err.strip().endswith("allowed nonzero (a pre-impact velocity; > 0 hits s = 0, < 0 hits s = -1)")
-    helps = subparsers()[command.split()[0]].format_help() if command != "orbit find" else \
-        subparsers()["orbit"].format_help()
+    helps = (
+        subparsers()[command.split()[0]].format_help()
+        if command != "orbit find"
+        else subparsers()["orbit"].format_help()
+    )
     assert "pre-impact velocity, nonzero (> 0 hits s = 0, < 0 hits s = -1" in " ".join(helps.split())
 
 

@@ -25,6 +25,7 @@ def run_cli(args, capsys):
 
 # --------------------------------------------------------- item 3: map_orbit in chunks, Ctrl-C
 
+
 def _same(a, b):
     for f in ("n", "tau", "theta", "wall", "sdot", "kind"):
         x, y = getattr(a, f), getattr(b, f)
@@ -99,6 +100,7 @@ def test_ctrl_c_stops_a_long_simulate_at_once(track, tmp_path, capsys):
 
 # ------------------------------------------------------------------------ item 9: progress
 
+
 class FakeStream(io.StringIO):
     def __init__(self, tty):
         super().__init__()
@@ -137,6 +139,7 @@ def test_progress_only_on_a_terminal_labelled(monkeypatch):
 
 
 # ------------------------------------------------------------ item 10: dense, one compilation
+
 
 def test_dense_compiles_once_for_every_flight():
     """simulate --plot compiled `flight` anew for every flight length (35 s for 50 time units);

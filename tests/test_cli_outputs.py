@@ -33,6 +33,7 @@ def run_cli(args, capsys):
 
 def strict_json(text: str):
     """json.loads refusing NaN and the infinities (RFC 8259)."""
+
     def refuse(name):
         raise ValueError(f"{name} in JSON")
 
@@ -166,17 +167,21 @@ def test_every_subcommand_is_in_the_table():
 R08 = ["--r", "0.8", "--tau0", "6.0246", "--sdot0", "0.8276"]  # a guess of Fig. 4's stable 6-impact orbit
 
 
-@pytest.mark.parametrize("args", [
-    ["simulate", "--impacts", "5"],
-    ["simulate", "--impacts", "5", "--format", "json"],
-    ["simulate", "--impacts", "5", "--track", "scipy"],
-    ["timeseries", "--impacts", "40", "--transient", "10"],
-    ["timeseries", "--impacts", "40", "--transient", "10", "--format", "json"],
-    ["lyapunov", "--impacts", "50", "--transient", "10"],
-    ["lyapunov", "--alpha", "0", "--impacts", "50", "--format", "json"],  # an orbit that ends: NaN -> null
-    ["orbit", "find", *R08],
-    ["orbit", "find", *R08, "--format", "json"],
-], ids=lambda a: " ".join(a))
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["simulate", "--impacts", "5"],
+        ["simulate", "--impacts", "5", "--format", "json"],
+        ["simulate", "--impacts", "5", "--track", "scipy"],
+        ["timeseries", "--impacts", "40", "--transient", "10"],
+        ["timeseries", "--impacts", "40", "--transient", "10", "--format", "json"],
+        ["lyapunov", "--impacts", "50", "--transient", "10"],
+        ["lyapunov", "--alpha", "0", "--impacts", "50", "--format", "json"],  # an orbit that ends: NaN -> null
+        ["orbit", "find", *R08],
+        ["orbit", "find", *R08, "--format", "json"],
+    ],
+    ids=lambda a: " ".join(a),
+)
 def test_stdout_parses(args, capsys):
     rc, out, err = run_cli(args, capsys)
     assert rc == 0, err
@@ -235,6 +240,7 @@ def test_human_summary_on_a_terminal_json_elsewhere(monkeypatch, capsys):
 
 # ----------------------------------------------------- strict JSON in every file a command writes
 
+
 def _json_files(root: Path) -> list[Path]:
     return sorted(p for p in root.rglob("*.json"))
 
@@ -244,12 +250,10 @@ def test_every_json_file_is_strict(tmp_path, capsys):
     parses with a parser that refuses NaN (and their stdout too)."""
     runs = [
         ["transients", "--nx", "5", "--cap", "300", "--out", str(tmp_path / "t"), "--quiet"],  # fits fail: null
-        ["uncertainty", "--points", "10", "--n-eps", "3", "--ns", "50", "100", "--out", str(tmp_path / "u"),
-         "--quiet"],
+        ["uncertainty", "--points", "10", "--n-eps", "3", "--ns", "50", "100", "--out", str(tmp_path / "u"), "--quiet"],
         ["simulate", "--alpha", "0", "--impacts", "20", "--output", str(tmp_path / "s.json")],
         ["lyapunov", "--alpha", "0", "--impacts", "20", "--output", str(tmp_path / "l.json")],
-        ["check", "--self", "--orbits", "--cases", "orbit-3-impact-fig2-alpha0.5-r0.9", "--out",
-         str(tmp_path / "c")],
+        ["check", "--self", "--orbits", "--cases", "orbit-3-impact-fig2-alpha0.5-r0.9", "--out", str(tmp_path / "c")],
     ]
     for args in runs:
         rc, out, err = run_cli(args, capsys)
@@ -297,8 +301,10 @@ def test_report_json_is_strict_and_rerender_reads_null_back(tmp_path, monkeypatc
     nan_row = next(n for n in summary["numbers"] if n["key"] == "nan_row")
     assert nan_row["value"] is None
     builder.rerender(out)
-    assert next(n for n in strict_json((out / "summary.json").read_text())["numbers"]
-                if n["key"] == "nan_row")["value"] is None
+    assert (
+        next(n for n in strict_json((out / "summary.json").read_text())["numbers"] if n["key"] == "nan_row")["value"]
+        is None
+    )
 
 
 def test_an_interrupted_report_leaves_out_as_it_was(tmp_path, monkeypatch):
@@ -323,6 +329,7 @@ def test_an_interrupted_report_leaves_out_as_it_was(tmp_path, monkeypatch):
 
 
 # --------------------------------------------------------------------------- the library's errors
+
 
 def test_library_arguments_name_themselves():
     import gear_rattle as gr
@@ -392,6 +399,7 @@ def test_basins_mesh_keeps_the_profile_ratio():
 
 # ------------------------------------------------------------- odd paths, extreme models, files
 
+
 def test_stdout_that_cannot_be_written_is_one_line(tmp_path, monkeypatch, capsys):
     """`gear-rattle simulate > /dev/full` and a closed stdout (`>&-`) ended in tracebacks."""
     import sys
@@ -409,10 +417,13 @@ def test_stdout_that_cannot_be_written_is_one_line(tmp_path, monkeypatch, capsys
     assert "stdout is closed" in err[0] and "No space left on device" in err[1] and len(err) == 2
 
 
-@pytest.mark.parametrize("args,needle", [
-    (["orbit", "find", "--gamma", "1e10", "--settle", "100"], "did not converge"),  # was 'Array must not ...'
-    (["orbit", "continue", "--r", "1", "--settle", "100"], "did not converge"),      # exit 2 from the library
-])
+@pytest.mark.parametrize(
+    "args,needle",
+    [
+        (["orbit", "find", "--gamma", "1e10", "--settle", "100"], "did not converge"),  # was 'Array must not ...'
+        (["orbit", "continue", "--r", "1", "--settle", "100"], "did not converge"),  # exit 2 from the library
+    ],
+)
 def test_extreme_models_fail_in_one_line(args, needle, capsys):
     rc, out, err = run_cli(args, capsys)
     assert rc == 1 and out == "" and len(err.splitlines()) == 1 and needle in err, err
@@ -452,9 +463,24 @@ def test_every_numeric_option_states_its_range():
     assert not missing, missing
 
 
-@pytest.mark.parametrize("text, value", [("1000", 1000), ("1e3", 1000), ("2.0e1", 20), ("1_0", 10), (" 7", 7),
-                                         ("0e5", 0), ("1.5", None), ("nan", None), ("inf", None), ("0x10", None),
-                                         ("1e-400000", None), ("1e400000", "range"), ("-1e31", "range")])
+@pytest.mark.parametrize(
+    "text, value",
+    [
+        ("1000", 1000),
+        ("1e3", 1000),
+        ("2.0e1", 20),
+        ("1_0", 10),
+        (" 7", 7),
+        ("0e5", 0),
+        ("1.5", None),
+        ("nan", None),
+        ("inf", None),
+        ("0x10", None),
+        ("1e-400000", None),
+        ("1e400000", "range"),
+        ("-1e31", "range"),
+    ],
+)
 def test_integer_options_take_exponent_notation(text, value):
     """--impacts 1e3 was refused ('not an integer'); an integral value in exponent notation is the integer,
     1.5 or nan is refused naming the range, 1e400000 is out of range (not converted)."""

@@ -23,16 +23,19 @@ from gear_rattle.validation.cli import main
 
 def _cli(args, tmp_path, cache):
     env = dict(os.environ, GEAR_RATTLE_JAX_CACHE=str(cache))
-    return subprocess.run([sys.executable, "-m", "gear_rattle", *args], capture_output=True, text=True, cwd=tmp_path,
-                          env=env, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "gear_rattle", *args], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300
+    )
 
 
 def test_library_import_leaves_the_cache_off():
     """Importing the package (and calling the CLI's main() from Python) does not configure JAX's cache."""
     import jax
 
-    code = ("import jax, gear_rattle; from gear_rattle.validation.cli import main; "
-            "main(['simulate', '--impacts', '1']); print(jax.config.values['jax_compilation_cache_dir'])")
+    code = (
+        "import jax, gear_rattle; from gear_rattle.validation.cli import main; "
+        "main(['simulate', '--impacts', '1']); print(jax.config.values['jax_compilation_cache_dir'])"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0 and out.stdout.strip().endswith("None"), out.stderr
     assert jax.config.values["jax_compilation_cache_dir"] is None

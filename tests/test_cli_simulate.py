@@ -35,8 +35,10 @@ def test_csv_rows(capsys):
 def test_json_and_files(tmp_path, capsys):
     out = tmp_path / "o.json"
     png = tmp_path / "fig.png"
-    rc, _, _ = run_cli(["simulate", "--alpha", "0.5", "--impacts", "30", "--format", "json", "--output", str(out),
-                        "--plot", str(png)], capsys)
+    rc, _, _ = run_cli(
+        ["simulate", "--alpha", "0.5", "--impacts", "30", "--format", "json", "--output", str(out), "--plot", str(png)],
+        capsys,
+    )
     assert rc == 0
     d = json.loads(out.read_text())
     assert d["params"]["alpha"] == 0.5 and len(d["events"]) == 31
@@ -49,16 +51,19 @@ def test_sticking_rows(capsys):
     assert rc == 0 and "stick" in kinds and "release" in kinds
 
 
-@pytest.mark.parametrize("args,needle", [
-    (["--r", "1.5"], "parameter r=1.5"),
-    (["--beta", "0"], "parameter beta=0"),
-    (["--alpha", "-1"], "parameter alpha=-1"),
-    (["--gamma", "inf"], "parameter gamma=inf"),
-    (["--impacts", "-2"], "--impacts"),
-    (["--sdot0", "0"], "sdot0"),
-    (["--s0", "0.3"], "s0"),
-    (["--track", "rk4"], "--track"),
-])
+@pytest.mark.parametrize(
+    "args,needle",
+    [
+        (["--r", "1.5"], "parameter r=1.5"),
+        (["--beta", "0"], "parameter beta=0"),
+        (["--alpha", "-1"], "parameter alpha=-1"),
+        (["--gamma", "inf"], "parameter gamma=inf"),
+        (["--impacts", "-2"], "--impacts"),
+        (["--sdot0", "0"], "sdot0"),
+        (["--s0", "0.3"], "s0"),
+        (["--track", "rk4"], "--track"),
+    ],
+)
 def test_bad_input_one_line_exit_2(args, needle, capsys):
     with pytest.raises(SystemExit) as e:
         rc = main(["simulate", *args])
@@ -71,7 +76,9 @@ def test_bad_input_one_line_exit_2(args, needle, capsys):
 
 
 def test_console_script_no_traceback():
-    p = subprocess.run([sys.executable, "-m", "gear_rattle.validation", "simulate", "--r", "2"], capture_output=True, text=True)
+    p = subprocess.run(
+        [sys.executable, "-m", "gear_rattle.validation", "simulate", "--r", "2"], capture_output=True, text=True
+    )
     assert p.returncode == 2
     assert p.stderr.strip().count("\n") == 0 and "allowed 0 < r <= 1" in p.stderr
 

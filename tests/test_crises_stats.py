@@ -9,9 +9,21 @@ import math
 import numpy as np
 import pytest
 
-from gear_rattle.validation.dynamics.crises.stats import (Bracket, bracket, locate, censored_lifetimes, fit_crisis, lifetime_lower_bound,
-                                                          mean_time, next_probes, range_systematic, WHY_BRACKET_NARROWER,
-                                                          WHY_FIT_NARROWER, WHY_FIT_OUTSIDE, WHY_NO_BRACKET)
+from gear_rattle.validation.dynamics.crises.stats import (
+    Bracket,
+    bracket,
+    locate,
+    censored_lifetimes,
+    fit_crisis,
+    lifetime_lower_bound,
+    mean_time,
+    next_probes,
+    range_systematic,
+    WHY_BRACKET_NARROWER,
+    WHY_FIT_NARROWER,
+    WHY_FIT_OUTSIDE,
+    WHY_NO_BRACKET,
+)
 
 
 def test_censored_lifetimes_recover_the_mean_with_heavy_censoring_and_left_truncation():
@@ -150,12 +162,38 @@ def test_crisis_results_are_typed_and_write_as_strict_json(tmp_path):
     brk = bracket(r, k, E, "below")
     loc = locate(goy.mu_c, goy.err, brk)
     none = mean_time([0, 0], [1e6, 1e6])
-    res = R1Result(r1=loc.value, r1_err=loc.err, method=loc.method, located=loc, r1_goy=goy.mu_c,
-                   r1_goy_err=goy.err, r1_stat=goy.err, r1_syst=0.0, r1_free=goy.mu_c, r1_free_err=goy.err,
-                   g_free=1.0, g_free_err=0.0, fit_goy=goy, fit_free=goy, subranges_goy=[("all", goy.mu_c)],
-                   subranges_free=[], goy_exponent=1.0, saddle=object(), bracket=brk, bracket_margin=math.nan,
-                   lower_bound=brk.seen, upper_bound=brk.clear, consistent=True, clear_lyapunov=None,
-                   near={"r": brk.seen, **none.as_dict()}, hops=[], paper_fig7={}, ics={}, cost={}, profile="quick")
+    res = R1Result(
+        r1=loc.value,
+        r1_err=loc.err,
+        method=loc.method,
+        located=loc,
+        r1_goy=goy.mu_c,
+        r1_goy_err=goy.err,
+        r1_stat=goy.err,
+        r1_syst=0.0,
+        r1_free=goy.mu_c,
+        r1_free_err=goy.err,
+        g_free=1.0,
+        g_free_err=0.0,
+        fit_goy=goy,
+        fit_free=goy,
+        subranges_goy=[("all", goy.mu_c)],
+        subranges_free=[],
+        goy_exponent=1.0,
+        saddle=object(),
+        bracket=brk,
+        bracket_margin=math.nan,
+        lower_bound=brk.seen,
+        upper_bound=brk.clear,
+        consistent=True,
+        clear_lyapunov=None,
+        near={"r": brk.seen, **none.as_dict()},
+        hops=[],
+        paper_fig7={},
+        ics={},
+        cost={},
+        profile="quick",
+    )
     d = res.as_dict()
     assert "saddle" not in d and d["bracket"] == brk.as_dict() and d["located"] == loc.as_dict()
     assert d["fit_goy"]["mu_c"] == goy.mu_c and d["near"]["T"] == math.inf

@@ -36,8 +36,21 @@ from gear_rattle.core.params import Params
 from gear_rattle.core.results import ImpactSequence
 from gear_rattle.reference import diffrax_track as D
 from gear_rattle.reference import scipy_track as S
-from refhelpers import (DS_TOL, GRAZE_DEPTH, JAC_TOL, TAU_TOL, accel, forcing, map_first_impact, map_one, map_step,
-                        near_graze, params_st, state_st, v0_for_apex)
+from refhelpers import (
+    DS_TOL,
+    GRAZE_DEPTH,
+    JAC_TOL,
+    TAU_TOL,
+    accel,
+    forcing,
+    map_first_impact,
+    map_one,
+    map_step,
+    near_graze,
+    params_st,
+    state_st,
+    v0_for_apex,
+)
 from tally import Tally
 
 CI = settings(deadline=None, max_examples=15, derandomize=True)
@@ -124,8 +137,9 @@ def near_miss(p: Params, tau0: float, s0: float, v0: float, t_flight: float, dep
 
     g = gap(t)
     for k in 1 + np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]) & (g[1:-1] < _MISS_SCREEN)):
-        res = minimize_scalar(lambda x: float(gap(x)), bounds=(t[k - 1], t[k + 1]), method="bounded",
-                              options={"xatol": 1e-12})
+        res = minimize_scalar(
+            lambda x: float(gap(x)), bounds=(t[k - 1], t[k + 1]), method="bounded", options={"xatol": 1e-12}
+        )
         if min(res.fun, g[k]) < depth:
             return True
     return False
@@ -151,7 +165,6 @@ def ill_conditioned(seq: ImpactSequence, k: int, flights: list) -> bool:
     return near_graze(float(seq.theta[i]), float(seq.sdot[i]), int(seq.wall[i]), p) or near_miss(p, *flights[k - 1])
 
 
-
 def _diffrax_stepwise(p: Params, tau: float, sd: float, n: int):
     """Diffrax orbit by repeated single steps (reuses one compiled kernel)."""
     st = make_state(tau, sd)
@@ -160,7 +173,8 @@ def _diffrax_stepwise(p: Params, tau: float, sd: float, n: int):
     for _ in range(n):
         tr = D.iterate(st, p.arrays(), 1)
         s1 = jax.tree.map(lambda x: x[0], tr.states)
-        states.append(s1); infos.append(jax.tree.map(lambda x: x[0], tr.infos))
+        states.append(s1)
+        infos.append(jax.tree.map(lambda x: x[0], tr.infos))
         st = s1
     stack = lambda xs: jax.tree.map(lambda *a: np.stack(a), *xs)  # noqa: E731
     traj = D.Trajectory(stack(states), stack(infos))
@@ -173,7 +187,8 @@ def _map_stepwise(p: Params, tau: float, sd: float, n: int):
     first = st
     for _ in range(n):
         s1, info = map_step(st, p.arrays())
-        states.append(s1); infos.append(info)
+        states.append(s1)
+        infos.append(info)
         st = s1
     stack = lambda xs: jax.tree.map(lambda *a: np.stack(a), *xs)  # noqa: E731
     traj = Trajectory(stack(states), stack(infos))
@@ -226,8 +241,8 @@ def _check_one_step(tally: Tally, p: Params, tau: float, sd: float) -> None:
 STICK_ROW_TOL = 8.9e-16
 ONE_STEP_EXAMPLES = [
     (Params(3.0, 0.1, 0.1, 0.9), (0.0, 0.5)),
-    (Params(0.5, 0.1, 0.9, 0.5), (1.0, 0.01)),          # chatter at the upper wall
-    (Params(0.0, 0.01, 0.0, 0.3), (0.0, -0.01)),        # no forcing, long coast
+    (Params(0.5, 0.1, 0.9, 0.5), (1.0, 0.01)),  # chatter at the upper wall
+    (Params(0.0, 0.01, 0.0, 0.3), (0.0, -0.01)),  # no forcing, long coast
     (Params(5.0, 1.0, -0.5, 1.0), (3.0, 3.0)),
     # below the declared |sdot| >= 0.01: sticks at once, then released (stick / release rows) ...
     (Params(2.0, 0.1, 1.0, 0.5), (0.3, 1e-7)),
@@ -235,8 +250,10 @@ ONE_STEP_EXAMPLES = [
     (Params(0.5, 0.1, 0.9, 0.5), (1.0, 1e-8)),
     # fast launch (|v0| = 2.76), strong damping: scipy's time error 4.7e-12 is 1.02 refhelpers.tau_tol
     # (a displacement error 1.8e-12 at |v1| = 0.38) and 0.40 step_tau_tol (diffrax 6e-15)
-    (Params(2.2554216557480737, 0.9861467492924836, 0.4946037141689609, 0.9433336816684391),
-     (6.242291263040006, 2.926054579844755)),
+    (
+        Params(2.2554216557480737, 0.9861467492924836, 0.4946037141689609, 0.9433336816684391),
+        (6.242291263040006, 2.926054579844755),
+    ),
 ]
 
 
@@ -275,8 +292,9 @@ def _horizon(traj, n: int, flights: list) -> tuple[int, float, np.ndarray]:
         J = jac[k - 1]
         if k > len(flights) or not np.all(np.isfinite(J)):
             return k - 1, lam, pred
-        terms = [(J @ P, e) for P, e in terms] + [(np.eye(2), step_tau_tol(abs(flights[k - 1][2]), float(sdot[k - 1]),
-                                                                    flights[k - 1][3]))]
+        terms = [(J @ P, e) for P, e in terms] + [
+            (np.eye(2), step_tau_tol(abs(flights[k - 1][2]), float(sdot[k - 1]), flights[k - 1][3]))
+        ]
         pred[k] = sum(np.linalg.norm(P, 2) * e for P, e in terms)
         growth = J @ growth
         if pred[k] > TOL_MANY / 10:
@@ -318,8 +336,10 @@ def _many_step_errors(p: Params, tau: float, sd: float, n: int):
         assert np.array_equal(other.wall[oi], mseq.wall[mi]), other.track
         dt = np.abs(other.tau[oi] - mseq.tau[mi])
         dv = np.abs(np.nan_to_num(other.sdot[oi] - mseq.sdot[mi]))
-        out[other.track] = (float(np.max(dt / bound)),
-                            float(np.max(dv / (bound * (1 + np.abs(np.nan_to_num(mseq.sdot[mi])))))))
+        out[other.track] = (
+            float(np.max(dt / bound)),
+            float(np.max(dv / (bound * (1 + np.abs(np.nan_to_num(mseq.sdot[mi])))))),
+        )
     return K, lam, out
 
 
@@ -344,11 +364,16 @@ def _check_many_long(tally: Tally, p: Params, tau: float, sd: float) -> None:
 def test_many_steps_within_ftle_horizon():
     """Eq. (3) integrated against the map over up to 30 impacts, including the paper's chaotic attractor
     (Fig. 3 parameters), where the finite-time Lyapunov growth limits the horizon."""
-    _run_counted(_check_many_default, settings(CI, max_examples=6),
-                 [(Params(3.0, 0.1, 0.1, 0.9), (0.0, 0.5)),    # the paper's chaotic attractor (Fig. 3)
-                  (Params(1.0, 0.5, 0.2, 0.4), (0.0, 0.5)),    # stick and release
-                  (Params(0.0, 1.0, -0.5, 0.5), (0.0, 0.75))],  # decaying bounces: slow impacts
-                 min_fraction=0.7)
+    _run_counted(
+        _check_many_default,
+        settings(CI, max_examples=6),
+        [
+            (Params(3.0, 0.1, 0.1, 0.9), (0.0, 0.5)),  # the paper's chaotic attractor (Fig. 3)
+            (Params(1.0, 0.5, 0.2, 0.4), (0.0, 0.5)),  # stick and release
+            (Params(0.0, 1.0, -0.5, 0.5), (0.0, 0.75)),
+        ],  # decaying bounces: slow impacts
+        min_fraction=0.7,
+    )
 
 
 @pytest.mark.slow
@@ -397,8 +422,7 @@ def test_exact_tangency_is_a_near_miss():
     assert _many_step_errors(ELASTIC, 0.0, -1.0, 60)[0] == 0
 
 
-@pytest.mark.parametrize("depth, near", [(-1e-8, True), (-5e-7, True), (-2e-6, False), (-1e-4, False),
-                                         (1e-4, False)])
+@pytest.mark.parametrize("depth, near", [(-1e-8, True), (-5e-7, True), (-2e-6, False), (-1e-4, False), (1e-4, False)])
 def test_near_miss_finds_an_apex_within_the_graze_depth(depth, near):
     """alpha = 0, gamma = -0.5: a launch from s = -1 whose apex lies ``depth`` beyond s = 0 (closed form,
     refhelpers.v0_for_apex; < 0 inside).  An apex within GRAZE_DEPTH = 1e-6 inside is a near miss,
@@ -462,8 +486,10 @@ def _check_jac(tally: Tally, p: Params, tau: float, sd: float) -> None:
     m, mi = map_one(p, tau, sd)
     tally.exclude_if(int(m.status) != Status.ACTIVE or bool(mi.stuck), "no impact or sticking step (J = 0)")
     v0, wall0 = -p.r * sd, (0.0 if sd > 0 else -1.0)
-    tally.exclude_if(near_graze(float(m.theta), float(m.sdot), int(m.wall), p)
-                     or near_miss(p, tau, wall0, v0, float(mi.dt)), "near-grazing impact or near miss")
+    tally.exclude_if(
+        near_graze(float(m.theta), float(m.sdot), int(m.wall), p) or near_miss(p, tau, wall0, v0, float(mi.dt)),
+        "near-grazing impact or near miss",
+    )
     J = np.asarray(mi.jac)
     tau1, v1 = float(m.tau), float(m.sdot)
     assert np.abs(analytic_jacobian(p, tau, sd, tau1, v1) - J).max() <= JAC_TOL * (1.0 + np.abs(J).max())
@@ -475,7 +501,7 @@ def _check_jac(tally: Tally, p: Params, tau: float, sd: float) -> None:
         tol = JAC_TOL * composition_norm(p, tau, sd, other.tau, other.sdot)
         assert np.abs(other.jac - Jo).max() <= tol, (other.jac, Jo, J, tol)
         # determinant identity of the map (docs/model.md): det J = r^2 exp(-beta dt) sdot_n / sdot_{n+1}
-        det = p.r ** 2 * math.exp(-p.beta * (other.tau - tau)) * sd / other.sdot
+        det = p.r**2 * math.exp(-p.beta * (other.tau - tau)) * sd / other.sdot
         assert abs(np.linalg.det(other.jac) - det) <= tol * np.abs(Jo).sum(), (other.jac, det)
     tally.checked()
 
@@ -484,10 +510,14 @@ def _check_jac(tally: Tally, p: Params, tau: float, sd: float) -> None:
 #: the tracks' Jacobians differed from the map's by 129-136 (v1 = 0.0128, |J| = 610) and 32-119
 #: (v1 = -0.0164, |J| = 58) times JAC_TOL (1 + |J|); at their own impacts by <= 0.03 of it.
 SLOW_IMPACT_JACOBIANS = [
-    (Params(4.815859604874244, 0.2237307057627083, -0.3046620843964265, 0.4209132996352853),
-     (6.087340540333743, -2.558187080957735)),
-    (Params(0.909073822301471, 0.5624548911332808, 0.1441643645368601, 0.8369339709371384),
-     (2.213773239454952, -0.6708666744368961)),
+    (
+        Params(4.815859604874244, 0.2237307057627083, -0.3046620843964265, 0.4209132996352853),
+        (6.087340540333743, -2.558187080957735),
+    ),
+    (
+        Params(0.909073822301471, 0.5624548911332808, 0.1441643645368601, 0.8369339709371384),
+        (2.213773239454952, -0.6708666744368961),
+    ),
 ]
 #: Long-profile counterexample of the per-flight bound: a 241.8-unit flight (38.5 forcing periods, slow
 #: launch and impact), where scipy's impact time was 1.047 times the one-period step_tau_tol.
@@ -513,8 +543,11 @@ def test_slow_impact_jacobians_differ_by_their_impact_states():
 
 def test_jacobian_three_routes():
     """Jacobian of the map (Eqs. 12-13): analytic = flow x saltation (scipy) = jacfwd (diffrax)."""
-    _run_counted(_check_jac, settings(CI, max_examples=8),
-                 [(Params(3.0, 0.1, 0.1, 0.9), (0.0, 0.5)), CANCELLING_JACOBIAN] + SLOW_IMPACT_JACOBIANS)
+    _run_counted(
+        _check_jac,
+        settings(CI, max_examples=8),
+        [(Params(3.0, 0.1, 0.1, 0.9), (0.0, 0.5)), CANCELLING_JACOBIAN] + SLOW_IMPACT_JACOBIANS,
+    )
 
 
 def test_a_long_flight_has_its_length_in_the_one_step_bound():

@@ -20,8 +20,10 @@ FOLDERS = ("core", "mapimpl", "reference", "validation")
 PACKAGE_DIRS = {"gear_rattle": ROOT / "gear_rattle", **{f: ROOT / f for f in FOLDERS}}
 
 # ``mapimpl.orbit.map_orbit``, ``gear_rattle.core.params``, ``validation/golden/cases/``, ``tests/conftest.py``
-CODE_NAME = re.compile(r"(`{1,2})((?:gear_rattle\.)?(?:core|mapimpl|reference|validation|tests|benchmarks|docs)"
-                       r"(?:[./][A-Za-z_]\w*)+(?:\.py|\.md|\.json|/)?)\1")
+CODE_NAME = re.compile(
+    r"(`{1,2})((?:gear_rattle\.)?(?:core|mapimpl|reference|validation|tests|benchmarks|docs)"
+    r"(?:[./][A-Za-z_]\w*)+(?:\.py|\.md|\.json|/)?)\1"
+)
 # :func:`name`, :class:`~.results.R1Result`, :mod:`.krawczyk` (a role's target)
 ROLE = re.compile(r":(?:py:)?(func|class|meth|mod|data|attr|obj|exc):`~?([\w.]+)`")
 
@@ -110,11 +112,28 @@ def test_code_names_exist(path):
 def test_cross_references_resolve(path):
     module = _module_name(path)
     text = path.read_text()
-    external = ("np.", "numpy.", "jax.", "scipy.", "flint.", "diffrax.", "optimistix.", "matplotlib.", "dask.",
-                "distributed.", "zarr.", "mpmath.", "json.", "math.", "os.", "sys.", "argparse.", "pathlib.",
-                "Figure.")
-    missing = sorted({t for _, t in ROLE.findall(text)
-                      if not t.startswith(external) and not _resolves(t, module)})
+    external = (
+        "np.",
+        "numpy.",
+        "jax.",
+        "scipy.",
+        "flint.",
+        "diffrax.",
+        "optimistix.",
+        "matplotlib.",
+        "dask.",
+        "distributed.",
+        "zarr.",
+        "mpmath.",
+        "json.",
+        "math.",
+        "os.",
+        "sys.",
+        "argparse.",
+        "pathlib.",
+        "Figure.",
+    )
+    missing = sorted({t for _, t in ROLE.findall(text) if not t.startswith(external) and not _resolves(t, module)})
     assert not missing, f"{path.relative_to(ROOT)}: cross-references to nothing: {', '.join(missing)}"
 
 

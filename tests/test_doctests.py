@@ -40,7 +40,9 @@ MODULES = (
 
 #: The entry points (module, function) that must have Parameters, Returns and Examples sections.
 ENTRY_POINTS = (
-    ("gear_rattle", "orbit"), ("gear_rattle", "find_periodic"), ("gear_rattle", "transient_times"),
+    ("gear_rattle", "orbit"),
+    ("gear_rattle", "find_periodic"),
+    ("gear_rattle", "transient_times"),
     ("gear_rattle.mapimpl.finder", "first_impact"),
     ("gear_rattle.mapimpl.orbit", "map_orbit"),
     ("gear_rattle.mapimpl.periodic", "find_periodic"),

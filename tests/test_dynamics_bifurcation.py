@@ -46,13 +46,16 @@ def test_stroboscopic_series_of_a_period1_orbit_is_constant():
     assert np.ptp(ts.sdot_n) > 3.0  # but the 6 impact velocities differ
 
 
-@pytest.mark.parametrize("argv", [
-    ["bifurcation", "--r", "1.5"],
-    ["bifurcation", "--mode", "fixed", "--lo", "0.9", "--hi", "0.8"],
-    ["lyapunov", "--alpha", "-1"],
-    ["orbit", "find", "--impacts", "0"],
-    ["timeseries", "--beta", "0"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["bifurcation", "--r", "1.5"],
+        ["bifurcation", "--mode", "fixed", "--lo", "0.9", "--hi", "0.8"],
+        ["lyapunov", "--alpha", "-1"],
+        ["orbit", "find", "--impacts", "0"],
+        ["timeseries", "--beta", "0"],
+    ],
+)
 def test_cli_bad_input_exit_2(argv, capsys):
     with pytest.raises(SystemExit) as e:
         rc = main(argv)

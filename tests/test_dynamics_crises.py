@@ -6,7 +6,14 @@ lies; the tolerances are the computed errors, not widened ones."""
 import numpy as np
 import pytest
 
-from gear_rattle.validation.dynamics.crises import PAPER_ALPHA1, PAPER_R1_FIG7, PAPER_R2_FIG5, locate_alpha1, locate_r1, locate_r2
+from gear_rattle.validation.dynamics.crises import (
+    PAPER_ALPHA1,
+    PAPER_R1_FIG7,
+    PAPER_R2_FIG5,
+    locate_alpha1,
+    locate_r1,
+    locate_r2,
+)
 
 
 @pytest.mark.slow

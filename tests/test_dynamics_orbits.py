@@ -30,7 +30,7 @@ def test_floquet_product_equals_closed_form_dets(orbit6):
     th, sd = orbit_states(p, o.theta[0], o.sdot[0], 6)
     dt = np.diff(np.unwrap(np.append(th, o.theta[0]), period=2 * np.pi))
     dt = np.mod(dt, 2 * np.pi)
-    steps = p.r ** 2 * np.exp(-p.beta * dt) * sd / np.roll(sd, -1)
+    steps = p.r**2 * np.exp(-p.beta * dt) * sd / np.roll(sd, -1)
     assert np.prod(steps) == pytest.approx(prod, rel=4e-15)
     assert dt.sum() == pytest.approx(2 * np.pi, rel=8.9e-16)
 
@@ -43,8 +43,7 @@ def test_continuation_passes_fold_r2(orbit6):
     r = 0.82144 "slightly above r2", i.e. r2 to the 5 decimals it prints: our r2 = 0.8214404 rounds
     to it (docs/dynamics.md discusses the 4.5e-7 difference)."""
     p, o = orbit6
-    br = continue_orbit(p, "r", o.theta[0], o.sdot[0], 6, mu_range=(0.79, 0.83), ds=5e-3, ds_max=2e-2,
-                        max_points=14)
+    br = continue_orbit(p, "r", o.theta[0], o.sdot[0], 6, mu_range=(0.79, 0.83), ds=5e-3, ds_max=2e-2, max_points=14)
     assert br.folds, br.stop_reason
     f = br.folds[0]
     assert f.converged and f.kind == "fold"
@@ -58,7 +57,7 @@ def test_continuation_passes_fold_r2(orbit6):
     mult = br.arrays()["mult_re"].max(axis=1)
     # the largest real multiplier crosses +1: < 1 on the node side of the fold, > 1 on the saddle side
     k = int(np.argmax(mu))
-    a, b = mult[:k], mult[k + 1:]
+    a, b = mult[:k], mult[k + 1 :]
     assert a.size and b.size
     assert (a.max() < 1.0 < b.min()) or (b.max() < 1.0 < a.min())
     # locating again from a point further away gives the same r2
@@ -93,15 +92,18 @@ def test_goy_fixed_exponent_fit_recovers_critical_value():
     assert goy_exponent([4.0, 0.05]) == pytest.approx(0.5 + np.log(4) / np.log(20))
 
 
-@pytest.mark.parametrize("call", [
-    lambda: continue_orbit(Params(3, .1, .1, .8), "beta", 0.0, 0.5, 6),
-    lambda: continue_orbit(Params(3, .1, .1, .8), "r", 0.0, 0.5, 0),
-    lambda: continue_orbit(Params(3, .1, .1, .8), "r", 0.0, 0.5, 6, direction=2),
-    lambda: continue_orbit(Params(3, .1, .1, .8), "r", 0.0, 0.5, 6, mu_range=(0.9, 0.95)),
-    lambda: locate(Params(3, .1, .1, .8), "r", "cusp", 0.0, 0.5, 0.8, 6),
-    lambda: closed_form_det(Params(3, .1, .1, .8), 6, 0),
-    lambda: goy_exponent([0.5, 0.2]),
-])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: continue_orbit(Params(3, 0.1, 0.1, 0.8), "beta", 0.0, 0.5, 6),
+        lambda: continue_orbit(Params(3, 0.1, 0.1, 0.8), "r", 0.0, 0.5, 0),
+        lambda: continue_orbit(Params(3, 0.1, 0.1, 0.8), "r", 0.0, 0.5, 6, direction=2),
+        lambda: continue_orbit(Params(3, 0.1, 0.1, 0.8), "r", 0.0, 0.5, 6, mu_range=(0.9, 0.95)),
+        lambda: locate(Params(3, 0.1, 0.1, 0.8), "r", "cusp", 0.0, 0.5, 0.8, 6),
+        lambda: closed_form_det(Params(3, 0.1, 0.1, 0.8), 6, 0),
+        lambda: goy_exponent([0.5, 0.2]),
+    ],
+)
 def test_bad_inputs(call):
     with pytest.raises(ValueError):
         call()

@@ -14,8 +14,16 @@ from gear_rattle.mapimpl import Params
 from gear_rattle.core.params import ParamArrays
 from gear_rattle.mapimpl.engine import kernel as K
 from gear_rattle.mapimpl.engine.driver import run
-from gear_rattle.mapimpl.engine.observers import (BandEscape, Capture, Impact, Laminar, Sample, Tangent,
-                                                  _givens_qr, orbit_distance)
+from gear_rattle.mapimpl.engine.observers import (
+    BandEscape,
+    Capture,
+    Impact,
+    Laminar,
+    Sample,
+    Tangent,
+    _givens_qr,
+    orbit_distance,
+)
 from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
 from gear_rattle.core.paper import PAPER_PARAMS
 from gear_rattle.mapimpl.impact_map import iterate
@@ -87,8 +95,10 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
     sizes = []
     compact = K.compact
     monkeypatch.setattr(K, "compact", lambda lanes, size: (sizes.append(size), compact(lanes, size=size))[1])
-    runs = [transient_times(None, tau0, sdot0, lanes=256, devices=1, **kw),
-            transient_times(None, tau0, sdot0, lanes=1, devices=1, chunk=100, **kw)]
+    runs = [
+        transient_times(None, tau0, sdot0, lanes=256, devices=1, **kw),
+        transient_times(None, tau0, sdot0, lanes=1, devices=1, chunk=100, **kw),
+    ]
     assert 32 in sizes  # the tail ran on 32 lanes
     if len(jax.devices()) >= 2:
         runs.append(transient_times(None, tau0, sdot0, lanes=LANES, devices=2, **kw))
@@ -154,9 +164,11 @@ def test_early_exit_and_refill():
 
 def test_compact_keeps_busy_lanes_in_order():
     lanes = K.idle_lanes(8, ())._replace(
-        mode=jnp.array([K.MODE_IDLE, K.MODE_A, K.MODE_IDLE, K.MODE_N, K.MODE_IDLE, K.MODE_IDLE, K.MODE_B, K.MODE_IDLE],
-                       jnp.int32),
-        ic=jnp.array([-1, 5, -1, 2, -1, -1, 9, -1], jnp.int32))
+        mode=jnp.array(
+            [K.MODE_IDLE, K.MODE_A, K.MODE_IDLE, K.MODE_N, K.MODE_IDLE, K.MODE_IDLE, K.MODE_B, K.MODE_IDLE], jnp.int32
+        ),
+        ic=jnp.array([-1, 5, -1, 2, -1, -1, 9, -1], jnp.int32),
+    )
     out = K.compact(lanes, size=4)
     assert out.mode.shape == (4,)
     assert np.asarray(out.ic).tolist() == [5, 2, 9, -1]
@@ -166,8 +178,17 @@ def test_compact_keeps_busy_lanes_in_order():
 def test_per_orbit_parameters_equal_separate_runs():
     """Lanes carry their own parameters: one run over two parameter sets equals two runs."""
     pa = Params(3.0, 0.1, 0.1, 0.8)
-    both = run([3.2, 3.2], [0.3, 0.3], [0, 0], ParamArrays(alpha=[3.0, 1.245], beta=0.1, gamma=0.1, r=[0.8, 0.9]),
-               Sample(keep=30), cap=29, lanes=8, devices=1, progress=False)
+    both = run(
+        [3.2, 3.2],
+        [0.3, 0.3],
+        [0, 0],
+        ParamArrays(alpha=[3.0, 1.245], beta=0.1, gamma=0.1, r=[0.8, 0.9]),
+        Sample(keep=30),
+        cap=29,
+        lanes=8,
+        devices=1,
+        progress=False,
+    )
     for i, p in enumerate((pa, P)):
         one = run([3.2], [0.3], [0], p, Sample(keep=30), cap=29, lanes=8, devices=1, progress=False)
         assert np.array_equal(both.obs[0]["theta"][i], one.obs[0]["theta"][0])
@@ -204,8 +225,16 @@ def test_interrupt_stops_every_device_thread_promptly(target):
 
     t0 = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        run(tau0, sdot0, np.zeros(4000, np.int32), P, Capture(target.theta, target.sdot, target.wall, [1e-3]),
-            cap=10**7, lanes=LANES, progress=progress)
+        run(
+            tau0,
+            sdot0,
+            np.zeros(4000, np.int32),
+            P,
+            Capture(target.theta, target.sdot, target.wall, [1e-3]),
+            cap=10**7,
+            lanes=LANES,
+            progress=progress,
+        )
     assert fired.is_set()
     # a full run of these orbits (cap 1e7) takes minutes; the stop comes within a few kernel calls
     assert time.perf_counter() - t_int[0] < 15.0, time.perf_counter() - t0
@@ -214,10 +243,20 @@ def test_interrupt_stops_every_device_thread_promptly(target):
 
 # ------------------------------------------------------------------------------------ observers
 
+
 def _ev(n, theta=0.0, sdot=0.5, wall=0, cycles=0, dt=1.0, loaded=False, stick=False, jac=None):
-    return Impact(jnp.asarray(n, jnp.int32), jnp.asarray(theta), jnp.asarray(sdot), jnp.asarray(wall, jnp.int32),
-                  jnp.asarray(cycles, jnp.int32), jnp.asarray(dt), jnp.asarray(loaded), jnp.asarray(stick),
-                  None if jac is None else jnp.asarray(jac), jnp.asarray(not loaded))
+    return Impact(
+        jnp.asarray(n, jnp.int32),
+        jnp.asarray(theta),
+        jnp.asarray(sdot),
+        jnp.asarray(wall, jnp.int32),
+        jnp.asarray(cycles, jnp.int32),
+        jnp.asarray(dt),
+        jnp.asarray(loaded),
+        jnp.asarray(stick),
+        None if jac is None else jnp.asarray(jac),
+        jnp.asarray(not loaded),
+    )
 
 
 def _init(obs):
@@ -225,11 +264,23 @@ def _init(obs):
 
 
 def test_orbit_distance_wraps_phase_and_requires_the_wall():
-    d = orbit_distance(jnp.asarray(6.28), jnp.asarray(0.5), jnp.asarray(0, jnp.int32), jnp.asarray([0.001, 3.0]),
-                       jnp.asarray([0.5, 0.5]), jnp.asarray([0, -1], jnp.int32))
+    d = orbit_distance(
+        jnp.asarray(6.28),
+        jnp.asarray(0.5),
+        jnp.asarray(0, jnp.int32),
+        jnp.asarray([0.001, 3.0]),
+        jnp.asarray([0.5, 0.5]),
+        jnp.asarray([0, -1], jnp.int32),
+    )
     assert abs(float(d) - (2 * np.pi - 6.28 + 0.001)) < 1e-15
-    d2 = orbit_distance(jnp.asarray(3.0), jnp.asarray(0.5), jnp.asarray(0, jnp.int32), jnp.asarray([3.0]),
-                        jnp.asarray([0.5]), jnp.asarray([-1], jnp.int32))
+    d2 = orbit_distance(
+        jnp.asarray(3.0),
+        jnp.asarray(0.5),
+        jnp.asarray(0, jnp.int32),
+        jnp.asarray([3.0]),
+        jnp.asarray([0.5]),
+        jnp.asarray([-1], jnp.int32),
+    )
     assert float(d2) == np.inf
 
 
@@ -315,6 +366,7 @@ def test_tangent_lyapunov_equals_the_qr_method_and_the_floquet_rate():
     t = r.obs[0]
     lam = t["log_r"][0] / t["n_free"][0]
     assert int(t["n_free"][0]) == N and int(t["n_stuck"][0]) == 0
+
     def body(c, _):
         s, Q, acc = c
         s1, info = step(s, p.arrays())
@@ -323,7 +375,8 @@ def test_tangent_lyapunov_equals_the_qr_method_and_the_floquet_rate():
         return (s1, Qn * jnp.sign(d)[None, :], acc + jnp.log(jnp.abs(d))), None
 
     (_, _, acc), _ = jax.jit(lambda s0: jax.lax.scan(body, (s0, jnp.eye(2), jnp.zeros(2)), None, length=N))(
-        make_state(th[-1], sd[-1]))
+        make_state(th[-1], sd[-1])
+    )
     assert np.abs(lam - np.asarray(acc) / N).max() < 1e-9
     m = np.sort(np.abs(po.multipliers))[::-1]
     assert np.all(np.abs(lam - np.log(m) / 6) < 5.0 / N)
@@ -379,16 +432,24 @@ def test_durations_without_the_xla_options_agree(target):
 
     rng = np.random.default_rng(5)
     tau0, sdot0 = rng.uniform(0, 2 * np.pi, 800), rng.uniform(1e-3, 0.5, 800)
-    code = ("import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
-            "from gear_rattle.core._jax import xla_tuning_active; "
-            "from gear_rattle.mapimpl.engine.transients import transient_times; "
-            "t, s = (np.array(x) for x in json.loads(sys.stdin.read())); "
-            "r = transient_times(None, t, s, cap=200, progress=False); "
-            "print(json.dumps([xla_tuning_active(), r.duration()[0].tolist()]))")
+    code = (
+        "import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
+        "from gear_rattle.core._jax import xla_tuning_active; "
+        "from gear_rattle.mapimpl.engine.transients import transient_times; "
+        "t, s = (np.array(x) for x in json.loads(sys.stdin.read())); "
+        "r = transient_times(None, t, s, cap=200, progress=False); "
+        "print(json.dumps([xla_tuning_active(), r.duration()[0].tolist()]))"
+    )
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     env["GEAR_RATTLE_XLA_TUNING"] = "0"
-    proc = subprocess.run([sys.executable, "-c", code], input=json.dumps([tau0.tolist(), sdot0.tolist()]),
-                          capture_output=True, text=True, env=env, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        input=json.dumps([tau0.tolist(), sdot0.tolist()]),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stderr
     tuned_there, d_there = json.loads(proc.stdout)
     d_here = transient_times(None, tau0, sdot0, cap=200, progress=False, target=target).duration()[0]

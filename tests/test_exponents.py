@@ -28,8 +28,15 @@ TRANSIENT, N = 20, 200
 @pytest.fixture(scope="module")
 def three():
     p = {"alpha": np.array(ALPHA), "beta": np.array(BETA), "gamma": 0.1, "r": np.array(R)}
-    return run(np.zeros(3), np.full(3, 0.5), np.zeros(3, np.int32), p, Tangent(n_start=TRANSIENT),
-               cap=TRANSIENT + N, progress=False)
+    return run(
+        np.zeros(3),
+        np.full(3, 0.5),
+        np.zeros(3, np.int32),
+        p,
+        Tangent(n_start=TRANSIENT),
+        cap=TRANSIENT + N,
+        progress=False,
+    )
 
 
 def test_the_rule(three):
@@ -41,7 +48,11 @@ def test_the_rule(three):
     assert np.all(np.isneginf(ex.lam[1])) and np.all(np.isfinite(ex.lam_free[1]))
     assert ex.n_stuck[2] == N and np.all(np.isneginf(ex.lam[2])) and np.all(np.isnan(ex.lam_free[2]))
     assert ran_to_end([Status.CAPPED, Status.STOPPED, Status.NO_IMPACT, Status.STEP_CAP]).tolist() == [
-        True, True, False, False]
+        True,
+        True,
+        False,
+        False,
+    ]
 
 
 def test_bad_input(three):
@@ -58,10 +69,18 @@ def test_tangent_data_is_read_in_one_place():
     """The observer's sums (``log_r``, ``n_free``) are read only by the one function (and the observer and
     its own test): lyapunov, the atlas and r1 had each divided them themselves, by different rules."""
     root = Path(__file__).resolve().parents[1]
-    own = {Path("mapimpl/engine/observers.py"), Path("mapimpl/engine/exponents.py"), Path("tests/test_engine.py"),
-           Path("tests/test_exponents.py")}
-    readers = [p.relative_to(root) for d in ("core", "mapimpl", "reference", "validation", "gear_rattle", "tests")
-               for p in (root / d).rglob("*.py") if re.search(r"""["'](log_r|n_free)["']""", p.read_text())]
+    own = {
+        Path("mapimpl/engine/observers.py"),
+        Path("mapimpl/engine/exponents.py"),
+        Path("tests/test_engine.py"),
+        Path("tests/test_exponents.py"),
+    }
+    readers = [
+        p.relative_to(root)
+        for d in ("core", "mapimpl", "reference", "validation", "gear_rattle", "tests")
+        for p in (root / d).rglob("*.py")
+        if re.search(r"""["'](log_r|n_free)["']""", p.read_text())
+    ]
     assert readers and set(readers) <= own, sorted(map(str, set(readers) - own))
 
 

@@ -50,9 +50,22 @@ def _close(v_ref, v, p, scale) -> bool:
 
 # ---------------------------------------------------------------------------------- the parameter box
 
-@pytest.mark.parametrize("name,value", [("alpha", 1e308), ("alpha", PARAM_MAX * (1 + 2e-16)), ("alpha", -TINY),
-                                        ("beta", 1e300), ("beta", 0.0), ("beta", -TINY), ("gamma", -1e11),
-                                        ("gamma", 1.7976931348623157e308), ("r", 1 + 2e-16), ("r", 0.0)])
+
+@pytest.mark.parametrize(
+    "name,value",
+    [
+        ("alpha", 1e308),
+        ("alpha", PARAM_MAX * (1 + 2e-16)),
+        ("alpha", -TINY),
+        ("beta", 1e300),
+        ("beta", 0.0),
+        ("beta", -TINY),
+        ("gamma", -1e11),
+        ("gamma", 1.7976931348623157e308),
+        ("r", 1 + 2e-16),
+        ("r", 0.0),
+    ],
+)
 def test_params_outside_the_box_are_refused_naming_the_range(name, value):
     base = dict(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
     with pytest.raises(ValueError, match=rf"parameter {name}=.* out of range: allowed .*{name}"):
@@ -64,13 +77,24 @@ def test_params_outside_the_box_are_refused_naming_the_range(name, value):
 
 
 def test_params_box_edges_are_accepted():
-    for name, value in (("alpha", 0.0), ("alpha", PARAM_MAX), ("beta", TINY), ("beta", PARAM_MAX),
-                        ("gamma", -PARAM_MAX), ("gamma", PARAM_MAX), ("r", TINY), ("r", 1.0)):
+    for name, value in (
+        ("alpha", 0.0),
+        ("alpha", PARAM_MAX),
+        ("beta", TINY),
+        ("beta", PARAM_MAX),
+        ("gamma", -PARAM_MAX),
+        ("gamma", PARAM_MAX),
+        ("r", TINY),
+        ("r", 1.0),
+    ):
         assert getattr(Params(**{**dict(alpha=3.0, beta=0.1, gamma=0.1, r=0.9), name: value}), name) == value
 
 
-GRID = list(itertools.product([0.0, TINY, 3.0, PARAM_MAX], [TINY, 0.1, PARAM_MAX], [-PARAM_MAX, -TINY, 0.1, PARAM_MAX],
-                              [TINY, 0.9, 1.0]))
+GRID = list(
+    itertools.product(
+        [0.0, TINY, 3.0, PARAM_MAX], [TINY, 0.1, PARAM_MAX], [-PARAM_MAX, -TINY, 0.1, PARAM_MAX], [TINY, 0.9, 1.0]
+    )
+)
 
 
 def test_engine_runs_every_corner_of_the_box_like_the_map():
@@ -79,8 +103,7 @@ def test_engine_runs_every_corner_of_the_box_like_the_map():
     n, keep = len(GRID), 6
     tau0 = np.resize([-1e6, 1.0, 1e6], n)
     P = tuple(np.array(GRID).T)
-    res = run(tau0, np.full(n, SDOT0), np.zeros(n, np.int32), P, Sample(keep=keep, n_start=1), cap=keep,
-              progress=False)
+    res = run(tau0, np.full(n, SDOT0), np.zeros(n, np.int32), P, Sample(keep=keep, n_start=1), cap=keep, progress=False)
     for i, p in enumerate(GRID):
         seq = map_orbit(Params(*p), tau0[i], SDOT0, keep)
         imp = seq.kind == "impact"
@@ -91,8 +114,8 @@ def test_engine_runs_every_corner_of_the_box_like_the_map():
             assert status == seq.status, (p, status, seq.status)
         assert res.n[i] == sd.size, (p, res.n[i], sd.size)
         assert np.all(np.isfinite(sd)), p
-        assert _close(sd, res.obs[0]["sdot"][i][:sd.size], p, (1e-12, 1e-9)), (p, sd, res.obs[0]["sdot"][i])
-        assert np.array_equal(np.where(res.obs[0]["sdot"][i][:sd.size] > 0, 0, -1), wall), p
+        assert _close(sd, res.obs[0]["sdot"][i][: sd.size], p, (1e-12, 1e-9)), (p, sd, res.obs[0]["sdot"][i])
+        assert np.array_equal(np.where(res.obs[0]["sdot"][i][: sd.size] > 0, 0, -1), wall), p
 
 
 @pytest.mark.parametrize("p", [p for p in GRID if p[1] < 1.0 and p[0] != TINY and p[2] != -TINY])
@@ -113,8 +136,15 @@ def test_engine_guard_counts_the_longest_flights():
     engine's guard, a guess of 200 micro-steps per impact: "engine made no progress (bug)".  The guard
     is now derived from the finder's caps (max_kernel_calls), and the run ends."""
     m = 600
-    res = run(np.linspace(0, 6, m), np.full(m, 0.05), np.zeros(m, np.int32), (1e-3, 0.1, 0.0, 0.9), cap=1,
-              progress=False, devices=1)
+    res = run(
+        np.linspace(0, 6, m),
+        np.full(m, 0.05),
+        np.zeros(m, np.int32),
+        (1e-3, 0.1, 0.0, 0.9),
+        cap=1,
+        progress=False,
+        devices=1,
+    )
     assert set(Status(int(s)).label for s in res.status) == {"no_impact"}
     # the bound: every orbit's cap + 1 flights of at most 2 max_steps + 86 micro-steps, one after another
     assert max_kernel_calls(m, 1, 32, 4000) * 32 * 64 >= m * 2 * (2 * 4000 + 80)
@@ -131,31 +161,40 @@ def _cli(args, capsys):
 
 def test_cli_refuses_parameters_outside_the_box_in_one_line(capsys):
     """The issue's command: alpha up to 1e308 made the engine raise "no progress (bug)", exit 1."""
-    rc, out, err = _cli("bifurcation --param alpha --lo 1 --hi 1e308 --values 3 --transient 5 --impacts 5".split(), capsys)
+    rc, out, err = _cli(
+        "bifurcation --param alpha --lo 1 --hi 1e308 --values 3 --transient 5 --impacts 5".split(), capsys
+    )
     assert rc == 2 and out == ""
     assert err.strip().count("\n") == 0 and "--hi=1e+308" in err and "0 <= alpha <= 1e10" in err
     # the issue's spelling (--keep, now --impacts): the rename note, then the same one-line error
     rc, out, err = _cli("bifurcation --param alpha --lo 1 --hi 1e308 --values 3 --transient 5 --keep 5".split(), capsys)
     lines = err.strip().splitlines()
-    assert rc == 2 and out == "" and len(lines) == 2 and "--keep is deprecated" in lines[0] and "--hi=1e+308" in lines[1]
+    assert (
+        rc == 2 and out == "" and len(lines) == 2 and "--keep is deprecated" in lines[0] and "--hi=1e+308" in lines[1]
+    )
     rc, _, err = _cli("simulate --beta 1e308 --impacts 2".split(), capsys)
     assert rc == 2 and "0 < beta <= 1e10" in err and err.strip().count("\n") == 0
 
 
 def test_cli_runs_at_the_corners(capsys):
-    rc, out, err = _cli("bifurcation --param alpha --lo 0 --hi 1e10 --values 3 --transient 5 --keep 5 --quiet".split(),
-                        capsys)
+    rc, out, err = _cli(
+        "bifurcation --param alpha --lo 0 --hi 1e10 --values 3 --transient 5 --keep 5 --quiet".split(), capsys
+    )
     assert rc == 0, err
     rows = out.strip().splitlines()[1:]
     assert len(rows) == 15 and all(len(r.split(",")) == 4 for r in rows)
-    for args in ("--alpha 1e10 --beta 5e-324 --gamma -1e10 --r 1", "--alpha 0 --beta 1e10 --gamma 1e10 --r 5e-324",
-                 "--alpha 5e-324 --gamma -5e-324 --tau0 -1e6"):
+    for args in (
+        "--alpha 1e10 --beta 5e-324 --gamma -1e10 --r 1",
+        "--alpha 0 --beta 1e10 --gamma 1e10 --r 5e-324",
+        "--alpha 5e-324 --gamma -5e-324 --tau0 -1e6",
+    ):
         rc, out, err = _cli(["simulate", *args.split(), "--impacts", "4"], capsys)
         assert rc == 0, err
         assert out.startswith("n,tau,") and "nan" not in out.split("\n", 2)[1]
 
 
 # ---------------------------------------------------------------------------------- subnormal inputs
+
 
 def _agree(a, b, p):
     ai, bi = a.kind == "impact", b.kind == "impact"
@@ -178,8 +217,9 @@ def test_subnormal_sdot0_tracks_agree(sdot0, tau0):
     _agree(m, s, p)
 
 
-@pytest.mark.parametrize("s0,sdot0", [(s0, sd) for s0 in (0.0, -1.0, -1e-320, -TINY)
-                                      for sd in (1e-320, -1e-320, 0.5, -0.5, 0.0)])
+@pytest.mark.parametrize(
+    "s0,sdot0", [(s0, sd) for s0 in (0.0, -1.0, -1e-320, -TINY) for sd in (1e-320, -1e-320, 0.5, -0.5, 0.0)]
+)
 @pytest.mark.parametrize("tau0", [0.0, 2.0, 4.0])
 def test_subnormal_free_starts_tracks_agree(s0, sdot0, tau0):
     """Free-flight starts on a wall or a subnormal distance from it, with subnormal velocities: a start
@@ -192,7 +232,7 @@ def test_subnormal_free_starts_tracks_agree(s0, sdot0, tau0):
 @pytest.mark.parametrize("value", [TINY, 1e-310])
 def test_subnormal_parameters_tracks_agree(name, value):
     for tau0, sign in ((0.0, 1), (2.0, -1), (4.0, 1)):
-        for v in ((value, -value) if name == "gamma" else (value,)):
+        for v in (value, -value) if name == "gamma" else (value,):
             p = Params(**{**dict(alpha=3.0, beta=0.1, gamma=0.1, r=0.9), name: v})
             _agree(orbit(p, tau0, sign * SDOT0, 4, track="map"), orbit(p, tau0, sign * SDOT0, 4, track="scipy"), p)
 
@@ -200,8 +240,9 @@ def test_subnormal_parameters_tracks_agree(name, value):
 def test_subnormal_sdot0_engine_agrees_with_map():
     sd = np.array([TINY, -TINY, 1e-320, -1e-320, 2e-308, -2e-308])
     tau0 = np.resize([0.0, 2.0, 4.0], sd.size)
-    res = run(tau0, sd, np.where(sd > 0, 0, -1), Params(3.0, 0.1, 0.1, 0.9), Sample(keep=4, n_start=1), cap=4,
-              progress=False)
+    res = run(
+        tau0, sd, np.where(sd > 0, 0, -1), Params(3.0, 0.1, 0.1, 0.9), Sample(keep=4, n_start=1), cap=4, progress=False
+    )
     for i in range(sd.size):
         seq = map_orbit(Params(3.0, 0.1, 0.1, 0.9), tau0[i], sd[i], 4)
         ref = seq.sdot[seq.kind == "impact"][1:]

@@ -16,8 +16,15 @@ import pytest
 import gear_rattle as gr
 
 FUNCTIONS = ("orbit", "find_periodic", "lyapunov", "transient_times")
-RESULTS = ("ImpactSequence", "CertifiedSequence", "StepJacobian", "PeriodicOrbit", "LyapunovResult",
-           "TransientResult", "SurvivalResult")
+RESULTS = (
+    "ImpactSequence",
+    "CertifiedSequence",
+    "StepJacobian",
+    "PeriodicOrbit",
+    "LyapunovResult",
+    "TransientResult",
+    "SurvivalResult",
+)
 FIG2 = gr.Params(0.5, 0.1, 0.1, 0.9)
 
 
@@ -81,8 +88,15 @@ def test_one_and_many_results_answer_alike(fig2_orbit):
     orb = fig2_orbit
     assert (orb.ok, orb.status, orb.converged) == (True, "converged", True)
     assert orb.message == "converged: " + gr.Status.CONVERGED.message
-    seq = gr.ImpactSequence(FIG2, *(np.zeros(1),) * 2, np.zeros(1), np.zeros(1, int), np.full(1, np.nan),
-                            np.array(["impact"]), status="step_cap")
+    seq = gr.ImpactSequence(
+        FIG2,
+        *(np.zeros(1),) * 2,
+        np.zeros(1),
+        np.zeros(1, int),
+        np.full(1, np.nan),
+        np.array(["impact"]),
+        status="step_cap",
+    )
     assert not seq.ok and seq.message.startswith("step_cap: ")
     codes = np.array([4, 4, 5, 3], np.int32)
     assert describe(codes).startswith("4 orbits: 1 step_cap (") and "2 stopped" in describe(codes)
@@ -104,8 +118,10 @@ def test_old_keyword_names_warn_and_work(fig2_orbit):
     assert np.array_equal(old.theta, fig2_orbit.theta)
     with pytest.raises(TypeError, match="not both"):
         gr.find_periodic(FIG2, 2.034, -0.7343, period=3, impacts=3)
-    with pytest.warns(DeprecationWarning, match="n= is deprecated: use n_impacts="), \
-            pytest.raises(ValueError, match="^n_impacts="):  # refused before computing: named anew
+    with (
+        pytest.warns(DeprecationWarning, match="n= is deprecated: use n_impacts="),
+        pytest.raises(ValueError, match="^n_impacts="),
+    ):  # refused before computing: named anew
         gr.lyapunov(FIG2, n=0)
 
 
@@ -113,8 +129,10 @@ def test_old_argument_orders_warn_and_work():
     with pytest.warns(DeprecationWarning, match=r"use orbit\(params, tau0, sdot0, n_impacts, track=track\)"):
         seq = gr.orbit("map", FIG2, 0.0, 0.5, 2)
     assert seq.track == "map" and seq.ok
-    with pytest.warns(DeprecationWarning, match=r"use transient_times\(params, tau0, sdot0\)"), \
-            pytest.raises(ValueError, match="^sdot0"):  # the old order is read as such: sdot0 = 0 is refused
+    with (
+        pytest.warns(DeprecationWarning, match=r"use transient_times\(params, tau0, sdot0\)"),
+        pytest.raises(ValueError, match="^sdot0"),
+    ):  # the old order is read as such: sdot0 = 0 is refused
         gr.transient_times([3.2], [0.0])
     with pytest.raises(TypeError, match="missing sdot0"):
         gr.transient_times(None, [3.2])

@@ -207,8 +207,11 @@ def test_tiny_acceleration_coasts_to_rest_without_a_false_graze():
     assert int(h.status) == FlightOutcome.NO_IMPACT and not np.isfinite(float(h.t))
     for d, u, A in [(0.25, 0.0, 1e-300), (0.25, -1e-160, 1e-300), (0.25, 1e-160, 1e-300)]:
         h = float(safe_time(d, u, A))
-        root = float((mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d)) - mp.mpf(u)) / mp.mpf(A)) if u <= 0 else \
-            float(2 * mp.mpf(d) / (mp.mpf(u) + mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d))))
+        root = (
+            float((mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d)) - mp.mpf(u)) / mp.mpf(A))
+            if u <= 0
+            else float(2 * mp.mpf(d) / (mp.mpf(u) + mp.sqrt(mp.mpf(u) ** 2 + 2 * mp.mpf(A) * mp.mpf(d))))
+        )
         assert 0 < h <= root * (1 + 1e-15) and h >= 0.99 * root
 
 

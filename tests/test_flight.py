@@ -16,8 +16,14 @@ from mpref import s_and_v
 finite = dict(allow_nan=False, allow_infinity=False)
 
 
-@given(t=st.floats(0, 30, **finite), tau0=st.floats(0, 6.28, **finite), v0=st.floats(-3, 3, **finite),
-       alpha=st.floats(0, 5, **finite), beta=st.floats(1e-3, 1, **finite), gamma=st.floats(-0.5, 0.5, **finite))
+@given(
+    t=st.floats(0, 30, **finite),
+    tau0=st.floats(0, 6.28, **finite),
+    v0=st.floats(-3, 3, **finite),
+    alpha=st.floats(0, 5, **finite),
+    beta=st.floats(1e-3, 1, **finite),
+    gamma=st.floats(-0.5, 0.5, **finite),
+)
 def test_matches_eq7_eq8_as_printed(t, tau0, v0, alpha, beta, gamma):
     """Eqs. (7)-(8) of the paper: the cancellation-free closed form equals the printed formulas
     (evaluated at 50 digits) to rounding.  Tolerance: a few ulp (eps = 2.2e-16) of the largest term
@@ -40,8 +46,14 @@ _d2s_dt2 = jax.jit(jax.grad(jax.grad(_ds)))
 _flight_jit = jax.jit(flight)
 
 
-@given(t=st.floats(0, 20, **finite), tau0=st.floats(0, 6.28, **finite), v0=st.floats(-3, 3, **finite),
-       alpha=st.floats(0, 5, **finite), beta=st.floats(1e-8, 1, **finite), gamma=st.floats(-0.5, 0.5, **finite))
+@given(
+    t=st.floats(0, 20, **finite),
+    tau0=st.floats(0, 6.28, **finite),
+    v0=st.floats(-3, 3, **finite),
+    alpha=st.floats(0, 5, **finite),
+    beta=st.floats(1e-8, 1, **finite),
+    gamma=st.floats(-0.5, 0.5, **finite),
+)
 def test_eq3_residual(t, tau0, v0, alpha, beta, gamma):
     """Eq. (3): s'' + beta s' = f(tau) along the closed form (derivatives by autodiff); a = s'' too.
     Tolerance 1e-14 (1 + alpha + |gamma| + |v0|): rounding of the autodiff derivatives; measured
@@ -95,8 +107,11 @@ def test_phi_functions_series_and_direct_agree():
     Taylor series and direct form: within 2 ulp of the 50-digit value (measured max 0.77 ulp)."""
     for x in [1e-12, 1e-4, 0.1, 0.5, 0.99999, 1.0, 1.00001, 1.49999, 1.5, 2.0, 50.0]:
         xm = mp.mpf(x)
-        for f, ref in ((phi1, (1 - mp.exp(-xm)) / xm), (phi2, (xm - 1 + mp.exp(-xm)) / xm**2),
-                       (sigma, (xm - mp.sin(xm)) / xm**3)):
+        for f, ref in (
+            (phi1, (1 - mp.exp(-xm)) / xm),
+            (phi2, (xm - 1 + mp.exp(-xm)) / xm**2),
+            (sigma, (xm - mp.sin(xm)) / xm**3),
+        ):
             assert abs(mp.mpf(float(f(x))) - ref) <= 2 * np.spacing(float(ref)), (f.__name__, x)
 
 

@@ -49,15 +49,30 @@ def test_constructed_hard_places():
     """A graze recipe reaches the other wall with a small normal speed; a near-miss recipe turns back short
     of it (the first contact is on the start wall); a stick-threshold recipe has t_acc within 10 % of
     STICK_TIME; a stuck-forever recipe has |gamma| >= R."""
-    base = {"alpha": 3.0, "beta": 0.1, "gamma": 0.1, "r": 0.9, "tau0": 2.5, "impacts": 4, "sign": 1.0, "speed": 0.3,
-            "s0": -0.5, "paper": 1, "depth": 1e-9, "ratio": 1.0, "near1": 1e-3, "lead": 1e-7, "small": 1e-6}
+    base = {
+        "alpha": 3.0,
+        "beta": 0.1,
+        "gamma": 0.1,
+        "r": 0.9,
+        "tau0": 2.5,
+        "impacts": 4,
+        "sign": 1.0,
+        "speed": 0.3,
+        "s0": -0.5,
+        "paper": 1,
+        "depth": 1e-9,
+        "ratio": 1.0,
+        "near1": 1e-3,
+        "lead": 1e-7,
+        "small": 1e-6,
+    }
     g = fuzz.construct({**base, "scenario": "graze"}, "g")
     wall, _, v = fuzz.first_contact(g.params, g.tau0, g.sdot0)
     assert wall == -1 and 1e-5 < abs(v) < 1e-2
     m = fuzz.construct({**base, "scenario": "near-miss"}, "m")
     assert fuzz.first_contact(m.params, m.tau0, m.sdot0)[0] == 0
     s = fuzz.construct({**base, "scenario": "stuck-forever"}, "s")
-    assert abs(s.params.gamma) >= s.params.alpha * (1 + s.params.beta ** 2) ** 0.5
+    assert abs(s.params.gamma) >= s.params.alpha * (1 + s.params.beta**2) ** 0.5
     t = fuzz.construct({**base, "scenario": "stick-threshold"}, "t")
     p, wall = t.params, 0 if t.sdot0 > 0 else -1
     f_in = generate.forcing_in(p, t.tau0, wall)
@@ -73,17 +88,35 @@ def test_shrink_candidates_are_simpler():
     assert any(c.params == fuzz.PAPER_SETS[1] for c in cands)
 
 
-@pytest.mark.parametrize("script, message", [
-    ("exit 3", "exited with status 3"),
-    ("sleep 30", "did not finish"),
-    ("for d in \"$1\"/*/; do printf 'n,tau\\n' > \"$2/$(basename \"$d\").csv\"; done", "malformed output"),
-    (":", "malformed output"),  # writes nothing: the first file is missing
-])
+@pytest.mark.parametrize(
+    "script, message",
+    [
+        ("exit 3", "exited with status 3"),
+        ("sleep 30", "did not finish"),
+        ('for d in "$1"/*/; do printf \'n,tau\\n\' > "$2/$(basename "$d").csv"; done', "malformed output"),
+        (":", "malformed output"),  # writes nothing: the first file is missing
+    ],
+)
 def test_a_broken_implementation_is_a_one_line_error(script, message, tmp_path, capsys):
     """Exit status 2 and one line naming what went wrong: a crash, a timeout, a malformed or missing file."""
     impl = f"sh -c {shlex.quote(script)} sh"
-    rc, summary, err = _fuzz(["--impl", impl, "--budget", "30", "--timeout", "3", "--batch", "2", "--scenarios",
-                              "generic", "--out", str(tmp_path / "f")], capsys)
+    rc, summary, err = _fuzz(
+        [
+            "--impl",
+            impl,
+            "--budget",
+            "30",
+            "--timeout",
+            "3",
+            "--batch",
+            "2",
+            "--scenarios",
+            "generic",
+            "--out",
+            str(tmp_path / "f"),
+        ],
+        capsys,
+    )
     assert rc == 2 and summary["status"] == "error" and message in summary["error"]
     assert message in err and len(err.strip().splitlines()) == 1
 
@@ -119,8 +152,22 @@ def test_fuzz_shrinks_a_failure_to_a_minimal_case(tmp_path, capsys):
     impl = f"{PY} {shlex.quote(str(tmp_path / 'impl.py'))}"
     runs = []
     for k in range(2):
-        rc, s, _ = _fuzz(["--impl", impl, "--budget", "30", "--batch", "4", "--scenarios", "generic", "paper",
-                          "--out", str(tmp_path / f"f{k}")], capsys)
+        rc, s, _ = _fuzz(
+            [
+                "--impl",
+                impl,
+                "--budget",
+                "30",
+                "--batch",
+                "4",
+                "--scenarios",
+                "generic",
+                "paper",
+                "--out",
+                str(tmp_path / f"f{k}"),
+            ],
+            capsys,
+        )
         assert rc == 1 and len(s["failures"]) == 1
         runs.append(s["failures"][0])
     f = runs[0]
@@ -137,8 +184,21 @@ def test_fuzz_finds_and_shrinks_a_mutant(tmp_path, capsys):
     chatter with a budget of 10 s, is found and shrunk (within the budget) to a case no longer than the one
     found, written as a golden-format folder that fails the mutant and that our map track passes."""
     out = tmp_path / "found"
-    rc, s, _ = _fuzz(["--impl", mutant_impl("no-lower-wall-sticking"), "--budget", "10", "--batch", "4",
-                      "--scenarios", "chatter-lower", "--out", str(out)], capsys)
+    rc, s, _ = _fuzz(
+        [
+            "--impl",
+            mutant_impl("no-lower-wall-sticking"),
+            "--budget",
+            "10",
+            "--batch",
+            "4",
+            "--scenarios",
+            "chatter-lower",
+            "--out",
+            str(out),
+        ],
+        capsys,
+    )
     assert rc == 1 and s["status"] == "failures" and len(s["failures"]) == 1
     f = s["failures"][0]
     assert f["impacts"] <= f["original_input"]["impacts"]
@@ -154,12 +214,31 @@ def test_fuzz_finds_and_shrinks_a_mutant(tmp_path, capsys):
 
 #: The mutants of tests/test_golden_mutants.py (one per bug class and variant), and steps of the fixed-step
 #: finder from the sweep over [1e-3, 1].
-MUTANT_NAMES = ["no-lower-wall-sticking", "lower-wall-pressing-sign", "lower-wall-release-branch",
-                "never-release-tested-on-upper-side", "release-delay-ignored", "stick-threshold-x0.99",
-                "stick-threshold-x1.01", "stick-threshold-x1.5", "r1-safe-division", "spurious-row-after-release",
-                "row-at-search-horizon", "rows-dropped-before-no-impact", "trailing-rows", "phase-1e17",
-                "phase-1e300", "phase-largest-double", "contact-tolerance-1e-8", "contact-tolerance-1e-10",
-                "fixed-step-0.001", "fixed-step-0.0316", "fixed-step-0.01", "fixed-step-0.1", "fixed-step-1.0"]
+MUTANT_NAMES = [
+    "no-lower-wall-sticking",
+    "lower-wall-pressing-sign",
+    "lower-wall-release-branch",
+    "never-release-tested-on-upper-side",
+    "release-delay-ignored",
+    "stick-threshold-x0.99",
+    "stick-threshold-x1.01",
+    "stick-threshold-x1.5",
+    "r1-safe-division",
+    "spurious-row-after-release",
+    "row-at-search-horizon",
+    "rows-dropped-before-no-impact",
+    "trailing-rows",
+    "phase-1e17",
+    "phase-1e300",
+    "phase-largest-double",
+    "contact-tolerance-1e-8",
+    "contact-tolerance-1e-10",
+    "fixed-step-0.001",
+    "fixed-step-0.0316",
+    "fixed-step-0.01",
+    "fixed-step-0.1",
+    "fixed-step-1.0",
+]
 #: The budget within which the fuzzer alone (every scenario, seed 0) finds each of them.
 MUTANT_BUDGET = 240
 
@@ -189,8 +268,21 @@ def test_fuzzer_alone_finds_every_fixed_step_size(step, tmp_path, capsys):
     the fixed-step finder within MUTANT_BUDGET seconds and writes a shrunk case that fails it and that the base
     implementation passes (measured 5.5-54 s to the first failure, each shrunk to 1 impact)."""
     name, out = f"fixed-step-{step!r}", tmp_path / "found"
-    rc, s, _ = _fuzz(["--impl", mutant_impl(name), "--budget", str(MUTANT_BUDGET), "--scenarios", "graze",
-                      "--batch", "8", "--out", str(out)], capsys)
+    rc, s, _ = _fuzz(
+        [
+            "--impl",
+            mutant_impl(name),
+            "--budget",
+            str(MUTANT_BUDGET),
+            "--scenarios",
+            "graze",
+            "--batch",
+            "8",
+            "--out",
+            str(out),
+        ],
+        capsys,
+    )
     assert rc == 1 and s["failures"][0]["found_after_s"] < MUTANT_BUDGET, s
     for impl, want in ((name, 1), ("base", 0)):
         subprocess.run([*shlex.split(mutant_impl(impl)), str(out), str(tmp_path / impl)], check=True)
@@ -204,8 +296,11 @@ def test_the_fuzzers_graze_draws_defeat_sampled_fixed_step_sizes(tmp_path):
     from golden_mutants import BASE, Mutant, run, write_csv
     from gear_rattle.validation.golden.suite import load_case, score_file
 
-    cases = [ondemand.build_user_case(inp) for k, rec in enumerate(fuzz.draw_recipes(1, 8, ["graze"]))
-             if (inp := fuzz.construct(rec, f"g{k}")) is not None]
+    cases = [
+        ondemand.build_user_case(inp)
+        for k, rec in enumerate(fuzz.draw_recipes(1, 8, ["graze"]))
+        if (inp := fuzz.construct(rec, f"g{k}")) is not None
+    ]
     assert len(cases) >= 4
 
     def failing(m) -> list[str]:
@@ -228,8 +323,10 @@ def test_our_tracks_are_never_blamed(track, tmp_path, capsys):
     """Our three tracks under the same protocol: no failure in 120 s each (the long runs: docs/golden.md,
     "Fuzzing an implementation"; the diffrax track passes since it resolves near misses on the node state,
     :func:`test_every_track_resolves_the_fuzzers_near_miss`)."""
-    rc, s, _ = _fuzz(["--impl", f"{TRACK} {track}", "--budget", "120", "--seed", "1", "--keep-going",
-                      "--out", str(tmp_path / "f")], capsys)
+    rc, s, _ = _fuzz(
+        ["--impl", f"{TRACK} {track}", "--budget", "120", "--seed", "1", "--keep-going", "--out", str(tmp_path / "f")],
+        capsys,
+    )
     assert rc == 0 and s["failures"] == [] and s["cases"] > 0, s
 
 

@@ -11,8 +11,17 @@ import pytest
 
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden.suite import (
-    DEFAULT_SUITE, RADIUS_COLUMNS, TWO_PI, case_ids, load_case, load_suite, read_sequence, run_case, score_file,
-    score_sequence, sequence_from_impacts,
+    DEFAULT_SUITE,
+    RADIUS_COLUMNS,
+    TWO_PI,
+    case_ids,
+    load_case,
+    load_suite,
+    read_sequence,
+    run_case,
+    score_file,
+    score_sequence,
+    sequence_from_impacts,
 )
 
 CASES = case_ids()
@@ -23,9 +32,24 @@ def test_suite_covers_the_required_situations():
     for cid in CASES:
         tags |= set(load_case(DEFAULT_SUITE / cid).settings["tags"])
     assert len(CASES) >= 25
-    for t in ("regular", "chaotic", "grazing", "chatter", "sticking", "stuck-forever", "small-beta",
-              "return-to-start-wall", "negative-gamma", "free-flight", "lower-wall", "no-impact", "elastic",
-              "release-delay", "threshold", "near-miss"):
+    for t in (
+        "regular",
+        "chaotic",
+        "grazing",
+        "chatter",
+        "sticking",
+        "stuck-forever",
+        "small-beta",
+        "return-to-start-wall",
+        "negative-gamma",
+        "free-flight",
+        "lower-wall",
+        "no-impact",
+        "elastic",
+        "release-delay",
+        "threshold",
+        "near-miss",
+    ):
         assert t in tags, t
 
 
@@ -123,8 +147,14 @@ def test_certified_enclosures_contain_the_map_values(map_outputs):
 #: the default suite re-runs the cheapest case of each kind and every case added for issue 21
 #: (0013-0025: 2 s together, 1.8 s of it the 2000-unit search of 0015's last flight); all cases
 #: under `-m slow`.
-SCIPY_QUICK = ["0002-chaotic-fig3", "0004-grazing-impact", "0005-near-miss-return", "0008-stuck-forever",
-               "0010-negative-gamma", "0011-small-beta-negative-gamma"] + [c for c in CASES if int(c[:4]) >= 13]
+SCIPY_QUICK = [
+    "0002-chaotic-fig3",
+    "0004-grazing-impact",
+    "0005-near-miss-return",
+    "0008-stuck-forever",
+    "0010-negative-gamma",
+    "0011-small-beta-negative-gamma",
+] + [c for c in CASES if int(c[:4]) >= 13]
 
 
 def _scipy_passes(cid: str) -> None:
@@ -205,8 +235,7 @@ def _one_line_error(capsys, *needles):
     assert "Traceback" not in err[0]
 
 
-@pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric",
-                                  "bad_kind", "empty_sdot_on_impact"])
+@pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric", "bad_kind", "empty_sdot_on_impact"])
 def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kind):
     _, out = map_outputs
     cid = "0003-free-flight-start"
@@ -285,9 +314,18 @@ def test_other_suite_directory(tmp_path, map_outputs, capsys):
 # certification
 
 
-@pytest.mark.parametrize("cid", ["0003-free-flight-start", "0006-return-to-start-wall", "0008-stuck-forever",
-                                 "0005-near-miss-return", "0015-no-impact-after-release", "0020-graze-lower-wall-a",
-                                 "0025-near-miss-1e-11-upper-wall"])
+@pytest.mark.parametrize(
+    "cid",
+    [
+        "0003-free-flight-start",
+        "0006-return-to-start-wall",
+        "0008-stuck-forever",
+        "0005-near-miss-return",
+        "0015-no-impact-after-release",
+        "0020-graze-lower-wall-a",
+        "0025-near-miss-1e-11-upper-wall",
+    ],
+)
 def test_recertification_reproduces_the_committed_files(cid):
     pytest.importorskip("flint")
     from gear_rattle.validation.golden.generate import build_case, spec_from_settings

@@ -57,41 +57,63 @@ def _check(m: Mutant, cases: list[str], out, capsys) -> dict[str, bool]:
 #: name -> (mutant, the cases it must fail).  Each mutant is the base with one field changed.
 MUTANTS = {
     "fixed-step-0.01": (Mutant("fixed-step-0.01", "skipped-graze", step=0.01), ["0020", "0021", "0022", "0023"]),
-    "contact-tolerance-1e-8": (Mutant("contact-tolerance-1e-8", "contact-tolerance", contact_tol=1e-8),
-                               ["0024", "0025"]),
+    "contact-tolerance-1e-8": (
+        Mutant("contact-tolerance-1e-8", "contact-tolerance", contact_tol=1e-8),
+        ["0024", "0025"],
+    ),
     "contact-tolerance-1e-10": (Mutant("contact-tolerance-1e-10", "contact-tolerance", contact_tol=1e-10), ["0025"]),
-    "no-lower-wall-sticking": (Mutant("no-lower-wall-sticking", "lower-wall-sticking", lower_wall_sticks=False),
-                               ["0013", "0014", "0019"]),
-    "lower-wall-pressing-sign": (Mutant("lower-wall-pressing-sign", "lower-wall-sticking", lower_sign=1.0),
-                                 ["0013", "0014", "0019"]),
-    "lower-wall-release-branch": (Mutant("lower-wall-release-branch", "lower-wall-sticking", lower_branch=False),
-                                  ["0013", "0019"]),
-    "never-release-tested-on-upper-side": (Mutant("never-release-tested-on-upper-side", "stuck-forever",
-                                                  never_on_pressing_side=False), ["0014"]),
+    "no-lower-wall-sticking": (
+        Mutant("no-lower-wall-sticking", "lower-wall-sticking", lower_wall_sticks=False),
+        ["0013", "0014", "0019"],
+    ),
+    "lower-wall-pressing-sign": (
+        Mutant("lower-wall-pressing-sign", "lower-wall-sticking", lower_sign=1.0),
+        ["0013", "0014", "0019"],
+    ),
+    "lower-wall-release-branch": (
+        Mutant("lower-wall-release-branch", "lower-wall-sticking", lower_branch=False),
+        ["0013", "0019"],
+    ),
+    "never-release-tested-on-upper-side": (
+        Mutant("never-release-tested-on-upper-side", "stuck-forever", never_on_pressing_side=False),
+        ["0014"],
+    ),
     "release-delay-ignored": (Mutant("release-delay-ignored", "release-delay", delay_check=False), ["0017"]),
     "stick-threshold-x0.99": (Mutant("stick-threshold-x0.99", "sticking-threshold", stick_scale=0.99), ["0018"]),
     "stick-threshold-x1.01": (Mutant("stick-threshold-x1.01", "sticking-threshold", stick_scale=1.01), ["0019"]),
     "stick-threshold-x1.5": (Mutant("stick-threshold-x1.5", "sticking-threshold", stick_scale=1.5), ["0019"]),
     "r1-safe-division": (Mutant("r1-safe-division", "elastic-r1", t_acc_if_no_loss=0.0), ["0016"]),
-    "spurious-row-after-release": (Mutant("spurious-row-after-release", "release-departure",
-                                          redetect_after_release=True), ["0007", "0012", "0013"]),
+    "spurious-row-after-release": (
+        Mutant("spurious-row-after-release", "release-departure", redetect_after_release=True),
+        ["0007", "0012", "0013"],
+    ),
     "row-at-search-horizon": (Mutant("row-at-search-horizon", "no-impact-ending", row_at_horizon=True), ["0015"]),
-    "rows-dropped-before-no-impact": (Mutant("rows-dropped-before-no-impact", "no-impact-ending",
-                                             drop_rows_if_no_landing=True), ["0015"]),
+    "rows-dropped-before-no-impact": (
+        Mutant("rows-dropped-before-no-impact", "no-impact-ending", drop_rows_if_no_landing=True),
+        ["0015"],
+    ),
     "trailing-rows": (Mutant("trailing-rows", "trailing-rows", trailing_rows=True), ["0013"]),
     "phase-1e17": (Mutant("phase-1e17", "phase-column", phase_value=1e17), ["0001", "0013"]),
     "phase-1e300": (Mutant("phase-1e300", "phase-column", phase_value=1e300), ["0001", "0013"]),
-    "phase-largest-double": (Mutant("phase-largest-double", "phase-column", phase_value=sys.float_info.max),
-                             ["0001", "0013"]),
+    "phase-largest-double": (
+        Mutant("phase-largest-double", "phase-column", phase_value=sys.float_info.max),
+        ["0001", "0013"],
+    ),
 }
 
 #: A new case -> the mutant that needs it (passes every old case, fails this one).  The graze cases
 #: 0020-0023 get fixed-step finders with a step that misses only that graze
 #: (:func:`_only_missed_step`).
 NEEDS = {
-    "0013": "no-lower-wall-sticking", "0014": "never-release-tested-on-upper-side", "0015": "row-at-search-horizon",
-    "0016": "r1-safe-division", "0017": "release-delay-ignored", "0018": "stick-threshold-x0.99",
-    "0019": "stick-threshold-x1.01", "0024": "contact-tolerance-1e-8", "0025": "contact-tolerance-1e-10",
+    "0013": "no-lower-wall-sticking",
+    "0014": "never-release-tested-on-upper-side",
+    "0015": "row-at-search-horizon",
+    "0016": "r1-safe-division",
+    "0017": "release-delay-ignored",
+    "0018": "stick-threshold-x0.99",
+    "0019": "stick-threshold-x1.01",
+    "0024": "contact-tolerance-1e-8",
+    "0025": "contact-tolerance-1e-10",
 }
 GRAZES = ["0020", "0021", "0022", "0023"]
 
@@ -108,10 +130,12 @@ def test_base_implementation_passes_every_case(tmp_path, capsys):
 #: and a chatter adds these up: the chatter rule of the tolerances (docs/golden.md) must admit both.
 #: The gap-error variants displace every contact by the per-impact error of the amplification rule
 #: (:func:`golden_mutants.displaced_contact`), all late (first order: as all early) or with pseudo-random signs.
-VARIANTS = {"s-coordinates": Mutant("s-coordinates", coordinate=0.0),
-            "s+1-coordinates": Mutant("s+1-coordinates", coordinate=1.0),
-            "gap-error-late": Mutant("gap-error-late", gap_error="late"),
-            "gap-error-random": Mutant("gap-error-random", gap_error="random")}
+VARIANTS = {
+    "s-coordinates": Mutant("s-coordinates", coordinate=0.0),
+    "s+1-coordinates": Mutant("s+1-coordinates", coordinate=1.0),
+    "gap-error-late": Mutant("gap-error-late", gap_error="late"),
+    "gap-error-random": Mutant("gap-error-random", gap_error="random"),
+}
 
 
 @pytest.mark.parametrize("name", VARIANTS)
@@ -192,8 +216,9 @@ def test_each_new_case_is_needed(new, tmp_path, capsys):
         m, also = MUTANTS[NEEDS[new]][0], []
     verdict = _check(m, OLD + also + [_case(new)], tmp_path / "needs", capsys)
     assert not verdict[_case(new)], f"{m.name} passes {new}"
-    assert all(ok for c, ok in verdict.items() if c != _case(new)), \
+    assert all(ok for c, ok in verdict.items() if c != _case(new)), (
         f"{m.name} fails {[c for c, ok in verdict.items() if not ok and c != _case(new)]}"
+    )
     assert m.bug_class in _settings(_case(new))["catches"]
 
 
@@ -251,6 +276,10 @@ def test_mutants_are_small():
     """Each mutant differs from the base in exactly one decision (one field of Mutant)."""
     fields = [f for f in BASE.__dataclass_fields__ if f not in ("name", "bug_class")]
     for name, (m, _) in MUTANTS.items():
-        changed = [f for f in fields if getattr(m, f) != getattr(BASE, f)
-                   and not (isinstance(getattr(m, f), float) and math.isnan(getattr(m, f)))]
+        changed = [
+            f
+            for f in fields
+            if getattr(m, f) != getattr(BASE, f)
+            and not (isinstance(getattr(m, f), float) and math.isnan(getattr(m, f)))
+        ]
         assert len(changed) == 1, (name, changed)

@@ -15,8 +15,7 @@ import pytest
 from gear_rattle.mapimpl.certified.balls import CertificationError, precision
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden.orbit_certify import loads_exact, verify_record
-from gear_rattle.validation.golden.orbit_generate import (CASES, DEFAULT_ORBITS, build, certify_case,
-                                                          seeds_from_records)
+from gear_rattle.validation.golden.orbit_generate import CASES, DEFAULT_ORBITS, build, certify_case, seeds_from_records
 from gear_rattle.validation.golden.orbit_suite import load_record, load_records, record_ids
 
 IDS = [c.id for c in CASES]
@@ -52,7 +51,7 @@ def test_record_is_proven_from_its_own_intervals(rid):
     assert v.contraction < 1e-3 and v.radius < 1e-60
     for name, (lo, hi) in _intervals(rec):
         assert Fraction(lo) <= Fraction(hi), name
-        assert Fraction(hi) - Fraction(lo) <= Fraction(1, 10 ** 12) * max(1, abs(Fraction(hi))), name
+        assert Fraction(hi) - Fraction(lo) <= Fraction(1, 10**12) * max(1, abs(Fraction(hi))), name
 
 
 @pytest.mark.parametrize("rid", IDS)
@@ -82,13 +81,16 @@ def _shift(interval, d):
         return [str(decimal.Decimal(v) + decimal.Decimal(d)) for v in interval]
 
 
-@pytest.mark.parametrize("edit", [
-    lambda r: r["points"][0].update(sdot=_shift(r["points"][0]["sdot"], "1e-15")),
-    lambda r: r["points"][2].update(tau_mod_2pi=_shift(r["points"][2]["tau_mod_2pi"], "-1e-14")),
-    lambda r: r["multipliers"][1].update(re=_shift(r["multipliers"][1]["re"], "1e-16")),
-    lambda r: r.update(value=_shift(r["value"], "3e-18")),
-    lambda r: r.update(params=dict(r["params"], alpha=3.0000001)),
-])
+@pytest.mark.parametrize(
+    "edit",
+    [
+        lambda r: r["points"][0].update(sdot=_shift(r["points"][0]["sdot"], "1e-15")),
+        lambda r: r["points"][2].update(tau_mod_2pi=_shift(r["points"][2]["tau_mod_2pi"], "-1e-14")),
+        lambda r: r["multipliers"][1].update(re=_shift(r["multipliers"][1]["re"], "1e-16")),
+        lambda r: r.update(value=_shift(r["value"], "3e-18")),
+        lambda r: r.update(params=dict(r["params"], alpha=3.0000001)),
+    ],
+)
 def test_a_tampered_record_is_refused(edit):
     """Moving one interval off the proven value by a few units of its last digits (or changing a
     parameter) makes the proof fail: the check has teeth."""
@@ -114,8 +116,10 @@ def _perfect(folder, ids=IDS, rotate=0, swap=False):
     folder.mkdir(exist_ok=True)
     for rid in ids:
         rec = json.loads(_text(rid))
-        pts = [{"tau_mod_2pi": sum(p["tau_mod_2pi"]) / 2, "sdot": sum(p["sdot"]) / 2, "wall": p["wall"]}
-               for p in rec["points"]]
+        pts = [
+            {"tau_mod_2pi": sum(p["tau_mod_2pi"]) / 2, "sdot": sum(p["sdot"]) / 2, "wall": p["wall"]}
+            for p in rec["points"]
+        ]
         pts = pts[rotate:] + pts[:rotate]
         mult = [{"re": sum(m["re"]) / 2, "im": sum(m["im"]) / 2} for m in rec["multipliers"]]
         d = {"points": pts, "multipliers": mult[::-1] if swap else mult}
@@ -132,11 +136,14 @@ def test_check_orbits_passes_a_perfect_implementation_in_any_rotation(tmp_path, 
     assert f"{len(IDS)}/{len(IDS)} orbits and bifurcation points pass" in out
 
 
-@pytest.mark.parametrize("rid, key, delta, column", [
-    ("fold-r2-6-impact-alpha3", "value", 2e-10, "value"),        # tolerance 1e-10
-    ("orbit-6-impact-stable-alpha3-r0.8", "sdot", 2e-9, "sdot"),  # tolerance 1e-10
-    ("orbit-4-impact-stable-alpha1.245-r0.9", "im", 2e-8, "multipliers"),
-])
+@pytest.mark.parametrize(
+    "rid, key, delta, column",
+    [
+        ("fold-r2-6-impact-alpha3", "value", 2e-10, "value"),  # tolerance 1e-10
+        ("orbit-6-impact-stable-alpha3-r0.8", "sdot", 2e-9, "sdot"),  # tolerance 1e-10
+        ("orbit-4-impact-stable-alpha1.245-r0.9", "im", 2e-8, "multipliers"),
+    ],
+)
 def test_check_orbits_fails_a_value_outside_the_tolerance(tmp_path, capsys, rid, key, delta, column):
     d = _perfect(tmp_path / "out", ids=[rid])
     f = d / f"{rid}.json"
@@ -168,17 +175,24 @@ def test_check_orbits_fails_wrong_walls_and_a_wrong_count(tmp_path, capsys):
     assert "2 points, expected 3" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("content, needle", [
-    ("{", "invalid JSON"),
-    ("[1, 2]", "expected a JSON object"),
-    ('{"points": [], "multipliers": []}', "non-empty"),
-    ('{"multipliers": [{"re": 0.1, "im": 0}]}', "missing key 'points'"),
-    ('{"points": [{"tau_mod_2pi": "x", "sdot": 1, "wall": 0}], "multipliers": [{"re": 0, "im": 0}]}',
-     "not a finite number"),
-    ('{"points": [{"tau_mod_2pi": 1, "sdot": 1, "wall": 2}], "multipliers": [{"re": 0, "im": 0}]}', "not 0 or -1"),
-    ('{"points": [{"tau_mod_2pi": NaN, "sdot": 1, "wall": 0}], "multipliers": [{"re": 0, "im": 0}]}',
-     "not a finite number"),
-])
+@pytest.mark.parametrize(
+    "content, needle",
+    [
+        ("{", "invalid JSON"),
+        ("[1, 2]", "expected a JSON object"),
+        ('{"points": [], "multipliers": []}', "non-empty"),
+        ('{"multipliers": [{"re": 0.1, "im": 0}]}', "missing key 'points'"),
+        (
+            '{"points": [{"tau_mod_2pi": "x", "sdot": 1, "wall": 0}], "multipliers": [{"re": 0, "im": 0}]}',
+            "not a finite number",
+        ),
+        ('{"points": [{"tau_mod_2pi": 1, "sdot": 1, "wall": 2}], "multipliers": [{"re": 0, "im": 0}]}', "not 0 or -1"),
+        (
+            '{"points": [{"tau_mod_2pi": NaN, "sdot": 1, "wall": 0}], "multipliers": [{"re": 0, "im": 0}]}',
+            "not a finite number",
+        ),
+    ],
+)
 def test_check_orbits_malformed_input_is_one_line_exit_2(tmp_path, capsys, content, needle):
     rid = "orbit-3-impact-fig2-alpha0.5-r0.9"
     d = tmp_path / "out"
@@ -189,11 +203,14 @@ def test_check_orbits_malformed_input_is_one_line_exit_2(tmp_path, capsys, conte
     assert len(err) == 1 and needle in err[0] and rid in err[0]
 
 
-@pytest.mark.parametrize("argv, needle", [
-    (["--cases", "nope"], "unknown orbit id"),
-    (["--self", "--track", "scipy"], "--track must be map"),
-    (["--suite", "/nonexistent"], "not found"),
-])
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["--cases", "nope"], "unknown orbit id"),
+        (["--self", "--track", "scipy"], "--track must be map"),
+        (["--suite", "/nonexistent"], "not found"),
+    ],
+)
 def test_check_orbits_usage_errors(tmp_path, capsys, argv, needle):
     d = _perfect(tmp_path / "out")
     args = ["check", "--orbits"] + ([] if "--self" in argv else [str(d)]) + argv

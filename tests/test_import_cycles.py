@@ -16,8 +16,13 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 #: The installed namespace's packages and the folders they come from (pyproject.toml's package-dir).
-FOLDERS = {"gear_rattle": "gear_rattle", "gear_rattle.core": "core", "gear_rattle.mapimpl": "mapimpl",
-           "gear_rattle.reference": "reference", "gear_rattle.validation": "validation"}
+FOLDERS = {
+    "gear_rattle": "gear_rattle",
+    "gear_rattle.core": "core",
+    "gear_rattle.mapimpl": "mapimpl",
+    "gear_rattle.reference": "reference",
+    "gear_rattle.validation": "validation",
+}
 
 
 def modules(repo: Path = REPO) -> dict[str, Path]:

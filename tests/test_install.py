@@ -65,34 +65,40 @@ def test_the_package_imports_only_core_dependencies_and_the_standard_library():
 def _blocked_python(code: str, blocked=BLOCKED, cwd=None) -> subprocess.CompletedProcess:
     prelude = f"import sys\nfor _m in {tuple(blocked)!r}:\n    sys.modules[_m] = None\n"
     env = {**os.environ, "MPLBACKEND": "Agg"}
-    return subprocess.run([sys.executable, "-c", prelude + code], capture_output=True, text=True, cwd=cwd, env=env,
-                          timeout=300)
+    return subprocess.run(
+        [sys.executable, "-c", prelude + code], capture_output=True, text=True, cwd=cwd, env=env, timeout=300
+    )
 
 
 def test_every_module_imports_with_the_extras_and_test_tools_missing():
     """Import every module of the package in an interpreter where the extras, pytest, hypothesis and
     mpmath cannot be imported."""
-    code = ("import importlib, pkgutil\n"
-            "names = ['gear_rattle.__main__']\n"
-            "for top in ('mapimpl', 'reference', 'validation'):\n"
-            "    pkg = importlib.import_module('gear_rattle.' + top)\n"
-            "    names += [m.name for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + '.')\n"
-            "              if not m.name.endswith('.__main__')]\n"
-            "for n in names:\n    importlib.import_module(n)\n"
-            "print(len(names))\n")
+    code = (
+        "import importlib, pkgutil\n"
+        "names = ['gear_rattle.__main__']\n"
+        "for top in ('mapimpl', 'reference', 'validation'):\n"
+        "    pkg = importlib.import_module('gear_rattle.' + top)\n"
+        "    names += [m.name for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + '.')\n"
+        "              if not m.name.endswith('.__main__')]\n"
+        "for n in names:\n    importlib.import_module(n)\n"
+        "print(len(names))\n"
+    )
     p = _blocked_python(code)
     assert p.returncode == 0, p.stderr
     assert int(p.stdout) > 40
 
 
-@pytest.mark.parametrize("blocked, scheduler, module", [(("zarr",), "serial", "zarr"),
-                                                        (("distributed", "dask"), "local", "distributed")])
+@pytest.mark.parametrize(
+    "blocked, scheduler, module", [(("zarr",), "serial", "zarr"), (("distributed", "dask"), "local", "distributed")]
+)
 def test_atlas_without_its_extra_is_one_line_naming_the_extra(tmp_path, blocked, scheduler, module):
     """``gear-rattle atlas`` with its extra missing: one line naming the extra, exit 2, nothing written."""
     out = tmp_path / "atlas-out"
-    code = ("from gear_rattle.validation.cli import main\n"
-            f"sys.exit(main(['atlas', '--n-alpha', '2', '--n-r', '2', '--scheduler', {scheduler!r}, "
-            f"'--transient', '5', '--impacts', '5', '--out', {str(out)!r}]))\n")
+    code = (
+        "from gear_rattle.validation.cli import main\n"
+        f"sys.exit(main(['atlas', '--n-alpha', '2', '--n-r', '2', '--scheduler', {scheduler!r}, "
+        f"'--transient', '5', '--impacts', '5', '--out', {str(out)!r}]))\n"
+    )
     p = _blocked_python(code, blocked)
     assert p.returncode == 2, p.stderr
     assert p.stderr.count("\n") == 1 and "Traceback" not in p.stderr
@@ -103,7 +109,9 @@ def test_atlas_without_its_extra_is_one_line_naming_the_extra(tmp_path, blocked,
 
 def test_require_names_the_extra_and_refuses_a_module_outside_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "zarr", None)
-    with pytest.raises(MissingExtra, match=r'the atlas needs the optional dependency zarr: pip install "gear-rattle\[atlas\]"'):
+    with pytest.raises(
+        MissingExtra, match=r'the atlas needs the optional dependency zarr: pip install "gear-rattle\[atlas\]"'
+    ):
         require("zarr", "atlas", "the atlas")
     with pytest.raises(ValueError, match="not in the extra"):
         require("numpy", "atlas", "the atlas")
@@ -111,11 +119,19 @@ def test_require_names_the_extra_and_refuses_a_module_outside_it(monkeypatch):
 
 def test_version_and_python_dash_m():
     """``gear-rattle --version`` and ``python -m gear_rattle`` (from outside the repository)."""
-    v = subprocess.run([sys.executable, "-m", "gear_rattle", "--version"], capture_output=True, text=True,
-                       cwd=Path("/").resolve(), timeout=120)
+    v = subprocess.run(
+        [sys.executable, "-m", "gear_rattle", "--version"],
+        capture_output=True,
+        text=True,
+        cwd=Path("/").resolve(),
+        timeout=120,
+    )
     from gear_rattle.validation.golden.version import SUITE_VERSION
 
-    assert v.returncode == 0 and v.stdout.strip() == f"gear-rattle {gear_rattle.__version__} (golden suite {SUITE_VERSION})"
+    assert (
+        v.returncode == 0
+        and v.stdout.strip() == f"gear-rattle {gear_rattle.__version__} (golden suite {SUITE_VERSION})"
+    )
     assert gear_rattle.__version__ != "0+unknown"
     h = subprocess.run([sys.executable, "-m", "gear_rattle", "--help"], capture_output=True, text=True, timeout=120)
     assert h.returncode == 0 and h.stdout.startswith("usage: gear-rattle")
@@ -127,8 +143,14 @@ def test_plain_pytest_collects_every_module():
     exe = Path(sys.executable).with_name("pytest")
     if not exe.exists():
         pytest.skip(f"no pytest console script beside {sys.executable}")
-    p = subprocess.run([str(exe), "--collect-only", "-q", "-p", "no:cacheprovider"], capture_output=True, text=True,
-                       cwd=REPO, timeout=300, env={**os.environ, "PYTHONPATH": ""})
+    p = subprocess.run(
+        [str(exe), "--collect-only", "-q", "-p", "no:cacheprovider"],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=300,
+        env={**os.environ, "PYTHONPATH": ""},
+    )
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     assert "error" not in p.stdout.splitlines()[-1]
 

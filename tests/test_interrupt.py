@@ -33,8 +33,13 @@ LATENCY_BOUND = 2.0
 
 def _interrupt_after(args, delay, tmp_path):
     env = dict(os.environ, MPLBACKEND="Agg")
-    p = subprocess.Popen([sys.executable, "-m", "gear_rattle", *args], stdout=subprocess.DEVNULL,
-                         stderr=subprocess.PIPE, cwd=tmp_path, env=env)
+    p = subprocess.Popen(
+        [sys.executable, "-m", "gear_rattle", *args],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        cwd=tmp_path,
+        env=env,
+    )
     time.sleep(delay)
     t0 = time.perf_counter()
     p.send_signal(signal.SIGINT)
@@ -58,8 +63,9 @@ def test_ctrl_c_acts_at_once_from_start_up_to_the_run(tmp_path, delay):
 
 
 def test_ctrl_c_on_a_long_diffrax_simulate(tmp_path):
-    rc, latency, err = _interrupt_after(["simulate", "--track", "diffrax", "--impacts", "10000000", "--output",
-                                         "o.csv"], 6.0, tmp_path)
+    rc, latency, err = _interrupt_after(
+        ["simulate", "--track", "diffrax", "--impacts", "10000000", "--output", "o.csv"], 6.0, tmp_path
+    )
     assert rc == 130 and err.strip() == "gear-rattle simulate: interrupted", err
     assert latency < LATENCY_BOUND, f"Ctrl-C acted after {latency:.2f} s"
     assert not (tmp_path / "o.csv").exists()
@@ -69,11 +75,14 @@ def test_a_command_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
     """A shell starts `gear-rattle ... &` in a script with SIGINT ignored, so that the terminal's Ctrl-C
     for the foreground job does not end it; the console script keeps it ignored (as Python does) while
     it loads and while it runs, instead of installing its own handler (it did: the job ended with 130)."""
-    as_a_background_job = ("import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_IGN); "
-                           "os.execv(sys.executable, [sys.executable, '-m', 'gear_rattle', 'simulate', "
-                           "'--impacts', '300000', '--quiet'])")  # exec keeps an ignored signal ignored
-    p = subprocess.Popen([sys.executable, "-c", as_a_background_job], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         cwd=tmp_path)
+    as_a_background_job = (
+        "import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_IGN); "
+        "os.execv(sys.executable, [sys.executable, '-m', 'gear_rattle', 'simulate', "
+        "'--impacts', '300000', '--quiet'])"
+    )  # exec keeps an ignored signal ignored
+    p = subprocess.Popen(
+        [sys.executable, "-c", as_a_background_job], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path
+    )
     try:
         for delay in (0.4, 1.6):  # while JAX loads, then while the command runs
             time.sleep(delay)
@@ -88,8 +97,12 @@ def test_a_command_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
 
 def test_console_errors_and_exit_status_unchanged(tmp_path):
     """The worker thread passes the command's status, usage errors (SystemExit) and --version through."""
-    run = lambda *a: subprocess.run([sys.executable, "-m", "gear_rattle", *a], capture_output=True, text=True,  # noqa: E731
-                                    cwd=tmp_path)
+    run = lambda *a: subprocess.run(  # noqa: E731
+        [sys.executable, "-m", "gear_rattle", *a],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
     ok = run("simulate", "--impacts", "2")
     assert ok.returncode == 0 and ok.stdout.startswith("n,tau,") and ok.stderr == ""
     bad = run("simulate", "--impacts", "-2")
@@ -98,6 +111,7 @@ def test_console_errors_and_exit_status_unchanged(tmp_path):
 
 
 # ------------------------------------------------------------------ item 3: the diffrax track in chunks
+
 
 def test_diffrax_chunked_orbit_is_bitwise_one_scan(monkeypatch):
     """Chunks of 8 impacts (3 chunks, the last truncated) against one 20-step scan, for an orbit with

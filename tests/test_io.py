@@ -15,15 +15,27 @@ from gear_rattle.validation.io import csv_columns, csv_text, json_text, jsonable
 
 def _strict(text: str):
     """A JSON parser that rejects NaN, Infinity and -Infinity (RFC 8259)."""
+
     def no(c):
         raise ValueError(f"{c} is not JSON")
+
     return json.loads(text, parse_constant=no)
 
 
 def test_json_is_strict_and_keeps_numbers_exact():
-    obj = {"nan": math.nan, "inf": np.inf, "minf": -math.inf, "np": np.float64(0.1), "i": np.int32(7),
-           "arr": np.array([1.5, np.nan, 3.0]), "tup": (1, 2), 3: "int key", "b": np.bool_(True), "none": None,
-           "nested": [{"x": np.float32(np.nan)}]}
+    obj = {
+        "nan": math.nan,
+        "inf": np.inf,
+        "minf": -math.inf,
+        "np": np.float64(0.1),
+        "i": np.int32(7),
+        "arr": np.array([1.5, np.nan, 3.0]),
+        "tup": (1, 2),
+        3: "int key",
+        "b": np.bool_(True),
+        "none": None,
+        "nested": [{"x": np.float32(np.nan)}],
+    }
     back = _strict(json_text(obj))
     assert back["nan"] is None and back["inf"] is None and back["minf"] is None
     assert back["np"] == 0.1 and back["i"] == 7 and back["arr"] == [1.5, None, 3.0] and back["tup"] == [1, 2]
@@ -44,11 +56,12 @@ def test_json_refuses_objects_that_are_not_data(tmp_path):
 
 def test_csv_has_a_header_and_data_rows_only(tmp_path):
     x = 1 / 3
-    header, rows = csv_columns({"eps": np.array([1e-9, x]), "n": np.array([3, 4], np.int64),
-                                "ok": [True, np.bool_(False)], "s": ["a,b", None]})
+    header, rows = csv_columns(
+        {"eps": np.array([1e-9, x]), "n": np.array([3, 4], np.int64), "ok": [True, np.bool_(False)], "s": ["a,b", None]}
+    )
     text = csv_text(header, rows)
     lines = text.splitlines()
-    assert lines == ["eps,n,ok,s", "1e-09,3,True,\"a,b\"", f"{x!r},4,False,"]
+    assert lines == ["eps,n,ok,s", '1e-09,3,True,"a,b"', f"{x!r},4,False,"]
     assert float(lines[2].split(",")[0]) == x  # repr: exact round trip, never "np.float64(...)"
     with pytest.raises(ValueError, match="fields"):
         csv_text(["a", "b"], [[1]])

@@ -35,8 +35,14 @@ def _lint(tmp_path: Path, config: Path) -> subprocess.CompletedProcess:
     pytest.importorskip("importlinter", reason="import-linter not installed (pip install -e '.[dev]')")
     root = _installed_layout(tmp_path / "src")
     code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
-    return subprocess.run([sys.executable, "-c", code, str(config), "--no-cache"], cwd=root, capture_output=True,
-                          text=True, env={"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin"}, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-c", code, str(config), "--no-cache"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin"},
+        timeout=300,
+    )
 
 
 def test_the_import_contract_holds(tmp_path):
@@ -54,9 +60,14 @@ def test_the_contract_catches_a_library_module_importing_validation(tmp_path):
     bad = src / "gear_rattle" / "mapimpl" / "sticking.py"
     bad.write_text(bad.read_text() + "\nfrom ..validation.golden import suite  # noqa\n")
     code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
-    r = subprocess.run([sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"], cwd=src,
-                       capture_output=True, text=True, env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
-                       timeout=300)
+    r = subprocess.run(
+        [sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"],
+        cwd=src,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
+        timeout=300,
+    )
     assert r.returncode != 0 and "BROKEN" in r.stdout and "gear_rattle.mapimpl.sticking" in r.stdout
 
 
@@ -66,15 +77,22 @@ def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions
     src = tmp_path / "src"
     _installed_layout(src)
     pkg = src / "gear_rattle" / "validation"
-    for rel, line in (("golden/suite.py", "\ndef _f():\n    from ..transient import experiments  # noqa\n"),
-                      ("io/transients.py", "\nfrom ..plots import base  # noqa\n")):
+    for rel, line in (
+        ("golden/suite.py", "\ndef _f():\n    from ..transient import experiments  # noqa\n"),
+        ("io/transients.py", "\nfrom ..plots import base  # noqa\n"),
+    ):
         f = pkg / rel
         f.write_text(f.read_text() + line)
     code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
     pytest.importorskip("importlinter", reason="import-linter not installed (pip install -e '.[dev]')")
-    r = subprocess.run([sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"], cwd=src,
-                       capture_output=True, text=True, env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
-                       timeout=300)
+    r = subprocess.run(
+        [sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"],
+        cwd=src,
+        capture_output=True,
+        text=True,
+        env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
+        timeout=300,
+    )
     out = " ".join(r.stdout.split())
     assert r.returncode != 0 and "BROKEN" in out, out[-3000:]
     assert "gear_rattle.validation.golden is not allowed to import gear_rattle.validation.transient" in out
@@ -105,8 +123,11 @@ def long_functions(repo: Path = REPO, limit: int = MAX_FUNCTION_LINES) -> list[s
                     first = min([node.lineno] + [d.lineno for d in node.decorator_list])
                     n = node.end_lineno - first + 1
                     body0 = node.body[0]
-                    if (isinstance(body0, ast.Expr) and isinstance(body0.value, ast.Constant)
-                            and isinstance(body0.value.value, str)):
+                    if (
+                        isinstance(body0, ast.Expr)
+                        and isinstance(body0.value, ast.Constant)
+                        and isinstance(body0.value.value, str)
+                    ):
                         n -= body0.end_lineno - body0.lineno + 1
                     if n > limit and f"{rel}::{node.name}" not in LONG_FUNCTIONS_ALLOWED:
                         out.append(f"{rel}:{node.lineno} {node.name} ({n} lines)")
@@ -136,6 +157,7 @@ def test_the_length_guard_finds_a_long_function(tmp_path):
 # ------------------------------------------------------------------------------------------------
 # one check of an integer argument (issue 24 item 2)
 
+
 def test_one_check_int():
     """``core.checks.check_int`` is the only integer check (no module defines its own ``_int`` or
     ``check_int``); bools and non-numbers are not integers, ``strict`` refuses integral floats (the atlas
@@ -148,8 +170,15 @@ def test_one_check_int():
     assert check_int("n", 3.0, 1, 9) == 3 and check_int("n", np.int32(4), 1, 9, strict=True) == 4
     # a complex numpy scalar is no integer, even with an integral real part (int() of it warns and drops
     # the imaginary part: found by mypy)
-    for v, kw in ((True, {}), ("3", {}), (None, {}), (float("nan"), {}), (3.0, {"strict": True}),
-                  (np.complex128(3), {}), (3 + 0j, {})):
+    for v, kw in (
+        (True, {}),
+        ("3", {}),
+        (None, {}),
+        (float("nan"), {}),
+        (3.0, {"strict": True}),
+        (np.complex128(3), {}),
+        (3 + 0j, {}),
+    ):
         with pytest.raises(ValueError, match="n=.* is not an integer: allowed 1 <= n <= 9"):
             check_int("n", v, 1, 9, **kw)
     for v in (2.5, 0, 10):

@@ -59,11 +59,18 @@ def test_jacobian_analytic_vs_autodiff_and_det_identity():
     jacfwd: jacfwd through an iterative finder is the less accurate route."""
     tally = Tally()
 
-    @given(tau=st.floats(0, 6.28, **finite), sdot=st.floats(0.05, 2.5, **finite), sign=st.sampled_from([1.0, -1.0]),
-           alpha=st.floats(0.5, 4, **finite), beta=st.floats(0.01, 1, **finite),
-           gamma=st.floats(-0.3, 0.3, **finite), r=st.floats(0.5, 0.95, **finite))
-    @example(tau=0.9914057411330726, sdot=1.7208734625361166, sign=1.0, alpha=3.287109375, beta=0.01, gamma=0.0,
-             r=0.5)  # jacfwd off by 6.0e-12: decided by the reference
+    @given(
+        tau=st.floats(0, 6.28, **finite),
+        sdot=st.floats(0.05, 2.5, **finite),
+        sign=st.sampled_from([1.0, -1.0]),
+        alpha=st.floats(0.5, 4, **finite),
+        beta=st.floats(0.01, 1, **finite),
+        gamma=st.floats(-0.3, 0.3, **finite),
+        r=st.floats(0.5, 0.95, **finite),
+    )
+    @example(
+        tau=0.9914057411330726, sdot=1.7208734625361166, sign=1.0, alpha=3.287109375, beta=0.01, gamma=0.0, r=0.5
+    )  # jacfwd off by 6.0e-12: decided by the reference
     def prop(tau, sdot, sign, alpha, beta, gamma, r):
         p = Params(alpha, beta, gamma, r).arrays()
         x = jnp.array([tau, sign * sdot])
@@ -102,8 +109,10 @@ def test_jacobian_vs_central_differences():
         if bool(info.stuck) or abs(float(ns.sdot)) < 0.05:
             continue
         h = 1e-6
-        fd = np.stack([(np.asarray(next_jit(x + h * e, p)) - np.asarray(next_jit(x - h * e, p))) / (2 * h)
-                       for e in jnp.eye(2)], axis=1)
+        fd = np.stack(
+            [(np.asarray(next_jit(x + h * e, p)) - np.asarray(next_jit(x - h * e, p))) / (2 * h) for e in jnp.eye(2)],
+            axis=1,
+        )
         J = np.asarray(info.jac)
         assert np.abs(J - fd).max() <= 5e-9 * (1 + np.abs(J).max())
         checked += 1
@@ -240,8 +249,9 @@ def test_free_flight_start():
     assert o.wall[0] == ref[1]
 
 
-@pytest.mark.parametrize("bad", [dict(alpha=-1), dict(beta=0), dict(beta=float("inf")), dict(r=0), dict(r=1.01),
-                                 dict(gamma=float("nan"))])
+@pytest.mark.parametrize(
+    "bad", [dict(alpha=-1), dict(beta=0), dict(beta=float("inf")), dict(r=0), dict(r=1.01), dict(gamma=float("nan"))]
+)
 def test_bad_params(bad):
     base = dict(alpha=3.0, beta=0.1, gamma=0.1, r=0.9)
     base.update(bad)

@@ -37,8 +37,14 @@ def _text(node: ast.AST) -> str:
 #: Where an integer's message may be written by hand: the helper itself; text parsed into an integer
 #: (an argparse option, a CSV field, an environment variable) before check_int's kind of check applies;
 #: the atlas tile, whose message is about the shape (an int or a pair).
-INT_TEXT_ALLOWED = {"core/checks.py", "validation/cliutil.py", "validation/golden/csvformat.py",
-                    "validation/commands/release.py", "core/_jax.py", "validation/atlas/store.py"}
+INT_TEXT_ALLOWED = {
+    "core/checks.py",
+    "validation/cliutil.py",
+    "validation/golden/csvformat.py",
+    "validation/commands/release.py",
+    "core/_jax.py",
+    "validation/atlas/store.py",
+}
 _INTEGER_WORDS = re.compile(r"allowed (an |a positive |positive )?integers?\b|is not an integer")
 
 
@@ -55,8 +61,13 @@ def hand_written_int_checks(repo: Path = REPO) -> list[str]:
                     out.append(f"{rel}:{node.lineno}: raise with an integer's message")
             elif isinstance(node, ast.Compare) and len(node.ops) == 1 and isinstance(node.ops[0], ast.NotEq):
                 left, right = node.left, node.comparators[0]
-                if (isinstance(left, ast.Call) and isinstance(left.func, ast.Name) and left.func.id == "int"
-                        and len(left.args) == 1 and ast.dump(left.args[0]) == ast.dump(right)):
+                if (
+                    isinstance(left, ast.Call)
+                    and isinstance(left.func, ast.Name)
+                    and left.func.id == "int"
+                    and len(left.args) == 1
+                    and ast.dump(left.args[0]) == ast.dump(right)
+                ):
                     out.append(f"{rel}:{node.lineno}: int(x) != x")
     return sorted(out, key=lambda s: (s.split(":")[0], int(s.split(":")[1])))
 
@@ -75,10 +86,13 @@ def test_the_integer_guard_finds_a_hand_written_check(tmp_path):
         "        raise ValueError(f'n={n!r} is out of range: allowed an integer >= 1')\n"
         "    if m < 0:\n"
         "        raise ValueError('m is out of range: allowed integers >= 0')\n"
-        "    raise ValueError('x is out of range: allowed a real')\n")
-    assert hand_written_int_checks(tmp_path) == ["validation/x.py:2: int(x) != x",
-                                                 "validation/x.py:3: raise with an integer's message",
-                                                 "validation/x.py:5: raise with an integer's message"]
+        "    raise ValueError('x is out of range: allowed a real')\n"
+    )
+    assert hand_written_int_checks(tmp_path) == [
+        "validation/x.py:2: int(x) != x",
+        "validation/x.py:3: raise with an integer's message",
+        "validation/x.py:5: raise with an integer's message",
+    ]
 
 
 # ------------------------------------------------------------------------------------------------
@@ -92,15 +106,27 @@ PAPER_MODULES = {"core/paper.py", "validation/paper.py"}
 PAPER_NUMBERS = (1.245, 2272.0, 0.893, 0.82144, 0.82145, 0.74001, 1.2437)
 PAPER_TEXTS = ("1.245", "2272", "0.893", "0.82144", "0.74001")
 #: Names that only PAPER_MODULES may assign at module level.
-PAPER_NAMES = ("PAPER_PARAMS", "PAPER_DECIMAL", "PAPER_FIG2_DECIMAL", "PAPER_FIG2", "PAPER_FIG3_DECIMAL",
-               "PAPER_FIG3", "PAPER_BOX", "DELTA", "DELTAS", "PAPER")
+PAPER_NAMES = (
+    "PAPER_PARAMS",
+    "PAPER_DECIMAL",
+    "PAPER_FIG2_DECIMAL",
+    "PAPER_FIG2",
+    "PAPER_FIG3_DECIMAL",
+    "PAPER_FIG3",
+    "PAPER_BOX",
+    "DELTA",
+    "DELTAS",
+    "PAPER",
+)
 #: The paper's parameter sets (Figs. 2, 3-7 and 9-11), as the printed decimals of core/paper.py.
 #: Common numbers (3.0, 0.1, 0.9) are a paper constant only together: three or more literal values of
 #: alpha, beta, gamma, r that all equal one of these sets (a ``Params(...)``, a ``.replace(...)``, a
 #: function's defaults, an option's ``default=``) re-type it.
-PAPER_SETS = {"Figs. 9-11 (PAPER_PARAMS)": {"alpha": 1.245, "beta": 0.1, "gamma": 0.1, "r": 0.9},
-              "Figs. 3-7 (PAPER_FIG3)": {"alpha": 3.0, "beta": 0.1, "gamma": 0.1, "r": 0.9},
-              "Fig. 2 (PAPER_FIG2)": {"alpha": 0.5, "beta": 0.1, "gamma": 0.1, "r": 0.9}}
+PAPER_SETS = {
+    "Figs. 9-11 (PAPER_PARAMS)": {"alpha": 1.245, "beta": 0.1, "gamma": 0.1, "r": 0.9},
+    "Figs. 3-7 (PAPER_FIG3)": {"alpha": 3.0, "beta": 0.1, "gamma": 0.1, "r": 0.9},
+    "Fig. 2 (PAPER_FIG2)": {"alpha": 0.5, "beta": 0.1, "gamma": 0.1, "r": 0.9},
+}
 PARAM_ORDER = ("alpha", "beta", "gamma", "r")
 #: The capture distances (core.paper.DELTA, DELTAS) and the paper's box (PAPER_BOX): ``delta=1e-3`` (an
 #: argument's default, a keyword, an option's ``default=``), a sequence of two or more literal
@@ -157,7 +183,7 @@ def _literal_settings(node: ast.AST) -> dict[str, float]:
             out[_text(node.args[0])[2:]] = out.pop("default")
     elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
         args = node.args.posonlyargs + node.args.args
-        pairs = list(zip(args[len(args) - len(node.args.defaults):], node.args.defaults))
+        pairs = list(zip(args[len(args) - len(node.args.defaults) :], node.args.defaults))
         pairs += [(a, d) for a, d in zip(node.args.kwonlyargs, node.args.kw_defaults) if d is not None]
         out.update({a.arg: v for a, d in pairs if (v := _number(d)) is not None})
     return out
@@ -200,8 +226,13 @@ def paper_constant_violations(repo: Path = REPO) -> list[str]:
                 elif tuple(nums) == PAPER_BOX_VALUES:
                     out.append(f"{rel}:{node.lineno}: re-types the box PAPER_BOX")
         for node in tree.body:
-            targets = node.targets if isinstance(node, ast.Assign) else \
-                [node.target] if isinstance(node, ast.AnnAssign) else []
+            targets = (
+                node.targets
+                if isinstance(node, ast.Assign)
+                else [node.target]
+                if isinstance(node, ast.AnnAssign)
+                else []
+            )
             for t in targets:
                 for n in ast.walk(t):
                     if isinstance(n, ast.Name) and n.id in PAPER_NAMES:
@@ -220,8 +251,10 @@ def test_the_guard_finds_a_retyped_constant(tmp_path):
     for sub in FOLDERS:
         (tmp_path / sub).mkdir()
     (tmp_path / "core" / "paper.py").write_text("DELTA = 1e-3\n")
-    (tmp_path / "mapimpl" / "x.py").write_text('"""alpha = 1.245 in a docstring is prose."""\nA = 1.245\n'
-                                                'DELTA = 1e-3\nT = f"kappa = 0.893"\nGRID = [1.2437, 1.244, 1.245]\n')
+    (tmp_path / "mapimpl" / "x.py").write_text(
+        '"""alpha = 1.245 in a docstring is prose."""\nA = 1.245\n'
+        'DELTA = 1e-3\nT = f"kappa = 0.893"\nGRID = [1.2437, 1.244, 1.245]\n'
+    )
     bad = paper_constant_violations(tmp_path)
     assert len(bad) == 3 and all(b.startswith("mapimpl/x.py") for b in bad), bad
 
@@ -232,27 +265,31 @@ def test_the_guard_finds_the_places_it_missed(tmp_path):
     for sub in FOLDERS:
         (tmp_path / sub).mkdir()
     (tmp_path / "validation" / "y.py").write_text(
-        "def add_param_args(p, alpha=3.0, beta=0.1, gamma=0.1, r=0.9):\n"                 # 1 cliutil.py:43
-        "    p.add_argument('--delta', type=float, default=1e-3)\n"                        # 2 _transient_common
-        "    run(deltas=(1e-2, p.delta, 1e-4, 1e-6))\n"                                    # 3 transients.py:48
-        "    base = p.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[p.figure])\n"     # 4 timeseries.py:39
-        "FIG2 = Params(0.5, 0.1, 0.1, 0.9)\n"                                              # 5 generate.py:38
-        "BOX = (3.0, 3.5, 0.0, 0.5)\n"                                                     # 6
-        "def ok(delta=1e-2, alpha=0.5, beta=0.2):\n"                                       # 7 not paper values
-        "    return Params(0.5, 0.1, 0.1, 1.0), Params(alpha, 0.1, 0.1, 0.9), (1e-2, 0.5)\n")  # 8: r=1, 3 of FIG3
+        "def add_param_args(p, alpha=3.0, beta=0.1, gamma=0.1, r=0.9):\n"  # 1 cliutil.py:43
+        "    p.add_argument('--delta', type=float, default=1e-3)\n"  # 2 _transient_common
+        "    run(deltas=(1e-2, p.delta, 1e-4, 1e-6))\n"  # 3 transients.py:48
+        "    base = p.replace(alpha=3.0, beta=0.1, gamma=0.1, r=FIGURE_R[p.figure])\n"  # 4 timeseries.py:39
+        "FIG2 = Params(0.5, 0.1, 0.1, 0.9)\n"  # 5 generate.py:38
+        "BOX = (3.0, 3.5, 0.0, 0.5)\n"  # 6
+        "def ok(delta=1e-2, alpha=0.5, beta=0.2):\n"  # 7 not paper values
+        "    return Params(0.5, 0.1, 0.1, 1.0), Params(alpha, 0.1, 0.1, 0.9), (1e-2, 0.5)\n"
+    )  # 8: r=1, 3 of FIG3
     bad = paper_constant_violations(tmp_path)
-    assert bad == ["validation/y.py:1: re-types the parameters of Figs. 3-7 (PAPER_FIG3)",
-                   "validation/y.py:2: re-types the capture distance DELTA",
-                   "validation/y.py:3: re-types the capture distances DELTAS",
-                   "validation/y.py:4: re-types the parameters of Figs. 3-7 (PAPER_FIG3)",
-                   "validation/y.py:5: re-types the parameters of Fig. 2 (PAPER_FIG2)",
-                   "validation/y.py:6: re-types the box PAPER_BOX",
-                   "validation/y.py:8: re-types the parameters of Figs. 9-11 (PAPER_PARAMS) / Figs. 3-7 (PAPER_FIG3) / "
-                   "Fig. 2 (PAPER_FIG2)"], bad
+    assert bad == [
+        "validation/y.py:1: re-types the parameters of Figs. 3-7 (PAPER_FIG3)",
+        "validation/y.py:2: re-types the capture distance DELTA",
+        "validation/y.py:3: re-types the capture distances DELTAS",
+        "validation/y.py:4: re-types the parameters of Figs. 3-7 (PAPER_FIG3)",
+        "validation/y.py:5: re-types the parameters of Fig. 2 (PAPER_FIG2)",
+        "validation/y.py:6: re-types the box PAPER_BOX",
+        "validation/y.py:8: re-types the parameters of Figs. 9-11 (PAPER_PARAMS) / Figs. 3-7 (PAPER_FIG3) / "
+        "Fig. 2 (PAPER_FIG2)",
+    ], bad
 
 
 # ------------------------------------------------------------------------------------------------
 # the parameter names: core.params.PARAM_NAMES (and Params.as_dict)
+
 
 def spelled_parameter_names(repo: Path = REPO) -> list[str]:
     """``path:line`` of every literal sequence that spells the four names alpha, beta, gamma, r (in this
@@ -266,10 +303,13 @@ def spelled_parameter_names(repo: Path = REPO) -> list[str]:
         for node in ast.walk(tree):
             elts = node.elts if isinstance(node, (ast.Tuple, ast.List, ast.Set)) else []
             if isinstance(node, ast.Dict):  # a Params' fields copied by hand: {"alpha": p.alpha, ...}
-                elts = [k for k, v in zip(node.keys, node.values)
-                        if isinstance(k, ast.Constant) and isinstance(v, ast.Attribute) and v.attr == k.value]
+                elts = [
+                    k
+                    for k, v in zip(node.keys, node.values)
+                    if isinstance(k, ast.Constant) and isinstance(v, ast.Attribute) and v.attr == k.value
+                ]
             names = [e.value for e in elts if isinstance(e, ast.Constant) and isinstance(e.value, str)]
-            if any(names[i:i + 4] == ["alpha", "beta", "gamma", "r"] for i in range(len(names))):
+            if any(names[i : i + 4] == ["alpha", "beta", "gamma", "r"] for i in range(len(names))):
                 out.append(f"{rel}:{node.lineno}")
     return out
 
@@ -287,7 +327,8 @@ def test_the_names_guard_finds_a_spelling(tmp_path):
     (tmp_path / "validation" / "z.py").write_text(
         'A = ("id", "alpha", "beta", "gamma", "r", "tau0")\n'
         'B = {"alpha": p.alpha, "beta": p.beta, "gamma": p.gamma, "r": p.r}\n'
-        'C = ("alpha", "r")\nD = {"alpha": (0, 5), "beta": (0, 1), "gamma": (-1, 1), "r": (0, 1)}\n')
+        'C = ("alpha", "r")\nD = {"alpha": (0, 5), "beta": (0, 1), "gamma": (-1, 1), "r": (0, 1)}\n'
+    )
     assert spelled_parameter_names(tmp_path) == ["validation/z.py:1", "validation/z.py:2"]
 
 
@@ -296,17 +337,17 @@ def test_the_names_guard_finds_a_spelling(tmp_path):
 
 #: The private names tests still reach, each with why no public API serves (test file -> names).
 PRIVATE_ALLOWED = {
-    "test_atlas.py": {"_local_cluster"},           # the dask cluster's construction: no public hook
+    "test_atlas.py": {"_local_cluster"},  # the dask cluster's construction: no public hook
     "test_case_ondemand.py": {"_spec", "_certify", "_loosest"},  # steps of build_user_case, tested alone
-    "test_cli_check.py": {"_digits"},              # the digits rule of docs/golden.md, not exported
+    "test_cli_check.py": {"_digits"},  # the digits rule of docs/golden.md, not exported
     "test_cli_long_runs.py": {"_iterate_jit", "_cache_size", "_flight_block"},  # compile counts: jax's
     # cache of a jitted function has only the private _cache_size, and the jitted kernels are private
-    "test_cli_runtime.py": {"_jax"},               # the compilation cache (issue 32 item 3 moves it)
-    "test_dynamics_orbits.py": {"_Problem"},       # continuation's extended system, tested alone
-    "test_engine.py": {"_givens_qr", "_jax"},      # the QR step of the Tangent observer; CPU-device env
-    "test_fuzz.py": {"_digits"},                   # the shrinker's simplicity measure
-    "test_interrupt.py": {"_initial"},             # diffrax's first state, to compare one scan with chunks
-    "test_reference_events.py": {"_events"},       # scipy's event functions against the shared spec
+    "test_cli_runtime.py": {"_jax"},  # the compilation cache (issue 32 item 3 moves it)
+    "test_dynamics_orbits.py": {"_Problem"},  # continuation's extended system, tested alone
+    "test_engine.py": {"_givens_qr", "_jax"},  # the QR step of the Tangent observer; CPU-device env
+    "test_fuzz.py": {"_digits"},  # the shrinker's simplicity measure
+    "test_interrupt.py": {"_initial"},  # diffrax's first state, to compare one scan with chunks
+    "test_reference_events.py": {"_events"},  # scipy's event functions against the shared spec
 }
 
 
@@ -329,8 +370,13 @@ def private_names_in_tests(root: Path = REPO) -> dict[str, set[str]]:
                         names.add(a.asname or a.name.split(".")[0])
                         found |= {p for p in a.name.split(".") if p.startswith("_")}
         for n in ast.walk(tree):
-            if (isinstance(n, ast.Attribute) and n.attr.startswith("_") and not n.attr.startswith("__")
-                    and isinstance(n.value, ast.Name) and n.value.id in names):
+            if (
+                isinstance(n, ast.Attribute)
+                and n.attr.startswith("_")
+                and not n.attr.startswith("__")
+                and isinstance(n.value, ast.Name)
+                and n.value.id in names
+            ):
                 found.add(n.attr)
         if found:
             out[f.name] = found

@@ -22,16 +22,21 @@ def test_every_part_is_read_by_the_one_get_profile():
     assert get_profile("quick", "alt_ic", {"n": 30}) == {"n": 30}  # a None size takes a count
     assert get_profile("paper", "diagrams", {"transient": 0})["transient"] == 0
 
-@pytest.mark.parametrize("args,match", [
-    (("quick", "fig4"), "part='fig4' is out of range"),
-    (("quick", "confirm", {"n": 1}), "'confirm' is a flag"),
-    (("quick", "basins", {"nx": 0}), r"sizes\['nx'\]=0 is out of range"),
-    (("quick", "diagrams", {"keep": 2.5}), r"sizes\['keep'\]"),
-    (("slow", "basins"), "profile='slow' is out of range"),
-])
+
+@pytest.mark.parametrize(
+    "args,match",
+    [
+        (("quick", "fig4"), "part='fig4' is out of range"),
+        (("quick", "confirm", {"n": 1}), "'confirm' is a flag"),
+        (("quick", "basins", {"nx": 0}), r"sizes\['nx'\]=0 is out of range"),
+        (("quick", "diagrams", {"keep": 2.5}), r"sizes\['keep'\]"),
+        (("slow", "basins"), "profile='slow' is out of range"),
+    ],
+)
 def test_bad_profile_requests_name_the_argument(args, match):
     with pytest.raises(ValueError, match=match):
         get_profile(*args)
+
 
 def _png_size(path) -> tuple[int, int]:
     """Width and height in pixels from a PNG's IHDR chunk."""
@@ -39,12 +44,14 @@ def _png_size(path) -> tuple[int, int]:
     assert head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR"
     return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
 
+
 def _figure():
     from gear_rattle.validation.plots.base import subplots
 
     fig, ax = subplots(figsize=(2.0, 1.0))
     ax.plot(np.arange(3.0))
     return fig
+
 
 def test_one_figure_writer_at_one_resolution(tmp_path):
     """The report's writer was at 110 dpi, the commands' --plot at 150 (simulate 110, atlas 130): now

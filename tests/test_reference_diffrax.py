@@ -31,7 +31,11 @@ def test_double_crossing_and_near_miss(depth):
     v0 = v0_for_apex(depth)
     fl = _fl(0.0, -1.0, v0, 1.0, p)
     st, t, wall, v = map_first_impact(0.0, -1.0, v0, p)
-    assert st == FlightOutcome.HIT and int(fl.status) == FlightOutcome.HIT and int(fl.wall) == wall == (0 if depth > 0 else -1)
+    assert (
+        st == FlightOutcome.HIT
+        and int(fl.status) == FlightOutcome.HIT
+        and int(fl.wall) == wall == (0 if depth > 0 else -1)
+    )
     vex = abs(v)
     assert abs(float(fl.t) - t) <= GRAZE_DS / vex + 1e-14 and abs(float(fl.v) - v) <= 0.5 * GRAZE_DS / vex
 
@@ -85,8 +89,9 @@ def test_batch_equals_single_orbits():
         np.testing.assert_allclose(np.asarray(tr.states.tau[i]), np.asarray(one.states.tau), rtol=0, atol=1e-13)
 
 
-@pytest.mark.parametrize("kw,name", [(dict(rtol=0.0), "rtol"), (dict(dtmax=-1.0), "dtmax"),
-                                     (dict(max_steps=0), "max_steps")])
+@pytest.mark.parametrize(
+    "kw,name", [(dict(rtol=0.0), "rtol"), (dict(dtmax=-1.0), "dtmax"), (dict(max_steps=0), "max_steps")]
+)
 def test_bad_options_raise(kw, name):
     with pytest.raises(ValueError, match=name):
         D.orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 2, **kw)

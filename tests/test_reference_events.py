@@ -20,10 +20,19 @@ UP, DOWN = 1.0, -1.0
 
 
 # ---------------------------------------------------------------- conditions: sign
-@pytest.mark.parametrize("sigma, s, sign", [
-    (UP, -0.5, -1), (UP, -1.0, -1), (UP, 0.0, 0), (UP, 1e-9, 1),            # toward s = 0
-    (DOWN, -0.5, -1), (DOWN, 0.0, -1), (DOWN, -1.0, 0), (DOWN, -1.0 - 1e-9, 1),  # toward s = -1
-])
+@pytest.mark.parametrize(
+    "sigma, s, sign",
+    [
+        (UP, -0.5, -1),
+        (UP, -1.0, -1),
+        (UP, 0.0, 0),
+        (UP, 1e-9, 1),  # toward s = 0
+        (DOWN, -0.5, -1),
+        (DOWN, 0.0, -1),
+        (DOWN, -1.0, 0),
+        (DOWN, -1.0 - 1e-9, 1),  # toward s = -1
+    ],
+)
 def test_wall_condition_is_negative_inside_zero_on_the_wall_ahead_positive_beyond(sigma, s, sign):
     assert np.sign(ev.wall_condition(s, sigma)) == sign
 
@@ -35,10 +44,17 @@ def test_the_wall_behind_a_segment_does_not_count():
     assert ev.wall_ahead(UP) == ev.UPPER_WALL == 0 and ev.wall_ahead(DOWN) == ev.LOWER_WALL == -1
 
 
-@pytest.mark.parametrize("sigma, sdot, sign", [
-    (UP, 0.3, -1), (UP, 0.0, 0), (UP, -0.1, 1),
-    (DOWN, -0.3, -1), (DOWN, 0.0, 0), (DOWN, 0.1, 1),
-])
+@pytest.mark.parametrize(
+    "sigma, sdot, sign",
+    [
+        (UP, 0.3, -1),
+        (UP, 0.0, 0),
+        (UP, -0.1, 1),
+        (DOWN, -0.3, -1),
+        (DOWN, 0.0, 0),
+        (DOWN, 0.1, 1),
+    ],
+)
 def test_reversal_condition_is_negative_while_moving_in_the_segment_direction(sigma, sdot, sign):
     assert np.sign(ev.reversal_condition(sdot, sigma)) == sign
 
@@ -79,52 +95,84 @@ def test_newton_step_lands_on_the_root_of_a_linear_condition():
 
 
 # ---------------------------------------------------------------- segment outcomes
-@pytest.mark.parametrize("sigma, s, beyond", [
-    (UP, 1e-12, True), (UP, 0.0, False), (UP, -0.5, False),
-    (DOWN, -1.0 - 1e-12, True), (DOWN, -1.0, False), (DOWN, -0.5, False), (DOWN, 0.2, False),
-])
+@pytest.mark.parametrize(
+    "sigma, s, beyond",
+    [
+        (UP, 1e-12, True),
+        (UP, 0.0, False),
+        (UP, -0.5, False),
+        (DOWN, -1.0 - 1e-12, True),
+        (DOWN, -1.0, False),
+        (DOWN, -0.5, False),
+        (DOWN, 0.2, False),
+    ],
+)
 def test_beyond_wall(sigma, s, beyond):
     assert bool(ev.beyond_wall(s, sigma)) is beyond
     assert bool(ev.beyond_wall(s, sigma)) is bool(ev.wall_condition(s, sigma) > 0.0)
 
 
-@pytest.mark.parametrize("hit, reversal, s_end, sigma, end", [
-    (True, False, 0.0, UP, ev.WALL_REACHED),
-    (False, True, -0.3, UP, ev.REVERSAL),
-    (False, True, 1e-9, UP, ev.MISSED_CROSSING),      # extremum above s = 0: crossed and came back
-    (False, True, -0.3, DOWN, ev.REVERSAL),
-    (False, True, -1.0 - 1e-9, DOWN, ev.MISSED_CROSSING),
-    (False, False, -0.3, UP, ev.OPEN_END),
-])
+@pytest.mark.parametrize(
+    "hit, reversal, s_end, sigma, end",
+    [
+        (True, False, 0.0, UP, ev.WALL_REACHED),
+        (False, True, -0.3, UP, ev.REVERSAL),
+        (False, True, 1e-9, UP, ev.MISSED_CROSSING),  # extremum above s = 0: crossed and came back
+        (False, True, -0.3, DOWN, ev.REVERSAL),
+        (False, True, -1.0 - 1e-9, DOWN, ev.MISSED_CROSSING),
+        (False, False, -0.3, UP, ev.OPEN_END),
+    ],
+)
 def test_segment_end(hit, reversal, s_end, sigma, end):
     assert ev.segment_end(hit, reversal, s_end, sigma) == end
 
 
 # ---------------------------------------------------------------- flight directions and starts
-@pytest.mark.parametrize("s0, v0, a0, sigma", [
-    (-0.5, 0.2, -9.0, UP), (-0.5, -0.2, 9.0, DOWN),        # moving: the sign of sdot
-    (0.0, 0.0, 9.0, DOWN), (-1.0, 0.0, -9.0, UP),          # at rest on a wall: away from it
-    (-0.5, 0.0, 0.3, UP), (-0.5, 0.0, -0.3, DOWN), (-0.5, 0.0, 0.0, UP),  # at rest inside: acceleration
-])
+@pytest.mark.parametrize(
+    "s0, v0, a0, sigma",
+    [
+        (-0.5, 0.2, -9.0, UP),
+        (-0.5, -0.2, 9.0, DOWN),  # moving: the sign of sdot
+        (0.0, 0.0, 9.0, DOWN),
+        (-1.0, 0.0, -9.0, UP),  # at rest on a wall: away from it
+        (-0.5, 0.0, 0.3, UP),
+        (-0.5, 0.0, -0.3, DOWN),
+        (-0.5, 0.0, 0.0, UP),  # at rest inside: acceleration
+    ],
+)
 def test_initial_direction(s0, v0, a0, sigma):
     assert ev.initial_direction(s0, v0, a0) == sigma
 
 
-@pytest.mark.parametrize("wall, v0, sigma", [
-    (0, -0.45, DOWN), (0, 0.0, DOWN),   # after an impact on s = 0 (v0 = -r sdot < 0) or a release there
-    (-1, 0.45, UP), (-1, 0.0, UP),
-])
+@pytest.mark.parametrize(
+    "wall, v0, sigma",
+    [
+        (0, -0.45, DOWN),
+        (0, 0.0, DOWN),  # after an impact on s = 0 (v0 = -r sdot < 0) or a release there
+        (-1, 0.45, UP),
+        (-1, 0.0, UP),
+    ],
+)
 def test_restart_moves_away_from_the_wall(wall, v0, sigma):
     assert ev.restart_direction(wall, v0) == sigma
     # so the wall it starts on is not the wall ahead: a restart never re-fires the impact
     assert ev.wall_condition(float(wall), sigma) == -1.0
 
 
-@pytest.mark.parametrize("s0, sdot0, a0, wall", [
-    (0.0, 0.3, -1.0, 0), (0.0, 0.0, 1.0, 0), (0.0, 0.0, -1.0, None), (0.0, -0.3, 1.0, None),
-    (-1.0, -0.3, 1.0, -1), (-1.0, 0.0, -1.0, -1), (-1.0, 0.0, 1.0, None), (-1.0, 0.3, -1.0, None),
-    (-0.5, 1.0, 1.0, None),
-])
+@pytest.mark.parametrize(
+    "s0, sdot0, a0, wall",
+    [
+        (0.0, 0.3, -1.0, 0),
+        (0.0, 0.0, 1.0, 0),
+        (0.0, 0.0, -1.0, None),
+        (0.0, -0.3, 1.0, None),
+        (-1.0, -0.3, 1.0, -1),
+        (-1.0, 0.0, -1.0, -1),
+        (-1.0, 0.0, 1.0, None),
+        (-1.0, 0.3, -1.0, None),
+        (-0.5, 1.0, 1.0, None),
+    ],
+)
 def test_pre_impact_wall(s0, sdot0, a0, wall):
     assert ev.pre_impact_wall(s0, sdot0, a0) == wall
 
@@ -180,9 +228,17 @@ def test_same_values_on_floats_and_on_jax_arrays_under_jit_and_vmap():
 
     def spec(s, v, sig, a0):
         f = (v, a0 - 0.1 * v)
-        return (ev.wall_condition(s, sig), ev.reversal_condition(v, sig), ev.condition_rate(f, sig, s > -0.7),
-                ev.beyond_wall(s, sig), ev.segment_end(v > 0.0, v < 0.0, s, sig), ev.initial_direction(s, v, a0),
-                ev.wall_ahead(sig), ev.newton_step(s, v), ev.start_velocity(v, sig))
+        return (
+            ev.wall_condition(s, sig),
+            ev.reversal_condition(v, sig),
+            ev.condition_rate(f, sig, s > -0.7),
+            ev.beyond_wall(s, sig),
+            ev.segment_end(v > 0.0, v < 0.0, s, sig),
+            ev.initial_direction(s, v, a0),
+            ev.wall_ahead(sig),
+            ev.newton_step(s, v),
+            ev.start_velocity(v, sig),
+        )
 
     on_jax = jax.jit(jax.vmap(spec))(s, v, sig, a0)
     for i in range(len(s)):

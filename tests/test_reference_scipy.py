@@ -15,8 +15,17 @@ from gear_rattle.mapimpl.orbit import map_orbit
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.sticking import release_delay
 from gear_rattle.reference import scipy_track as S
-from refhelpers import (GRAZE_DS, N_ORBIT, SLOW_DEPARTURES, map_first_impact, map_one, params_st, state_st,
-                        tau_tol, v0_for_apex)
+from refhelpers import (
+    GRAZE_DS,
+    N_ORBIT,
+    SLOW_DEPARTURES,
+    map_first_impact,
+    map_one,
+    params_st,
+    state_st,
+    tau_tol,
+    v0_for_apex,
+)
 
 CI = settings(deadline=None, max_examples=12, derandomize=True)
 LONG = settings(deadline=None, max_examples=2000)
@@ -83,6 +92,7 @@ def test_double_crossing_inside_one_step_is_caught(depth):
 
     def top(t, y):
         return y[0]
+
     top.terminal, top.direction = True, 1.0
     plain = solve_ivp(rhs, (0.0, 50.0), [-1.0, v0], method="DOP853", rtol=1e-12, atol=1e-13, events=[top])
     assert len(plain.t_events[0]) == 0  # the plain event check misses the excursion (the trap is real)
@@ -339,18 +349,28 @@ def test_slow_departure_returns_to_start_wall(case):
 
 
 # ---------------------------------------------------------------- validation
-@pytest.mark.parametrize("kw,name", [
-    (dict(rtol=0.0), "rtol"), (dict(atol=-1.0), "atol"), (dict(max_step=0.0), "max_step"),
-    (dict(t_max=float("inf")), "t_max"),
-])
+@pytest.mark.parametrize(
+    "kw,name",
+    [
+        (dict(rtol=0.0), "rtol"),
+        (dict(atol=-1.0), "atol"),
+        (dict(max_step=0.0), "max_step"),
+        (dict(t_max=float("inf")), "t_max"),
+    ],
+)
 def test_bad_options_raise_naming_them(kw, name):
     with pytest.raises(ValueError, match=name):
         S.orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.5, 2, **kw)
 
 
-@pytest.mark.parametrize("args,name", [
-    ((0.0, 0.0, 2), "sdot0"), ((float("nan"), 0.5, 2), "tau0"), ((0.0, 0.5, -1), "n_impacts"),
-])
+@pytest.mark.parametrize(
+    "args,name",
+    [
+        ((0.0, 0.0, 2), "sdot0"),
+        ((float("nan"), 0.5, 2), "tau0"),
+        ((0.0, 0.5, -1), "n_impacts"),
+    ],
+)
 def test_bad_start_raises_naming_it(args, name):
     with pytest.raises(ValueError, match=name):
         S.orbit(Params(3.0, 0.1, 0.1, 0.9), *args)

@@ -114,9 +114,11 @@ def test_decimal_parameters_are_exact_decimal_balls():
         assert not m.alpha.contains(arb(1.245))  # the float64 rounding is another number
         m64 = C.Model(C.model_params(PAPER_DECIMAL, "float64"))
         assert m64.alpha == arb(1.245) and m64.alpha.is_exact()
-    for bad, needle in (({"alpha": "x", "beta": "0.1", "gamma": "0.1", "r": "0.9"}, "alpha"),
-                        ({"alpha": "1", "beta": "-0.1", "gamma": "0.1", "r": "0.9"}, "beta"),
-                        ({"alpha": "1", "beta": "0.1", "gamma": "0.1"}, "keys")):
+    for bad, needle in (
+        ({"alpha": "x", "beta": "0.1", "gamma": "0.1", "r": "0.9"}, "alpha"),
+        ({"alpha": "1", "beta": "-0.1", "gamma": "0.1", "r": "0.9"}, "beta"),
+        ({"alpha": "1", "beta": "0.1", "gamma": "0.1"}, "keys"),
+    ):
         with pytest.raises(ValueError, match=needle):
             C.model_params(bad, "decimal")
         with pytest.raises(ValueError, match=needle), C.precision(64):
@@ -137,8 +139,9 @@ def test_certified_prefix_contains_the_float64_orbit(target):
     over the first 15 post-release impacts (its error then grows at the Lyapunov rate)."""
     from gear_rattle.mapimpl.orbit import map_orbit
 
-    a = C.certify_post_release(C.model_params(PAPER_DECIMAL, "float64"), 0, prec=256, target=target,
-                               max_impacts=40, record=True)
+    a = C.certify_post_release(
+        C.model_params(PAPER_DECIMAL, "float64"), 0, prec=256, target=target, max_impacts=40, record=True
+    )
     assert a.status == "no_capture" and a.impacts == 40 and float(a.radius) < 1e-50
     assert 0.8 < a.growth < 1.1  # bits lost per impact (chaos), cf. the transient Lyapunov exponent
     tau0, sdot0 = F.stick_at_once_state(FIG11, 0, tau0=3.25)
@@ -160,12 +163,17 @@ def test_capture_is_decided_at_the_first_impact_within_delta(target):
     _, th, sd, wl = map_orbit(FIG11, tau0, sdot0, 10).impact_arrays()
     tg = C.Target((float(th[7]),), (float(sd[7]),), (int(wl[7]),))
     delta = 1e-3
-    dist = [max(min(abs(th[n] - th[7]), 2 * math.pi - abs(th[n] - th[7])), abs(sd[n] - sd[7]))
-            if wl[n] == wl[7] else math.inf for n in range(1, 8)]
+    dist = [
+        max(min(abs(th[n] - th[7]), 2 * math.pi - abs(th[n] - th[7])), abs(sd[n] - sd[7]))
+        if wl[n] == wl[7]
+        else math.inf
+        for n in range(1, 8)
+    ]
     expect = 1 + next(i for i, d in enumerate(dist) if d < delta)
     assert all(abs(d - delta) > 1e-6 for d in dist[:expect])
-    res = C.certified_release_duration(PAPER_DECIMAL, 0, delta, rounding="float64", precisions=(128, 256),
-                                       target=tg, max_impacts=20)
+    res = C.certified_release_duration(
+        PAPER_DECIMAL, 0, delta, rounding="float64", precisions=(128, 256), target=tg, max_impacts=20
+    )
     assert res.status == "captured" and res.value == expect and res.confirmed
     assert res.precision == 128 and [a.prec for a in res.attempts] == [128, 256]
     assert res.lower_bound == expect - 1
@@ -176,8 +184,11 @@ def _same_attempt(a, b) -> bool:
     """Equal in every field but the wall time (a slope of fewer than two radii is nan in both)."""
     for k in a.__dataclass_fields__:
         x, y = getattr(a, k), getattr(b, k)
-        if k == "seconds" or x == y or (isinstance(x, float) and isinstance(y, float) and math.isnan(x) and
-                                        math.isnan(y)):
+        if (
+            k == "seconds"
+            or x == y
+            or (isinstance(x, float) and isinstance(y, float) and math.isnan(x) and math.isnan(y))
+        ):
             continue
         return False
     return True
@@ -188,10 +199,11 @@ def _straddle_setting():
     ``D = 2^-20`` (the orbit's sdot shifted by D), so that at 64 bits ``D`` is undecided there while
     ``D / 2`` is decided; 0.5 is captured at once."""
     p = C.model_params(PAPER_DECIMAL, "float64")
-    ref = C.certify_post_release(p, 0, prec=64, target=C.Target((), (), ()), max_impacts=30, record=True,
-                                 radius_limit=1e-3)
+    ref = C.certify_post_release(
+        p, 0, prec=64, target=C.Target((), (), ()), max_impacts=30, record=True, radius_limit=1e-3
+    )
     th, sd, w = ref.orbit[-1]
-    D = 2.0 ** -20
+    D = 2.0**-20
     return p, C.Target((th,), (sd + D,), (w,)), (0.5, D, D / 2)
 
 
@@ -200,14 +212,16 @@ def test_one_run_decides_every_delta_as_a_run_for_each_alone():
     captured, undecided (the distance ball straddles delta: that delta fails, the others go on) or not
     captured -- each identical to the run for that delta alone."""
     p, tg, deltas = _straddle_setting()
-    runs = C.certify_post_release_deltas(p, 0, prec=64, target=tg, deltas=deltas, max_impacts=40,
-                                         radius_limit=1e-3, record=True)
+    runs = C.certify_post_release_deltas(
+        p, 0, prec=64, target=tg, deltas=deltas, max_impacts=40, radius_limit=1e-3, record=True
+    )
     assert [runs[d].status for d in deltas] == ["captured", "failed", "no_capture"]
     assert runs[deltas[1]].impacts == 29 and "straddles" in runs[deltas[1]].reason
     assert runs[deltas[2]].impacts == 40 and len(runs[deltas[2]].orbit) == 40
     for d in deltas:
-        alone = C.certify_post_release(p, 0, prec=64, target=tg, delta=d, max_impacts=40, radius_limit=1e-3,
-                                       record=True)
+        alone = C.certify_post_release(
+            p, 0, prec=64, target=tg, delta=d, max_impacts=40, radius_limit=1e-3, record=True
+        )
         assert _same_attempt(runs[d], alone), d
 
 
@@ -235,8 +249,7 @@ def test_schedule_for_several_deltas_is_the_schedule_for_each_alone():
 def test_sticking_again_is_certified_periodic():
     """Case 0007's parameters (alpha=2, gamma=1, r=0.5): the orbit released from the upper wall chatters
     and sticks to it again, so it repeats from the release and is never captured (status periodic)."""
-    a = C.certify_post_release(Params(2.0, 0.1, 1.0, 0.5), 0, prec=256, target=C.Target((), (), ()),
-                               max_impacts=200)
+    a = C.certify_post_release(Params(2.0, 0.1, 1.0, 0.5), 0, prec=256, target=C.Target((), (), ()), max_impacts=200)
     assert a.status == "periodic" and a.walls_stuck == [0] and 1 < a.impacts < 200
     # the float64 map from case 0007's initial state sticks to the same wall every a.impacts impacts
     from gear_rattle.mapimpl.orbit import map_orbit
@@ -250,8 +263,9 @@ def test_sticking_again_is_certified_periodic():
 def test_undecided_schedule_keeps_a_certified_lower_bound(target):
     """A radius limit too tight for the schedule: every attempt fails, the result is 'undecided' and
     reports how many impacts were certified not captured."""
-    res = C.certified_release_duration(PAPER_DECIMAL, 0, precisions=(128,), radius_limit=1e-30, target=target,
-                                       max_impacts=200)
+    res = C.certified_release_duration(
+        PAPER_DECIMAL, 0, precisions=(128,), radius_limit=1e-30, target=target, max_impacts=200
+    )
     assert res.status == "undecided" and res.value is None and res.precision is None and not res.confirmed
     assert 0 < res.lower_bound < 200 and res.attempts[0].status == "failed"
 
@@ -274,14 +288,22 @@ def test_bad_arguments_raise_value_errors(target):
 def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys, monkeypatch, target):
     monkeypatch.setattr(D, "float64_target", lambda params: target)  # skip the 4-cycle search
     out = tmp_path / "r.json"
-    assert CLI.main(["--max-impacts", "5", "--precisions", "128,256", "--rounding", "float64", "--quiet",
-                   "--json", str(out)]) == 0
+    assert (
+        CLI.main(
+            ["--max-impacts", "5", "--precisions", "128,256", "--rounding", "float64", "--quiet", "--json", str(out)]
+        )
+        == 0
+    )
     o = capsys.readouterr().out
     assert "T_post > 5" in o and "128 bits" in o
     data = json.loads(out.read_text())
     assert data["results"][0]["status"] == "no_capture" and data["results"][0]["rounding"] == "float64"
-    for argv, needle in ((["--alpha", "x"], "alpha"), (["--precisions", "512,256"], "precisions"),
-                         (["--max-impacts", "0"], "max-impacts"), (["--wall", "2"], "wall")):
+    for argv, needle in (
+        (["--alpha", "x"], "alpha"),
+        (["--precisions", "512,256"], "precisions"),
+        (["--max-impacts", "0"], "max-impacts"),
+        (["--wall", "2"], "wall"),
+    ):
         with pytest.raises(SystemExit) as ex:
             CLI.main(argv)
         assert ex.value.code == 2

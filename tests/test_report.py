@@ -22,18 +22,28 @@ from reportfake import LONG, build_fake_report
 
 from gear_rattle.validation.report import builder
 from gear_rattle.validation.paper import KINDS, PAPER, PaperValue
-from gear_rattle.validation.report.document import (Document, Section, check_keys, md_slug, render_html,
-                                                    render_markdown)
-from gear_rattle.validation.report.verdict import (AGREES, DISAGREES, NOT_COMPARED, Z_AGREE, compare, compare_bound,
-                                                   compare_value, internal_check, row)
+from gear_rattle.validation.report.document import Document, Section, check_keys, md_slug, render_html, render_markdown
+from gear_rattle.validation.report.verdict import (
+    AGREES,
+    DISAGREES,
+    NOT_COMPARED,
+    Z_AGREE,
+    compare,
+    compare_bound,
+    compare_value,
+    internal_check,
+    row,
+)
 
 REPO = Path(__file__).resolve().parents[1]
 PAPER_TXT = Path(os.environ.get("GEAR_RATTLE_PAPER_TXT") or REPO.parent / "shared" / "paper.txt")
 REQUIRED_KEYS = ("r2", "r1", "alpha1", "mean_n", "kappa", "decay_time", "phi_500", "phi_1000")
 #: Why the quote checks skip, and how to run them: the paper's text is not part of the repository.
-PAPER_MISSING = (f"the paper's text is not at {PAPER_TXT}: to check the quotes, put the text of de Souza et al., "
-                 f"Chaos Solitons Fractals 21 (2004) 763-772 (plain text, math in LaTeX) at ../shared/paper.txt "
-                 f"beside the clone ({REPO.parent / 'shared' / 'paper.txt'}) or set GEAR_RATTLE_PAPER_TXT=/path/to/it")
+PAPER_MISSING = (
+    f"the paper's text is not at {PAPER_TXT}: to check the quotes, put the text of de Souza et al., "
+    f"Chaos Solitons Fractals 21 (2004) 763-772 (plain text, math in LaTeX) at ../shared/paper.txt "
+    f"beside the clone ({REPO.parent / 'shared' / 'paper.txt'}) or set GEAR_RATTLE_PAPER_TXT=/path/to/it"
+)
 
 
 def _norm(s: str) -> str:
@@ -41,6 +51,7 @@ def _norm(s: str) -> str:
 
 
 # ---------------------------------------------------------------------------------------- paper.py
+
 
 @pytest.mark.skipif(not PAPER_TXT.exists(), reason=PAPER_MISSING)
 @pytest.mark.parametrize("key", sorted(PAPER))
@@ -110,6 +121,7 @@ def test_decay_time_error_propagates_the_rounding_of_mean_n_and_the_error_of_kap
 
 
 # ---------------------------------------------------------------------------------------- verdicts
+
 
 def test_value_verdict_by_z_score_in_quadrature():
     pk = PAPER["kappa"]  # 0.893 +- 0.001
@@ -187,8 +199,16 @@ def test_bound_decided_by_an_enclosure_is_proven():
     assert compare(y, None, PAPER["r2"], enclosure=(y, y)).bound == "violated (proven)"
 
 
-@pytest.mark.parametrize("enc, match", [((0.9, 0.8), "lo <= hi"), ((0.1, 0.2), "contain the computed value"),
-                                        ((float("nan"), 1.0), "finite"), ((1.0,), "pair"), ("ab", "real")])
+@pytest.mark.parametrize(
+    "enc, match",
+    [
+        ((0.9, 0.8), "lo <= hi"),
+        ((0.1, 0.2), "contain the computed value"),
+        ((float("nan"), 1.0), "finite"),
+        ((1.0,), "pair"),
+        ("ab", "real"),
+    ],
+)
 def test_bad_enclosure_is_refused(enc, match):
     with pytest.raises(ValueError, match=match):
         compare(0.8214404475801397, None, PAPER["r2"], enclosure=enc)
@@ -246,6 +266,7 @@ def test_row_builds_a_judged_number():
 
 # ---------------------------------------------------------------------------------------- the report
 
+
 @pytest.fixture
 def fake_report(tmp_path, monkeypatch):
     return build_fake_report(tmp_path / "rep", monkeypatch)
@@ -256,9 +277,28 @@ def test_summary_json_has_stable_keys_with_numeric_value_and_error(fake_report):
     nums = {n["key"]: n for n in data["numbers"]}
     assert set(REQUIRED_KEYS) <= set(nums)
     for n in data["numbers"]:
-        for f in ("key", "value", "error", "paper_value", "paper_error", "paper_kind", "verdict", "check", "z",
-                  "quantity", "paper", "computed", "error_bar", "deviation", "explanation", "section",
-                  "paper_digit", "bound", "margin_digits", "enclosure"):
+        for f in (
+            "key",
+            "value",
+            "error",
+            "paper_value",
+            "paper_error",
+            "paper_kind",
+            "verdict",
+            "check",
+            "z",
+            "quantity",
+            "paper",
+            "computed",
+            "error_bar",
+            "deviation",
+            "explanation",
+            "section",
+            "paper_digit",
+            "bound",
+            "margin_digits",
+            "enclosure",
+        ):
             assert f in n, (n["key"], f)
         for f in ("value", "error", "paper_error", "z", "deviation_value", "paper_digit", "margin_digits"):
             assert n[f] is None or (isinstance(n[f], (int, float)) and math.isfinite(n[f])), (n["key"], f)
@@ -268,8 +308,10 @@ def test_summary_json_has_stable_keys_with_numeric_value_and_error(fake_report):
     # a bound: no z-score; its outcome, the margin in the paper's last digit and that digit
     assert (nums["r2"]["z"], nums["r2"]["bound"], nums["r2"]["paper_digit"]) == (None, "violated", 1e-05)
     assert nums["r2"]["margin_digits"] == pytest.approx(0.04475801397, rel=1e-6) and nums["r2"]["enclosure"] is None
-    assert nums["r2_fig6"]["bound"] == "satisfied (proven)" and nums["r2_fig6"]["enclosure"] == [0.8214404475801,
-                                                                                                 0.8214404475802]
+    assert nums["r2_fig6"]["bound"] == "satisfied (proven)" and nums["r2_fig6"]["enclosure"] == [
+        0.8214404475801,
+        0.8214404475802,
+    ]
     assert nums["kappa"]["bound"] is None and nums["kappa"]["paper_digit"] == 0.001
     assert nums["kappa"]["paper_error"] == 0.001 and nums["kappa"]["verdict"] == DISAGREES
     assert nums["phi_1000"]["value"] is None and nums["phi_1000"]["verdict"] == DISAGREES
@@ -287,8 +329,9 @@ def test_page_starts_with_counts_naming_disagreements_then_the_verdict_table(fak
     data = json.loads((fake_report / "summary.json").read_text())
     c = data["counts"]
     assert (c["agrees"], c["disagrees"], c["not compared"], c["check pass"]) == (7, 4, 2, 1)
-    line = ("Verdicts: 7 agree, 4 disagree (r2, mean_n, kappa, phi_1000), 2 not compared "
-            "(internal checks: 1 pass, 0 fail).")
+    line = (
+        "Verdicts: 7 agree, 4 disagree (r2, mean_n, kappa, phi_1000), 2 not compared (internal checks: 1 pass, 0 fail)."
+    )
     html = (fake_report / "report.html").read_text()
     md = (fake_report / "report.md").read_text()
     # HTML: counts, then the verdict table before anything else of substance (provenance, sections)
@@ -373,8 +416,12 @@ def test_rerender_draws_the_same_report_from_document_json(fake_report):
 
 
 def test_rerender_command_refuses_bad_input_in_one_line(tmp_path):
-    run = lambda *a: subprocess.run([sys.executable, "-m", "gear_rattle.validation.report", *a],  # noqa: E731
-                                    capture_output=True, text=True, timeout=120)
+    run = lambda *a: subprocess.run(  # noqa: E731
+        [sys.executable, "-m", "gear_rattle.validation.report", *a],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     r = run("rerender", str(tmp_path))
     assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1 and "document.json" in r.stderr
     (tmp_path / "document.json").write_text('{"format": "something else"}')
@@ -383,8 +430,10 @@ def test_rerender_command_refuses_bad_input_in_one_line(tmp_path):
 
 
 def test_md_slug_follows_github():
-    assert md_slug("Figs. 2-3: regular and chaotic rattling (time series)") == \
-        "figs-2-3-regular-and-chaotic-rattling-time-series"
+    assert (
+        md_slug("Figs. 2-3: regular and chaotic rattling (time series)")
+        == "figs-2-3-regular-and-chaotic-rattling-time-series"
+    )
     assert md_slug("Summary: the paper's numbers beside ours") == "summary-the-papers-numbers-beside-ours"
 
 
@@ -398,6 +447,7 @@ def test_duplicate_summary_keys_are_refused():
 
 # ---------------------------------------------------------------------------------------- section helpers
 
+
 def test_local_slopes_of_an_exact_power_law():
     """The local slopes the report lists for the laminar-length curve (Figs. 5-6, type-I intermittency)."""
     import numpy as np
@@ -405,7 +455,7 @@ def test_local_slopes_of_an_exact_power_law():
     from gear_rattle.validation.dynamics.settling import local_slopes
 
     dr = np.logspace(-5, -3, 4)
-    out = local_slopes(dr, 3.0 * dr ** -0.5, 0.03 * dr ** -0.5)
+    out = local_slopes(dr, 3.0 * dr**-0.5, 0.03 * dr**-0.5)
     assert [s for *_, s, _ in out] == pytest.approx([-0.5] * 3, abs=1e-12)
     assert all(e == pytest.approx(math.hypot(0.01, 0.01) / math.log(10 ** (2 / 3))) for *_, e in out)
 
@@ -429,6 +479,7 @@ def test_period_and_laminar_detection_on_synthetic_series():
 
 # ------------------------------------------------------------------ the transient section (Figs. 9-11)
 
+
 def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeypatch):
     """Figs. 9-11 / Eq. (14), issue 10 item 3: the quick report's transient section (its experiments
     shrunk to small meshes here; the section's code is the real one) gives a ``release_T_post`` row
@@ -443,11 +494,13 @@ def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeyp
     from gear_rattle.validation.report import sec_transients
     from gear_rattle.validation.transient import experiments as E
 
-    small = {"basins": dict(nx=16, ny=8, ns=(90, 500)), "uncertainty": dict(n_points=20, eps=[1e-6, 1e-5, 1e-4],
-                                                                             ns=(100, 500)),
-             "transients": dict(nx=18, deltas=(1e-3,), n_boot=5),
-             "stick_time_sensitivity": dict(stick_times=(1e-5,), n_boot=5),
-             "float64_horizon": dict(n_side=3, impacts=400)}
+    small = {
+        "basins": dict(nx=16, ny=8, ns=(90, 500)),
+        "uncertainty": dict(n_points=20, eps=[1e-6, 1e-5, 1e-4], ns=(100, 500)),
+        "transients": dict(nx=18, deltas=(1e-3,), n_boot=5),
+        "stick_time_sensitivity": dict(stick_times=(1e-5,), n_boot=5),
+        "float64_horizon": dict(n_side=3, impacts=400),
+    }
     for name, kw in small.items():
         f = getattr(E, name)
         monkeypatch.setattr(E, name, lambda *a, _f=f, _kw=kw, **k: _f(*a, **{**k, **_kw}))

@@ -24,11 +24,22 @@ REPO = Path(__file__).resolve().parents[1]
 PUBLISHED = REPO / "docs" / "report" / "report.html"
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 needs_chromium = pytest.mark.skipif(
-    CHROMIUM is None, reason="chromium is not installed (Debian: apt-get install -y chromium; .ci/run installs it "
-                             "where apt is available): the report page is not checked in a browser")
+    CHROMIUM is None,
+    reason="chromium is not installed (Debian: apt-get install -y chromium; .ci/run installs it "
+    "where apt is available): the report page is not checked in a browser",
+)
 #: The flags that work on this machine (no sandbox as root, no GPU, no background connections).
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars"]
+FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--hide-scrollbars",
+]
 
 #: Measures the laid-out page and writes the result as JSON into <pre id="measure"> (read by --dump-dom).
 MEASURE_JS = r"""
@@ -63,8 +74,15 @@ def measure(page: Path, width: int, tmp_path: Path) -> dict:
     """Open ``page`` (a copy with :data:`MEASURE_JS`) in headless Chromium ``width`` px wide; the layout."""
     probe = tmp_path / f"measure-{width}.html"
     probe.write_text(page.read_text(encoding="utf-8").replace("</body>", MEASURE_JS + "</body>"), encoding="utf-8")
-    cmd = [CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / f'profile-{width}'}", f"--window-size={width},900",
-           "--virtual-time-budget=5000", "--dump-dom", probe.as_uri()]
+    cmd = [
+        CHROMIUM,
+        *FLAGS,
+        f"--user-data-dir={tmp_path / f'profile-{width}'}",
+        f"--window-size={width},900",
+        "--virtual-time-budget=5000",
+        "--dump-dom",
+        probe.as_uri(),
+    ]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     m = re.search(r'<pre id="measure">(.*?)</pre>', r.stdout, flags=re.S)
     assert m, f"chromium exited {r.returncode} without the measurement; stderr: {r.stderr[-2000:]}"

@@ -45,8 +45,13 @@ def run_cli(args, capsys):
 
 
 def _console(args, cwd) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "gear_rattle", *args], cwd=cwd, env=ENV,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    return subprocess.Popen(
+        [sys.executable, "-m", "gear_rattle", *args],
+        cwd=cwd,
+        env=ENV,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
 
 
 def _partials(folder: Path) -> list[str]:
@@ -57,6 +62,7 @@ def _kill(args, cwd: Path, sig, when, watch: Path, names: list[str]):
     """Start the console script, send ``sig`` after ``when`` seconds or, for ``when == 'write'``, the moment
     one of ``names`` in ``watch`` changes or a temporary file of the writer appears there; returns
     (exit status, stderr)."""
+
     def state():
         out = []
         for n in names:
@@ -204,6 +210,7 @@ def test_kill_matrix_check_out_folder_is_all_earlier_or_all_new(tmp_path):
 
 # ---------------------------------------------------------------------- --out owns only its files
 
+
 def _fake_report_writing_data(monkeypatch):
     """The fake report section (tests/reportfake.py), which also writes a data file, as the transients
     section does."""
@@ -258,6 +265,7 @@ def test_rerender_refuses_a_folder_whose_move_was_cut_and_keeps_the_manifest(tmp
 
 # ------------------------------------------------------------------------------------------- debris
 
+
 def test_debris_of_a_killed_run_is_removed_by_the_next_and_nothing_else(tmp_path, capsys, monkeypatch):
     """A SIGKILL leaves the writer's temporary file (or a report's staging folder); the next run writing
     the same target removes it -- only names of the writer's pattern for that target, older than the
@@ -269,10 +277,13 @@ def test_debris_of_a_killed_run_is_removed_by_the_next_and_nothing_else(tmp_path
     debris[0].write_bytes(b"half a file")
     debris[1].mkdir()
     (debris[1] / "report.md").write_text("half a report")
-    kept = {tmp_path / ".o.csv.partial-1-89abcdef": old,  # its process (pid 1) is alive: a concurrent run's
-            tmp_path / ".o.csv.partial-999999998-fedcba98": later,  # newer than this run
-            tmp_path / ".o.csv.partial-mine": old, tmp_path / ".other.csv.partial-999999999-0123abcd": old,
-            tmp_path / "o.csv.partial-999999999-0123abcd": old}  # not the writer's names for o.csv
+    kept = {
+        tmp_path / ".o.csv.partial-1-89abcdef": old,  # its process (pid 1) is alive: a concurrent run's
+        tmp_path / ".o.csv.partial-999999998-fedcba98": later,  # newer than this run
+        tmp_path / ".o.csv.partial-mine": old,
+        tmp_path / ".other.csv.partial-999999999-0123abcd": old,
+        tmp_path / "o.csv.partial-999999999-0123abcd": old,
+    }  # not the writer's names for o.csv
     for f, t in kept.items():
         f.write_bytes(b"keep")
         os.utime(f, (t, t))
@@ -287,6 +298,7 @@ def test_debris_of_a_killed_run_is_removed_by_the_next_and_nothing_else(tmp_path
 
 
 # ---------------------------------------------------------------------------------------- full disk
+
 
 @pytest.fixture
 def full_disk(tmp_path):
@@ -334,8 +346,9 @@ def test_two_outputs_go_in_together_or_not_at_all(full_disk, tmp_path, capsys):
     data = tmp_path / "o.csv"
     data.write_bytes(EARLIER)
     (full_disk / "filler").write_bytes(b"x" * 60_000)
-    rc, _, err = run_cli(["simulate", "--impacts", "2000", "--output", str(data), "--plot", str(full_disk / "p.png")],
-                         capsys)
+    rc, _, err = run_cli(
+        ["simulate", "--impacts", "2000", "--output", str(data), "--plot", str(full_disk / "p.png")], capsys
+    )
     _one_line_error(rc, err, 1)
     assert "--plot" in err and data.read_bytes() == EARLIER
     assert _partials(tmp_path) == [] and not (full_disk / "p.png").exists()
@@ -365,18 +378,21 @@ def test_report_on_a_full_disk_is_one_line_and_leaves_out_as_it_was(full_disk, m
 LONG = "x" * 300
 
 
-@pytest.mark.parametrize("args", [
-    ["simulate", "--impacts", "3", "--output", f"{LONG}.csv"],
-    ["simulate", "--impacts", "3", "--plot", f"{LONG}/p.png"],
-    ["lyapunov", "--impacts", "3", "--output", f"{LONG}.json"],
-    ["timeseries", "--output", f"{LONG}.csv"],
-    ["bifurcation", "--plot", f"{LONG}.png"],
-    ["orbit", "find", "--output", f"{LONG}.json"],
-    ["basins", "--out", LONG],
-    ["transients", "--out", f"d/{LONG}"],
-    ["report", "--out", LONG],
-    ["check", "--self", "--out", LONG],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["simulate", "--impacts", "3", "--output", f"{LONG}.csv"],
+        ["simulate", "--impacts", "3", "--plot", f"{LONG}/p.png"],
+        ["lyapunov", "--impacts", "3", "--output", f"{LONG}.json"],
+        ["timeseries", "--output", f"{LONG}.csv"],
+        ["bifurcation", "--plot", f"{LONG}.png"],
+        ["orbit", "find", "--output", f"{LONG}.json"],
+        ["basins", "--out", LONG],
+        ["transients", "--out", f"d/{LONG}"],
+        ["report", "--out", LONG],
+        ["check", "--self", "--out", LONG],
+    ],
+)
 def test_a_name_too_long_is_one_line_before_computing(args, tmp_path, monkeypatch, capsys):
     """A name of 300 bytes (the file system allows 255): one line naming the option, exit status 2, before
     anything is computed.  Before: a traceback (pathlib's exists() raises ENAMETOOLONG)."""
@@ -418,11 +434,14 @@ def test_a_file_in_the_way_of_a_report_folder_is_one_line_and_nothing_moves(tmp_
 
 def test_sigterm_ignored_from_the_start_stays_ignored(tmp_path):
     """As for SIGINT (`nohup`-like launchers start a command with SIGTERM ignored): kept ignored."""
-    started_ignoring = ("import os, signal, sys; signal.signal(signal.SIGTERM, signal.SIG_IGN); "
-                        "os.execv(sys.executable, [sys.executable, '-m', 'gear_rattle', 'simulate', "
-                        "'--impacts', '50000', '--quiet'])")
-    p = subprocess.Popen([sys.executable, "-c", started_ignoring], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         cwd=tmp_path, env=ENV)
+    started_ignoring = (
+        "import os, signal, sys; signal.signal(signal.SIGTERM, signal.SIG_IGN); "
+        "os.execv(sys.executable, [sys.executable, '-m', 'gear_rattle', 'simulate', "
+        "'--impacts', '50000', '--quiet'])"
+    )
+    p = subprocess.Popen(
+        [sys.executable, "-c", started_ignoring], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path, env=ENV
+    )
     try:
         time.sleep(1.5)
         p.send_signal(signal.SIGTERM)
@@ -449,12 +468,16 @@ def test_a_read_only_file_system_is_one_line_before_computing(tmp_path, capsys):
     where.mkdir()
     if not shutil.which("mount") or os.geteuid() != 0:
         pytest.skip("a read-only file system needs mount(8) as root")
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k,ro", "tmpfs", str(where)], capture_output=True, text=True)
+    r = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=64k,ro", "tmpfs", str(where)], capture_output=True, text=True
+    )
     if r.returncode != 0:
         pytest.skip(f"mounting a read-only tmpfs was refused: {r.stderr.strip()}")
     try:
-        for args in (["simulate", "--impacts", "3", "--output", str(where / "o.csv")],
-                     ["check", "--self", "--cases", "0001-regular-fig2", "--out", str(where / "c")]):
+        for args in (
+            ["simulate", "--impacts", "3", "--output", str(where / "o.csv")],
+            ["check", "--self", "--cases", "0001-regular-fig2", "--out", str(where / "c")],
+        ):
             rc, out, err = run_cli(args, capsys)
             _one_line_error(rc, err, 2)
             assert "Read-only file system" in err and out == "", err
@@ -462,7 +485,7 @@ def test_a_read_only_file_system_is_one_line_before_computing(tmp_path, capsys):
         subprocess.run(["umount", str(where)], capture_output=True)
 
 
-MID_COMMIT = r'''
+MID_COMMIT = r"""
 import os, signal, sys, threading, time
 from pathlib import Path
 from gear_rattle.validation import interrupt
@@ -483,7 +506,7 @@ def work():
 threading.Thread(target=work, daemon=True).start()
 while True:
     time.sleep(0.05)
-'''
+"""
 
 
 def test_sigterm_between_two_renames_waits_for_the_last(tmp_path):
@@ -494,8 +517,9 @@ def test_sigterm_between_two_renames_waits_for_the_last(tmp_path):
     out.mkdir()
     for i in range(5):
         (out / f"f{i}.csv").write_text("earlier\n")
-    p = subprocess.Popen([sys.executable, "-c", MID_COMMIT, str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         env=ENV)
+    p = subprocess.Popen(
+        [sys.executable, "-c", MID_COMMIT, str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=ENV
+    )
     try:
         assert p.stdout.readline() == b"renaming\n"
         time.sleep(0.5)  # two or three files renamed
@@ -539,10 +563,11 @@ def test_basins_stopped_while_plotting_leaves_every_earlier_file(tmp_path, monke
     rc, _, err = run_cli(["basins", "--nx", "2", "--ny", "2", "--quiet", "--out", str(out)], capsys)
     assert rc == 130 and err.strip() == "gear-rattle basins: interrupted", err
     assert {p.name: p.read_bytes() for p in out.iterdir()} == dict.fromkeys(
-        ("basins.npz", "basins.json", "fig9_basins.png"), EARLIER)
+        ("basins.npz", "basins.json", "fig9_basins.png"), EARLIER
+    )
 
 
-REPORT_DRIVER = r'''
+REPORT_DRIVER = r"""
 import os, sys, time, types
 sys.path.insert(0, os.environ["TESTS_DIR"])
 import reportfake
@@ -563,7 +588,7 @@ builder.environment = lambda: {"python": "test"}
 sys.argv = ["gear-rattle", "report", "--quiet", "--out", sys.argv[1]]
 from gear_rattle.validation.cli import main
 sys.exit(main())
-'''
+"""
 
 
 def test_report_killed_while_staged_leaves_out_as_it_was_and_no_debris(tmp_path):
@@ -578,13 +603,18 @@ def test_report_killed_while_staged_leaves_out_as_it_was_and_no_debris(tmp_path)
     env = dict(ENV, TESTS_DIR=str(Path(__file__).parent))
 
     def state():
-        return sorted((str(p.relative_to(tmp_path)), p.read_bytes() if p.is_file() else None)
-                      for p in tmp_path.rglob("*"))
+        return sorted(
+            (str(p.relative_to(tmp_path)), p.read_bytes() if p.is_file() else None) for p in tmp_path.rglob("*")
+        )
 
     before = state()
     for sig in (signal.SIGTERM, signal.SIGKILL):
-        p = subprocess.Popen([sys.executable, "-c", REPORT_DRIVER, str(out)], env=dict(env, SLOW="1"),
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        p = subprocess.Popen(
+            [sys.executable, "-c", REPORT_DRIVER, str(out)],
+            env=dict(env, SLOW="1"),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
         try:
             assert p.stdout.readline() == b"staged\n"
             assert _partials(tmp_path)  # the staging folder, inside --out

@@ -25,8 +25,13 @@ def _diagram() -> Diagram:
 
 
 def _lyapunov():
-    return SimpleNamespace(values=np.array([0.8, 0.9]), lam=np.array([[-np.inf, -np.inf], [0.3, -1.0]]),
-                           lam_free=np.array([[-0.1, -0.5], [0.3, -1.0]]), n_stuck=np.array([4, 0]), n_steps=50)
+    return SimpleNamespace(
+        values=np.array([0.8, 0.9]),
+        lam=np.array([[-np.inf, -np.inf], [0.3, -1.0]]),
+        lam_free=np.array([[-0.1, -0.5], [0.3, -1.0]]),
+        n_stuck=np.array([4, 0]),
+        n_steps=50,
+    )
 
 
 def _title(fig) -> str:
@@ -48,14 +53,26 @@ def test_titles_name_the_parameters():
     assert all(x in title for x in NAMED)
     ts = SimpleNamespace(n=np.arange(3), sdot_n=np.ones(3), k=np.arange(2), sdot_strobe=np.ones(2), params=BASE)
     assert all(x in _title(velocity_series_figure(ts)) for x in NAMED + ("r=0.9",))
-    branch = SimpleNamespace(params=BASE, impacts=6, turns=1, folds=[], flips=[], arrays=lambda: {
-        "mu": np.array([0.8, 0.9]), "sdot": np.ones(2), "stable": np.array([True, False]),
-        "mult_re": np.ones((2, 2)), "mult_im": np.zeros((2, 2))})
+    branch = SimpleNamespace(
+        params=BASE,
+        impacts=6,
+        turns=1,
+        folds=[],
+        flips=[],
+        arrays=lambda: {
+            "mu": np.array([0.8, 0.9]),
+            "sdot": np.ones(2),
+            "stable": np.array([True, False]),
+            "mult_re": np.ones((2, 2)),
+            "mult_im": np.zeros((2, 2)),
+        },
+    )
     assert all(x in _title(branch_figure(branch, "r")) for x in NAMED + ("6-impact",))
     report = diagram_lyapunov_figure(DiagramLyapunov(d, _lyapunov()), "Fig. 4", [("r1", 0.85)])
     assert all(x in _title(report) for x in NAMED + ("Fig. 4", "r in [0.8, 0.9]"))  # had the range only
-    fake = SimpleNamespace(params=BASE, ns=[], eps=np.logspace(-9, -3, 3), n_points=10, fits={}, nx=2, ny=2,
-                           delta=0.1, ic_mode="box")
+    fake = SimpleNamespace(
+        params=BASE, ns=[], eps=np.logspace(-9, -3, 3), n_points=10, fits={}, nx=2, ny=2, delta=0.1, ic_mode="box"
+    )
     assert all(x in _title(uncertainty_figure(fake)) for x in NAMED + ("r=0.9",))  # had no parameter
     assert all(x in basins_figure(fake)._suptitle.get_text() for x in NAMED + ("r=0.9",))  # had alpha only
 
@@ -75,8 +92,26 @@ def test_bifurcation_lyapunov_output_has_the_exponent_columns(tmp_path, capsys):
     """``bifurcation --lyapunov N --output FILE`` wrote the diagram's points only (the old code's JSON had
     no lambda key); now the exponents drawn in panel b too."""
     out = tmp_path / "d.json"
-    rc = main(["bifurcation", "--values", "2", "--lo", "0.85", "--hi", "0.9", "--transient", "20", "--impacts", "3",
-               "--lyapunov", "100", "--output", str(out), "--quiet"])
+    rc = main(
+        [
+            "bifurcation",
+            "--values",
+            "2",
+            "--lo",
+            "0.85",
+            "--hi",
+            "0.9",
+            "--transient",
+            "20",
+            "--impacts",
+            "3",
+            "--lyapunov",
+            "100",
+            "--output",
+            str(out),
+            "--quiet",
+        ]
+    )
     capsys.readouterr()
     data = json.loads(out.read_text())
     assert rc == 0 and data["values"] == [0.85, 0.9]

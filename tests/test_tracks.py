@@ -23,9 +23,9 @@ from gear_rattle.core.status import TRACK_STATUSES
 from gear_rattle.mapimpl import tracks as T
 from refhelpers import JAC_TOL
 
-PAPER = Params(3.0, 0.1, 0.1, 0.9)          # Fig. 3's chaotic attractor
-CHATTER = Params(2.0, 0.1, 1.0, 0.5)        # golden case 0007: chatter, sticking, release
-STUCK = Params(0.5, 0.1, 0.9, 0.5)          # golden case 0008: stuck forever
+PAPER = Params(3.0, 0.1, 0.1, 0.9)  # Fig. 3's chaotic attractor
+CHATTER = Params(2.0, 0.1, 1.0, 0.5)  # golden case 0007: chatter, sticking, release
+STUCK = Params(0.5, 0.1, 0.9, 0.5)  # golden case 0008: stuck forever
 
 
 @pytest.mark.parametrize("name", T.TRACKS)
@@ -51,8 +51,7 @@ def test_registry_errors():
 
 
 def test_the_registry_imports_diffrax_lazily():
-    code = ("import sys, gear_rattle.mapimpl.tracks as T; T.get('map'); T.get('scipy'); "
-            "print('diffrax' in sys.modules)")
+    code = "import sys, gear_rattle.mapimpl.tracks as T; T.get('map'); T.get('scipy'); print('diffrax' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

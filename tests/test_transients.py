@@ -84,8 +84,9 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     from gear_rattle.validation.io.transients import write_survival
     from gear_rattle.validation.transient.experiments import transients
 
-    res = transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES,
-                     float64_rounding=True)
+    res = transients(
+        profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES, float64_rounding=True
+    )
     write_survival(tmp_path, res)
     s = json.loads((tmp_path / "transients.json").read_text())
     dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
@@ -103,8 +104,9 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     assert np.array_equal(hit[comp & (z["stick_wall"] == 0)], first[comp & (z["stick_wall"] == 0)] + dec.value)
     # the float64 sample composes the same first_stick with the engine's own T_post
     sample = e["float64_sample"]
-    assert np.array_equal(z["hit_float64_sample"][..., 0][comp & (z["stick_wall"] == 0)],
-                          first[comp & (z["stick_wall"] == 0)] + sample)
+    assert np.array_equal(
+        z["hit_float64_sample"][..., 0][comp & (z["stick_wall"] == 0)], first[comp & (z["stick_wall"] == 0)] + sample
+    )
     assert np.array_equal(hit[~comp], z["hit_float64_sample"][..., 0][~comp])
     # the fit of Fig. 11 is made on these durations
     d = np.where(hit.ravel() < 0, s["cap"], hit.ravel())
@@ -122,8 +124,9 @@ def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_on
     from gear_rattle.validation.transient.experiments import transients
 
     p = Params(alpha=1.25, beta=0.1, gamma=0.1, r=0.9)
-    res = transients(profile="quick", nx=6, box=(3.0, 3.5, 0.0, 0.1), deltas=(1e-3,), params=p, n_boot=0,
-                     progress=False, lanes=LANES)
+    res = transients(
+        profile="quick", nx=6, box=(3.0, 3.5, 0.0, 0.1), deltas=(1e-3,), params=p, n_boot=0, progress=False, lanes=LANES
+    )
     s = res.summary()
     assert res.engine.n_stuck_orbits > 0 and s["release"]["0.001"]["0"]["source"] == "certified"
     assert "certified_float64_rounding" not in s["release"]["0.001"]["0"] and res.float64_rounding is None
@@ -182,8 +185,11 @@ def test_stick_time_sensitivity_takes_the_fig11_result_not_a_file(tmp_path, monk
     assert half.rows[0].n_ic == 81 and half.rows[0].sticking_fraction == fig11.composed.reshape(18, 18)[::2, ::2].mean()
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(ValueError, match="certified"):
-        E.stick_time_sensitivity(E.transients(profile="quick", nx=4, deltas=(1e-3,), n_boot=0, progress=False,
-                                              lanes=LANES, release="float64"))
+        E.stick_time_sensitivity(
+            E.transients(
+                profile="quick", nx=4, deltas=(1e-3,), n_boot=0, progress=False, lanes=LANES, release="float64"
+            )
+        )
     with pytest.raises(ValueError, match="release='sample' is out of range"):
         E.transients(profile="quick", nx=4, progress=False, release="sample")
 
@@ -227,7 +233,7 @@ def test_uncertainty_fit_recovers_exponent():
     rng = np.random.default_rng(2)
     eps = np.logspace(-8, -2, 7)
     phi, C = 0.2, 0.8
-    p = C * eps ** phi
+    p = C * eps**phi
     unc = rng.random((20000, eps.size)) < p
     f = A.fit_uncertainty(eps, unc, 500, n_boot=50)
     assert abs(f.phi - phi) < 4 * max(f.phi_se_boot, f.phi_se_ls) + 1e-3
@@ -254,12 +260,20 @@ def test_bad_cpu_device_env_var():
     import sys
 
     env = {**os.environ, "GEAR_RATTLE_CPU_DEVICES": "0"}
-    proc = subprocess.run([sys.executable, "-c", "import gear_rattle; gear_rattle.use_cpu_devices()"],
-                          capture_output=True, text=True, env=env)
+    proc = subprocess.run(
+        [sys.executable, "-c", "import gear_rattle; gear_rattle.use_cpu_devices()"],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     assert proc.returncode != 0 and "GEAR_RATTLE_CPU_DEVICES" in proc.stderr and "allowed" in proc.stderr
     # on the command line: one line, exit status 2, no traceback
-    proc = subprocess.run([sys.executable, "-m", "gear_rattle.validation", "simulate", "--impacts", "1"],
-                          capture_output=True, text=True, env=env)
+    proc = subprocess.run(
+        [sys.executable, "-m", "gear_rattle.validation", "simulate", "--impacts", "1"],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     assert proc.returncode == 2 and "GEAR_RATTLE_CPU_DEVICES" in proc.stderr
     assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
 
@@ -271,20 +285,29 @@ def test_library_import_changes_neither_devices_nor_matplotlib_backend():
     import subprocess
     import sys
 
-    code = ("import os, matplotlib; b = matplotlib.get_backend(); import gear_rattle, jax; "
-            "import gear_rattle.validation.report.sec_dynamics, gear_rattle.validation.plots; "
-            "print(len(jax.devices()), jax.config.jax_enable_x64, matplotlib.get_backend() == b, "
-            "'XLA_FLAGS' in os.environ)")
+    code = (
+        "import os, matplotlib; b = matplotlib.get_backend(); import gear_rattle, jax; "
+        "import gear_rattle.validation.report.sec_dynamics, gear_rattle.validation.plots; "
+        "print(len(jax.devices()), jax.config.jax_enable_x64, matplotlib.get_backend() == b, "
+        "'XLA_FLAGS' in os.environ)"
+    )
     env = {k: v for k, v in os.environ.items() if k not in ("GEAR_RATTLE_CPU_DEVICES", "XLA_FLAGS", "MPLBACKEND")}
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["1", "True", "True", "False"]  # nor the engine's XLA options
 
 
-@pytest.mark.parametrize("kwargs,word", [
-    (dict(delta=-1.0), "delta"), (dict(cap=0), "cap"), (dict(ic_mode="post"), "ic_mode"),
-    (dict(ic_mode="free", s0=0.5), "s0"), (dict(lanes=0), "lanes"), (dict(block=0), "block"),
-])
+@pytest.mark.parametrize(
+    "kwargs,word",
+    [
+        (dict(delta=-1.0), "delta"),
+        (dict(cap=0), "cap"),
+        (dict(ic_mode="post"), "ic_mode"),
+        (dict(ic_mode="free", s0=0.5), "s0"),
+        (dict(lanes=0), "lanes"),
+        (dict(block=0), "block"),
+    ],
+)
 def test_bad_engine_inputs(kwargs, word, target):
     with pytest.raises(ValueError, match=word):
         transient_times(None, [3.2], [0.3], progress=False, target=target, **kwargs)
@@ -343,9 +366,12 @@ def test_fig11_paper_scale_decay_time_agrees_with_eq14(fig11_paper):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="Eq. (14) <n> = 2272: ours is 2329.3 +- 6.0 at paper scale with the "
-                                       "certified T_post (z = +9.5); the paper does not say how chattering orbits "
-                                       "were counted (docs/transients.md)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="Eq. (14) <n> = 2272: ours is 2329.3 +- 6.0 at paper scale with the "
+    "certified T_post (z = +9.5); the paper does not say how chattering orbits "
+    "were counted (docs/transients.md)",
+)
 def test_fig11_paper_scale_mean_n_against_eq14(fig11_paper):
     """Fig. 11 / Eq. (14): <n> against the paper's 2272 with |z| <= 2 (our standard error of the mean
     and the rounding of 2272).  A known disagreement, reported in the validation report: strict xfail,
@@ -355,8 +381,11 @@ def test_fig11_paper_scale_mean_n_against_eq14(fig11_paper):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="Eq. (14) kappa = 0.893 +- 0.001: ours is 0.909 +- 0.0035 (bootstrap) at "
-                                       "paper scale with the certified T_post (z = +4.5); it follows <n>")
+@pytest.mark.xfail(
+    strict=True,
+    reason="Eq. (14) kappa = 0.893 +- 0.001: ours is 0.909 +- 0.0035 (bootstrap) at "
+    "paper scale with the certified T_post (z = +4.5); it follows <n>",
+)
 def test_fig11_paper_scale_kappa_against_eq14(fig11_paper):
     """Fig. 11 / Eq. (14): kappa = <n>/decay time against the paper's 0.893 +- 0.001, |z| <= 2 with our
     bootstrap error.  A known disagreement (strict xfail)."""

@@ -76,8 +76,11 @@ def build_parser(only: list[str] | None = None) -> argparse.ArgumentParser:
     options of those subcommands alone are added (:func:`command_word`: the command line adds the
     options of the command it runs -- some import JAX to state their limits).  A subcommand whose options
     need a package that a light install lacks is one line naming it (:func:`extras.require_full_install`)."""
-    parser = _Parser(prog="gear-rattle", description="Gear-rattling impact model (de Souza et al. 2004): "
-                     "simulation, cross-validation and reproduction of the paper.")
+    parser = _Parser(
+        prog="gear-rattle",
+        description="Gear-rattling impact model (de Souza et al. 2004): "
+        "simulation, cross-validation and reproduction of the paper.",
+    )
     from gear_rattle import __version__
 
     from .golden.version import version_line
@@ -190,8 +193,10 @@ class _WarningNotes:
         label = interrupt.INTERRUPTED[0].rsplit(":", 1)[0]  # "gear-rattle COMMAND"
         text = " ".join(str(message).split())
         if "persistent compilation cache" in text:  # JAX recompiled: say where the cache is
-            text += (f" (recompiled; the cache is {_jax.compilation_cache_dir()!r}: delete it to rebuild it, or "
-                     f"set {_jax.JAX_CACHE_ENV}=0)")
+            text += (
+                f" (recompiled; the cache is {_jax.compilation_cache_dir()!r}: delete it to rebuild it, or "
+                f"set {_jax.JAX_CACHE_ENV}=0)"
+            )
         print(f"{label}: note: {category.__name__}: {text}", file=sys.stderr)
 
 

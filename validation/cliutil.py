@@ -18,7 +18,11 @@ import tempfile
 from pathlib import Path
 
 from ..core.checks import TAU0_MAX
-from ..core.checks import MAX_AVERAGED as MAX_AVERAGED, MAX_IMPACTS as MAX_IMPACTS, MAX_VALUES as MAX_VALUES  # re-exported
+from ..core.checks import (
+    MAX_AVERAGED as MAX_AVERAGED,
+    MAX_IMPACTS as MAX_IMPACTS,
+    MAX_VALUES as MAX_VALUES,
+)  # re-exported
 from ..core.paper import PAPER_FIG3
 from ..core.params import PARAM_NAMES, Params
 
@@ -37,8 +41,8 @@ class CommandFailed(Exception):
 #: refused with a message naming the option and this range).  The orbit's impacts (MAX_IMPACTS, kept in
 #: memory: simulate, timeseries, transients), the averaged impacts (MAX_AVERAGED: lyapunov) and a
 #: diagram's parameter values (MAX_VALUES) are the library's own bounds (core.checks), not re-typed.
-MAX_MESH = 2_000                # mesh points per axis of the transient experiments
-MAX_SEED = 2**32 - 1            # numpy's seed range
+MAX_MESH = 2_000  # mesh points per axis of the transient experiments
+MAX_SEED = 2**32 - 1  # numpy's seed range
 
 
 def add_param_args(p: argparse.ArgumentParser, defaults: Params = PAPER_FIG3) -> None:
@@ -47,9 +51,13 @@ def add_param_args(p: argparse.ArgumentParser, defaults: Params = PAPER_FIG3) ->
     were given."""
     d = defaults.as_dict()
     g = p.add_argument_group("model parameters (Eqs. 4-6, 11)")
-    g.add_argument("--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {d['alpha']})")
+    g.add_argument(
+        "--alpha", type=float, default=None, help=f"driving amplitude, 0 <= alpha <= 1e10 (default {d['alpha']})"
+    )
     g.add_argument("--beta", type=float, default=None, help=f"damping, 0 < beta <= 1e10 (default {d['beta']})")
-    g.add_argument("--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {d['gamma']})")
+    g.add_argument(
+        "--gamma", type=float, default=None, help=f"constant torque term, |gamma| <= 1e10 (default {d['gamma']})"
+    )
     g.add_argument("--r", type=float, default=None, help=f"restitution coefficient, 0 < r <= 1 (default {d['r']})")
     p.set_defaults(_param_defaults=d)
 
@@ -77,8 +85,9 @@ def check_scan(args: argparse.Namespace, lo: float, hi: float, *, strict: bool =
         try:
             check_value(args.param, v)
         except ValueError:
-            raise CliError(f"{opt}={v!r} is out of range: allowed a value of --param {args.param}, "
-                           f"{RANGES[args.param]}") from None
+            raise CliError(
+                f"{opt}={v!r} is out of range: allowed a value of --param {args.param}, {RANGES[args.param]}"
+            ) from None
     if not (lo < hi if strict else lo <= hi):
         raise CliError(f"--lo={lo!r}, --hi={hi!r} are out of range: allowed lo {'<' if strict else '<='} hi")
     return lo, hi
@@ -91,6 +100,7 @@ def progress_arg(args: argparse.Namespace):
 
 
 # ------------------------------------------------------------------------------ option types
+
 
 def _integer(text: str) -> int | None:
     """``text`` as an integer, also in decimal exponent notation when its value is exactly an integer
@@ -108,7 +118,7 @@ def _integer(text: str) -> int | None:
     if not d.is_finite():
         return None
     if d.adjusted() > 30:  # beyond every option's range (and not worth converting): the range message
-        return 10 ** 31 if d > 0 else -10 ** 31
+        return 10**31 if d > 0 else -(10**31)
     return int(d) if d == d.to_integral_value() else None
 
 
@@ -147,8 +157,9 @@ def _fmt(x: float) -> str:
     return f"{x:g}".replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
 
 
-def real(name: str, *, lo: float | None = None, hi: float | None = None, lo_open: bool = False,
-         max_abs: float | None = None):
+def real(
+    name: str, *, lo: float | None = None, hi: float | None = None, lo_open: bool = False, max_abs: float | None = None
+):
     """argparse type: a finite float, optionally ``lo <= v`` (``lo < v`` with ``lo_open``), ``v <= hi``
     and ``|v| <= max_abs``; the message names the option and the allowed range."""
     parts = []
@@ -192,19 +203,28 @@ def add_s0_arg(p, help: str) -> None:
     p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None, help=help)
 
 
-def add_start_args(p, start: tuple[float, float] | None = START, *, what: str = "initial",
-                   none: str = "none", s0: str | None = None) -> None:
+def add_start_args(
+    p, start: tuple[float, float] | None = START, *, what: str = "initial", none: str = "none", s0: str | None = None
+) -> None:
     """Add the start options of an orbit to ``p`` (a parser or an argument group): ``--tau0`` (a time,
     ``|tau0| <= 1e6``) and ``--sdot0`` (the velocity just before impact 0, nonzero: > 0 hits ``s = 0``,
     < 0 hits ``s = -1``); with ``s0`` (its help text) also ``--s0``, a free-flight start, where any
     finite ``--sdot0`` is allowed.  ``start``: their defaults (None: no default, the help says ``none``);
     ``what``: the word before "time" and "velocity".  :func:`check_start_args` checks them together."""
     d_tau, d_sdot = (None, None) if start is None else start
-    p.add_argument("--tau0", type=tau0_type(), default=d_tau,
-                   help=f"{what} time, |tau0| <= 1e6 (default {none if start is None else d_tau})")
-    p.add_argument("--sdot0", type=real("--sdot0"), default=d_sdot,
-                   help=f"{what} pre-impact velocity, nonzero (> 0 hits s = 0, < 0 hits s = -1"
-                        f"{'; with --s0 any finite value' if s0 else ''}) (default {none if start is None else d_sdot})")
+    p.add_argument(
+        "--tau0",
+        type=tau0_type(),
+        default=d_tau,
+        help=f"{what} time, |tau0| <= 1e6 (default {none if start is None else d_tau})",
+    )
+    p.add_argument(
+        "--sdot0",
+        type=real("--sdot0"),
+        default=d_sdot,
+        help=f"{what} pre-impact velocity, nonzero (> 0 hits s = 0, < 0 hits s = -1"
+        f"{'; with --s0 any finite value' if s0 else ''}) (default {none if start is None else d_sdot})",
+    )
     if s0 is not None:
         add_s0_arg(p, s0)
 
@@ -215,8 +235,9 @@ def check_start_args(args: argparse.Namespace) -> None:
     if (args.tau0 is None) != (args.sdot0 is None):
         raise CliError("--tau0 and --sdot0 must be given together")
     if args.sdot0 == 0 and getattr(args, "s0", None) is None:
-        raise CliError("--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0, "
-                       "< 0 hits s = -1)")
+        raise CliError(
+            "--sdot0=0 is out of range: allowed nonzero (a pre-impact velocity; > 0 hits s = 0, < 0 hits s = -1)"
+        )
 
 
 # ---------------------------------------------------------------------------------- messages
@@ -256,7 +277,9 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
         return
     lines = list(human)
     where = ", ".join(str(f) for f in files or () if str(f).endswith(".json"))
-    lines.append("(the result as JSON: " + (f"{where}, or " if where else "") + "stdout redirected: `... > result.json`)")
+    lines.append(
+        "(the result as JSON: " + (f"{where}, or " if where else "") + "stdout redirected: `... > result.json`)"
+    )
     to_stdout("\n".join(lines) + "\n")
 
 
@@ -280,6 +303,7 @@ def to_stdout(text: str) -> None:
 
 
 # ---------------------------------------------------------------------------------- outputs
+
 
 def _nearest_existing(path: Path) -> Path:
     p = path
@@ -330,8 +354,10 @@ def _check_name_lengths(path: Path, option: str) -> None:
         n = len(os.fsencode(part))
         if n > name_max:
             shown = part if len(part) <= 40 else part[:20] + "..." + part[-12:]
-            raise CliError(f"{option}: the name {shown!r} is {n} bytes long: allowed at most {name_max} bytes per "
-                           "name (the file system's limit)")
+            raise CliError(
+                f"{option}: the name {shown!r} is {n} bytes long: allowed at most {name_max} bytes per "
+                "name (the file system's limit)"
+            )
     n = len(os.fsencode(str(path.absolute())))
     if n >= path_max:
         raise CliError(f"{option}: the path is {n} bytes long: allowed less than {path_max} bytes")
@@ -359,11 +385,15 @@ def output_format(args: argparse.Namespace) -> str:
     if not ext:  # /dev/null, a named pipe, a name without an extension: --format (default csv)
         return fmt or "csv"
     if ext not in DATA_FORMATS:
-        raise CliError(f"--output={output!r}: the file extension must be one of {', '.join(DATA_FORMATS)} "
-                       "(it decides the data format)")
+        raise CliError(
+            f"--output={output!r}: the file extension must be one of {', '.join(DATA_FORMATS)} "
+            "(it decides the data format)"
+        )
     if fmt is not None and fmt != DATA_FORMATS[ext]:
-        raise CliError(f"--format={fmt} does not match --output={output!r} ({DATA_FORMATS[ext]}): "
-                       "allowed the same format, or only one of them")
+        raise CliError(
+            f"--format={fmt} does not match --output={output!r} ({DATA_FORMATS[ext]}): "
+            "allowed the same format, or only one of them"
+        )
     return DATA_FORMATS[ext]
 
 
@@ -379,8 +409,9 @@ def check_output_file(path: str | None, option: str, *, plot: bool = False) -> N
         fmts = plot_formats()
         ext = p.suffix[1:].lower()
         if ext not in fmts:
-            raise CliError(f"{option}={path!r}: the file extension must be one of {', '.join(sorted(fmts))} "
-                           "(the figure format)")
+            raise CliError(
+                f"{option}={path!r}: the file extension must be one of {', '.join(sorted(fmts))} (the figure format)"
+            )
     if p.is_dir():
         raise CliError(f"{option}={path!r} is a directory: allowed a file name")
     if p.exists() and not os.access(p, os.W_OK):
@@ -483,18 +514,33 @@ def write_file(option: str, path, write) -> None:
 
 # ------------------------------------------------------------------------- the output options
 
-def add_output_options(p: argparse._ActionsContainer, *, output: str | None = None, plot: str | None = None,
-                       out: tuple[str, str] | None = None, quiet: str | None = "no progress bars") -> None:
+
+def add_output_options(
+    p: argparse._ActionsContainer,
+    *,
+    output: str | None = None,
+    plot: str | None = None,
+    out: tuple[str, str] | None = None,
+    quiet: str | None = "no progress bars",
+) -> None:
     """The output options of a command, each added when its help text is given: ``--output FILE`` (a
     data file, its format from the extension, default stdout) with ``--format csv|json`` (the format on
     stdout), ``--plot FILE.png`` (a figure), ``--out DIR`` (``out = (default, help)``: an output
     directory) and ``--quiet`` (no progress bars; every command has it).  Checked together by
     :func:`check_outputs`, written by :func:`write_output` and :func:`write_plot`."""
     if output is not None:
-        p.add_argument("--output", default=None, metavar="FILE",
-                       help=f"{output}: .csv, .json or .npz, the format from the extension (default: stdout)")
-        p.add_argument("--format", choices=("csv", "json"), default=None,
-                       help="format on stdout; with --output it must match the extension (default csv)")
+        p.add_argument(
+            "--output",
+            default=None,
+            metavar="FILE",
+            help=f"{output}: .csv, .json or .npz, the format from the extension (default: stdout)",
+        )
+        p.add_argument(
+            "--format",
+            choices=("csv", "json"),
+            default=None,
+            help="format on stdout; with --output it must match the extension (default csv)",
+        )
     if plot is not None:
         p.add_argument("--plot", default=None, metavar="FILE.png", help=plot)
     if out is not None:
@@ -549,6 +595,7 @@ def write_plot(args: argparse.Namespace, fig) -> None:
 
 # ------------------------------------------------------------------------ renamed options
 
+
 class _Renamed(argparse.Action):
     """An option's old name: stores into the new option's destination and notes the rename on stderr."""
 
@@ -557,8 +604,10 @@ class _Renamed(argparse.Action):
         super().__init__(option_strings, dest, **kwargs)
 
     def __call__(self, parser, namespace, values, option_string=None):
-        print(f"{parser.prog}: note: {option_string} is deprecated: use {self.new} (same meaning)",  # noqa: T201
-              file=sys.stderr)
+        print(  # noqa: T201
+            f"{parser.prog}: note: {option_string} is deprecated: use {self.new} (same meaning)",
+            file=sys.stderr,
+        )
         setattr(namespace, self.dest, values)
 
 
@@ -566,5 +615,6 @@ def add_renamed(p: argparse.ArgumentParser, old: str, new: str, **kwargs) -> Non
     """Keep the old spelling ``old`` of the option ``new`` working (hidden from --help, a note on
     stderr when used); ``kwargs``: the new option's ``type``/``nargs``."""
     dest = new.lstrip("-").replace("-", "_")
-    p.add_argument(old, dest=dest, action=_Renamed, new=new, default=argparse.SUPPRESS, help=argparse.SUPPRESS,
-                   **kwargs)
+    p.add_argument(
+        old, dest=dest, action=_Renamed, new=new, default=argparse.SUPPRESS, help=argparse.SUPPRESS, **kwargs
+    )

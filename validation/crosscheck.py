@@ -70,8 +70,9 @@ class _Tally:
     graze: int = 0
 
 
-def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
-                       tracks=("scipy", "diffrax")) -> list[OneStep]:
+def one_step_agreement(
+    n: int = 20, seed: int = 1, graze_depth: float = 1e-6, tracks=("scipy", "diffrax")
+) -> list[OneStep]:
     """Next impact from ``n`` random pre-impact states on the map and on the numerical tracks."""
     from ..mapimpl.tracks import orbit
 
@@ -79,8 +80,9 @@ def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
     res = {t: _Tally() for t in tracks}
     for p, tau, sd in cases:
         m = orbit(p, tau, sd, 1, track="map")
-        graze = m.status == Status.ACTIVE.label and _near_graze(float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]),
-                                                          p, graze_depth)
+        graze = m.status == Status.ACTIVE.label and _near_graze(
+            float(m.theta[-1]), float(m.sdot[-1]), int(m.wall[-1]), p, graze_depth
+        )
         for t in tracks:
             if graze:
                 res[t].graze += 1
@@ -95,10 +97,17 @@ def one_step_agreement(n: int = 20, seed: int = 1, graze_depth: float = 1e-6,
     out = []
     for t in tracks:
         ta, sa = np.array(res[t].tau), np.array(res[t].sdot)
-        out.append(OneStep(t, len(cases) - res[t].graze, res[t].graze, res[t].mis,
-                           float(ta.max()) if ta.size else float("nan"),
-                           float(np.median(ta)) if ta.size else float("nan"),
-                           float(sa.max()) if sa.size else float("nan")))
+        out.append(
+            OneStep(
+                t,
+                len(cases) - res[t].graze,
+                res[t].graze,
+                res[t].mis,
+                float(ta.max()) if ta.size else float("nan"),
+                float(np.median(ta)) if ta.size else float("nan"),
+                float(sa.max()) if sa.size else float("nan"),
+            )
+        )
     return out
 
 
@@ -124,8 +133,11 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
     skipped = 0
     for p, tau, sd in random_cases(n, seed):
         m = ref.step_jacobian(p, tau, sd)
-        if (m.stuck or m.status != Status.ACTIVE.label
-                or _near_graze(float(np.mod(m.tau, 2 * np.pi)), m.sdot, m.wall, p, graze_depth)):
+        if (
+            m.stuck
+            or m.status != Status.ACTIVE.label
+            or _near_graze(float(np.mod(m.tau, 2 * np.pi)), m.sdot, m.wall, p, graze_depth)
+        ):
             skipped += 1
             continue
         J = np.asarray(m.jac)
@@ -133,5 +145,6 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
         for t, track in routes.items():
             err[t].append(float(np.linalg.norm(np.asarray(track.step_jacobian(p, tau, sd).jac) - J) / nJ))
     cs, cd = err["scipy"], err["diffrax"]
-    return JacobianCheck(len(cs), skipped, float(max(cs)) if cs else float("nan"),
-                         float(max(cd)) if cd else float("nan"))
+    return JacobianCheck(
+        len(cs), skipped, float(max(cs)) if cs else float("nan"), float(max(cd)) if cd else float("nan")
+    )

@@ -28,8 +28,9 @@ def require(module: str, extra: str, purpose: str) -> ModuleType:
     try:
         return importlib.import_module(module)
     except ImportError:
-        raise MissingExtra(f"{purpose} needs the optional dependency {module}: "
-                           f"pip install \"gear-rattle[{extra}]\"") from None
+        raise MissingExtra(
+            f'{purpose} needs the optional dependency {module}: pip install "gear-rattle[{extra}]"'
+        ) from None
 
 
 #: What the full install adds to numpy (pyproject.toml's ``dependencies``, by import name): a light
@@ -50,5 +51,7 @@ def require_full_install(what: str) -> None:
         except (ImportError, ValueError):  # blocked in sys.modules (None), or a broken install
             missing.append(m)
     if missing:
-        raise MissingExtra(f"{what} needs {', '.join(missing)} (not installed; this install scores files with "
-                           "`gear-rattle check` only): pip install gear-rattle")
+        raise MissingExtra(
+            f"{what} needs {', '.join(missing)} (not installed; this install scores files with "
+            "`gear-rattle check` only): pip install gear-rattle"
+        )

@@ -31,8 +31,16 @@ from dataclasses import dataclass
 KINDS = ("value", "count", "approx", "upper_bound", "lower_bound", "theory", "derived", "qualitative")
 
 #: Symbols of the kinds, for one-line renderings ``q <= 0.82144``.
-_REL = {"value": "=", "count": "=", "approx": "≈", "upper_bound": "<=", "lower_bound": ">=", "theory": "=", "derived": "=",
-        "qualitative": ":"}
+_REL = {
+    "value": "=",
+    "count": "=",
+    "approx": "≈",
+    "upper_bound": "<=",
+    "lower_bound": ">=",
+    "theory": "=",
+    "derived": "=",
+    "qualitative": ":",
+}
 
 
 @dataclass(frozen=True)
@@ -110,8 +118,16 @@ class PaperValue:
         return (f"{rel} {self.printed}" if rel != "=" else self.printed) + err
 
     def as_dict(self) -> dict:
-        return {"key": self.key, "value": self.value, "error": self.error, "kind": self.kind,
-                "printed": self.printed, "where": self.where, "quote": self.quote, "note": self.note}
+        return {
+            "key": self.key,
+            "value": self.value,
+            "error": self.error,
+            "kind": self.kind,
+            "printed": self.printed,
+            "where": self.where,
+            "quote": self.quote,
+            "note": self.note,
+        }
 
 
 def _decay_time() -> PaperValue:
@@ -122,50 +138,144 @@ def _decay_time() -> PaperValue:
     n_v, k_v = float(n.value), float(k.value)
     tau = n_v / k_v
     err = tau * math.hypot(n.sigma / n_v, k.sigma / k_v)
-    return PaperValue("decay_time", f"{tau:.10g}", err, "derived", "Section 4, Eq. (14)", n.quote,
-                      note=f"{n.printed}/{k.printed} from the paper's <n> (rounding of its last digit) and kappa (stated error)")
+    return PaperValue(
+        "decay_time",
+        f"{tau:.10g}",
+        err,
+        "derived",
+        "Section 4, Eq. (14)",
+        n.quote,
+        note=f"{n.printed}/{k.printed} from the paper's <n> (rounding of its last digit) and kappa (stated error)",
+    )
 
 
-_VALUES: dict[str, PaperValue] = {v.key: v for v in (
-    PaperValue("fig2_motion", "regular", None, "qualitative", "Section 2, Fig. 2",
-               "revealing a regular oscillation which follows the regular driving of the first gear"),
-    PaperValue("fig3_motion", "chaotic", None, "qualitative", "Section 3, Fig. 3",
-               "is clearly seen as a chaotic attractor (the maximal Lyapunov exponent λ_1 is positive)"),
-    PaperValue("r2", "0.82144", None, "upper_bound", "Fig. 5 caption",
-               r"for $\alpha = 3.0$ and $r = 0.82144 \gtrsim r_2$",
-               note="the r the paper ran for Fig. 5, stated to be at or above r2"),
-    PaperValue("r2_fig6", "0.82145", None, "upper_bound", "Fig. 6 caption",
-               r"for $\alpha = 3.0$ and $r = 0.82145 \gtrsim r_2$",
-               note="the r the paper ran for Fig. 6, stated to be at or above r2"),
-    PaperValue("r2_impacts_per_period", "6", None, "count", "Section 3",
-               "suddenly jumps into a stable period-1 orbit with six impacts during a cycle corresponding to an "
-               "entire driving period"),
-    PaperValue("intermittency_slope", "-0.5", None, "theory", "Section 3, ref. [19]",
-               "This is the typical scenario of type-I intermittency",
-               note="type-I intermittency: mean laminar length ~ (r - r2)^(-1/2)"),
-    PaperValue("r1", "0.74001", None, "lower_bound", "Fig. 7 caption",
-               r"for $\alpha = 3.0$ and $r = 0.74001 \leq r_1$",
-               note="the r the paper ran for Fig. 7, stated to be at or below r1"),
-    PaperValue("alpha1", "1.24370", None, "approx", "Section 4, Fig. 8",
-               r"At the critical value $\alpha_1 \approx 1.24370$ there occurs a crisis"),
-    PaperValue("alpha1_fig9", "1.24500", None, "upper_bound", "Fig. 9 caption",
-               r"Fig. 9. Basins of transient motion for $\alpha = 1.24500 \ge \alpha_1$",
-               note="the alpha of Figs. 9-11, stated to be at or above alpha1"),
-    PaperValue("alpha1_impacts_per_period", "4", None, "count", "Section 4",
-               "a stable period-1 orbit (with four impacts per period) emerges out"),
-    PaperValue("phi_500", "0.010", 0.001, "value", "Section 4, Fig. 10",
-               r"The uncertainty exponents were obtained as $\varpi = 0.010 \pm 0.001$ and 0.003 ± 0.002 "
-               "for these two cases, respectively"),
-    PaperValue("phi_1000", "0.003", 0.002, "value", "Section 4, Fig. 10",
-               r"The uncertainty exponents were obtained as $\varpi = 0.010 \pm 0.001$ and 0.003 ± 0.002 "
-               "for these two cases, respectively"),
-    PaperValue("mean_n", "2272", None, "value", "Section 4, Eq. (14)",
-               r"where $\langle n \rangle = 2272$ is the average transient duration, and slope "
-               r"$\kappa = 0.893 \pm 0.001$"),
-    PaperValue("kappa", "0.893", 0.001, "value", "Section 4, Eq. (14)",
-               r"where $\langle n \rangle = 2272$ is the average transient duration, and slope "
-               r"$\kappa = 0.893 \pm 0.001$"),
-)}
+_VALUES: dict[str, PaperValue] = {
+    v.key: v
+    for v in (
+        PaperValue(
+            "fig2_motion",
+            "regular",
+            None,
+            "qualitative",
+            "Section 2, Fig. 2",
+            "revealing a regular oscillation which follows the regular driving of the first gear",
+        ),
+        PaperValue(
+            "fig3_motion",
+            "chaotic",
+            None,
+            "qualitative",
+            "Section 3, Fig. 3",
+            "is clearly seen as a chaotic attractor (the maximal Lyapunov exponent λ_1 is positive)",
+        ),
+        PaperValue(
+            "r2",
+            "0.82144",
+            None,
+            "upper_bound",
+            "Fig. 5 caption",
+            r"for $\alpha = 3.0$ and $r = 0.82144 \gtrsim r_2$",
+            note="the r the paper ran for Fig. 5, stated to be at or above r2",
+        ),
+        PaperValue(
+            "r2_fig6",
+            "0.82145",
+            None,
+            "upper_bound",
+            "Fig. 6 caption",
+            r"for $\alpha = 3.0$ and $r = 0.82145 \gtrsim r_2$",
+            note="the r the paper ran for Fig. 6, stated to be at or above r2",
+        ),
+        PaperValue(
+            "r2_impacts_per_period",
+            "6",
+            None,
+            "count",
+            "Section 3",
+            "suddenly jumps into a stable period-1 orbit with six impacts during a cycle corresponding to an "
+            "entire driving period",
+        ),
+        PaperValue(
+            "intermittency_slope",
+            "-0.5",
+            None,
+            "theory",
+            "Section 3, ref. [19]",
+            "This is the typical scenario of type-I intermittency",
+            note="type-I intermittency: mean laminar length ~ (r - r2)^(-1/2)",
+        ),
+        PaperValue(
+            "r1",
+            "0.74001",
+            None,
+            "lower_bound",
+            "Fig. 7 caption",
+            r"for $\alpha = 3.0$ and $r = 0.74001 \leq r_1$",
+            note="the r the paper ran for Fig. 7, stated to be at or below r1",
+        ),
+        PaperValue(
+            "alpha1",
+            "1.24370",
+            None,
+            "approx",
+            "Section 4, Fig. 8",
+            r"At the critical value $\alpha_1 \approx 1.24370$ there occurs a crisis",
+        ),
+        PaperValue(
+            "alpha1_fig9",
+            "1.24500",
+            None,
+            "upper_bound",
+            "Fig. 9 caption",
+            r"Fig. 9. Basins of transient motion for $\alpha = 1.24500 \ge \alpha_1$",
+            note="the alpha of Figs. 9-11, stated to be at or above alpha1",
+        ),
+        PaperValue(
+            "alpha1_impacts_per_period",
+            "4",
+            None,
+            "count",
+            "Section 4",
+            "a stable period-1 orbit (with four impacts per period) emerges out",
+        ),
+        PaperValue(
+            "phi_500",
+            "0.010",
+            0.001,
+            "value",
+            "Section 4, Fig. 10",
+            r"The uncertainty exponents were obtained as $\varpi = 0.010 \pm 0.001$ and 0.003 ± 0.002 "
+            "for these two cases, respectively",
+        ),
+        PaperValue(
+            "phi_1000",
+            "0.003",
+            0.002,
+            "value",
+            "Section 4, Fig. 10",
+            r"The uncertainty exponents were obtained as $\varpi = 0.010 \pm 0.001$ and 0.003 ± 0.002 "
+            "for these two cases, respectively",
+        ),
+        PaperValue(
+            "mean_n",
+            "2272",
+            None,
+            "value",
+            "Section 4, Eq. (14)",
+            r"where $\langle n \rangle = 2272$ is the average transient duration, and slope "
+            r"$\kappa = 0.893 \pm 0.001$",
+        ),
+        PaperValue(
+            "kappa",
+            "0.893",
+            0.001,
+            "value",
+            "Section 4, Eq. (14)",
+            r"where $\langle n \rangle = 2272$ is the average transient duration, and slope "
+            r"$\kappa = 0.893 \pm 0.001$",
+        ),
+    )
+}
 
 #: Every paper value by key (the keys are those of the report's summary rows that compare with it).
 PAPER: dict[str, PaperValue] = {**_VALUES, "decay_time": _decay_time()}

@@ -93,16 +93,32 @@ class TerminalBar:
     (:meth:`update`); ``phase`` is shown after the label until the first count (or until :meth:`phase`
     changes it); ``delay``: seconds before the bar appears at all (short runs show nothing)."""
 
-    def __init__(self, label: str, total: float | None = None, unit: str = "impacts", phase: str | None = None,
-                 delay: float = 0.0):
+    def __init__(
+        self,
+        label: str,
+        total: float | None = None,
+        unit: str = "impacts",
+        phase: str | None = None,
+        delay: float = 0.0,
+    ):
         from tqdm import tqdm
 
         self.label, self._counting = label, False
         clear_status()
         tqdm.monitor_interval = 0  # no tqdm monitor thread
-        self._bar: Any = tqdm(total=total, desc=label if phase is None else f"{label} ({phase})", unit=" " + unit,
-                         unit_scale=unit == "impacts", file=sys.stderr, ncols=_width(), mininterval=MIN_INTERVAL,
-                         smoothing=0.3, delay=delay, leave=True, bar_format=None if phase is None else PHASE_FORMAT)
+        self._bar: Any = tqdm(
+            total=total,
+            desc=label if phase is None else f"{label} ({phase})",
+            unit=" " + unit,
+            unit_scale=unit == "impacts",
+            file=sys.stderr,
+            ncols=_width(),
+            mininterval=MIN_INTERVAL,
+            smoothing=0.3,
+            delay=delay,
+            leave=True,
+            bar_format=None if phase is None else PHASE_FORMAT,
+        )
         if _clear_for_interrupt not in interrupt.CLEAR_LINE:
             interrupt.CLEAR_LINE.append(_clear_for_interrupt)
         self._ticker: tuple[Any, Any] | None = None  # (threading.Event, threading.Thread)
@@ -198,8 +214,14 @@ class LogLines:
     12 s``; ``label: 1.2M/2.9M impacts (41%), 3.4M impacts/s, 5 s left``; ``label: done, 2.9M impacts
     in 9.1 s``.  A ticker thread writes the lines of a stage that has nothing to count (a compilation)."""
 
-    def __init__(self, label: str, total: float | None = None, unit: str = "impacts", phase: str | None = None,
-                 delay: float = 0.0):
+    def __init__(
+        self,
+        label: str,
+        total: float | None = None,
+        unit: str = "impacts",
+        phase: str | None = None,
+        delay: float = 0.0,
+    ):
         self.label, self.total, self.unit, self._phase = label, total, unit, phase
         self.done: float = 0.0
         self._post = ""
@@ -290,8 +312,15 @@ class LogLines:
         self._end("stopped")
 
 
-def display(label: str, *, total: float | None = None, unit: str = "impacts", phase: str | None = None,
-            delay: float = 0.0, where: str = _core.TERMINAL):
+def display(
+    label: str,
+    *,
+    total: float | None = None,
+    unit: str = "impacts",
+    phase: str | None = None,
+    delay: float = 0.0,
+    where: str = _core.TERMINAL,
+):
     """The view of one :class:`gear_rattle.core.progress.Bar` (registered there by this module): a
     :class:`TerminalBar` when stderr is a terminal, :class:`LogLines` when it is not, ``where`` is
     :data:`gear_rattle.core.progress.ANYWHERE` and ``$GEAR_RATTLE_PROGRESS_LINES`` is not ``0``, else

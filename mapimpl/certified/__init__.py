@@ -28,33 +28,110 @@ A new certified computation is a new module here, built on :mod:`.model`, :mod:`
 :mod:`.orbit` (or :mod:`.krawczyk` for a zero of an analytic system).
 """
 
-from .balls import (MAX_PREC, PREC, CertificationError, decimal_interval, exact, float_bounds, mod_two_pi, nearest_float,
-                    precision, span, upper_float)
+from .balls import (
+    MAX_PREC,
+    PREC,
+    CertificationError,
+    decimal_interval,
+    exact,
+    float_bounds,
+    mod_two_pi,
+    nearest_float,
+    precision,
+    span,
+    upper_float,
+)
 from .capture import Target, capture_decision, certified_distance, float64_target
 from .contact import MAX_EVALS, T_MAX, FlightCertificate, NoContactError, certified_flight, mean_value_impact
-from .duration import (PRECISIONS, ROUNDINGS, ReleaseDuration, certified_release_duration,
-                       certified_release_durations, model_params)
+from .duration import (
+    PRECISIONS,
+    ROUNDINGS,
+    ReleaseDuration,
+    certified_release_duration,
+    certified_release_durations,
+    model_params,
+)
+
 # (the function krawczyk stays in its module: re-exported, it would hide the module .krawczyk itself)
 from .krawczyk import KrawczykResult, refine, verify_box
 from .model import PARAM_NAMES, Flight, Model, parameter_ball
 from .noimpact import certify_never_lands, certify_no_impact_orbit
 from .orbit import CertifiedOrbit, CertifiedStep, Departure, Event, certified_departure, certified_step, certify_orbit
-from .periodic import (CertifiedBifurcation, CertifiedPeriodicOrbit, certify_bifurcation, certify_periodic_orbit,
-                       floquet, prove_flights)
+from .periodic import (
+    CertifiedBifurcation,
+    CertifiedPeriodicOrbit,
+    certify_bifurcation,
+    certify_periodic_orbit,
+    floquet,
+    prove_flights,
+)
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, certify_post_release, certify_post_release_deltas
 from .track import CertifiedRun, CertifiedSequence, UncertifiedOrbit, certified_orbit
 from .sticking import certify_release, certify_zero, release_delay, release_phase, release_time, stick_decision
 
 __all__ = [
-    "MAX_PREC", "PREC", "CertificationError", "decimal_interval", "exact", "float_bounds", "mod_two_pi", "nearest_float", "precision", "span",
-    "upper_float", "Target", "capture_decision", "certified_distance", "float64_target", "MAX_EVALS",
-    "T_MAX", "FlightCertificate", "NoContactError", "certified_flight", "mean_value_impact", "PRECISIONS",
-    "ROUNDINGS", "ReleaseDuration", "certified_release_duration", "certified_release_durations", "model_params",
-    "PARAM_NAMES", "Flight", "Model", "parameter_ball", "certify_never_lands", "certify_no_impact_orbit",
-    "CertifiedOrbit", "CertifiedStep", "Departure", "Event", "certified_departure",
-    "CertifiedRun", "CertifiedSequence", "UncertifiedOrbit", "certified_orbit",
-    "certified_step", "certify_orbit", "MAX_IMPACTS", "RADIUS_LIMIT", "Attempt", "certify_post_release",
-    "certify_post_release_deltas", "certify_release", "certify_zero", "release_delay", "release_phase",
-    "release_time", "stick_decision", "KrawczykResult", "refine", "verify_box", "CertifiedBifurcation",
-    "CertifiedPeriodicOrbit", "certify_bifurcation", "certify_periodic_orbit", "floquet", "prove_flights",
+    "MAX_PREC",
+    "PREC",
+    "CertificationError",
+    "decimal_interval",
+    "exact",
+    "float_bounds",
+    "mod_two_pi",
+    "nearest_float",
+    "precision",
+    "span",
+    "upper_float",
+    "Target",
+    "capture_decision",
+    "certified_distance",
+    "float64_target",
+    "MAX_EVALS",
+    "T_MAX",
+    "FlightCertificate",
+    "NoContactError",
+    "certified_flight",
+    "mean_value_impact",
+    "PRECISIONS",
+    "ROUNDINGS",
+    "ReleaseDuration",
+    "certified_release_duration",
+    "certified_release_durations",
+    "model_params",
+    "PARAM_NAMES",
+    "Flight",
+    "Model",
+    "parameter_ball",
+    "certify_never_lands",
+    "certify_no_impact_orbit",
+    "CertifiedOrbit",
+    "CertifiedStep",
+    "Departure",
+    "Event",
+    "certified_departure",
+    "CertifiedRun",
+    "CertifiedSequence",
+    "UncertifiedOrbit",
+    "certified_orbit",
+    "certified_step",
+    "certify_orbit",
+    "MAX_IMPACTS",
+    "RADIUS_LIMIT",
+    "Attempt",
+    "certify_post_release",
+    "certify_post_release_deltas",
+    "certify_release",
+    "certify_zero",
+    "release_delay",
+    "release_phase",
+    "release_time",
+    "stick_decision",
+    "KrawczykResult",
+    "refine",
+    "verify_box",
+    "CertifiedBifurcation",
+    "CertifiedPeriodicOrbit",
+    "certify_bifurcation",
+    "certify_periodic_orbit",
+    "floquet",
+    "prove_flights",
 ]

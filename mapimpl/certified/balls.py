@@ -97,7 +97,6 @@ def mod_two_pi(tau: arb) -> arb:
     return tau - k * two_pi
 
 
-
 def _decimal(x: arb, digits: int, rounding: str) -> str:
     """The exact number ``x`` (an exact ball) rounded to ``digits`` significant decimal digits in the
     direction ``rounding`` (``decimal.ROUND_FLOOR`` or ``ROUND_CEILING``)."""

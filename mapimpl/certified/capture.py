@@ -28,8 +28,11 @@ class Target:
     wall: tuple
 
     def as_dict(self) -> dict:
-        return {"theta": [repr(float(x)) for x in self.theta], "sdot": [repr(float(x)) for x in self.sdot],
-                "wall": [int(w) for w in self.wall]}
+        return {
+            "theta": [repr(float(x)) for x in self.theta],
+            "sdot": [repr(float(x)) for x in self.sdot],
+            "wall": [int(w) for w in self.wall],
+        }
 
 
 def float64_target(params: Params) -> Target:
@@ -67,6 +70,4 @@ def capture_decision(distance: arb | None, delta: float) -> bool:
         return True
     if distance >= dl:
         return False
-    raise CertificationError(f"capture decision not definite: distance {distance.str(5)} straddles "
-                                  f"delta={delta:g}")
-
+    raise CertificationError(f"capture decision not definite: distance {distance.str(5)} straddles delta={delta:g}")

@@ -51,12 +51,12 @@ class FlightCertificate:
     """What one certified flight proved."""
 
     wall: int
-    t: arb                 # enclosure of the flight time
-    v: arb                 # enclosure of the pre-impact velocity
-    bracket: tuple         # (t_lo, t_hi) as floats: interval with the unique root
-    pieces: int            # subintervals covering [0, t_lo] with both gaps > 0
-    evals: int             # interval evaluations used
-    departure: float       # length of the departure certificate on the start wall (0 if none)
+    t: arb  # enclosure of the flight time
+    v: arb  # enclosure of the pre-impact velocity
+    bracket: tuple  # (t_lo, t_hi) as floats: interval with the unique root
+    pieces: int  # subintervals covering [0, t_lo] with both gaps > 0
+    evals: int  # interval evaluations used
+    departure: float  # length of the departure certificate on the start wall (0 if none)
     root_bracket: tuple = field(default=(), repr=False)  # (t_lo, t_hi) as balls
 
 
@@ -80,8 +80,9 @@ def _departure(fl: Flight, start_wall: int, release: bool, prec: int) -> arb:
         if fac > 0 and fl.gap_enclosure(far, zero, h0) > 0:
             return h0
         h0 = h0 / 2
-    raise CertificationError("cannot certify the departure from the start wall "
-                             "(moving into the wall, or pressed into it at rest)")
+    raise CertificationError(
+        "cannot certify the departure from the start wall (moving into the wall, or pressed into it at rest)"
+    )
 
 
 def check_flight_args(model, tau0, s0, v0, release, prec, t_max, max_evals) -> None:
@@ -100,8 +101,17 @@ def check_flight_args(model, tau0, s0, v0, release, prec, t_max, max_evals) -> N
     check_int("max_evals", max_evals, 1, 100_000_000)
 
 
-def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bool = False,
-                     prec: int = PREC, t_max: float = T_MAX, max_evals: int = MAX_EVALS) -> FlightCertificate:
+def certified_flight(
+    model: Model,
+    tau0: arb,
+    s0: float,
+    v0: arb,
+    *,
+    release: bool = False,
+    prec: int = PREC,
+    t_max: float = T_MAX,
+    max_evals: int = MAX_EVALS,
+) -> FlightCertificate:
     """First wall contact of the flight leaving ``(tau0, s0, v0)``, certified (see module docstring).
 
     Parameters
@@ -193,8 +203,9 @@ def certified_flight(model: Model, tau0: arb, s0: float, v0: arb, *, release: bo
                 return FlightCertificate(w, troot, v, (float(t), float(tb)), pieces, evals, departure, (t, tb))
         h = h / 2
         if h < arb(2) ** (-(prec - 40)) * (t + 1):
-            raise CertificationError(f"cannot separate the flight from the walls near t={float(t):.17g} "
-                                     "(tangential contact?)")
+            raise CertificationError(
+                f"cannot separate the flight from the walls near t={float(t):.17g} (tangential contact?)"
+            )
 
 
 #: Working precision of the first Newton iterations of ``_refine`` (doubled as they converge).
@@ -262,6 +273,7 @@ def _refine(fl: Flight, w: int, lo: arb, hi: arb, prec: int) -> arb:
         eps = eps * 2
     raise CertificationError("root refinement failed")
 
+
 def refine_from(fl: Flight, w: int, lo: arb, hi: arb, prec: int, x0: arb) -> arb:
     """The unique root of ``gap_w`` in the certified bracket ``[lo, hi]`` (as ``_refine``), from a
     start ``x0`` already accurate to :data:`LEAN_START_PREC` bits, at about one gap evaluation at ``prec``.
@@ -320,8 +332,18 @@ def refine_from(fl: Flight, w: int, lo: arb, hi: arb, prec: int, x0: arb) -> arb
 LEAN_START_PREC = 96
 
 
-def mean_value_impact(model: Model, c_box: FlightCertificate, tau0: arb, s0: float, v0: arb, release: bool,
-                      prec: int, t_max: float, *, lean: bool = False) -> tuple[arb, arb]:
+def mean_value_impact(
+    model: Model,
+    c_box: FlightCertificate,
+    tau0: arb,
+    s0: float,
+    v0: arb,
+    release: bool,
+    prec: int,
+    t_max: float,
+    *,
+    lean: bool = False,
+) -> tuple[arb, arb]:
     """Tighter enclosure of the impact ``(tau1, v1)`` over the input box by the mean-value form.
 
     ``c_box`` certified the flight for *every* state in the box (same wall, no earlier contact,

@@ -13,7 +13,14 @@ from dataclasses import asdict, dataclass
 
 from collections.abc import Mapping, Sequence
 
-from ...core.checks import MAX_IMPACTS as MAX_ORBIT_IMPACTS, InputTypeError, check_choice, check_int, check_real, check_wall
+from ...core.checks import (
+    MAX_IMPACTS as MAX_ORBIT_IMPACTS,
+    InputTypeError,
+    check_choice,
+    check_int,
+    check_real,
+    check_wall,
+)
 from ...core.paper import DELTA, MAX_DELTA, PAPER_DECIMAL
 from ...core.params import Params
 from ..sticking import MAX_STICK_TIME, STICK_TIME
@@ -62,15 +69,21 @@ class ReleaseDuration:
         return d
 
     def summary(self) -> str:
-        what = {"captured": f"T_post = {self.value}", "periodic": "never captured (periodic)",
-                "stuck_forever": "stuck forever", "no_capture": f"T_post > {self.max_impacts}",
-                "undecided": f"undecided (T_post > {self.lower_bound} certified)"}[self.status]
+        what = {
+            "captured": f"T_post = {self.value}",
+            "periodic": "never captured (periodic)",
+            "stuck_forever": "stuck forever",
+            "no_capture": f"T_post > {self.max_impacts}",
+            "undecided": f"undecided (T_post > {self.lower_bound} certified)",
+        }[self.status]
         conf = "confirmed" if self.confirmed else "NOT confirmed"
         at = f" at {self.precision} bits, {conf} at the next precision" if self.precision else ""
         kind = "exact decimal" if self.rounding == "decimal" else "float64-rounded"
-        return (f"wall {self.wall}, {kind} parameters "
-                f"(alpha={self.params['alpha']}, beta={self.params['beta']}, gamma={self.params['gamma']}, "
-                f"r={self.params['r']}): {what}{at} ({self.seconds:.1f} s)")
+        return (
+            f"wall {self.wall}, {kind} parameters "
+            f"(alpha={self.params['alpha']}, beta={self.params['beta']}, gamma={self.params['gamma']}, "
+            f"r={self.params['r']}): {what}{at} ({self.seconds:.1f} s)"
+        )
 
 
 def model_params(params_decimal: dict, rounding: str):
@@ -87,11 +100,21 @@ def model_params(params_decimal: dict, rounding: str):
     return dict(text) if rounding == "decimal" else floats
 
 
-def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int = 0, delta: float = DELTA, *,
-                               rounding: str = "decimal", max_impacts: int = MAX_IMPACTS,
-                               precisions=PRECISIONS, confirm: bool = True, target: Target | None = None,
-                               stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
-                               time_budget_s: float | None = None, progress=None) -> ReleaseDuration:
+def certified_release_duration(
+    params_decimal: dict = PAPER_DECIMAL,
+    wall: int = 0,
+    delta: float = DELTA,
+    *,
+    rounding: str = "decimal",
+    max_impacts: int = MAX_IMPACTS,
+    precisions=PRECISIONS,
+    confirm: bool = True,
+    target: Target | None = None,
+    stick_time: float = STICK_TIME,
+    radius_limit: float = RADIUS_LIMIT,
+    time_budget_s: float | None = None,
+    progress=None,
+) -> ReleaseDuration:
     """``T_post`` of ``wall``'s canonical release orbit for one capture distance ``delta``, certified
     (see module docstring): :func:`certified_release_durations` for ``(delta,)``.
 
@@ -133,17 +156,37 @@ def certified_release_duration(params_decimal: dict = PAPER_DECIMAL, wall: int =
     ('captured', 824, True)
     """
     delta = check_real("delta", delta, 0.0, MAX_DELTA, lo_open=True)
-    return certified_release_durations(params_decimal, wall, (delta,), rounding=rounding, max_impacts=max_impacts,
-                                       precisions=precisions, confirm=confirm, target=target, stick_time=stick_time,
-                                       radius_limit=radius_limit, time_budget_s=time_budget_s,
-                                       progress=progress)[float(delta)]
+    return certified_release_durations(
+        params_decimal,
+        wall,
+        (delta,),
+        rounding=rounding,
+        max_impacts=max_impacts,
+        precisions=precisions,
+        confirm=confirm,
+        target=target,
+        stick_time=stick_time,
+        radius_limit=radius_limit,
+        time_budget_s=time_budget_s,
+        progress=progress,
+    )[float(delta)]
 
 
-def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int = 0, deltas=(DELTA,), *,
-                                rounding: str = "decimal", max_impacts: int = MAX_IMPACTS,
-                                precisions=PRECISIONS, confirm: bool = True, target: Target | None = None,
-                                stick_time: float = STICK_TIME, radius_limit: float = RADIUS_LIMIT,
-                                time_budget_s: float | None = None, progress=None) -> dict[float, ReleaseDuration]:
+def certified_release_durations(
+    params_decimal: dict = PAPER_DECIMAL,
+    wall: int = 0,
+    deltas=(DELTA,),
+    *,
+    rounding: str = "decimal",
+    max_impacts: int = MAX_IMPACTS,
+    precisions=PRECISIONS,
+    confirm: bool = True,
+    target: Target | None = None,
+    stick_time: float = STICK_TIME,
+    radius_limit: float = RADIUS_LIMIT,
+    time_budget_s: float | None = None,
+    progress=None,
+) -> dict[float, ReleaseDuration]:
     """``T_post`` of ``wall``'s canonical release orbit for every capture distance of ``deltas``,
     certified (see module docstring): ``{delta: ReleaseDuration}``.
 
@@ -161,16 +204,20 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
     """
     check_choice("rounding", rounding, ROUNDINGS)
     if not isinstance(params_decimal, Mapping):
-        raise InputTypeError(f"params_decimal is a {type(params_decimal).__name__}: allowed a mapping of alpha, beta, "
-                             "gamma, r to decimal strings")
+        raise InputTypeError(
+            f"params_decimal is a {type(params_decimal).__name__}: allowed a mapping of alpha, beta, "
+            "gamma, r to decimal strings"
+        )
     pm = model_params(params_decimal, rounding)
     p64 = model_params(params_decimal, "float64")
     wall = check_wall("wall", wall)
     ds = check_deltas(deltas)
     max_impacts = check_int("max_impacts", max_impacts, 1, MAX_ORBIT_IMPACTS)
     if isinstance(precisions, (str, bytes)) or not isinstance(precisions, Sequence):
-        raise InputTypeError(f"precisions={precisions!r} is a {type(precisions).__name__}: allowed a non-empty "
-                             f"increasing list of bits, 64 <= prec <= {MAX_PREC}")
+        raise InputTypeError(
+            f"precisions={precisions!r} is a {type(precisions).__name__}: allowed a non-empty "
+            f"increasing list of bits, 64 <= prec <= {MAX_PREC}"
+        )
     precs = [check_prec(p) for p in precisions]
     if not precs or any(b <= a for a, b in zip(precs, precs[1:])):
         raise ValueError(f"precisions={precisions!r} is out of range: allowed a non-empty increasing list of bits")
@@ -200,7 +247,8 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
             if (b.status, b.impacts) != (a.status, a.impacts):
                 raise CertificationError(
                     f"precisions {a.prec} and {b.prec} certify different outcomes at delta={d:g}: "
-                    f"{a.status} at {a.impacts} vs {b.status} at {b.impacts} (a bug)")
+                    f"{a.status} at {a.impacts} vs {b.status} at {b.impacts} (a bug)"
+                )
             confirmed[d] = True
 
     to_confirm: list[float] = []  # decided by the last run: confirmed (or not) by the next one
@@ -208,9 +256,18 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
         open_ = [d for d in ds if decided[d] is None]
         if not (open_ or to_confirm) or (deadline is not None and time.monotonic() > deadline):
             break
-        run = certify_post_release_deltas(pm, wall, prec=prec, target=target, deltas=open_ + to_confirm,
-                                          max_impacts=max_impacts, stick_time=stick_time,
-                                          radius_limit=radius_limit, deadline=deadline, progress=progress)
+        run = certify_post_release_deltas(
+            pm,
+            wall,
+            prec=prec,
+            target=target,
+            deltas=open_ + to_confirm,
+            max_impacts=max_impacts,
+            stick_time=stick_time,
+            radius_limit=radius_limit,
+            deadline=deadline,
+            progress=progress,
+        )
         for d in to_confirm:
             attempts[d].append(run[d])
             confirm_with(d, run[d])
@@ -224,9 +281,18 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
     # decided at the last precision of the list: confirmed at twice it
     nxt = min(2 * precs[-1], MAX_PREC)
     if to_confirm and nxt > precs[-1] and (deadline is None or time.monotonic() <= deadline):
-        run = certify_post_release_deltas(pm, wall, prec=nxt, target=target, deltas=to_confirm,
-                                          max_impacts=max_impacts, stick_time=stick_time,
-                                          radius_limit=radius_limit, deadline=deadline, progress=progress)
+        run = certify_post_release_deltas(
+            pm,
+            wall,
+            prec=nxt,
+            target=target,
+            deltas=to_confirm,
+            max_impacts=max_impacts,
+            stick_time=stick_time,
+            radius_limit=radius_limit,
+            deadline=deadline,
+            progress=progress,
+        )
         for d in to_confirm:
             attempts[d].append(run[d])
             confirm_with(d, run[d])
@@ -237,10 +303,19 @@ def certified_release_durations(params_decimal: dict = PAPER_DECIMAL, wall: int 
         lower = max([b.impacts - (1 if b.status == "captured" else 0) for b in attempts[d]] or [0])
         status = a.status if a is not None else "undecided"
         out[d] = ReleaseDuration(
-            params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES}, rounding=rounding, wall=wall,
-            delta=d, max_impacts=int(max_impacts), target=target.as_dict(), release_phase=phase_text,
-            status=status, value=a.impacts if a is not None and status == "captured" else None,
-            precision=a.prec if a is not None else None, confirmed=confirmed[d], lower_bound=lower,
-            attempts=attempts[d], seconds=seconds)
+            params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES},
+            rounding=rounding,
+            wall=wall,
+            delta=d,
+            max_impacts=int(max_impacts),
+            target=target.as_dict(),
+            release_phase=phase_text,
+            status=status,
+            value=a.impacts if a is not None and status == "captured" else None,
+            precision=a.prec if a is not None else None,
+            confirmed=confirmed[d],
+            lower_bound=lower,
+            attempts=attempts[d],
+            seconds=seconds,
+        )
     return out
-

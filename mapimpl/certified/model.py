@@ -25,7 +25,6 @@ from ...core.params import PARAM_NAMES, Params
 from .balls import exact, span
 
 
-
 def parameter_ball(name: str, value) -> arb:
     """A parameter as a ball at the current precision: a float is the exact binary number it holds,
     a string is the exact *decimal* it spells (``"1.245"``: a ball of radius ~2^-prec around
@@ -62,8 +61,10 @@ class Model:
             values = params.as_dict()
         else:
             if not isinstance(params, Mapping):
-                raise InputTypeError(f"params is a {type(params).__name__}: allowed a gear_rattle.Params or a mapping "
-                                     f"of {', '.join(PARAM_NAMES)} to floats or decimal strings")
+                raise InputTypeError(
+                    f"params is a {type(params).__name__}: allowed a gear_rattle.Params or a mapping "
+                    f"of {', '.join(PARAM_NAMES)} to floats or decimal strings"
+                )
             values = dict(params)
             missing = [k for k in PARAM_NAMES if k not in values]
             extra = [k for k in values if k not in PARAM_NAMES]
@@ -137,7 +138,7 @@ class Flight:
 
     def snap(self, t: arb) -> arb:
         e, _ = self._e(t)
-        return self.m.alpha * (self.tau0 + t).sin() - self.m.beta ** 2 * self.B * e
+        return self.m.alpha * (self.tau0 + t).sin() - self.m.beta**2 * self.B * e
 
     # gaps: wall 0 (upper, s = 0): -s ; wall -1 (lower, s = -1): s + 1
     def gap(self, wall: int, t: arb) -> arb:
@@ -157,4 +158,3 @@ class Flight:
         sign = -1 if wall == 0 else 1
         s_enc = self.s(m) + self.v(m) * d + self.a(span(ta, tb)) * q
         return sign * s_enc + (0 if wall == 0 else 1)
-

@@ -43,8 +43,9 @@ def _tail_inside(fl: Flight, t: arb) -> bool:
     return bool(-s > 0 and s + 1 > 0)
 
 
-def certify_never_lands(model: Model, tau0: arb, s0: float, v0: arb, *, release: bool = False,
-                        prec: int = PREC) -> dict:
+def certify_never_lands(
+    model: Model, tau0: arb, s0: float, v0: arb, *, release: bool = False, prec: int = PREC
+) -> dict:
     """Prove that the flight from ``(tau0, s0, v0)`` reaches no wall for any ``t > 0`` (``gamma = 0``);
     ``s0`` a wall (0 or -1) or an interior float.  Returns what was proved (``tail_from``, pieces)."""
     if not model.gamma.is_zero():
@@ -76,15 +77,24 @@ def certify_never_lands(model: Model, tau0: arb, s0: float, v0: arb, *, release:
     return {"tail_from": float(t.mid()), "pieces": pieces, "evals": evals}
 
 
-def certify_no_impact_orbit(params, tau0: float, sdot0: float, last_impact: int, s0: float | None = None, *,
-                            prec: int = PREC, stick_time: float = STICK_TIME,
-                            radius_limit: float | None = None) -> CertifiedOrbit:
+def certify_no_impact_orbit(
+    params,
+    tau0: float,
+    sdot0: float,
+    last_impact: int,
+    s0: float | None = None,
+    *,
+    prec: int = PREC,
+    stick_time: float = STICK_TIME,
+    radius_limit: float | None = None,
+) -> CertifiedOrbit:
     """A certified orbit whose impact ``last_impact`` is its last: impacts ``0..last_impact`` by
     :func:`.orbit.certify_orbit`, then the map step of that impact, the policy in balls (stick and
     release rows if it sticks) and :func:`certify_never_lands`.  Status ``no_impact``; raises
     :class:`CertificationError` where the orbit does not end so (e.g. a wrong ``last_impact``)."""
-    orb = certify_orbit(params, tau0, sdot0, last_impact, s0=s0, prec=prec, stick_time=stick_time,
-                        radius_limit=radius_limit)
+    orb = certify_orbit(
+        params, tau0, sdot0, last_impact, s0=s0, prec=prec, stick_time=stick_time, radius_limit=radius_limit
+    )
     if orb.status != "active" or orb.events[-1].n != last_impact:
         raise CertificationError(f"the certified orbit ends before impact {last_impact}: {orb.stop_reason}")
     last = orb.events[-1]
@@ -98,15 +108,35 @@ def certify_no_impact_orbit(params, tau0: float, sdot0: float, last_impact: int,
             if delay is None:
                 raise CertificationError("the last impact sticks for ever: status stuck_forever, not no_impact")
             tau_stick = last.tau + t_acc
-            orb.events.append(Event(last_impact, tau_stick, mod_two_pi(tau_stick), last.wall, None, "stick",
-                                    {"source": "policy: tau_n + t_acc"}))
+            orb.events.append(
+                Event(
+                    last_impact,
+                    tau_stick,
+                    mod_two_pi(tau_stick),
+                    last.wall,
+                    None,
+                    "stick",
+                    {"source": "policy: tau_n + t_acc"},
+                )
+            )
             start, pieces = certify_release(model, last.tau, release_time(model, last.tau, last.wall), last.wall, prec)
-            orb.events.append(Event(last_impact, start, mod_two_pi(start), last.wall, None, "release",
-                                    {"source": "closed form zero of f, certified", "pieces": pieces}))
+            orb.events.append(
+                Event(
+                    last_impact,
+                    start,
+                    mod_two_pi(start),
+                    last.wall,
+                    None,
+                    "release",
+                    {"source": "closed form zero of f, certified", "pieces": pieces},
+                )
+            )
             v0, release = arb(0), True
         proof = certify_never_lands(model, start, float(last.wall), v0, release=release, prec=prec)
     orb.status = "no_impact"
-    orb.stop_reason = (f"no impact after impact {last_impact}: the flight reaches no wall for any t > 0 (certified: "
-                       f"{proof['pieces']} positive pieces, then the gamma = 0 tail bound from "
-                       f"t = {proof['tail_from']:.3g})")
+    orb.stop_reason = (
+        f"no impact after impact {last_impact}: the flight reaches no wall for any t > 0 (certified: "
+        f"{proof['pieces']} positive pieces, then the gamma = 0 tail bound from "
+        f"t = {proof['tail_from']:.3g})"
+    )
     return orb

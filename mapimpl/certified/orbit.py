@@ -19,6 +19,7 @@ from .contact import T_MAX, FlightCertificate, certified_flight, mean_value_impa
 from .model import Model
 from .sticking import certify_release, release_time, stick_decision
 
+
 @dataclass
 class Event:
     """One certified row: ``n, tau, theta, wall, sdot (None for stick/release), kind``."""
@@ -82,8 +83,16 @@ class Departure:
     pieces: int = 0
 
 
-def certified_departure(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int,
-                        stick_time: float = STICK_TIME, decide_prec: int | None = None) -> Departure:
+def certified_departure(
+    model: Model,
+    tau: arb,
+    sdot: arb,
+    wall: int,
+    *,
+    prec: int,
+    stick_time: float = STICK_TIME,
+    decide_prec: int | None = None,
+) -> Departure:
     """The first half of a map step from the pre-impact state ``(tau, sdot)`` on ``wall``: the reset
     ``sdot -> -r sdot`` (Eq. 11) or, under the sticking policy, the jump to the accumulation point and
     the release at the canonical phase (:func:`release_time`, certified by :func:`certify_release`)
@@ -112,8 +121,9 @@ def certified_departure(model: Model, tau: arb, sdot: arb, wall: int, *, prec: i
     return Departure(start, arb(0), True, stick, start, pieces)
 
 
-def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, stick_time: float = STICK_TIME,
-                   t_max: float = T_MAX) -> CertifiedStep:
+def certified_step(
+    model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, stick_time: float = STICK_TIME, t_max: float = T_MAX
+) -> CertifiedStep:
     """Apply the impact map to the pre-impact state ``(tau, sdot)`` on ``wall`` (balls): the departure
     (:func:`certified_departure`: the reset, or the sticking policy's stick and release), then the
     certified first impact (Eqs. 7-8) with the mean-value enclosure (:func:`mean_value_impact`)."""
@@ -125,9 +135,18 @@ def certified_step(model: Model, tau: arb, sdot: arb, wall: int, *, prec: int, s
     return CertifiedStep(new_tau, c.v, c.wall, c, dep.stick, dep.rel, dep.pieces)
 
 
-def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, *,
-                  prec: int = PREC, stick_time: float = STICK_TIME, radius_limit: float | None = None,
-                  t_max: float = T_MAX) -> CertifiedOrbit:
+def certify_orbit(
+    params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    *,
+    prec: int = PREC,
+    stick_time: float = STICK_TIME,
+    radius_limit: float | None = None,
+    t_max: float = T_MAX,
+) -> CertifiedOrbit:
     """Certified impact sequence with the layout of :class:`core.results.ImpactSequence`.
 
     Every event is an enclosure (balls) proven by :func:`~.contact.certified_flight` and the certified
@@ -211,8 +230,14 @@ def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float |
                 if st.tau is None:
                     status, reason = "stuck_forever", "stuck forever (|gamma| >= R)"
                     break
-                add(n - 1, st.release, wall, None, "release",
-                    {"source": "closed form zero of f, certified", "pieces": st.release_pieces})
+                add(
+                    n - 1,
+                    st.release,
+                    wall,
+                    None,
+                    "release",
+                    {"source": "closed form zero of f, certified", "pieces": st.release_pieces},
+                )
             tau1, sdot1, wall1, flight1 = st.landed()
             if radius_limit is not None and max(float(tau1.rad()), float(sdot1.rad())) > radius_limit:
                 reason = f"radius limit {radius_limit:g} exceeded at impact {n}"
@@ -224,5 +249,11 @@ def certify_orbit(params, tau0: float, sdot0: float, n_impacts: int, s0: float |
 
 
 def _flight_record(n: int, c: FlightCertificate) -> dict:
-    return {"impact": n, "wall": c.wall, "bracket": list(c.bracket), "pieces": c.pieces, "evals": c.evals,
-            "departure": c.departure}
+    return {
+        "impact": n,
+        "wall": c.wall,
+        "bracket": list(c.bracket),
+        "pieces": c.pieces,
+        "evals": c.evals,
+        "departure": c.departure,
+    }

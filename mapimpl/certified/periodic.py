@@ -161,8 +161,9 @@ def _start(tau, sdot, turns: int, prec: int):
     ``|tau| <= 1e6`` and velocities ``sdot != 0`` of equal length, ``1 <= turns <= MAX_PERIOD``, the
     precision) as ``(shape, x0)``."""
     tau = check_array("tau", tau, -TAU0_MAX, TAU0_MAX, max_size=MAX_PERIOD).tolist()
-    sdot = check_array("sdot", sdot, nonzero=True, max_size=MAX_PERIOD,
-                       allowed="finite, nonzero pre-impact velocities").tolist()
+    sdot = check_array(
+        "sdot", sdot, nonzero=True, max_size=MAX_PERIOD, allowed="finite, nonzero pre-impact velocities"
+    ).tolist()
     if len(tau) != len(sdot):
         raise ValueError(f"tau and sdot must be non-empty and of equal length (got {len(tau)}, {len(sdot)})")
     check_prec(prec)
@@ -219,8 +220,9 @@ def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PRE
         return _orbit(model, P, shape, res.box, res, prec)
 
 
-def certify_bifurcation(kind: str, params, name: str, tau, sdot, mu: float, turns: int = 1, *,
-                        prec: int = PREC) -> CertifiedBifurcation:
+def certify_bifurcation(
+    kind: str, params, name: str, tau, sdot, mu: float, turns: int = 1, *, prec: int = PREC
+) -> CertifiedBifurcation:
     """Prove the fold (``kind="fold"``) or period doubling (``"period-doubling"``) near the guess, by the
     Krawczyk operator on the extended system (the orbit equations and ``det(M -/+ I) = 0``).
 
@@ -253,9 +255,14 @@ def certify_bifurcation(kind: str, params, name: str, tau, sdot, mu: float, turn
 
     >>> from gear_rattle.core.params import Params
     >>> from gear_rattle.mapimpl.certified.periodic import certify_bifurcation
-    >>> b = certify_bifurcation("fold", Params(3.0, 0.1, 0.1, 0.8), "r",
-    ...                         [1.055, 2.017, 3.013, 4.172, 5.141, 6.102],
-    ...                         [-1.614, -1.343, -0.709, 1.734, 1.448, 0.829], 0.8214)
+    >>> b = certify_bifurcation(
+    ...     "fold",
+    ...     Params(3.0, 0.1, 0.1, 0.8),
+    ...     "r",
+    ...     [1.055, 2.017, 3.013, 4.172, 5.141, 6.102],
+    ...     [-1.614, -1.343, -0.709, 1.734, 1.448, 0.829],
+    ...     0.8214,
+    ... )
     >>> print(f"r2 = {float(b.value):.14f}", bool(b.value.rad() < 1e-80))
     r2 = 0.82144044758015 True
     """

@@ -126,15 +126,32 @@ def _radius_text(log2r: float) -> str:
 
 def check_deltas(deltas) -> tuple:
     """The distinct capture distances of ``deltas`` (a number or a sequence), largest first."""
-    d = check_array("deltas", deltas, 0.0, MAX_DELTA, nonzero=True, max_size=1000,
-                    allowed=f"finite capture distances 0 < delta <= {MAX_DELTA:g}")
+    d = check_array(
+        "deltas",
+        deltas,
+        0.0,
+        MAX_DELTA,
+        nonzero=True,
+        max_size=1000,
+        allowed=f"finite capture distances 0 < delta <= {MAX_DELTA:g}",
+    )
     return tuple(sorted(set(d.tolist()), reverse=True))
 
 
-def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, delta: float = DELTA,
-                         max_impacts: int = MAX_IMPACTS, stick_time: float = STICK_TIME,
-                         radius_limit: float = RADIUS_LIMIT, deadline: float | None = None,
-                         progress=None, record: bool = False) -> Attempt:
+def certify_post_release(
+    params,
+    wall: int = 0,
+    *,
+    prec: int,
+    target: Target,
+    delta: float = DELTA,
+    max_impacts: int = MAX_IMPACTS,
+    stick_time: float = STICK_TIME,
+    radius_limit: float = RADIUS_LIMIT,
+    deadline: float | None = None,
+    progress=None,
+    record: bool = False,
+) -> Attempt:
     """Certify the post-release orbit of ``wall`` at ``prec`` bits (see module docstring): the
     :class:`Attempt` for one capture distance ``delta`` (:func:`certify_post_release_deltas`).
 
@@ -144,9 +161,19 @@ def certify_post_release(params, wall: int = 0, *, prec: int, target: Target, de
     flight has the interval budget of :func:`.contact.certified_flight`: the attempt always ends.
     """
     delta = check_real("delta", delta, 0.0, MAX_DELTA, lo_open=True)
-    return certify_post_release_deltas(params, wall, prec=prec, target=target, deltas=(delta,),
-                                       max_impacts=max_impacts, stick_time=stick_time, radius_limit=radius_limit,
-                                       deadline=deadline, progress=progress, record=record)[float(delta)]
+    return certify_post_release_deltas(
+        params,
+        wall,
+        prec=prec,
+        target=target,
+        deltas=(delta,),
+        max_impacts=max_impacts,
+        stick_time=stick_time,
+        radius_limit=radius_limit,
+        deadline=deadline,
+        progress=progress,
+        record=record,
+    )[float(delta)]
 
 
 def _budget_end(n: int, max_impacts: int, deadline: float | None) -> tuple[str, str] | None:
@@ -168,16 +195,27 @@ def _stick_end(st, cur: int, n: int, walls_stuck: list, released_from: set) -> t
     if st.tau is None:
         return "stuck_forever", f"stuck forever to wall {cur} after impact {n}"
     if cur in released_from:
-        return "periodic", (f"sticks again to wall {cur} after impact {n}: the orbit repeats from its release and "
-                            "is never captured")
+        return "periodic", (
+            f"sticks again to wall {cur} after impact {n}: the orbit repeats from its release and is never captured"
+        )
     released_from.add(cur)
     return None
 
 
-def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Target, deltas=(DELTA,),
-                                max_impacts: int = MAX_IMPACTS, stick_time: float = STICK_TIME,
-                                radius_limit: float = RADIUS_LIMIT, deadline: float | None = None,
-                                progress=None, record: bool = False) -> dict[float, Attempt]:
+def certify_post_release_deltas(
+    params,
+    wall: int = 0,
+    *,
+    prec: int,
+    target: Target,
+    deltas=(DELTA,),
+    max_impacts: int = MAX_IMPACTS,
+    stick_time: float = STICK_TIME,
+    radius_limit: float = RADIUS_LIMIT,
+    deadline: float | None = None,
+    progress=None,
+    record: bool = False,
+) -> dict[float, Attempt]:
     """One certified run of the post-release orbit of ``wall`` at ``prec`` bits that decides every
     capture distance of ``deltas`` at once: ``{delta: Attempt}``.
 
@@ -204,8 +242,19 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
         """The outcome of the distances ``ds`` after ``n`` certified impacts."""
         k = sum(1 for x in xs if x <= n)
         for d in ds:
-            out[d] = Attempt(prec, status, n, reason, _radius_text(log2r), _slope(xs[:k], ys[:k]), dist_text,
-                             closest[d], list(walls_stuck), time.monotonic() - t0, list(orbit[:n]))
+            out[d] = Attempt(
+                prec,
+                status,
+                n,
+                reason,
+                _radius_text(log2r),
+                _slope(xs[:k], ys[:k]),
+                dist_text,
+                closest[d],
+                list(walls_stuck),
+                time.monotonic() - t0,
+                list(orbit[:n]),
+            )
             pending.remove(d)
 
     with precision(prec):
@@ -224,8 +273,11 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
             while True:
                 lr = _log2_radius(tau, sdot)
                 if lr > log2_limit:
-                    done(list(pending), "failed",
-                         f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} at impact {n + 1}")
+                    done(
+                        list(pending),
+                        "failed",
+                        f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} at impact {n + 1}",
+                    )
                     return out
                 theta = mod_two_pi(tau)
                 dist = certified_distance(theta, sdot, cur, target)
@@ -247,8 +299,12 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
                     progress(prec, n, _radius_text(lr))
                 for d in list(pending):
                     if captured[d] and dist is not None:  # (capture_decision: no distance, no capture)
-                        done([d], "captured", f"within delta={d:g} of the target at post-release impact {n}",
-                             dist.str(6, radius=True))
+                        done(
+                            [d],
+                            "captured",
+                            f"within delta={d:g} of the target at post-release impact {n}",
+                            dist.str(6, radius=True),
+                        )
                     elif dist is not None:
                         lb, so_far = float(dist.lower()), closest[d]
                         closest[d] = lb if so_far is None else min(so_far, lb)
@@ -267,4 +323,3 @@ def certify_post_release_deltas(params, wall: int = 0, *, prec: int, target: Tar
         except CertificationError as e:
             done(list(pending), "failed", f"{e} (impact {n + 1} undecided)")
             return out
-

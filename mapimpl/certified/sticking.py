@@ -17,6 +17,7 @@ from flint import arb
 from .balls import CertificationError, exact, span
 from .model import Model
 
+
 def stick_decision(model: Model, tau: arb, wall: int, sdot: arb, stick_time: float):
     """The sticking policy in balls; every comparison must be definite.
 
@@ -66,7 +67,7 @@ def release_phase(model: Model, wall: int) -> arb | None:
     """
     if model.alpha.is_zero():
         return None
-    R = model.alpha * (1 + model.beta ** 2).sqrt()
+    R = model.alpha * (1 + model.beta**2).sqrt()
     phi = model.beta.atan()
     c = model.gamma / R
     cd = c if wall == 0 else -c
@@ -75,8 +76,10 @@ def release_phase(model: Model, wall: int) -> arb | None:
     if not cd < 1:
         raise CertificationError("never-release decision |gamma| >= R not definite")
     if cd <= -1:
-        raise ValueError(f"wall={wall}: the contact force never presses into this wall (|gamma| >= R on the "
-                         "other side): nothing sticks there, there is no release phase")
+        raise ValueError(
+            f"wall={wall}: the contact force never presses into this wall (|gamma| >= R on the "
+            "other side): nothing sticks there, there is no release phase"
+        )
     if not cd > -1:
         raise CertificationError("never-pressing decision |gamma| >= R not definite")
     x = phi + (c.asin() if wall == 0 else arb.pi() - c.asin())
@@ -172,4 +175,3 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
         if h < arb(2) ** (-(prec - 40)):
             raise CertificationError("cannot prove the contact force keeps pressing before the release")
     return span(lo, hi), pieces
-

@@ -47,11 +47,21 @@ from flint import arb
 from ...core.params import Params
 from ...core.results import ImpactSequence
 from ...core.checks import MAX_IMPACTS, check_int, check_real, check_start
+
 # the orbit horizon of every track: a flight proven to reach no wall within it ends the orbit with no_impact
 from ...core.horizons import T_MAX
 from ..sticking import MAX_STICK_TIME, STICK_TIME
-from .balls import (PREC, check_prec, CertificationError, decimal_interval, exact, float_bounds, mod_two_pi,
-                    nearest_float, precision)
+from .balls import (
+    PREC,
+    check_prec,
+    CertificationError,
+    decimal_interval,
+    exact,
+    float_bounds,
+    mod_two_pi,
+    nearest_float,
+    precision,
+)
 from .contact import NoContactError, certified_flight, mean_value_impact
 from .model import Model
 from .orbit import Event, certified_departure
@@ -68,7 +78,7 @@ COVER_PREC = 128
 #: A ball is narrow enough when its radius is at most ``ulp / TIGHT_ULPS`` (at the scale ``max(|x|, 2^-60)``).
 TIGHT_ULPS = 16
 #: The smallest magnitude whose ulp scales the acceptance (values nearer 0 are held to ``ulp(2^-60)``).
-TIGHT_FLOOR = 2.0 ** -60
+TIGHT_FLOOR = 2.0**-60
 #: Bits the next attempt adds beyond the estimate ``growth x impacts``, and the impacts over which an
 #: attempt must have measured its growth for the estimate to be used (``_next_prec``).
 MARGIN_BITS, GROWTH_IMPACTS = 128, 32
@@ -137,14 +147,35 @@ class CertifiedRun:
         ``active`` and ``certified["complete"] = False``."""
         r = self.rows
         status = "active" if self.status == "uncertified" else self.status
-        meta = {"tau0": self.tau0, "sdot0": self.sdot0, "s0": self.s0, "n_impacts": self.n_impacts,
-                "stick_time": self.stick_time}
-        cert = {"complete": self.complete, "first_uncertified": self.first_uncertified, "reason": self.reason,
-                "precision_bits": self.precision, "attempts": [a.__dict__ | {"growth": _finite(a.growth)}
-                                                               for a in self.attempts]}
-        return CertifiedSequence(self.params, r["n"], r["tau"], r["theta"], r["wall"], r["sdot"], r["kind"],
-                                 status=status, track="certified", meta=meta,
-                                 bounds={k: r[k] for k in BOUND_COLUMNS}, certified=cert, balls=list(self.events))
+        meta = {
+            "tau0": self.tau0,
+            "sdot0": self.sdot0,
+            "s0": self.s0,
+            "n_impacts": self.n_impacts,
+            "stick_time": self.stick_time,
+        }
+        cert = {
+            "complete": self.complete,
+            "first_uncertified": self.first_uncertified,
+            "reason": self.reason,
+            "precision_bits": self.precision,
+            "attempts": [a.__dict__ | {"growth": _finite(a.growth)} for a in self.attempts],
+        }
+        return CertifiedSequence(
+            self.params,
+            r["n"],
+            r["tau"],
+            r["theta"],
+            r["wall"],
+            r["sdot"],
+            r["kind"],
+            status=status,
+            track="certified",
+            meta=meta,
+            bounds={k: r[k] for k in BOUND_COLUMNS},
+            certified=cert,
+            balls=list(self.events),
+        )
 
 
 def _finite(x: float):
@@ -178,8 +209,11 @@ class CertifiedSequence(ImpactSequence):
         return cols, [[r[c] for c in cols] for r in self.rows()]
 
     def arrays(self) -> dict:
-        return super().arrays() | {k: np.asarray(v) for k, v in self.bounds.items()} | {
-            "complete": self.certified.get("complete", True)}
+        return (
+            super().arrays()
+            | {k: np.asarray(v) for k, v in self.bounds.items()}
+            | {"complete": self.certified.get("complete", True)}
+        )
 
     def as_dict(self) -> dict:
         """The JSON content: the rows with their float64 bounds and, per row, decimal intervals
@@ -205,6 +239,7 @@ class UncertifiedOrbit(CertificationError):
 
 
 # ---------------------------------------------------------------------------------------------------------
+
 
 def _tight(x: arb) -> bool:
     """Whether the ball ``x`` is narrow at float64's scale (see the module docstring)."""
@@ -261,8 +296,19 @@ class _Run:
     growth: float
 
 
-def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None, prec: int, stick_time: float,
-             t_max: float, tick, growth_hint: float | None = None, deadline: float | None = None) -> _Run:
+def _attempt(
+    params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None,
+    prec: int,
+    stick_time: float,
+    t_max: float,
+    tick,
+    growth_hint: float | None = None,
+    deadline: float | None = None,
+) -> _Run:
     """One attempt at ``prec`` bits from the exact start (see the module docstring); ``growth_hint``: the
     bits lost per impact an earlier attempt measured (the working precision then stays below what the rest
     of the orbit needs at that rate, :func:`working_precision`)."""
@@ -300,9 +346,16 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
                 try:
                     c = certified_flight(model, exact(tau0), s0, exact(sdot0), prec=prec, t_max=t_max)
                 except NoContactError:
-                    return _Run(events, -1, True, "no_impact", _no_impact_reason(model, exact(tau0), s0,
-                                                                                 exact(sdot0), False, prec, t_max,
-                                                                                 "the free-flight start"), math.nan)
+                    return _Run(
+                        events,
+                        -1,
+                        True,
+                        "no_impact",
+                        _no_impact_reason(
+                            model, exact(tau0), s0, exact(sdot0), False, prec, t_max, "the free-flight start"
+                        ),
+                        math.nan,
+                    )
                 tau, sdot, wall = exact(tau0) + c.t, c.v, c.wall
             if not accept([Event(0, tau, mod_two_pi(tau), wall, sdot, "impact")]):
                 return stopped(0, WIDE)
@@ -317,31 +370,47 @@ def _attempt(params, tau0: float, sdot0: float, n_impacts: int, s0: float | None
             work = working_precision(prec, _bits_left(tau, sdot), cap)
             try:
                 with precision(work):
-                    dep = certified_departure(model, tau, sdot, wall, prec=work, stick_time=stick_time,
-                                              decide_prec=COVER_PREC)
+                    dep = certified_departure(
+                        model, tau, sdot, wall, prec=work, stick_time=stick_time, decide_prec=COVER_PREC
+                    )
                     rows = []
                     if dep.stick is not None:
                         rows.append(Event(n - 1, dep.stick, mod_two_pi(dep.stick), wall, None, "stick"))
                     if dep.start is None or dep.v0 is None:
                         if not accept(rows):
                             return stopped(n, WIDE + " (a stick row)")
-                        return _Run(events, n - 1, True, "stuck_forever",
-                                    f"stuck forever to wall {wall} after impact {n - 1} (|gamma| >= R)", growth())
+                        return _Run(
+                            events,
+                            n - 1,
+                            True,
+                            "stuck_forever",
+                            f"stuck forever to wall {wall} after impact {n - 1} (|gamma| >= R)",
+                            growth(),
+                        )
                     if dep.rel is not None:
                         rows.append(Event(n - 1, dep.rel, mod_two_pi(dep.rel), wall, None, "release"))
                     try:
                         c = _flight(model, dep.start, float(wall), dep.v0, dep.release, work, t_max)
                     except NoContactError:
-                        reason = _no_impact_reason(model, dep.start, float(wall), dep.v0, dep.release, work, t_max,
-                                                   f"the flight after impact {n - 1}")
+                        reason = _no_impact_reason(
+                            model,
+                            dep.start,
+                            float(wall),
+                            dep.v0,
+                            dep.release,
+                            work,
+                            t_max,
+                            f"the flight after impact {n - 1}",
+                        )
                         if not accept(rows):
                             return stopped(n, WIDE + " (a stick/release row)")
                         return _Run(events, n - 1, True, "no_impact", reason, growth())
                     if dep.release or (dep.start.is_exact() and dep.v0.is_exact()):
                         new_tau, new_v = c.t + dep.start, c.v  # (_flight refined it at the working precision)
                     else:
-                        new_tau, new_v = mean_value_impact(model, c, dep.start, float(wall), dep.v0, dep.release,
-                                                           work, t_max, lean=True)
+                        new_tau, new_v = mean_value_impact(
+                            model, c, dep.start, float(wall), dep.v0, dep.release, work, t_max, lean=True
+                        )
                     rows.append(Event(n, new_tau, mod_two_pi(new_tau), c.wall, new_v, "impact"))
             except CertificationError as e:
                 return stopped(n, str(e))
@@ -371,8 +440,9 @@ def _flight(model: Model, start: arb, s0: float, v0: arb, release: bool, work: i
     return certified_flight(model, start, s0, v0, release=release, prec=work, t_max=t_max)
 
 
-def _no_impact_reason(model: Model, start: arb, s0: float, v0: arb, release: bool, prec: int, t_max: float,
-                      what: str) -> str:
+def _no_impact_reason(
+    model: Model, start: arb, s0: float, v0: arb, release: bool, prec: int, t_max: float, what: str
+) -> str:
     """The reason of a certified ``no_impact`` ending: no wall within ``t_max`` (proven), and for all time
     where ``gamma = 0`` lets :func:`.noimpact.certify_never_lands` prove it."""
     text = f"{what} reaches no wall within T_MAX={t_max:g} (certified)"
@@ -408,9 +478,20 @@ def _bits_for(growth: float, impacts: int) -> int:
     return int(math.ceil(growth * 1.15 * impacts)) + MARGIN_BITS
 
 
-def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: float | None = None,
-                    stick_time: float = STICK_TIME, prec: int = START_PREC, max_prec: int = MAX_TRACK_PREC,
-                    t_max: float = T_MAX, time_budget_s: float | None = None, progress=None) -> CertifiedRun:
+def certified_orbit(
+    params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    *,
+    s0: float | None = None,
+    stick_time: float = STICK_TIME,
+    prec: int = START_PREC,
+    max_prec: int = MAX_TRACK_PREC,
+    t_max: float = T_MAX,
+    time_budget_s: float | None = None,
+    progress=None,
+) -> CertifiedRun:
     """The certified orbit: impact 0 and ``n_impacts`` further impacts, every row proven (module docstring).
 
     Parameters
@@ -493,10 +574,19 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     with bar:
         while True:
             ta = time.monotonic()
-            run = _attempt(params, tau0, sdot0, n_impacts, s0, prec, float(stick_time), float(t_max), tick, hint,
-                           deadline)
-            attempts.append(Attempt(prec, run.reached, run.complete, "" if run.complete else run.reason, run.growth,
-                                    time.monotonic() - ta))
+            run = _attempt(
+                params, tau0, sdot0, n_impacts, s0, prec, float(stick_time), float(t_max), tick, hint, deadline
+            )
+            attempts.append(
+                Attempt(
+                    prec,
+                    run.reached,
+                    run.complete,
+                    "" if run.complete else run.reason,
+                    run.growth,
+                    time.monotonic() - ta,
+                )
+            )
             if best is None or run.complete or run.reached >= best.reached:
                 best, best_prec = run, prec
             if run.complete or prec >= max_prec or run.reason == TIME_OUT:
@@ -508,15 +598,34 @@ def certified_orbit(params, tau0: float, sdot0: float, n_impacts: int, *, s0: fl
     first = None if best.complete else best.reached + 1
     reason = best.reason
     if not best.complete and attempts[-1].reason == TIME_OUT:
-        reason = (f"{TIME_OUT} ({time_budget_s:g} s) at {attempts[-1].prec} bits; the best attempt ({best_prec} bits) "
-                  f"stopped: {best.reason}" if best_prec != attempts[-1].prec else
-                  f"{TIME_OUT} ({time_budget_s:g} s) at {best_prec} bits")
+        reason = (
+            f"{TIME_OUT} ({time_budget_s:g} s) at {attempts[-1].prec} bits; the best attempt ({best_prec} bits) "
+            f"stopped: {best.reason}"
+            if best_prec != attempts[-1].prec
+            else f"{TIME_OUT} ({time_budget_s:g} s) at {best_prec} bits"
+        )
     elif not best.complete:
-        reason = (f"the precision limit ({max_prec} bits) is reached and {best.reason}"
-                  if best.reason.startswith(WIDE) else f"{best.reason} (at {best_prec} bits; the precision limit is "
-                                                       f"{max_prec} bits)")
-    out = CertifiedRun(p64, tau0, sdot0, s0, n_impacts, float(stick_time), best.events, best.status, best.complete,
-                       first, reason, best_prec, attempts, time.monotonic() - t0)
+        reason = (
+            f"the precision limit ({max_prec} bits) is reached and {best.reason}"
+            if best.reason.startswith(WIDE)
+            else f"{best.reason} (at {best_prec} bits; the precision limit is {max_prec} bits)"
+        )
+    out = CertifiedRun(
+        p64,
+        tau0,
+        sdot0,
+        s0,
+        n_impacts,
+        float(stick_time),
+        best.events,
+        best.status,
+        best.complete,
+        first,
+        reason,
+        best_prec,
+        attempts,
+        time.monotonic() - t0,
+    )
     out.rows = rows_of(best.events)
     return out
 
@@ -546,24 +655,41 @@ def rows_of(events: list) -> dict:
     return out
 
 
-__all__ = ["START_PREC", "MAX_TRACK_PREC", "DECIMAL_DIGITS", "GUARD_BITS", "MIN_WORK_PREC", "TIGHT_ULPS", "BOUND_COLUMNS", "Attempt",
-           "CertifiedRun", "CertifiedSequence", "UncertifiedOrbit", "certified_orbit", "working_precision",
-           "rows_of", "TRACK_OPTIONS", "track_orbit"]
+__all__ = [
+    "START_PREC",
+    "MAX_TRACK_PREC",
+    "DECIMAL_DIGITS",
+    "GUARD_BITS",
+    "MIN_WORK_PREC",
+    "TIGHT_ULPS",
+    "BOUND_COLUMNS",
+    "Attempt",
+    "CertifiedRun",
+    "CertifiedSequence",
+    "UncertifiedOrbit",
+    "certified_orbit",
+    "working_precision",
+    "rows_of",
+    "TRACK_OPTIONS",
+    "track_orbit",
+]
 
 
 #: The options of the certified track in :func:`mapimpl.tracks.orbit` (those of :func:`certified_orbit`).
 TRACK_OPTIONS = ("stick_time", "prec", "max_prec", "t_max", "time_budget_s")
 
 
-def track_orbit(params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, progress=None,
-                **options) -> CertifiedSequence:
+def track_orbit(
+    params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, progress=None, **options
+) -> CertifiedSequence:
     """The ``certified`` track of :func:`gear_rattle.orbit`: :func:`certified_orbit` as a
     :class:`CertifiedSequence`; :class:`UncertifiedOrbit` (with the certified prefix) when no precision up
     to ``max_prec`` certifies every requested impact.  ``options``: :data:`TRACK_OPTIONS`."""
     for name in options:
         if name not in TRACK_OPTIONS:
-            raise ValueError(f"option {name}={options[name]!r} is out of range: the certified track takes "
-                             f"{', '.join(TRACK_OPTIONS)}")
+            raise ValueError(
+                f"option {name}={options[name]!r} is out of range: the certified track takes {', '.join(TRACK_OPTIONS)}"
+            )
     run = certified_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **options)
     if not run.complete:
         raise UncertifiedOrbit(run)

@@ -95,7 +95,7 @@ def engine_devices(devices=None) -> list:
         if not devices or not all(isinstance(d, jax.Device) for d in devices):
             raise ValueError(f"devices={devices!r} is out of range: allowed a count or a non-empty list of JAX devices")
         return list(devices)
-    return list(avail[:check_int("devices", devices, 1, len(avail))])
+    return list(avail[: check_int("devices", devices, 1, len(avail))])
 
 
 def default_lanes(n_per_device: int) -> int:
@@ -126,8 +126,10 @@ def _params_arrays(params, n: int) -> ParamArrays:
         try:
             vals = ParamArrays(**params) if isinstance(params, dict) else ParamArrays(*params)
         except TypeError:
-            raise InputTypeError(f"params is a {type(params).__name__}: allowed a Params or a ParamArrays of "
-                                 "per-orbit arrays (alpha, beta, gamma, r)") from None
+            raise InputTypeError(
+                f"params is a {type(params).__name__}: allowed a Params or a ParamArrays of "
+                "per-orbit arrays (alpha, beta, gamma, r)"
+            ) from None
     checked = validate_arrays(*vals)
     for name, x in zip(ParamArrays._fields, checked):
         if np.ndim(x) and np.size(x) != n:
@@ -153,8 +155,7 @@ def max_kernel_calls(m: int, cap: int, block: int, max_steps: int, every: int = 
 def _impacts_done(lanes_s: Lane, res_s: Results) -> tuple[int, int]:
     """``(impacts of the finished orbits, impacts so far of the busy ones)`` of a device's queue."""
     busy = lanes_s.mode != K.MODE_IDLE
-    return (int(jnp.sum(res_s.n, dtype=jnp.int64)),
-            int(jnp.sum(jnp.where(busy, lanes_s.n, 0), dtype=jnp.int64)))
+    return (int(jnp.sum(res_s.n, dtype=jnp.int64)), int(jnp.sum(jnp.where(busy, lanes_s.n, 0), dtype=jnp.int64)))
 
 
 def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, observers) -> None:
@@ -184,7 +185,9 @@ def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, 
 def _check_states(theta, sdot, wall) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The initial pre-impact states as flat arrays (float64, float64, int32), validated
     (:func:`core.checks.check_array`: 1-D, at most ``MAX_ORBITS``)."""
-    th = check_array("theta", theta, -TAU0_MAX, TAU0_MAX, allowed="finite reals with " + TAU0_RANGE.replace("tau0", "theta"))
+    th = check_array(
+        "theta", theta, -TAU0_MAX, TAU0_MAX, allowed="finite reals with " + TAU0_RANGE.replace("tau0", "theta")
+    )
     sd = check_array("sdot", sdot, nonzero=True, allowed="finite reals sdot != 0 (pre-impact states)")
     w = check_array("wall", wall, -1.0, 0.0, allowed="0 (s = 0) or -1 (s = -1) per orbit")
     if not (th.shape == sd.shape == w.shape):
@@ -194,8 +197,18 @@ def _check_states(theta, sdot, wall) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return th, sd, w.astype(np.int32)
 
 
-def check_engine_options(cap, lanes=None, block=32, chunk=None, stick_time=STICK_TIME, devices=None, *,
-                         max_cap: int = MAX_CAP, t_max=T_MAX, max_steps=MAX_STEPS) -> tuple:
+def check_engine_options(
+    cap,
+    lanes=None,
+    block=32,
+    chunk=None,
+    stick_time=STICK_TIME,
+    devices=None,
+    *,
+    max_cap: int = MAX_CAP,
+    t_max=T_MAX,
+    max_steps=MAX_STEPS,
+) -> tuple:
     """The engine's settings, checked (:mod:`core.checks`) before any work and returned as
     ``(cap, lanes, block, chunk, stick_time, devices, t_max, max_steps)`` (``devices`` as the list of
     :func:`engine_devices`): ``1 <= cap <= max_cap``, ``1 <= lanes <= 2**22``, ``1 <= block <= 2**16``,
@@ -262,17 +275,24 @@ def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa: ParamArrays)
     placed on the device."""
     jobs = []
     for j, dv in enumerate(devs):
-        sel = idx[j::len(devs)]
+        sel = idx[j :: len(devs)]
         m = sel.size
         if m == 0:
             continue
         mp = _pow2(max(m, lanes))
         pad = lambda a: np.pad(a[sel], (0, mp - m), mode="edge")  # noqa: E731
         q = K.prepare_queue(pad(thr), pad(sd), pad(w), ParamArrays(*map(pad, pa)), n_ic=m)
-        carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs),
-                 jnp.asarray(0, jnp.int32))
-        jobs.append({"sel": sel, "m": m, "q": jax.device_put(q, dv), "k": k_dev[j],
-                     "carry": jax.device_put(carry, dv), "done": 0})
+        carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs), jnp.asarray(0, jnp.int32))
+        jobs.append(
+            {
+                "sel": sel,
+                "m": m,
+                "q": jax.device_put(q, dv),
+                "k": k_dev[j],
+                "carry": jax.device_put(carry, dv),
+                "done": 0,
+            }
+        )
     return jobs
 
 
@@ -312,10 +332,25 @@ def _gather(jobs: list[dict], out: dict, out_obs: tuple) -> int:
     return done
 
 
-def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = (), *, cap: int,
-        stop_at_stick: bool = False, lanes: int | None = None, block: int = 32, chunk: int | None = None,
-        devices=None, progress=None, label: str = "engine", stick_time: float = STICK_TIME,
-        t_max: float = T_MAX, max_steps: int = MAX_STEPS) -> EngineResult:
+def run(
+    theta,
+    sdot,
+    wall,
+    params,
+    observers: tuple[Observer, ...] | Observer = (),
+    *,
+    cap: int,
+    stop_at_stick: bool = False,
+    lanes: int | None = None,
+    block: int = 32,
+    chunk: int | None = None,
+    devices=None,
+    progress=None,
+    label: str = "engine",
+    stick_time: float = STICK_TIME,
+    t_max: float = T_MAX,
+    max_steps: int = MAX_STEPS,
+) -> EngineResult:
     """Iterate the impact map from every initial condition until its observers stop it, it reaches
     ``cap`` impacts, or it ends (stuck forever, no impact, step cap); see the module docstring.
 
@@ -390,14 +425,15 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
         raise InputTypeError("observers is out of range: allowed an Observer or a tuple of Observer instances")
     th, sd, w = _check_states(theta, sdot, wall)
     cap, lanes, block, chunk, stick_time, devs, t_max, max_steps = check_engine_options(
-        cap, lanes, block, chunk, stick_time, devices, t_max=t_max, max_steps=max_steps)
+        cap, lanes, block, chunk, stick_time, devices, t_max=t_max, max_steps=max_steps
+    )
     pa = _params_arrays(params, th.size)
     from ...core.phase import reduce_phase
 
     thr = np.asarray(reduce_phase(jnp.asarray(th), jnp.zeros(th.size, jnp.int32))[0])
     cyc_start = np.floor_divide(th - thr + np.pi, 2 * np.pi).astype(np.int64)  # turns removed by the reduction
 
-    devs = devs[:max(1, min(len(devs), th.size))]
+    devs = devs[: max(1, min(len(devs), th.size))]
     per_ic = 48 + sum(int(np.prod(o.fields()[nm][1], dtype=np.int64)) * 8 for o in obs for nm in o.outputs())
     if chunk is None:
         chunk = int(max(4096, min(1 << 18, CHUNK_BYTES // per_ic)))
@@ -405,14 +441,22 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
         lanes = default_lanes(min(th.size, chunk) // len(devs))
     lanes = K.padded_lanes(lanes)
     uniform = all(np.all(a == a[0]) for a in pa)
-    k = K.make_consts(cap, obs, stop_at_stick, stick_time, t_max, max_steps,
-                      params=ParamArrays(*(a[0] for a in pa)) if uniform else None)
+    k = K.make_consts(
+        cap,
+        obs,
+        stop_at_stick,
+        stick_time,
+        t_max,
+        max_steps,
+        params=ParamArrays(*(a[0] for a in pa)) if uniform else None,
+    )
     k_dev = [jax.device_put(k, dv) for dv in devs]
     n = th.size
     out = {name: np.zeros(n, np.dtype(dt)) for name, dt in RESULT_DTYPES._asdict().items() if name != "obs"}
     out["cycles"] = out["cycles"].astype(np.int64)
-    out_obs = tuple({nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()}
-                    for o in obs)
+    out_obs = tuple(
+        {nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()} for o in obs
+    )
     progress_ = _Reporter(progress, label, n, cap)
     stop_event = threading.Event()
     t0 = time.perf_counter()
@@ -425,8 +469,20 @@ def run(theta, sdot, wall, params, observers: tuple[Observer, ...] | Observer = 
     progress_.bar.update(int(np.sum(out["n"], dtype=np.int64)), int(np.sum(out["n"], dtype=np.int64)))
     progress_.bar.close()
     out["cycles"] = out["cycles"] + cyc_start
-    return EngineResult(**out, obs=out_obs, elapsed=elapsed,
-                        meta={"lanes": int(lanes), "block": int(block), "chunk": int(chunk),
-                              "backend": jax.default_backend(), "devices": len(devs), "cap": cap,
-                              "uniform_params": bool(uniform), "xla_tuning": xla_tuning_active(),
-                              "stop_at_stick": bool(stop_at_stick), "observers": [type(o).__name__ for o in obs]})
+    return EngineResult(
+        **out,
+        obs=out_obs,
+        elapsed=elapsed,
+        meta={
+            "lanes": int(lanes),
+            "block": int(block),
+            "chunk": int(chunk),
+            "backend": jax.default_backend(),
+            "devices": len(devs),
+            "cap": cap,
+            "uniform_params": bool(uniform),
+            "xla_tuning": xla_tuning_active(),
+            "stop_at_stick": bool(stop_at_stick),
+            "observers": [type(o).__name__ for o in obs],
+        },
+    )

@@ -62,8 +62,18 @@ from ...core import _jax  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ..finder import (_H0, _NEWTON_ITERS, MAX_STEPS, T_MAX, _gaps, bracket_test, bracket_unique, departure_time_sc, root_step,
-                      safe_step)
+from ..finder import (
+    _H0,
+    _NEWTON_ITERS,
+    MAX_STEPS,
+    T_MAX,
+    _gaps,
+    bracket_test,
+    bracket_unique,
+    departure_time_sc,
+    root_step,
+    safe_step,
+)
 from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, phi12
 from ..forcing import forcing_rate_sc, forcing_sc
 from ...core.phase import reduce_phase
@@ -72,8 +82,20 @@ from ...core.status import Status
 from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
 from ...core.params import ParamArrays
-from .lanes import (RESULT_DTYPES, Flight, Lane, LaneParams, Point, Queue, Release, Results, RunConsts, Search, fill,
-                    lane_dtypes)
+from .lanes import (
+    RESULT_DTYPES,
+    Flight,
+    Lane,
+    LaneParams,
+    Point,
+    Queue,
+    Release,
+    Results,
+    RunConsts,
+    Search,
+    fill,
+    lane_dtypes,
+)
 from .observers import Impact, Observer
 
 # lane modes: searching (A: safe step, B: bracket test, N: root iteration), pending arrival (L: a loaded
@@ -143,8 +165,15 @@ def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
     return ds, v, a, e, sin_t, cos_t
 
 
-def make_consts(cap, observers: tuple[Observer, ...], stop_at_stick=False, stick_time=STICK_TIME, t_max=T_MAX,
-                max_steps=MAX_STEPS, params: ParamArrays | None = None) -> RunConsts:
+def make_consts(
+    cap,
+    observers: tuple[Observer, ...],
+    stop_at_stick=False,
+    stick_time=STICK_TIME,
+    t_max=T_MAX,
+    max_steps=MAX_STEPS,
+    params: ParamArrays | None = None,
+) -> RunConsts:
     """The run constants (:class:`~.lanes.RunConsts`, JAX arrays): caps, the sticking threshold, the
     observers' constants (one dict per observer) and, when every orbit of the run has the same
     parameters ``params`` (a :class:`~gear_rattle.core.params.ParamArrays` of scalars), those parameters
@@ -152,9 +181,12 @@ def make_consts(cap, observers: tuple[Observer, ...], stop_at_stick=False, stick
     read them from here instead of from their own fields, which saves memory traffic; same arithmetic,
     same results)."""
     return RunConsts(
-        cap=jnp.asarray(cap, jnp.int32), stick_time=jnp.asarray(stick_time, jnp.float64),
-        t_max=jnp.asarray(t_max, jnp.float64), max_steps=jnp.asarray(max_steps, jnp.int32),
-        stop_at_stick=jnp.asarray(bool(stop_at_stick)), true=jnp.asarray(True),
+        cap=jnp.asarray(cap, jnp.int32),
+        stick_time=jnp.asarray(stick_time, jnp.float64),
+        t_max=jnp.asarray(t_max, jnp.float64),
+        max_steps=jnp.asarray(max_steps, jnp.int32),
+        stop_at_stick=jnp.asarray(bool(stop_at_stick)),
+        true=jnp.asarray(True),
         obs=tuple(o.consts() for o in observers),
         uniform=None if params is None else param_consts(params),
     )
@@ -169,8 +201,17 @@ _F64, _I32, _BOOL = jnp.float64, jnp.int32, jnp.bool_
 #: a search micro-step then reads and writes few arrays, which is what it costs on a CPU.
 SEARCH_FIELDS = {
     "A": ("t_a", None, None, "window H", None, None, None, None, "safe steps"),
-    "B": ("t_b", "t_a", "h_near", "window after a failed test", "v(t_a)", "a(t_a)", "b(t_a)", "near wall",
-          "safe steps"),
+    "B": (
+        "t_b",
+        "t_a",
+        "h_near",
+        "window after a failed test",
+        "v(t_a)",
+        "a(t_a)",
+        "b(t_a)",
+        "near wall",
+        "safe steps",
+    ),
     "N": ("x", "lo", "hi", None, None, None, "b(t_a)", "wall", "root iterations"),
     "H": ("t_hit", "sin(phase)", "cos(phase)", None, "v(t_hit)", None, None, "wall", None),
 }
@@ -179,18 +220,24 @@ SEARCH_FIELDS = {
 def idle_lanes(nlanes: int, observers: tuple[Observer, ...]) -> Lane:
     """A block of ``nlanes`` idle lanes (:class:`~.lanes.Lane`)."""
     lanes = fill(lane_dtypes(), (nlanes,))
-    obs = tuple({name: jnp.broadcast_to(jnp.asarray(init, dt), (nlanes,) + tuple(shape)).astype(dt)
-                 for name, (dt, shape, init) in o.fields().items()} for o in observers)
+    obs = tuple(
+        {
+            name: jnp.broadcast_to(jnp.asarray(init, dt), (nlanes,) + tuple(shape)).astype(dt)
+            for name, (dt, shape, init) in o.fields().items()
+        }
+        for o in observers
+    )
     return lanes._replace(mode=jnp.full((nlanes,), MODE_IDLE, _I32), ic=jnp.full((nlanes,), -1, _I32), obs=obs)
 
 
 def empty_results(m: int, observers: tuple[Observer, ...]) -> Results:
     """Result arrays (:class:`~.lanes.Results`) for ``m`` initial conditions (status NOT_RUN until written)."""
     res = fill(RESULT_DTYPES, (m,))
-    obs = tuple({name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0])
-                 for name in o.outputs()} for o in observers)
-    return res._replace(status=jnp.full((m,), int(Status.NOT_RUN), _I32), first_stick=jnp.full((m,), -1, _I32),
-                        obs=obs)
+    obs = tuple(
+        {name: jnp.zeros((m,) + tuple(o.fields()[name][1]), o.fields()[name][0]) for name in o.outputs()}
+        for o in observers
+    )
+    return res._replace(status=jnp.full((m,), int(Status.NOT_RUN), _I32), first_stick=jnp.full((m,), -1, _I32), obs=obs)
 
 
 @jax.jit
@@ -203,8 +250,9 @@ def prepare_queue(theta, sdot, wall, params: ParamArrays, n_ic=None) -> Queue:
     f = lambda x: jnp.asarray(x, _F64) + jnp.zeros(jnp.shape(theta), _F64)  # noqa: E731
     pa = ParamArrays(*(f(x) for x in params))
     sn, cs = sincos(theta)
-    start = Point(theta=f(theta), sdot=f(sdot), wall=jnp.asarray(wall, _I32) + jnp.zeros(jnp.shape(theta), _I32),
-                  sin=sn, cos=cs)
+    start = Point(
+        theta=f(theta), sdot=f(sdot), wall=jnp.asarray(wall, _I32) + jnp.zeros(jnp.shape(theta), _I32), sin=sn, cos=cs
+    )
 
     def release(w):
         ph, never = release_phase(jnp.full(jnp.shape(theta), w, _I32), pa.alpha, pa.beta, pa.gamma)
@@ -276,22 +324,23 @@ def search_step(s, k):
     g = jnp.where(top, du, dl)
     dg = jnp.where(top, -v, v)
     # A: one safe step from te = t_a
-    A = safe_step(ds, v, a, alpha + b, alpha + beta * b, te, S.window, S.steps, f.t_depart, f.s0, k.t_max,
-                  k.max_steps)
+    A = safe_step(ds, v, a, alpha + b, alpha + beta * b, te, S.window, S.steps, f.t_depart, f.s0, k.t_max, k.max_steps)
     # B: the bracket test at te = t_b (p1 = t_a, p2 = h_near), uniqueness from both ends of [t_a, t_b],
     # with the derivative bounds at t_a (valid for all later times)
     ba = S.b_a
     m2_a, m3_a = alpha + ba, alpha + beta * ba
     bracket, stalled = bracket_test(g, p1, p2, bracket_unique(S.v_a, S.a_a, v, a, m2_a, m3_a, te - p1))
     # B (on a bracket) and N: one root step at te, on [t_a, t_b] or on [p1, p2] = [lo, hi]
-    xr, lo_r, hi_r, r_done, kr = root_step(te, g, dg, jnp.where(top, -a, a), p1, jnp.where(inB, te, p2), m2_a, m3_a,
-                                           jnp.where(inB, 0, S.root_iters))
-    A, bracket, stalled, xr, lo_r, hi_r, r_done, kr = _barrier((A, bracket, stalled, xr, lo_r, hi_r, r_done, kr),
-                                                               k.true)
+    xr, lo_r, hi_r, r_done, kr = root_step(
+        te, g, dg, jnp.where(top, -a, a), p1, jnp.where(inB, te, p2), m2_a, m3_a, jnp.where(inB, 0, S.root_iters)
+    )
+    A, bracket, stalled, xr, lo_r, hi_r, r_done, kr = _barrier(
+        (A, bracket, stalled, xr, lo_r, hi_r, r_done, kr), k.true
+    )
 
     # outcome
     graze = inB & stalled
-    root = (inN | (inB & bracket))
+    root = inN | (inB & bracket)
     hit = (root & r_done) | graze
     t_hit = jnp.where(graze, p1, xr)  # a graze is an impact at t_a
     dx = t_hit - te
@@ -303,12 +352,16 @@ def search_step(s, k):
     failed = (B_retry & ~B_beyond & (S.steps >= k.max_steps)) | (inA & A.move & ~A.beyond & A.capped)
     toB = inA & ~A.move
 
-    new_mode = jnp.where(inA, jnp.where(A.move, MODE_A, MODE_B),
-                         jnp.where(root, jnp.where(r_done, MODE_H, MODE_N),
-                                   jnp.where(inB, jnp.where(stalled, MODE_H, MODE_A), mode)))
+    new_mode = jnp.where(
+        inA,
+        jnp.where(A.move, MODE_A, MODE_B),
+        jnp.where(root, jnp.where(r_done, MODE_H, MODE_N), jnp.where(inB, jnp.where(stalled, MODE_H, MODE_A), mode)),
+    )
     half_dx2 = 0.5 * dx * dx
     search = Search(
-        t=jnp.where(inA, jnp.where(A.move, A.t_next, A.t_b), jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te))),
+        t=jnp.where(
+            inA, jnp.where(A.move, A.t_next, A.t_b), jnp.where(root | graze, t_hit, jnp.where(inB, B_t_new, te))
+        ),
         p1=jnp.where(hit, sin_t + cos_t * dx - sin_t * half_dx2, jnp.where(toB, te, jnp.where(root, lo_r, p1))),
         p2=jnp.where(hit, cos_t - sin_t * dx - cos_t * half_dx2, jnp.where(toB, A.h_near, jnp.where(root, hi_r, p2))),
         window=jnp.where(inA, A.H_new, S.window),
@@ -317,11 +370,15 @@ def search_step(s, k):
         b_a=jnp.where(toB, b, S.b_a),
         top=jnp.where(toB, A.top_near, top),
         steps=jnp.where(inA, A.it, S.steps),
-        root_iters=jnp.where(root, kr, S.root_iters))
+        root_iters=jnp.where(root, kr, S.root_iters),
+    )
     return s._replace(
         mode=jnp.where(escaped | failed, MODE_IDLE, new_mode).astype(_I32),
-        status=jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), s.status)).astype(_I32),
-        search=search)
+        status=jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), s.status)).astype(
+            _I32
+        ),
+        search=search,
+    )
 
 
 def _arrived_state(s: Lane, k: RunConsts):
@@ -370,13 +427,23 @@ def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
     top1 = wall1 == 0
     rel_ph = jnp.where(top1, top_rel.phase, bot_rel.phase)
     never = jnp.where(top1, top_rel.never, bot_rel.never)
-    stick, _, delay, _ = decide_stick_sc(th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k.stick_time,
-                                         release=(rel_ph, never))
+    stick, _, delay, _ = decide_stick_sc(
+        th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k.stick_time, release=(rel_ph, never)
+    )
     stuck_forever = stick & ~jnp.isfinite(delay)
     # the observers
-    ev = Impact(n=n1, theta=th1, sdot=v1, wall=wall1, cycles=cyc1, dt=dt1, loaded=inL, stick=stick,
-                jac=_step_jacobian(s, t_hit, v1, sn1, cs1) if any(o.needs_jacobian for o in observers) else None,
-                jac_ok=~inL)
+    ev = Impact(
+        n=n1,
+        theta=th1,
+        sdot=v1,
+        wall=wall1,
+        cycles=cyc1,
+        dt=dt1,
+        loaded=inL,
+        stick=stick,
+        jac=_step_jacobian(s, t_hit, v1, sn1, cs1) if any(o.needs_jacobian for o in observers) else None,
+        jac_ok=~inL,
+    )
     obs_new, stop = _observe(s, k, observers, ev, arrive)
     capped = arrive & (n1 >= k.cap)
     stick_stop = arrive & stick & ~stuck_forever & k.stop_at_stick
@@ -394,17 +461,72 @@ def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
     tdep_new = departure_time_sc(sn0_new, cs0_new, s0_new, v0_new, alpha, beta, gamma)
     bc_new = jnp.abs(beta * (v0_new - alpha * cs0_new) - gamma)
     a0_new = forcing_sc(sn0_new, cs0_new, alpha, beta, gamma) - beta * v0_new
-    (stop, capped, stick_stop, orbit_end, go_on, go_stick, th0_new, sn0_new, cs0_new, v0_new, delay_used, cyc0_new,
-     tdep_new, bc_new, a0_new) = _barrier((stop, capped, stick_stop, orbit_end, go_on, go_stick, th0_new, sn0_new,
-                                           cs0_new, v0_new, delay_used, cyc0_new, tdep_new, bc_new, a0_new), k.true)
+    (
+        stop,
+        capped,
+        stick_stop,
+        orbit_end,
+        go_on,
+        go_stick,
+        th0_new,
+        sn0_new,
+        cs0_new,
+        v0_new,
+        delay_used,
+        cyc0_new,
+        tdep_new,
+        bc_new,
+        a0_new,
+    ) = _barrier(
+        (
+            stop,
+            capped,
+            stick_stop,
+            orbit_end,
+            go_on,
+            go_stick,
+            th0_new,
+            sn0_new,
+            cs0_new,
+            v0_new,
+            delay_used,
+            cyc0_new,
+            tdep_new,
+            bc_new,
+            a0_new,
+        ),
+        k.true,
+    )
     # the new flight's first safe step, from its state at t = 0: (ds, v, a) = (0, v0, a0) in closed form
-    A = _barrier(safe_step(0.0, v0_new, a0_new, alpha + bc_new, alpha + beta * bc_new, 0.0, _H0, 0, tdep_new, s0_new,
-                           k.t_max, k.max_steps), k.true)
+    A = _barrier(
+        safe_step(
+            0.0,
+            v0_new,
+            a0_new,
+            alpha + bc_new,
+            alpha + beta * bc_new,
+            0.0,
+            _H0,
+            0,
+            tdep_new,
+            s0_new,
+            k.t_max,
+            k.max_steps,
+        ),
+        k.true,
+    )
     escaped = go_on & A.move & A.beyond
     failed = go_on & A.move & ~A.beyond & A.capped
 
-    status = jnp.where(stop, int(Status.STOPPED), jnp.where(arrive & stuck_forever, int(Status.STUCK_FOREVER),
-                       jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s.status))))
+    status = jnp.where(
+        stop,
+        int(Status.STOPPED),
+        jnp.where(
+            arrive & stuck_forever,
+            int(Status.STUCK_FOREVER),
+            jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s.status)),
+        ),
+    )
     # the search of the new flight: mode A from its first safe step, or B (t_a = 0)
     search = S._replace(
         t=jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), S.t),
@@ -415,10 +537,14 @@ def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
         top=jnp.where(go_on, A.top_near, S.top),
         a_a=jnp.where(go_on, a0_new, S.a_a),
         b_a=jnp.where(go_on, bc_new, S.b_a),
-        steps=jnp.where(go_on, A.it, S.steps))
+        steps=jnp.where(go_on, A.it, S.steps),
+    )
     # arrival at a pre-impact state
-    at = s.at._replace(theta=jnp.where(arrive, th1, s.at.theta), sdot=jnp.where(arrive, v1, s.at.sdot),
-                       wall=jnp.where(arrive, wall1, s.at.wall))
+    at = s.at._replace(
+        theta=jnp.where(arrive, th1, s.at.theta),
+        sdot=jnp.where(arrive, v1, s.at.sdot),
+        wall=jnp.where(arrive, wall1, s.at.wall),
+    )
     sticks = arrive & stick
     # the new flight
     flight = Flight(
@@ -431,18 +557,22 @@ def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
         delay=jnp.where(go_on, delay_used, f.delay),
         released=jnp.where(go_on, go_stick, f.released),
         t_depart=jnp.where(go_on, tdep_new, f.t_depart),
-        bound=jnp.where(go_on, bc_new, f.bound))
+        bound=jnp.where(go_on, bc_new, f.bound),
+    )
     return s._replace(
-        mode=jnp.where(arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE,
-                                         jnp.where(A.move, MODE_A, MODE_B)), mode).astype(_I32),
+        mode=jnp.where(
+            arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE, jnp.where(A.move, MODE_A, MODE_B)), mode
+        ).astype(_I32),
         status=jnp.where(escaped, int(Status.NO_IMPACT), jnp.where(failed, int(Status.STEP_CAP), status)).astype(_I32),
-        search=search, at=at,
+        search=search,
+        at=at,
         cycles=jnp.where(arrive, cyc1, s.cycles),
         n=jnp.where(arrive, n1, s.n),
         obs=tuple(obs_new),
         nstick=s.nstick + sticks.astype(_I32),
         first_stick=jnp.where(sticks & (s.first_stick < 0), n1, s.first_stick),
-        flight=flight)
+        flight=flight,
+    )
 
 
 def _load(lanes: Lane, queue: Queue, next_ic, observers) -> tuple[Lane, Any]:
@@ -458,17 +588,25 @@ def _load(lanes: Lane, queue: Queue, next_ic, observers) -> tuple[Lane, Any]:
     par = jax.tree_util.tree_map(loaded, queue.par, lanes.par)
 
     def reset(o, fields):
-        return {name: jnp.where(take.reshape((-1,) + (1,) * (o[name].ndim - 1)),
-                                jnp.asarray(fields[name][2], fields[name][0]), o[name]) for name in o}
+        return {
+            name: jnp.where(
+                take.reshape((-1,) + (1,) * (o[name].ndim - 1)), jnp.asarray(fields[name][2], fields[name][0]), o[name]
+            )
+            for name in o
+        }
 
     new = lanes._replace(
         mode=jnp.where(take, MODE_L, lanes.mode),
         ic=jnp.where(take, idx, jnp.where(idle, -1, lanes.ic)),
-        at=at, par=par,
-        n=jnp.where(take, 0, lanes.n), cycles=jnp.where(take, 0, lanes.cycles),
-        nstick=jnp.where(take, 0, lanes.nstick), first_stick=jnp.where(take, -1, lanes.first_stick),
+        at=at,
+        par=par,
+        n=jnp.where(take, 0, lanes.n),
+        cycles=jnp.where(take, 0, lanes.cycles),
+        nstick=jnp.where(take, 0, lanes.nstick),
+        first_stick=jnp.where(take, -1, lanes.first_stick),
         status=jnp.where(take, int(Status.CAPPED), lanes.status),
-        obs=tuple(reset(o, ob.fields()) for o, ob in zip(lanes.obs, observers)))
+        obs=tuple(reset(o, ob.fields()) for o, ob in zip(lanes.obs, observers)),
+    )
     # (jnp.sum of int32 is int64 under x64: the count is added in int64, as before strict promotion)
     return new, (next_ic.astype(jnp.int64) + jnp.sum(take.astype(_I32))).astype(_I32)
 
@@ -480,10 +618,17 @@ def _store(res: Results, lanes: Lane) -> tuple[Results, Lane]:
     j = jnp.where(done, lanes.ic, n_ic)  # out of range -> dropped
     put = lambda r, x: r.at[j].set(x, mode="drop")  # noqa: E731
     at = lanes.at
-    out = Results(n=put(res.n, lanes.n), status=put(res.status, lanes.status), nstick=put(res.nstick, lanes.nstick),
-                  first_stick=put(res.first_stick, lanes.first_stick), theta=put(res.theta, at.theta),
-                  sdot=put(res.sdot, at.sdot), wall=put(res.wall, at.wall), cycles=put(res.cycles, lanes.cycles),
-                  obs=tuple({name: put(r_o[name], l_o[name]) for name in r_o} for r_o, l_o in zip(res.obs, lanes.obs)))
+    out = Results(
+        n=put(res.n, lanes.n),
+        status=put(res.status, lanes.status),
+        nstick=put(res.nstick, lanes.nstick),
+        first_stick=put(res.first_stick, lanes.first_stick),
+        theta=put(res.theta, at.theta),
+        sdot=put(res.sdot, at.sdot),
+        wall=put(res.wall, at.wall),
+        cycles=put(res.cycles, lanes.cycles),
+        obs=tuple({name: put(r_o[name], l_o[name]) for name in r_o} for r_o, l_o in zip(res.obs, lanes.obs)),
+    )
     return out, lanes._replace(ic=jnp.where(done, -1, lanes.ic))
 
 
@@ -501,8 +646,9 @@ def compact(lanes: Lane, size: int) -> Lane:
 
 
 @partial(jax.jit, static_argnames=("observers", "block", "max_blocks", "every"))
-def run_blocks(carry: tuple[Lane, Results, Any], queue: Queue, k: RunConsts, observers, block=32, max_blocks=64,
-               every=ARRIVE_EVERY):
+def run_blocks(
+    carry: tuple[Lane, Results, Any], queue: Queue, k: RunConsts, observers, block=32, max_blocks=64, every=ARRIVE_EVERY
+):
     """Advance the engine by up to ``max_blocks`` blocks (early exit when every initial condition of
     the queue is done).  A block refills idle lanes from the queue, then runs ``block`` search
     micro-steps (:func:`search_step`) with an arrival pass (:func:`arrival`) before the first and after
@@ -552,8 +698,13 @@ def trace(queue1: Queue, k: RunConsts, n_impacts: int, observers=()):
     orbit ended are NaN."""
     first = lambda tree: jax.tree_util.tree_map(lambda x: x[0], tree)  # noqa: E731
     lane = first(idle_lanes(1, observers))._replace(
-        at=first(queue1.start), par=first(queue1.par), mode=jnp.int32(MODE_L), ic=jnp.int32(0),
-        first_stick=jnp.int32(-1), status=jnp.int32(int(Status.CAPPED)))
+        at=first(queue1.start),
+        par=first(queue1.par),
+        mode=jnp.int32(MODE_L),
+        ic=jnp.int32(0),
+        first_stick=jnp.int32(-1),
+        status=jnp.int32(int(Status.CAPPED)),
+    )
     hist = jnp.full((n_impacts + 1, 3), jnp.nan)
     # every flight ends within its micro-step bound (a guard against an engine bug, never reached)
     bound = (n_impacts + 1) * (flight_micro_steps(k.max_steps, every=1) + 1)
@@ -590,7 +741,27 @@ def padded_lanes(lanes: int) -> int:
     return max(q, -(-int(lanes) // q) * q)
 
 
-__all__ = ["MODE_A", "MODE_B", "MODE_N", "MODE_L", "MODE_IDLE", "MODE_H", "ARRIVE_EVERY", "LANE_QUANTUM",
-           "SEARCH_FIELDS", "flight_sc", "make_consts", "param_consts", "idle_lanes", "empty_results",
-           "prepare_queue", "search_step", "arrival", "compact", "run_blocks", "trace", "flight_micro_steps",
-           "padded_lanes"]
+__all__ = [
+    "MODE_A",
+    "MODE_B",
+    "MODE_N",
+    "MODE_L",
+    "MODE_IDLE",
+    "MODE_H",
+    "ARRIVE_EVERY",
+    "LANE_QUANTUM",
+    "SEARCH_FIELDS",
+    "flight_sc",
+    "make_consts",
+    "param_consts",
+    "idle_lanes",
+    "empty_results",
+    "prepare_queue",
+    "search_step",
+    "arrival",
+    "compact",
+    "run_blocks",
+    "trace",
+    "flight_micro_steps",
+    "padded_lanes",
+]

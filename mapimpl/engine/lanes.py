@@ -163,10 +163,20 @@ POINT_DTYPES = Point(_F64, _F64, _I32, _F64, _F64)
 
 def lane_dtypes() -> Lane:
     """The dtype of every engine field of :class:`Lane` (``obs``: empty; the observers say theirs)."""
-    return Lane(mode=_I32, ic=_I32, n=_I32, cycles=_I32, nstick=_I32, first_stick=_I32, status=_I32,
-                par=PARAMS_DTYPES, at=POINT_DTYPES,
-                flight=Flight(_F64, _F64, _F64, _F64, _F64, _I32, _F64, _BOOL, _F64, _F64),
-                search=Search(_F64, _F64, _F64, _F64, _F64, _F64, _F64, _BOOL, _I32, _I32), obs=())
+    return Lane(
+        mode=_I32,
+        ic=_I32,
+        n=_I32,
+        cycles=_I32,
+        nstick=_I32,
+        first_stick=_I32,
+        status=_I32,
+        par=PARAMS_DTYPES,
+        at=POINT_DTYPES,
+        flight=Flight(_F64, _F64, _F64, _F64, _F64, _I32, _F64, _BOOL, _F64, _F64),
+        search=Search(_F64, _F64, _F64, _F64, _F64, _F64, _F64, _BOOL, _I32, _I32),
+        obs=(),
+    )
 
 
 #: The dtype of every engine field of :class:`Results`.
@@ -179,5 +189,19 @@ def fill(dtypes, shape, value=0):
     return jax.tree_util.tree_map(lambda dt: jnp.full(shape, value, dt), dtypes)
 
 
-__all__ = ["Release", "LaneParams", "Point", "Flight", "Search", "Lane", "Queue", "Results", "RunConsts",
-           "PARAMS_DTYPES", "POINT_DTYPES", "RESULT_DTYPES", "lane_dtypes", "fill"]
+__all__ = [
+    "Release",
+    "LaneParams",
+    "Point",
+    "Flight",
+    "Search",
+    "Lane",
+    "Queue",
+    "Results",
+    "RunConsts",
+    "PARAMS_DTYPES",
+    "POINT_DTYPES",
+    "RESULT_DTYPES",
+    "lane_dtypes",
+    "fill",
+]

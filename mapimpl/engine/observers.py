@@ -149,8 +149,12 @@ class Capture(Observer):
         return {"hit": (_I32, (self.deltas.size,), -1)}
 
     def consts(self):
-        return {"th": jnp.asarray(self.theta), "sd": jnp.asarray(self.sdot), "w": jnp.asarray(self.wall),
-                "deltas": jnp.asarray(self.deltas)}
+        return {
+            "th": jnp.asarray(self.theta),
+            "sd": jnp.asarray(self.sdot),
+            "w": jnp.asarray(self.wall),
+            "deltas": jnp.asarray(self.deltas),
+        }
 
     def update(self, o, ev, k):
         d = orbit_distance(ev.theta, ev.sdot, ev.wall, k["th"], k["sd"], k["w"])
@@ -190,16 +194,26 @@ class BandEscape(Observer):
         return isinstance(other, BandEscape) and (self.p, self.stop_at_first) == (other.p, other.stop_at_first)
 
     def fields(self):
-        return {"ring": (_F64, (self.p,), 0.0), "pos": (_I32, (), 0), "cnt": (_I32, (), 0),
-                "inside": (_I32, (), 0), "first": (_I32, (), -1), "bursts": (_I32, (), 0),
-                "exposure": (_I32, (), 0)}
+        return {
+            "ring": (_F64, (self.p,), 0.0),
+            "pos": (_I32, (), 0),
+            "cnt": (_I32, (), 0),
+            "inside": (_I32, (), 0),
+            "first": (_I32, (), -1),
+            "bursts": (_I32, (), 0),
+            "exposure": (_I32, (), 0),
+        }
 
     def outputs(self):
         return ("first", "bursts", "exposure")
 
     def consts(self):
-        return {"period": jnp.asarray(TWO_PI * self.m, _F64), "thr": jnp.asarray(self.threshold, _F64),
-                "min_in": jnp.asarray(self.min_inside, _I32), "n0": jnp.asarray(self.n_start, _I32)}
+        return {
+            "period": jnp.asarray(TWO_PI * self.m, _F64),
+            "thr": jnp.asarray(self.threshold, _F64),
+            "min_in": jnp.asarray(self.min_inside, _I32),
+            "n0": jnp.asarray(self.n_start, _I32),
+        }
 
     def update(self, o, ev, k):
         use = ~ev.loaded & (ev.n > k["n0"])
@@ -211,8 +225,15 @@ class BandEscape(Observer):
         burst = use & out & (o["inside"] >= k["min_in"])
         inside = jnp.where(use & full, jnp.where(out, 0, o["inside"] + 1), o["inside"])
         first = jnp.where(burst & (o["first"] < 0), ev.n, o["first"])
-        new = {"ring": ring, "pos": pos, "cnt": cnt, "inside": inside, "first": first,
-               "bursts": o["bursts"] + burst.astype(_I32), "exposure": o["exposure"] + use.astype(_I32)}
+        new = {
+            "ring": ring,
+            "pos": pos,
+            "cnt": cnt,
+            "inside": inside,
+            "first": first,
+            "bursts": o["bursts"] + burst.astype(_I32),
+            "exposure": o["exposure"] + use.astype(_I32),
+        }
         return new, (burst & self.stop_at_first)
 
 
@@ -248,16 +269,27 @@ class Laminar(Observer):
         return isinstance(other, Laminar) and self.theta.size == other.theta.size
 
     def fields(self):
-        return {"run": (_I32, (), 0), "ok_start": (_BOOL, (), False), "seen_out": (_BOOL, (), False),
-                "count": (_I32, (), 0), "total": (_F64, (), 0.0), "total_sq": (_F64, (), 0.0),
-                "exposure": (_I32, (), 0)}
+        return {
+            "run": (_I32, (), 0),
+            "ok_start": (_BOOL, (), False),
+            "seen_out": (_BOOL, (), False),
+            "count": (_I32, (), 0),
+            "total": (_F64, (), 0.0),
+            "total_sq": (_F64, (), 0.0),
+            "exposure": (_I32, (), 0),
+        }
 
     def outputs(self):
         return ("count", "total", "total_sq", "exposure", "run")
 
     def consts(self):
-        return {"th": jnp.asarray(self.theta), "sd": jnp.asarray(self.sdot), "eps": jnp.asarray(self.eps, _F64),
-                "min_len": jnp.asarray(self.min_length, _I32), "n0": jnp.asarray(self.n_start, _I32)}
+        return {
+            "th": jnp.asarray(self.theta),
+            "sd": jnp.asarray(self.sdot),
+            "eps": jnp.asarray(self.eps, _F64),
+            "min_len": jnp.asarray(self.min_length, _I32),
+            "n0": jnp.asarray(self.n_start, _I32),
+        }
 
     def update(self, o, ev, k):
         use = ev.n >= k["n0"]
@@ -299,8 +331,12 @@ class Sample(Observer):
 
     def fields(self):
         K = int(self.keep)
-        return {"theta": (_F64, (K,), np.nan), "sdot": (_F64, (K,), np.nan), "wall": (_I32, (K,), 0),
-                "cycles": (_I32, (K,), 0)}
+        return {
+            "theta": (_F64, (K,), np.nan),
+            "sdot": (_F64, (K,), np.nan),
+            "wall": (_I32, (K,), 0),
+            "cycles": (_I32, (K,), 0),
+        }
 
     def consts(self):
         return {"n0": jnp.asarray(self.n_start, _I32)}
@@ -309,8 +345,10 @@ class Sample(Observer):
         i = ev.n - k["n0"]
         inside = (i >= 0) & (i < int(self.keep))
         j = jnp.where(inside, i, int(self.keep))  # out of range -> dropped
-        new = {name: o[name].at[j].set(val, mode="drop") for name, val in
-               (("theta", ev.theta), ("sdot", ev.sdot), ("wall", ev.wall), ("cycles", ev.cycles))}
+        new = {
+            name: o[name].at[j].set(val, mode="drop")
+            for name, val in (("theta", ev.theta), ("sdot", ev.sdot), ("wall", ev.wall), ("cycles", ev.cycles))
+        }
         return new, i >= int(self.keep) - 1
 
 
@@ -356,9 +394,15 @@ class Tangent(Observer):
         return isinstance(other, Tangent)
 
     def fields(self):
-        return {"Q": (_F64, (2, 2), np.eye(2)), "log_r": (_F64, (2,), 0.0), "n_free": (_I32, (), 0),
-                "n_stuck": (_I32, (), 0), "sdot0": (_F64, (), np.nan), "theta0": (_F64, (), np.nan),
-                "cycles0": (_I32, (), 0)}
+        return {
+            "Q": (_F64, (2, 2), np.eye(2)),
+            "log_r": (_F64, (2,), 0.0),
+            "n_free": (_I32, (), 0),
+            "n_stuck": (_I32, (), 0),
+            "sdot0": (_F64, (), np.nan),
+            "theta0": (_F64, (), np.nan),
+            "cycles0": (_I32, (), 0),
+        }
 
     def outputs(self):
         return ("log_r", "n_free", "n_stuck", "sdot0", "theta0", "cycles0")

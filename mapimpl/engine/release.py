@@ -45,8 +45,9 @@ class ReleaseSource(StrEnum):
         try:
             return cls(value)
         except ValueError:
-            raise ValueError(f"{name}={value!r} is out of range: allowed one of "
-                             f"{', '.join(repr(m.value) for m in cls)}") from None
+            raise ValueError(
+                f"{name}={value!r} is out of range: allowed one of {', '.join(repr(m.value) for m in cls)}"
+            ) from None
 
     @property
     def rounding(self) -> str | None:
@@ -69,13 +70,29 @@ class PostRelease:
 
     def as_dict(self) -> dict:
         """The entry of :meth:`.transients.TransientResult.summary` (``T_post`` as a list)."""
-        return {"wall": self.wall, "ic": self.ic, "first_stick": self.first_stick, "T_post": self.t_post.tolist(),
-                "impacts": self.impacts}
+        return {
+            "wall": self.wall,
+            "ic": self.ic,
+            "first_stick": self.first_stick,
+            "T_post": self.t_post.tolist(),
+            "impacts": self.impacts,
+        }
 
 
 #: The fields of a certification kept in a result's files (:meth:`WallTPost.as_dict`).
-CERTIFIED_FIELDS = ("params", "rounding", "wall", "delta", "status", "value", "precision", "confirmed",
-                    "lower_bound", "release_phase", "seconds")
+CERTIFIED_FIELDS = (
+    "params",
+    "rounding",
+    "wall",
+    "delta",
+    "status",
+    "value",
+    "precision",
+    "confirmed",
+    "lower_bound",
+    "release_phase",
+    "seconds",
+)
 
 
 def certified_dict(c: ReleaseDuration) -> dict:
@@ -104,8 +121,11 @@ class WallTPost:
         out: dict = {"float64_sample": self.float64_sample}
         if self.certified is not None:
             out["certified"] = certified_dict(self.certified)
-        words = {ReleaseSource.FLOAT64: "float64 sample", ReleaseSource.CERTIFIED: "certified",
-                 ReleaseSource.CERTIFIED_FLOAT64_ROUNDING: "certified (float64 rounding)"}[self.source]
+        words = {
+            ReleaseSource.FLOAT64: "float64 sample",
+            ReleaseSource.CERTIFIED: "certified",
+            ReleaseSource.CERTIFIED_FLOAT64_ROUNDING: "certified (float64 rounding)",
+        }[self.source]
         out["used"], out["source"] = self.value, words + (" (certification undecided)" if self.undecided else "")
         return out
 
@@ -145,8 +165,9 @@ def composed_mask(hit: np.ndarray, first_stick: np.ndarray) -> np.ndarray:
     return (np.asarray(first_stick) >= 0) & (np.asarray(hit) < 0)
 
 
-def compose_durations(hit: np.ndarray, first_stick: np.ndarray, stick_wall: np.ndarray, cap: int,
-                      release: Release) -> tuple[np.ndarray, np.ndarray]:
+def compose_durations(
+    hit: np.ndarray, first_stick: np.ndarray, stick_wall: np.ndarray, cap: int, release: Release
+) -> tuple[np.ndarray, np.ndarray]:
     """``(durations, censored)`` at ``release.delta`` -- THE composition of a duration, used by every
     caller: ``hit`` (the raw first iteration within ``release.delta``, one column), or for an orbit
     that stuck to wall ``w`` before that (:func:`composed_mask`) ``first_stick + T_post[w]``

@@ -42,9 +42,16 @@ class CertifiedKey:
     confirm: bool
 
 
-def certified_t_post(params: Params, wall: int, deltas=(DELTA,), *, rounding: str = "decimal",
-                     stick_time: float = STICK_TIME, confirm: bool = True,
-                     progress=None) -> Mapping[float, ReleaseDuration]:
+def certified_t_post(
+    params: Params,
+    wall: int,
+    deltas=(DELTA,),
+    *,
+    rounding: str = "decimal",
+    stick_time: float = STICK_TIME,
+    confirm: bool = True,
+    progress=None,
+) -> Mapping[float, ReleaseDuration]:
     """``{delta: ReleaseDuration}``: the certified post-release duration of ``wall``'s canonical release
     orbit at every capture distance of ``deltas``, for :func:`decimal_params` of ``params``
     (``rounding="decimal"``) or their float64 roundings (``"float64"``):
@@ -54,8 +61,9 @@ def certified_t_post(params: Params, wall: int, deltas=(DELTA,), *, rounding: st
     of every argument that decides them.  ``progress``: a bar of the certified run's impacts
     (:mod:`gear_rattle.core.progress`)."""
     ds = tuple(sorted({float(d) for d in deltas}, reverse=True))
-    key = CertifiedKey(tuple(sorted(decimal_params(params).items())), int(wall), ds, rounding, float(stick_time),
-                       bool(confirm))
+    key = CertifiedKey(
+        tuple(sorted(decimal_params(params).items())), int(wall), ds, rounding, float(stick_time), bool(confirm)
+    )
     if key not in _SCHEDULES:
         _SCHEDULES[key] = _certify(key, progress)
     return _SCHEDULES[key]
@@ -67,14 +75,25 @@ _SCHEDULES: dict[CertifiedKey, Mapping[float, ReleaseDuration]] = {}
 
 def _certify(key: CertifiedKey, progress) -> Mapping[float, ReleaseDuration]:
     """The schedule of certified runs of one :class:`CertifiedKey`, with a progress bar."""
-    with Bar(f"certified T_post (wall {key.wall}, {key.rounding} parameters)", enabled=wanted(progress),
-             phase="ball arithmetic") as bar:
+    with Bar(
+        f"certified T_post (wall {key.wall}, {key.rounding} parameters)",
+        enabled=wanted(progress),
+        phase="ball arithmetic",
+    ) as bar:
+
         def prog(prec, n, radius):
             bar.postfix(f"{prec} bits, radius {radius}")
             bar.update(n)
 
-        out = certified_release_durations(dict(key.params_decimal), key.wall, key.deltas, rounding=key.rounding,
-                                          confirm=key.confirm, stick_time=key.stick_time, progress=prog)
+        out = certified_release_durations(
+            dict(key.params_decimal),
+            key.wall,
+            key.deltas,
+            rounding=key.rounding,
+            confirm=key.confirm,
+            stick_time=key.stick_time,
+            progress=prog,
+        )
     return MappingProxyType(out)
 
 
@@ -86,8 +105,16 @@ def certified_value(c: ReleaseDuration) -> tuple[int | None, bool]:
     return None, c.status in NEVER_CAPTURED
 
 
-def release_for(res, delta: float | None = None, source: ReleaseSource | str = ReleaseSource.FLOAT64, *,
-                deltas=None, confirm: bool = True, stick_time: float = STICK_TIME, progress=None) -> Release:
+def release_for(
+    res,
+    delta: float | None = None,
+    source: ReleaseSource | str = ReleaseSource.FLOAT64,
+    *,
+    deltas=None,
+    confirm: bool = True,
+    stick_time: float = STICK_TIME,
+    progress=None,
+) -> Release:
     """The :class:`~.release.Release` of the transient run ``res`` (a
     :class:`~.transients.TransientResult`) at ``delta`` (default its main one) from ``source``: the
     engine's own post-release orbit of every wall stuck to, or its certified ``T_post``
@@ -103,9 +130,19 @@ def release_for(res, delta: float | None = None, source: ReleaseSource | str = R
     together = tuple({d, *(float(x) for x in (res.deltas if deltas is None else deltas))})
     walls = {}
     for w, s in sample.walls.items():
-        c = certified_t_post(res.params, w, together, rounding=str(source.rounding),
-                             stick_time=stick_time, confirm=confirm, progress=progress)[d]
+        c = certified_t_post(
+            res.params,
+            w,
+            together,
+            rounding=str(source.rounding),
+            stick_time=stick_time,
+            confirm=confirm,
+            progress=progress,
+        )[d]
         v, decided = certified_value(c)
-        walls[w] = (WallTPost(w, v, source, s.float64_sample, c) if decided else
-                    WallTPost(w, s.value, ReleaseSource.FLOAT64, s.float64_sample, c, undecided=True))
+        walls[w] = (
+            WallTPost(w, v, source, s.float64_sample, c)
+            if decided
+            else WallTPost(w, s.value, ReleaseSource.FLOAT64, s.float64_sample, c, undecided=True)
+        )
     return Release(source, d, walls)

@@ -75,8 +75,9 @@ class PeriodicTarget:
     residual: float
 
 
-def periodic_target(params: Params = PAPER_PARAMS, impacts: int = 4, guess: tuple = (3.2, 0.3),
-                    settle: int = 4000) -> PeriodicTarget:
+def periodic_target(
+    params: Params = PAPER_PARAMS, impacts: int = 4, guess: tuple = (3.2, 0.3), settle: int = 4000
+) -> PeriodicTarget:
     """Find the stable ``impacts``-impact period-1 orbit by Newton (Fig. 8's orbit for alpha > alpha_1).
 
     A long orbit from ``guess`` settles near it; :func:`mapimpl.periodic.find_periodic` refines it.
@@ -106,25 +107,30 @@ def _periodic_target(params: Params, impacts: int, guess: tuple[float, float], s
         seq = map_orbit(params, tau, sdot, settle)
         _, th, sd, _ = seq.impact_arrays()
         if seq.status != "active" or len(th) < 2 * impacts + 1:
-            raise ValueError(f"no capture target at these parameters (alpha={params.alpha:g}, beta={params.beta:g}, "
-                             f"gamma={params.gamma:g}, r={params.r:g}): the orbit from {guess} ended ({seq.status}) "
-                             f"before settling on a stable {impacts}-impact period-1 orbit (the transients of "
-                             "Figs. 9-11 end on it)")
+            raise ValueError(
+                f"no capture target at these parameters (alpha={params.alpha:g}, beta={params.beta:g}, "
+                f"gamma={params.gamma:g}, r={params.r:g}): the orbit from {guess} ended ({seq.status}) "
+                f"before settling on a stable {impacts}-impact period-1 orbit (the transients of "
+                "Figs. 9-11 end on it)"
+            )
         tau, sdot = float(th[-1]), float(sd[-1])
-        dth = np.abs(np.angle(np.exp(1j * (th[-1 - impacts:] - th[-1 - 2 * impacts:-impacts]))))
-        if np.max(dth) < 1e-6 and np.max(np.abs(sd[-1 - impacts:] - sd[-1 - 2 * impacts:-impacts])) < 1e-6:
+        dth = np.abs(np.angle(np.exp(1j * (th[-1 - impacts :] - th[-1 - 2 * impacts : -impacts]))))
+        if np.max(dth) < 1e-6 and np.max(np.abs(sd[-1 - impacts :] - sd[-1 - 2 * impacts : -impacts])) < 1e-6:
             break
     po = find_periodic(params, tau, sdot, impacts)
     if not po.converged or not po.stable:
-        raise ValueError(f"no capture target at these parameters (alpha={params.alpha:g}, beta={params.beta:g}, "
-                         f"gamma={params.gamma:g}, r={params.r:g}): no stable {impacts}-impact period-1 orbit (the "
-                         f"transients of Figs. 9-11 end on it) found from {guess} (Newton converged: {po.converged}, "
-                         f"|multipliers| {np.array2string(np.abs(po.multipliers), precision=3)})")
+        raise ValueError(
+            f"no capture target at these parameters (alpha={params.alpha:g}, beta={params.beta:g}, "
+            f"gamma={params.gamma:g}, r={params.r:g}): no stable {impacts}-impact period-1 orbit (the "
+            f"transients of Figs. 9-11 end on it) found from {guess} (Newton converged: {po.converged}, "
+            f"|multipliers| {np.array2string(np.abs(po.multipliers), precision=3)})"
+        )
     # the wall of each pre-impact state follows the sign of its velocity (sdot > 0 hits s = 0);
     # (po.walls lists the same walls, aligned with po.theta and po.sdot)
     wall = np.where(np.asarray(po.sdot) > 0, 0, -1).astype(np.int32)
-    return PeriodicTarget(np.asarray(po.theta), np.asarray(po.sdot), wall,
-                          np.asarray(po.multipliers), float(po.residual))
+    return PeriodicTarget(
+        np.asarray(po.theta), np.asarray(po.sdot), wall, np.asarray(po.multipliers), float(po.residual)
+    )
 
 
 @dataclass
@@ -176,8 +182,9 @@ class TransientResult(Outcome):
         j = self.column(delta)
         return float64_release(self.post_release, self.deltas, float(self.deltas[j]), j)
 
-    def duration(self, delta: float | None = None, t_post: dict | None = None, *,
-                 release: Release | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def duration(
+        self, delta: float | None = None, t_post: dict | None = None, *, release: Release | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``(durations, censored)``: iterations to come within ``delta`` (``cap`` when never), the
         orbits that stuck before composed with ``release`` (:func:`.release.compose_durations`;
         default the engine's own post-release orbits, a float64 sample; a certified one:
@@ -188,13 +195,19 @@ class TransientResult(Outcome):
         if release is None:
             release = self.float64_release(delta)
         elif not isinstance(release, Release):
-            raise TypeError(f"release is a {type(release).__name__}: allowed a Release "
-                            "(gear_rattle.mapimpl.engine.t_post.release_for)")
+            raise TypeError(
+                f"release is a {type(release).__name__}: allowed a Release "
+                "(gear_rattle.mapimpl.engine.t_post.release_for)"
+            )
         elif delta is not None and self.column(delta) != self.column(release.delta):
             raise ValueError(f"delta={delta!r} is out of range: allowed the release's delta={release.delta!r}")
         if t_post:
-            warnings.warn("TransientResult.duration(t_post=) is deprecated: give release= (a Release, "
-                          "gear_rattle.mapimpl.engine.t_post.release_for)", DeprecationWarning, stacklevel=2)
+            warnings.warn(
+                "TransientResult.duration(t_post=) is deprecated: give release= (a Release, "
+                "gear_rattle.mapimpl.engine.t_post.release_for)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
             release = _given_release(release, t_post)
         j = self.column(release.delta)
         return compose_durations(self.hit[:, j], self.first_stick, self.stick_wall, self.cap, release)
@@ -222,12 +235,19 @@ class TransientResult(Outcome):
     def summary(self) -> dict:
         d, c = self.duration()
         return {
-            "n_ic": int(len(self.n)), "cap": self.cap, "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0,
-            "censored": int(c.sum()), "mean_duration_uncensored": float(d[~c].mean()) if (~c).any() else math.nan,
-            "orbits_with_sticking": self.n_stuck_orbits, "sticking_episodes": int(self.nstick.sum()),
+            "n_ic": int(len(self.n)),
+            "cap": self.cap,
+            "delta": self.delta,
+            "ic_mode": self.ic_mode,
+            "s0": self.s0,
+            "censored": int(c.sum()),
+            "mean_duration_uncensored": float(d[~c].mean()) if (~c).any() else math.nan,
+            "orbits_with_sticking": self.n_stuck_orbits,
+            "sticking_episodes": int(self.nstick.sum()),
             "release": [r.as_dict() for r in self.post_release],
             "status_counts": {Status(int(s)).label: int(np.sum(self.status == s)) for s in np.unique(self.status)},
-            "impacts": self.impacts, "elapsed_s": self.elapsed,
+            "impacts": self.impacts,
+            "elapsed_s": self.elapsed,
             "impacts_per_s": self.impacts / self.elapsed if self.elapsed > 0 else math.nan,
         }
 
@@ -240,8 +260,12 @@ def _given_release(base: Release, t_post: dict) -> Release:
         if wall not in (0, -1) or isinstance(wall, bool):
             raise ValueError(f"t_post wall={wall!r} is out of range: allowed 0 or -1")
         old = walls.get(int(wall))
-        walls[int(wall)] = WallTPost(int(wall), None if tp is None or tp < 0 else int(tp), ReleaseSource.CERTIFIED,
-                                     old.float64_sample if old is not None else -1)
+        walls[int(wall)] = WallTPost(
+            int(wall),
+            None if tp is None or tp < 0 else int(tp),
+            ReleaseSource.CERTIFIED,
+            old.float64_sample if old is not None else -1,
+        )
     return Release(base.source, base.delta, walls)
 
 
@@ -252,8 +276,12 @@ def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
     ic_mode = check_choice("ic_mode", ic_mode, IC_MODES)
     tau0 = check_array("tau0", tau0, -TAU0_MAX, TAU0_MAX, allowed=f"finite reals with {TAU0_RANGE}")
     pre = ic_mode == "pre-impact"
-    sdot0 = check_array("sdot0", sdot0, nonzero=pre, allowed="finite reals" + (
-        " != 0 (a pre-impact state: > 0 hits s = 0, < 0 hits s = -1)" if pre else ""))
+    sdot0 = check_array(
+        "sdot0",
+        sdot0,
+        nonzero=pre,
+        allowed="finite reals" + (" != 0 (a pre-impact state: > 0 hits s = 0, < 0 hits s = -1)" if pre else ""),
+    )
     if tau0.shape != sdot0.shape:
         raise ValueError(f"tau0 and sdot0 must have the same length (got {tau0.size} and {sdot0.size})")
     if not pre:
@@ -280,21 +308,39 @@ def initial_states(params: Params, tau0, sdot0, ic_mode="pre-impact", s0=None):
 #: Most map iterations per orbit of :func:`transient_times` (its ``cap``).
 MAX_CAP = 10**8
 
+
 def _validate_deltas(deltas, delta):
     """The capture distances, largest first (``delta`` with ``deltas``): ``0 < delta <= MAX_DELTA``."""
     delta = check_real("delta", delta, 0.0, MAX_DELTA, lo_open=True)
-    d = check_array("deltas", deltas, 0.0, MAX_DELTA, max_size=1000, allowed=f"finite reals with 0 < deltas <= "
-                    f"{MAX_DELTA:g}")
+    d = check_array(
+        "deltas", deltas, 0.0, MAX_DELTA, max_size=1000, allowed=f"finite reals with 0 < deltas <= {MAX_DELTA:g}"
+    )
     if np.any(d == 0.0):
         raise ValueError(f"deltas={list(d)!r} are out of range: allowed 0 < deltas <= {MAX_DELTA:g}")
     return np.asarray(sorted(set(d.tolist()) | {delta}, reverse=True), dtype=np.float64)
 
 
-def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = "pre-impact", s0=None,
-                    delta: float = DELTA, deltas=DELTAS, cap: int = 20000, sticking: str = "compose",
-                    lanes: int | None = None, block: int = 32, chunk: int | None = None, progress=None,
-                    label: str = "transients", target: PeriodicTarget | None = None,
-                    stick_time: float = STICK_TIME, devices=None, release: str | None = None) -> TransientResult:
+def transient_times(
+    params: Params | None,
+    tau0,
+    sdot0=UNSET,
+    *,
+    ic_mode: str = "pre-impact",
+    s0=None,
+    delta: float = DELTA,
+    deltas=DELTAS,
+    cap: int = 20000,
+    sticking: str = "compose",
+    lanes: int | None = None,
+    block: int = 32,
+    chunk: int | None = None,
+    progress=None,
+    label: str = "transients",
+    target: PeriodicTarget | None = None,
+    stick_time: float = STICK_TIME,
+    devices=None,
+    release: str | None = None,
+) -> TransientResult:
     """Transient duration of every initial condition ``(tau0[i], sdot0[i])`` (see the module docstring).
 
     Deterministic: no randomness inside, and results do not depend on ``lanes``, ``block``, ``chunk``
@@ -352,8 +398,9 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
 
     Following every orbit through its sticking episodes gives the same durations, bit for bit:
 
-    >>> slow = gr.transient_times(None, np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, sticking="follow",
-    ...                           progress=False)
+    >>> slow = gr.transient_times(
+    ...     None, np.linspace(0.0, 6.0, 8), np.ones(8), cap=2000, sticking="follow", progress=False
+    ... )
     >>> bool(np.array_equal(slow.duration()[0], dur))
     True
     """
@@ -382,8 +429,18 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
     idx = np.flatnonzero(ok)
     kw = dict(lanes=lanes, block=block, chunk=chunk, devices=devices, stick_time=stick_time)
     t0 = time.perf_counter()
-    res = run(tau[idx], sd[idx], wall[idx], params, (cap_obs,), cap=cap, stop_at_stick=(sticking == "compose"),
-              progress=progress, label=label, **kw)
+    res = run(
+        tau[idx],
+        sd[idx],
+        wall[idx],
+        params,
+        (cap_obs,),
+        cap=cap,
+        stop_at_stick=(sticking == "compose"),
+        progress=progress,
+        label=label,
+        **kw,
+    )
     hit[idx] = res.obs[0]["hit"]
     nn[idx], status[idx], nstick[idx], first[idx] = res.n, res.status, res.nstick, res.first_stick
     # the wall the orbit stopped on: its first sticking wall in compose mode (unknown when followed: 1)
@@ -394,9 +451,26 @@ def transient_times(params: Params | None, tau0, sdot0=UNSET, *, ic_mode: str = 
         sel = np.flatnonzero(stuck & (swall == w))
         if sel.size:
             post.append(_post_release(tau, sd, wall, int(sel[0]), int(first[sel[0]]), w, params, cap_obs, cap, kw))
-    out = TransientResult(tau0a, sdot0a, hit, nn, status, nstick, first, swall, d, float(delta), cap, params, ic_mode,
-                          None if s0 is None else float(s0), target, 0.0, tuple(post),
-                          dict(res.meta, sticking=sticking))
+    out = TransientResult(
+        tau0a,
+        sdot0a,
+        hit,
+        nn,
+        status,
+        nstick,
+        first,
+        swall,
+        d,
+        float(delta),
+        cap,
+        params,
+        ic_mode,
+        None if s0 is None else float(s0),
+        target,
+        0.0,
+        tuple(post),
+        dict(res.meta, sticking=sticking),
+    )
     # an orbit stopped at its first sticking: its outcome with the engine's own post-release orbit
     # (within the smallest delta)
     released = stuck & np.isin(swall, [p.wall for p in post])
@@ -411,18 +485,31 @@ def _sticking_mode(sticking: str, release: str | None) -> str:
     if release is None:
         return check_choice("sticking", sticking, STICKING_MODES)
     check_choice("release", release, STICKING_MODES)
-    warnings.warn("transient_times(release=) is deprecated: the engine's handling of orbits that stick is "
-                  "sticking= ('compose' or 'follow'); release= names the source of T_post elsewhere",
-                  DeprecationWarning, stacklevel=3)
+    warnings.warn(
+        "transient_times(release=) is deprecated: the engine's handling of orbits that stick is "
+        "sticking= ('compose' or 'follow'); release= names the source of T_post elsewhere",
+        DeprecationWarning,
+        stacklevel=3,
+    )
     return release
 
 
-def _post_release(tau, sd, wall, i: int, first: int, w: int, params: Params, cap_obs, cap: int,
-                  kw: dict) -> PostRelease:
+def _post_release(
+    tau, sd, wall, i: int, first: int, w: int, params: Params, cap_obs, cap: int, kw: dict
+) -> PostRelease:
     """The post-release orbit of wall ``w``, once: initial condition ``i`` (which first stuck at impact
     ``first``) followed through from its start, its capture counted from the release."""
-    rep = run(tau[i:i + 1], sd[i:i + 1], wall[i:i + 1], params, (cap_obs,), cap=first + cap, stop_at_stick=False,
-              progress=False, **kw)
+    rep = run(
+        tau[i : i + 1],
+        sd[i : i + 1],
+        wall[i : i + 1],
+        params,
+        (cap_obs,),
+        cap=first + cap,
+        stop_at_stick=False,
+        progress=False,
+        **kw,
+    )
     h = rep.obs[0]["hit"][0].astype(np.int64)
     if int(rep.first_stick[0]) != first:  # pragma: no cover - would be an engine bug
         raise RuntimeError("post-release orbit: the representative orbit stuck at a different impact")
@@ -437,8 +524,9 @@ def _params_first(params, tau0, sdot0):
         warn_renamed("transient_times(tau0, sdot0, params)", "transient_times(params, tau0, sdot0)", stacklevel=4)
         params, tau0, sdot0 = (PAPER_PARAMS if sdot0 is UNSET else sdot0), params, tau0
     elif sdot0 is UNSET:
-        raise InputTypeError("transient_times() is missing sdot0 (the initial velocities): allowed "
-                             "transient_times(params, tau0, sdot0)")
+        raise InputTypeError(
+            "transient_times() is missing sdot0 (the initial velocities): allowed transient_times(params, tau0, sdot0)"
+        )
     return (PAPER_PARAMS if params is None else params), tau0, sdot0
 
 

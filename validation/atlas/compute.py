@@ -73,8 +73,9 @@ FIELDS: dict[str, tuple[np.dtype, object]] = {
 }
 
 
-def period(theta: np.ndarray, sdot: np.ndarray, wall: np.ndarray, cycles: np.ndarray, period_max: int,
-           tol: float) -> tuple[np.ndarray, np.ndarray]:
+def period(
+    theta: np.ndarray, sdot: np.ndarray, wall: np.ndarray, cycles: np.ndarray, period_max: int, tol: float
+) -> tuple[np.ndarray, np.ndarray]:
     """``(p, m)`` of recorded windows (arrays ``(n_orbits, W)``, see the module docstring); 0 if none."""
     th, sd, w, cyc = (np.asarray(x) for x in (theta, sdot, wall, cycles))
     n, W = th.shape
@@ -153,9 +154,16 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
     W = spec.window
     lyap_end = spec.transient + spec.impacts
     obs = (Tangent(n_start=spec.transient, n_end=lyap_end), Sample(keep=W, n_start=lyap_end + 1))
-    res = run(np.full(n, spec.tau0), np.full(n, spec.sdot0), np.full(n, 0 if spec.sdot0 > 0 else -1, np.int32),
-              ParamArrays(alpha=a, beta=np.full(n, spec.beta), gamma=np.full(n, spec.gamma), r=rr), obs, cap=lyap_end + W,
-              progress=False, label="atlas")
+    res = run(
+        np.full(n, spec.tau0),
+        np.full(n, spec.sdot0),
+        np.full(n, 0 if spec.sdot0 > 0 else -1, np.int32),
+        ParamArrays(alpha=a, beta=np.full(n, spec.beta), gamma=np.full(n, spec.gamma), r=rr),
+        obs,
+        cap=lyap_end + W,
+        progress=False,
+        label="atlas",
+    )
     sm = res.obs[1]
     ex = exponents(res, 0)  # the one rule: -inf where a step stuck, NaN where the orbit ended early
     lam, ended = ex.lam, ~ex.ran

@@ -48,14 +48,18 @@ def holder_text(info: dict) -> str:
     """``pid 123 on host h since 2026-11-27T11:40:02Z (gear-rattle atlas ...)`` from a lock record."""
     cmd = str(info.get("command", ""))
     cmd = cmd if len(cmd) <= 160 else cmd[:157] + "..."
-    return (f"pid {info.get('pid', '?')} on host {info.get('host', '?')} since {info.get('started', '?')}"
-            + (f" ({cmd})" if cmd else ""))
+    return f"pid {info.get('pid', '?')} on host {info.get('host', '?')} since {info.get('started', '?')}" + (
+        f" ({cmd})" if cmd else ""
+    )
 
 
 def _record(command: str | None) -> dict:
-    return {"pid": os.getpid(), "host": socket.gethostname(),
-            "started": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-            "command": command if command is not None else " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])}
+    return {
+        "pid": os.getpid(),
+        "host": socket.gethostname(),
+        "started": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "command": command if command is not None else " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+    }
 
 
 def _read(fd: int) -> dict | None:
@@ -102,8 +106,10 @@ class StoreLock:
                 os.close(fd)
                 if e.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
                     who = holder_text(holder) if holder else "another process (it is starting)"
-                    raise StoreBusy(f"store {self.store!r} is in use by another writer: {who}; its lock is "
-                                    f"{str(self.path)!r}: wait until it ends") from None
+                    raise StoreBusy(
+                        f"store {self.store!r} is in use by another writer: {who}; its lock is "
+                        f"{str(self.path)!r}: wait until it ends"
+                    ) from None
                 self.unsupported = f"{e.strerror or e}"  # e.g. ENOLCK, EOPNOTSUPP: no flock on this file system
                 return self
             try:

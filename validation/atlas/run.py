@@ -77,8 +77,10 @@ def default_workers() -> int:
 def check_scheduler(scheduler: str, workers: int | None) -> None:
     """``ValueError`` for a bad scheduler string or worker count (before anything starts)."""
     if not isinstance(scheduler, str) or not (scheduler in ("local", "serial") or ":" in scheduler):
-        raise ValueError(f"scheduler={scheduler!r} is out of range: allowed 'local', 'serial' or a scheduler "
-                         "address such as tcp://host:8786")
+        raise ValueError(
+            f"scheduler={scheduler!r} is out of range: allowed 'local', 'serial' or a scheduler "
+            "address such as tcp://host:8786"
+        )
     if workers is not None:
         if scheduler != "local":
             raise ValueError(f"workers={workers!r} applies only to scheduler='local' (the embedded LocalCluster)")
@@ -147,9 +149,19 @@ class AtlasRun:
         return self.points_computed * self.store.spec.impacts_per_point / self.seconds if self.seconds > 0 else 0.0
 
 
-def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "local", workers: int | None = None,
-              overwrite: bool = False, compute: ComputeFn = compute_tile, progress=None,
-              timeout: float = WORKER_TIMEOUT_S, lock: StoreLock | None = None, note=None) -> AtlasRun:
+def run_atlas(
+    spec: AtlasSpec,
+    store: str,
+    tile=(16, 16),
+    scheduler: str = "local",
+    workers: int | None = None,
+    overwrite: bool = False,
+    compute: ComputeFn = compute_tile,
+    progress=None,
+    timeout: float = WORKER_TIMEOUT_S,
+    lock: StoreLock | None = None,
+    note=None,
+) -> AtlasRun:
     """Compute the tiles of ``spec`` missing from the Zarr ``store`` and write each as it finishes.
 
     An interrupted call keeps every stored tile; calling again resumes.  Nothing is created before the
@@ -210,8 +222,9 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
     >>> from gear_rattle.validation.atlas.run import run_atlas
     >>> from gear_rattle.validation.atlas.spec import AtlasSpec
     >>> from gear_rattle.validation.atlas.store import load_store
-    >>> spec = AtlasSpec(alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3,
-    ...                  transient=300, impacts=500, period_max=16)
+    >>> spec = AtlasSpec(
+    ...     alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500, period_max=16
+    ... )
     >>> run = run_atlas(spec, "atlas.zarr", tile=(2, 2), scheduler="serial")
     >>> run.tiles_total, len(run.computed), run.points_computed
     (4, 4, 12)
@@ -225,8 +238,11 @@ def run_atlas(spec: AtlasSpec, store: str, tile=(16, 16), scheduler: str = "loca
         raise InputTypeError(f"spec is a {type(spec).__name__}: allowed a validation.atlas.spec.AtlasSpec")
     check_scheduler(scheduler, workers)
     fit_tile(spec, tile)
-    if isinstance(timeout, bool) or not isinstance(timeout, (int, float, np.integer, np.floating)) \
-            or not 0 < timeout <= 1e7:
+    if (
+        isinstance(timeout, bool)
+        or not isinstance(timeout, (int, float, np.integer, np.floating))
+        or not 0 < timeout <= 1e7
+    ):
         raise ValueError(f"timeout={timeout!r} is out of range: allowed 0 < timeout <= 1e7 seconds")
     note = note if note is not None else _warn
     client = cluster = None
@@ -287,14 +303,19 @@ def _take(lock: StoreLock, note) -> None:
     try:
         lock.acquire()
     except OSError as e:
-        raise StoreWriteError(f"store {lock.store!r}: cannot create its lock {str(lock.path)!r}: "
-                              f"{e.strerror or e}") from None
+        raise StoreWriteError(
+            f"store {lock.store!r}: cannot create its lock {str(lock.path)!r}: {e.strerror or e}"
+        ) from None
     if lock.stale is not None:
-        note(f"store {lock.store!r}: took over the lock of a writer that ended without releasing it (killed?): "
-             f"{holder_text(lock.stale)}; its stored tiles are checked")
+        note(
+            f"store {lock.store!r}: took over the lock of a writer that ended without releasing it (killed?): "
+            f"{holder_text(lock.stale)}; its stored tiles are checked"
+        )
     if lock.unsupported is not None:
-        note(f"store {lock.store!r}: its file system does not lock files ({lock.unsupported}): a second writer "
-             "would not be noticed")
+        note(
+            f"store {lock.store!r}: its file system does not lock files ({lock.unsupported}): a second writer "
+            "would not be noticed"
+        )
 
 
 def _shutdown(client, cluster) -> None:
@@ -321,12 +342,14 @@ def _probe(scheduler: str) -> None:
     """A TCP address that refuses connections fails at once (Dask's client retries until its timeout)."""
     if not scheduler.startswith("tcp://"):
         return
-    host, _, port = scheduler[len("tcp://"):].rpartition(":")
+    host, _, port = scheduler[len("tcp://") :].rpartition(":")
     try:
         with socket.create_connection((host.strip("[]") or "127.0.0.1", int(port)), timeout=CONNECT_TIMEOUT_S):
             pass
     except ValueError:
-        raise ValueError(f"scheduler={scheduler!r} is out of range: allowed an address such as tcp://host:8786") from None
+        raise ValueError(
+            f"scheduler={scheduler!r} is out of range: allowed an address such as tcp://host:8786"
+        ) from None
     except OSError as e:
         raise ClusterLost(f"scheduler={scheduler!r}: cannot connect ({e.strerror or e})") from None
 
@@ -342,8 +365,7 @@ def _quiet_dask():
     the command line), an interruption as KeyboardInterrupt.  Every logger of those libraries is set,
     not only their roots: Dask's configuration gives some of them (``distributed.client``) levels of
     their own."""
-    names = [n for n in list(logging.root.manager.loggerDict)
-             if n.split(".")[0] in _QUIET] + list(_QUIET)
+    names = [n for n in list(logging.root.manager.loggerDict) if n.split(".")[0] in _QUIET] + list(_QUIET)
     loggers = [logging.getLogger(name) for name in dict.fromkeys(names)]
     levels = [lg.level for lg in loggers]
     for lg in loggers:
@@ -370,9 +392,14 @@ def _local_cluster(n_workers: int):
         with _quiet_dask():
             # no dashboard; the scheduler's HTTP server (health routes) on a free port: its default 8787 taken
             # by another cluster on the machine gave a 'Port 8787 is already in use' note (and a ResourceWarning)
-            cluster = distributed.LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"},
-                                               silence_logs=logging.CRITICAL)
+            cluster = distributed.LocalCluster(
+                n_workers=n_workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                scheduler_kwargs={"dashboard_address": ":0"},
+                silence_logs=logging.CRITICAL,
+            )
             client = distributed.Client(cluster)
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
@@ -410,8 +437,10 @@ def _n_workers(client) -> int | None:
 def _lost(client, run: AtlasRun, why: str = "") -> ClusterLost:
     addr = getattr(client, "scheduler", None)
     addr = getattr(addr, "address", None) or run.scheduler
-    return ClusterLost(f"lost the Dask scheduler {addr}{' (' + why + ')' if why else ''}; the "
-                       f"{len(run.computed)} tiles finished are stored: rerun to resume")
+    return ClusterLost(
+        f"lost the Dask scheduler {addr}{' (' + why + ')' if why else ''}; the "
+        f"{len(run.computed)} tiles finished are stored: rerun to resume"
+    )
 
 
 def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeout: float, note) -> None:
@@ -424,8 +453,15 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeo
         try:
             for ij in todo:
                 a, r = tile_points(spec, tile, *ij)
-                fut = client.submit(_worker_task, compute, a, r, spec, pure=False,
-                                    key=f"atlas-tile-{ij[0]}-{ij[1]}-{os.getpid()}-{time.monotonic_ns()}")
+                fut = client.submit(
+                    _worker_task,
+                    compute,
+                    a,
+                    r,
+                    spec,
+                    pure=False,
+                    key=f"atlas-tile-{ij[0]}-{ij[1]}-{os.getpid()}-{time.monotonic_ns()}",
+                )
                 futures[fut] = ij
             pending = distributed.as_completed(list(futures))
             alone_since, next_look = None, 0.0
@@ -438,8 +474,10 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeo
                     except (Exception, asyncio.CancelledError) as e:  # a tile that failed on every try
                         if fut.cancelled() or client.status != "running":
                             raise _lost(client, run) from None
-                        raise RuntimeError(f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} "
-                                           "tiles finished are stored: rerun to resume") from e
+                        raise RuntimeError(
+                            f"tile {ij} failed ({type(e).__name__}: {e}); the {len(run.computed)} "
+                            "tiles finished are stored: rerun to resume"
+                        ) from e
                     store_one(ij, out, secs, cpu)
                 now = time.monotonic()
                 if batch or now < next_look:
@@ -456,11 +494,12 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeo
                     alone_since = None
                 elif alone_since is None:
                     alone_since = now
-                    note(f"no worker is connected to the scheduler: waiting for one (at most {timeout:g} s, "
-                         "--timeout)")
+                    note(f"no worker is connected to the scheduler: waiting for one (at most {timeout:g} s, --timeout)")
                 elif now - alone_since > timeout:
-                    raise ClusterLost(f"no worker connected to the scheduler for {timeout:g} s (--timeout): gave "
-                                      f"up; the {len(run.computed)} tiles finished are stored: rerun to resume")
+                    raise ClusterLost(
+                        f"no worker connected to the scheduler for {timeout:g} s (--timeout): gave "
+                        f"up; the {len(run.computed)} tiles finished are stored: rerun to resume"
+                    )
         finally:
             for fut in futures:
                 fut.cancel()

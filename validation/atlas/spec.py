@@ -30,7 +30,8 @@ MAX_PERIOD = 1024
 PAPER_LINES = tuple(
     (f"{s.figure} ({fixed} = {value:g})", fixed, value, s.param, s.lo, s.hi)
     for s in PAPER_SCANS.values()
-    for fixed, value in [("alpha", s.fixed[0]) if s.param == "r" else ("r", s.fixed[3])])
+    for fixed, value in [("alpha", s.fixed[0]) if s.param == "r" else ("r", s.fixed[3])]
+)
 
 
 @dataclass(frozen=True)
@@ -61,8 +62,9 @@ class AtlasSpec:
         s(self, "beta", check_param("beta", self.beta))
         s(self, "gamma", check_param("gamma", self.gamma))
         if self.alpha_lo > self.alpha_hi:
-            raise ValueError(f"alpha_lo={self.alpha_lo!r}, alpha_hi={self.alpha_hi!r} are out of range: "
-                             "allowed alpha_lo <= alpha_hi")
+            raise ValueError(
+                f"alpha_lo={self.alpha_lo!r}, alpha_hi={self.alpha_hi!r} are out of range: allowed alpha_lo <= alpha_hi"
+            )
         if self.r_lo > self.r_hi:
             raise ValueError(f"r_lo={self.r_lo!r}, r_hi={self.r_hi!r} are out of range: allowed r_lo <= r_hi")
         s(self, "n_alpha", check_int("n_alpha", self.n_alpha, 1, MAX_GRID, strict=True))
@@ -74,8 +76,19 @@ class AtlasSpec:
         s(self, "transient", check_int("transient", self.transient, 0, MAX_IMPACTS, strict=True))
         s(self, "impacts", check_int("impacts", self.impacts, 1, MAX_IMPACTS, strict=True))
         s(self, "period_max", check_int("period_max", self.period_max, 1, MAX_PERIOD, strict=True))
-        s(self, "period_tol", check_real("period_tol", self.period_tol, 0.0, 1.0, lo_open=True, hi_open=True,
-                                         allowed="a period_tol with 0 < period_tol < 1"))
+        s(
+            self,
+            "period_tol",
+            check_real(
+                "period_tol",
+                self.period_tol,
+                0.0,
+                1.0,
+                lo_open=True,
+                hi_open=True,
+                allowed="a period_tol with 0 < period_tol < 1",
+            ),
+        )
 
     # grid -------------------------------------------------------------------------------------------
     @property

@@ -72,8 +72,9 @@ def check_tile(tile) -> tuple[int, int]:
     if isinstance(tile, (tuple, list)):
         if len(tile) != 2:
             raise ValueError(f"tile={tile!r} is out of range: allowed an integer >= 1 or a pair of them")
-        return check_int("tile_r", tile[0], 1, 1_000_000, strict=True), check_int("tile_alpha", tile[1], 1, 1_000_000,
-                                                                                  strict=True)
+        return check_int("tile_r", tile[0], 1, 1_000_000, strict=True), check_int(
+            "tile_alpha", tile[1], 1, 1_000_000, strict=True
+        )
     t = check_int("tile", tile, 1, 1_000_000, strict=True)
     return t, t
 
@@ -91,8 +92,10 @@ def fit_tile(spec: AtlasSpec, tile) -> tuple[int, int]:
     tr, ta = check_tile(tile)
     fit = (min(tr, spec.n_r), min(ta, spec.n_alpha))
     if fit[0] * fit[1] > MAX_TILE_POINTS:
-        raise ValueError(f"tile={tile!r} is out of range on a {spec.n_r} x {spec.n_alpha} grid: a tile of {fit[0]} x "
-                         f"{fit[1]} points, allowed at most {MAX_TILE_POINTS} points per tile (e.g. tile <= 1024)")
+        raise ValueError(
+            f"tile={tile!r} is out of range on a {spec.n_r} x {spec.n_alpha} grid: a tile of {fit[0]} x "
+            f"{fit[1]} points, allowed at most {MAX_TILE_POINTS} points per tile (e.g. tile <= 1024)"
+        )
     return fit
 
 
@@ -103,8 +106,10 @@ def tile_grid(spec: AtlasSpec, tile: tuple[int, int]) -> tuple[int, int]:
 
 def tile_slices(spec: AtlasSpec, tile: tuple[int, int], i: int, j: int) -> tuple[slice, slice]:
     """Index ranges ``(rows, cols)`` of tile ``(i, j)`` in the atlas arrays (edge tiles are smaller)."""
-    return (slice(i * tile[0], min((i + 1) * tile[0], spec.n_r)),
-            slice(j * tile[1], min((j + 1) * tile[1], spec.n_alpha)))
+    return (
+        slice(i * tile[0], min((i + 1) * tile[0], spec.n_r)),
+        slice(j * tile[1], min((j + 1) * tile[1], spec.n_alpha)),
+    )
 
 
 def _diff(a: dict, b: dict) -> str:
@@ -143,8 +148,14 @@ class AtlasStore:
         """Tiles not yet stored, in row-major order."""
         return [(int(i), int(j)) for i, j in zip(*np.nonzero(~self.done()))]
 
-    def write_tile(self, i: int, j: int, result: dict[str, np.ndarray], seconds: float = float("nan"),
-                   cpu_seconds: float = float("nan")) -> None:
+    def write_tile(
+        self,
+        i: int,
+        j: int,
+        result: dict[str, np.ndarray],
+        seconds: float = float("nan"),
+        cpu_seconds: float = float("nan"),
+    ) -> None:
         """Store the fields of tile ``(i, j)`` (arrays of the tile's shape) and its timing, then their
         checksums, then mark it done (its old chunks, if any, are deleted first, ``done`` first of all)."""
         rows, cols = tile_slices(self.spec, self.tile, i, j)
@@ -152,10 +163,14 @@ class AtlasStore:
         for k, (dt, _) in FIELDS.items():
             v = np.asarray(result[k])
             if v.shape != shape or v.dtype != dt:
-                raise ValueError(f"tile ({i}, {j}) field {k!r} has shape {v.shape} and dtype {v.dtype}: "
-                                 f"allowed {shape} and {dt}")
-        values = {**{k: np.asarray(result[k]) for k in FIELDS},
-                  "tile_seconds": np.full((1, 1), float(seconds)), "tile_cpu_seconds": np.full((1, 1), float(cpu_seconds))}
+                raise ValueError(
+                    f"tile ({i}, {j}) field {k!r} has shape {v.shape} and dtype {v.dtype}: allowed {shape} and {dt}"
+                )
+        values = {
+            **{k: np.asarray(result[k]) for k in FIELDS},
+            "tile_seconds": np.full((1, 1), float(seconds)),
+            "tile_cpu_seconds": np.full((1, 1), float(cpu_seconds)),
+        }
         try:
             forget(self.path, self.group, (i, j), ("done", "checksum", *CHECKED))  # written from nothing
             for k, v in values.items():
@@ -202,8 +217,9 @@ def _read_attrs(p: Path, zarr) -> tuple[dict | None, str]:
 
 
 def _damaged(p: Path, why: str) -> ValueError:
-    return ValueError(f"store {str(p)!r} is damaged: {why}; it was left as it is (delete it or move it away to "
-                      "start again)")
+    return ValueError(
+        f"store {str(p)!r} is damaged: {why}; it was left as it is (delete it or move it away to start again)"
+    )
 
 
 def _check_meta(p: Path, zarr, attrs: dict, want: dict | None) -> None:
@@ -222,10 +238,13 @@ def _check_meta(p: Path, zarr, attrs: dict, want: dict | None) -> None:
         return  # another atlas: refused (or overwritten) by the caller, its arrays do not matter
     nt = tile_grid(spec, tile)
     layout: dict[str, tuple[tuple[int, ...], npt.DTypeLike]] = {
-              "alpha": ((spec.n_alpha,), np.float64), "r": ((spec.n_r,), np.float64),
-              **{k: (spec.shape, dt) for k, (dt, _) in FIELDS.items()},
-              **{k: (nt, np.float64) for k in TIMING}, "done": (nt, np.bool_),
-              "checksum": ((*nt, len(CHECKED), DIGEST_BYTES), np.uint8)}
+        "alpha": ((spec.n_alpha,), np.float64),
+        "r": ((spec.n_r,), np.float64),
+        **{k: (spec.shape, dt) for k, (dt, _) in FIELDS.items()},
+        **{k: (nt, np.float64) for k in TIMING},
+        "done": (nt, np.bool_),
+        "checksum": ((*nt, len(CHECKED), DIGEST_BYTES), np.uint8),
+    }
     g = zarr.open_group(str(p), mode="r")
     for k, (shape, dt) in layout.items():
         try:
@@ -234,8 +253,11 @@ def _check_meta(p: Path, zarr, attrs: dict, want: dict | None) -> None:
         except Exception as e:  # noqa: BLE001
             raise _damaged(p, f"array {k!r} ({p / k / 'zarr.json'}) is unreadable ({short_error(e)})") from None
         if not ok:
-            raise _damaged(p, f"array {k!r} ({p / k / 'zarr.json'}) has shape {a.shape} and dtype {a.dtype}, "
-                              f"its spec says {shape} and {np.dtype(dt)}")
+            raise _damaged(
+                p,
+                f"array {k!r} ({p / k / 'zarr.json'}) has shape {a.shape} and dtype {a.dtype}, "
+                f"its spec says {shape} and {np.dtype(dt)}",
+            )
     try:
         grid_ok = np.array_equal(g["alpha"][...], spec.alphas) and np.array_equal(g["r"][...], spec.rs)
     except Exception as e:  # noqa: BLE001
@@ -271,11 +293,16 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
         attrs, why = _read_attrs(p, zarr) if p.is_dir() else (None, "")
         if attrs is None or not _known_format(attrs):
             if _looks_like_atlas(p):
-                raise _damaged(p, why or f"its attributes ({p / 'zarr.json'}) are not an atlas's "
-                                         f"({', '.join(sorted(attrs or {})) or 'empty'})")
+                raise _damaged(
+                    p,
+                    why
+                    or f"its attributes ({p / 'zarr.json'}) are not an atlas's "
+                    f"({', '.join(sorted(attrs or {})) or 'empty'})",
+                )
             if p.is_file() or any(p.iterdir()):
-                raise ValueError(f"store {str(p)!r} exists and is not an atlas store: allowed a new path or an "
-                                 "existing atlas store")
+                raise ValueError(
+                    f"store {str(p)!r} exists and is not an atlas store: allowed a new path or an existing atlas store"
+                )
         elif attrs.get("creating"):  # its creation was interrupted (under the lock): start again
             _remove(p)
         else:
@@ -286,13 +313,17 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
             else:
                 have = {k: attrs.get(k) for k in want}
                 if have["format"] != FORMAT:
-                    raise ValueError(f"store {str(p)!r} has the format {have['format']!r} of an older version, "
-                                     f"without checksums (now {FORMAT!r}): overwrite it (overwrite=True, "
-                                     "--overwrite) to recompute it")
+                    raise ValueError(
+                        f"store {str(p)!r} has the format {have['format']!r} of an older version, "
+                        f"without checksums (now {FORMAT!r}): overwrite it (overwrite=True, "
+                        "--overwrite) to recompute it"
+                    )
                 if have != want:
                     parts = [_mismatch(k, have[k], want[k]) for k in want if have[k] != want[k]]
-                    raise ValueError(f"store {str(p)!r} holds an atlas with a different spec ({'; '.join(parts)}): "
-                                     "rerun with the store's options, or overwrite it (overwrite=True, --overwrite)")
+                    raise ValueError(
+                        f"store {str(p)!r} holds an atlas with a different spec ({'; '.join(parts)}): "
+                        "rerun with the store's options, or overwrite it (overwrite=True, --overwrite)"
+                    )
                 g = zarr.open_group(str(p), mode="r+")
                 st = AtlasStore(str(p), spec, tile, g)
                 st.damaged = st.verify()
@@ -300,8 +331,9 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
                     for d in st.damaged:
                         forget(st.path, g, d.tile, ("done", "checksum", *CHECKED))
                 except OSError as e:
-                    raise StoreWriteError(f"store {str(p)!r}: cannot delete a damaged tile's chunks: "
-                                          f"{e.strerror or e}") from None
+                    raise StoreWriteError(
+                        f"store {str(p)!r}: cannot delete a damaged tile's chunks: {e.strerror or e}"
+                    ) from None
                 return st
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
@@ -315,8 +347,13 @@ def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = Fals
         for k in TIMING:
             g.create_array(k, shape=nt, chunks=(1, 1), dtype=np.float64, fill_value=np.nan)
         g.create_array("done", shape=nt, chunks=(1, 1), dtype=bool, fill_value=False)
-        g.create_array("checksum", shape=(*nt, len(CHECKED), DIGEST_BYTES), chunks=(1, 1, len(CHECKED), DIGEST_BYTES),
-                       dtype=np.uint8, fill_value=0)
+        g.create_array(
+            "checksum",
+            shape=(*nt, len(CHECKED), DIGEST_BYTES),
+            chunks=(1, 1, len(CHECKED), DIGEST_BYTES),
+            dtype=np.uint8,
+            fill_value=0,
+        )
         g.attrs.put({**want, "sha256": meta_digest(want)})  # last: the store is made
     except OSError as e:
         raise StoreWriteError(f"store {str(p)!r} cannot be created: {e.strerror or e}") from None

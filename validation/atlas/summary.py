@@ -55,12 +55,15 @@ def _line_profile(data: dict, spec: AtlasSpec, fixed: str, value: float, lo: flo
         sel = (var >= lo - 1e-12) & (var <= hi + 1e-12)
         lam, p, m = data["lambda1"][k, sel], data["period_p"][k, sel], data["period_m"][k, sel]
     return {
-        "grid_line": {fixed: at}, "points": int(sel.sum()),
+        "grid_line": {fixed: at},
+        "points": int(sel.sum()),
         "chaotic (lambda1 > 0)": int(np.sum(np.isfinite(lam) & (lam > 0))),
         "periodic": int(np.sum(p > 0)),
         "periods": [{"p": a, "m": b, "count": n} for a, b, n in period_classes(p, m)],
-        "values": [{"x": float(x), "lambda1": (None if np.isnan(l) else float(l)), "p": int(pp), "m": int(mm)}
-                   for x, l, pp, mm in zip(var[sel], lam, p, m)],
+        "values": [
+            {"x": float(x), "lambda1": (None if np.isnan(l) else float(l)), "p": int(pp), "m": int(mm)}
+            for x, l, pp, mm in zip(var[sel], lam, p, m)
+        ],
     }
 
 
@@ -91,13 +94,20 @@ class AtlasSummary:
     store: str | None = None
 
     def as_dict(self) -> dict:
-        out = {"spec": self.spec.to_dict(), "points": self.points, "points_computed": self.points_computed,
-               "tiles_done": self.tiles_done, "tiles_total": self.tiles_total,
-               "chaotic (lambda1 > 0)": self.chaotic, "periodic (period found)": self.periodic,
-               "sticking (lambda1 = -inf)": self.sticking, "ended (status != 0)": self.ended,
-               "period found but lambda1 > 0 (transient ended during the measurement)": self.periodic_chaotic,
-               "period classes": [{"p": a, "m": b, "count": n} for a, b, n in self.period_classes],
-               "paper lines": self.paper_lines}
+        out = {
+            "spec": self.spec.to_dict(),
+            "points": self.points,
+            "points_computed": self.points_computed,
+            "tiles_done": self.tiles_done,
+            "tiles_total": self.tiles_total,
+            "chaotic (lambda1 > 0)": self.chaotic,
+            "periodic (period found)": self.periodic,
+            "sticking (lambda1 = -inf)": self.sticking,
+            "ended (status != 0)": self.ended,
+            "period found but lambda1 > 0 (transient ended during the measurement)": self.periodic_chaotic,
+            "period classes": [{"p": a, "m": b, "count": n} for a, b, n in self.period_classes],
+            "paper lines": self.paper_lines,
+        }
         if self.run is not None:
             out["run"] = self.run
         if self.store is not None:
@@ -107,10 +117,14 @@ class AtlasSummary:
 
 def _run_record(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun) -> dict:
     out = {
-        "scheduler": run.scheduler, "workers": run.workers, "tile": list(run.store.tile),
-        "tiles_computed": len(run.computed), "tiles_resumed": run.skipped,
+        "scheduler": run.scheduler,
+        "workers": run.workers,
+        "tile": list(run.store.tile),
+        "tiles_computed": len(run.computed),
+        "tiles_resumed": run.skipped,
         "tiles_damaged": [list(d.tile) for d in run.store.damaged],
-        "points_computed": run.points_computed, "impacts_per_point": spec.impacts_per_point,
+        "points_computed": run.points_computed,
+        "impacts_per_point": spec.impacts_per_point,
         "wall_seconds": run.seconds,
         "throughput (points x impacts / s, wall, start-up and compile included)": run.throughput,
     }
@@ -127,13 +141,24 @@ def summarise(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun | None
     periodic = done_pts & (data["period_p"] > 0)
     shown = {lab for lab, _, _ in paper_lines(spec)}
     return AtlasSummary(
-        spec, int(done_pts.size), int(done_pts.sum()), int(data["done"].sum()), int(data["done"].size),
-        chaotic=int(np.sum(chaotic)), periodic=int(np.sum(periodic)), sticking=int(np.sum(done_pts & np.isneginf(lam))),
-        ended=int(np.sum(done_pts & (data["status"] > 0))), periodic_chaotic=int(np.sum(periodic & chaotic)),
+        spec,
+        int(done_pts.size),
+        int(done_pts.sum()),
+        int(data["done"].sum()),
+        int(data["done"].size),
+        chaotic=int(np.sum(chaotic)),
+        periodic=int(np.sum(periodic)),
+        sticking=int(np.sum(done_pts & np.isneginf(lam))),
+        ended=int(np.sum(done_pts & (data["status"] > 0))),
+        periodic_chaotic=int(np.sum(periodic & chaotic)),
         period_classes=period_classes(data["period_p"], data["period_m"], 10),
-        paper_lines={lab: _line_profile(data, spec, fixed, value, lo, hi)
-                     for lab, fixed, value, _v, lo, hi in PAPER_LINES if lab in shown},
-        run=_run_record(data, spec, run) if run is not None else None)
+        paper_lines={
+            lab: _line_profile(data, spec, fixed, value, lo, hi)
+            for lab, fixed, value, _v, lo, hi in PAPER_LINES
+            if lab in shown
+        },
+        run=_run_record(data, spec, run) if run is not None else None,
+    )
 
 
 def tile_throughput(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun) -> dict:
@@ -151,6 +176,9 @@ def tile_throughput(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun)
         wall_l.append(data["tile_seconds"][i, j])
         cpu_l.append(data["tile_cpu_seconds"][i, j])
     pts, wall, cpu = (np.asarray(x, dtype=float) for x in (pts_l, wall_l, cpu_l))
-    return {"tile_seconds_sum": float(wall.sum()), "tile_cpu_seconds_sum": float(cpu.sum()),
-            "median tile throughput per worker (points x impacts / s, wall)": float(np.median(pts / wall)),
-            "median tile throughput per worker (points x impacts / CPU s)": float(np.median(pts / cpu))}
+    return {
+        "tile_seconds_sum": float(wall.sum()),
+        "tile_cpu_seconds_sum": float(cpu.sum()),
+        "median tile throughput per worker (points x impacts / s, wall)": float(np.median(pts / wall)),
+        "median tile throughput per worker (points x impacts / CPU s)": float(np.median(pts / cpu)),
+    }

@@ -31,8 +31,15 @@ def _self_values(records, write: str | None) -> dict:
 
 def run_orbits(args: argparse.Namespace) -> int:
     """The ``--orbits`` mode of ``check`` (arguments validated by ``check.run`` first)."""
-    from ..golden.orbit_suite import DEFAULT_ORBITS, MalformedFile, MissingFile, load_records, no_output_score, \
-        read_values, score
+    from ..golden.orbit_suite import (
+        DEFAULT_ORBITS,
+        MalformedFile,
+        MissingFile,
+        load_records,
+        no_output_score,
+        read_values,
+        score,
+    )
     from ..golden.results import orbit_result
 
     if args.self_check and args.track != "map":
@@ -49,9 +56,20 @@ def run_orbits(args: argparse.Namespace) -> int:
         values = _self_values(records, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
-        values, errors = read_outputs({rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records},
-                                      MalformedFile, MissingFile)
+        values, errors = read_outputs(
+            {rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records}, MalformedFile, MissingFile
+        )
         if errors:
             return report_malformed(args, records, errors, info, orbits=True)
-    return score_and_report(args, records, values, info, orbits=True, root=None if args.self_check else root,
-                            suffix=".json", score=score, no_output=no_output_score, result=orbit_result)
+    return score_and_report(
+        args,
+        records,
+        values,
+        info,
+        orbits=True,
+        root=None if args.self_check else root,
+        suffix=".json",
+        score=score,
+        no_output=no_output_score,
+        result=orbit_result,
+    )

@@ -24,13 +24,16 @@ def suite_header(args: argparse.Namespace, folder: Path, part: str):
     except OSError as e:
         raise CliError(f"--suite: cannot read {str(folder)!r}: {e.strerror or e}") from None
     if args.require_suite is not None and not (info.version == args.require_suite and info.matches):
-        raise CliError(f"--require-suite {args.require_suite}: the suite is {info.label} "
-                       f"({info.part} {info.folder}, {info.digest})")
+        raise CliError(
+            f"--require-suite {args.require_suite}: the suite is {info.label} "
+            f"({info.part} {info.folder}, {info.digest})"
+        )
     return info
 
 
-def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool, times: dict,
-           table_to_stdout: bool = True) -> int:
+def report(
+    args: argparse.Namespace, results: list[dict], info, *, orbits: bool, times: dict, table_to_stdout: bool = True
+) -> int:
     """The table (or its summary line) on stdout, ``--json`` and ``--junit-xml``; the exit status."""
     from ..cliutil import write_text
     from ..golden.results import document, junit_xml, summary_line, table
@@ -52,11 +55,18 @@ def report(args: argparse.Namespace, results: list[dict], info, *, orbits: bool,
 
 def no_selection(what: str, args: argparse.Namespace, where) -> CliError:
     """The error when the selection holds nothing."""
-    how = " and ".join(x for x in (f"--cases {' '.join(args.cases)}" if args.cases else "",
-                                   f"--level {','.join(map(str, sorted(set(args.level))))}" if args.level else "")
-                       if x)
-    return CliError(f"{what} {str(where)!r} has no {'record' if 'orbit' in what else 'case'}"
-                    + (f" selected by {how}" if how else ""))
+    how = " and ".join(
+        x
+        for x in (
+            f"--cases {' '.join(args.cases)}" if args.cases else "",
+            f"--level {','.join(map(str, sorted(set(args.level))))}" if args.level else "",
+        )
+        if x
+    )
+    return CliError(
+        f"{what} {str(where)!r} has no {'record' if 'orbit' in what else 'case'}"
+        + (f" selected by {how}" if how else "")
+    )
 
 
 def write_output(path: Path, write, *args) -> str:
@@ -68,8 +78,19 @@ def write_output(path: Path, write, *args) -> str:
     return str(path)
 
 
-def score_and_report(args: argparse.Namespace, items, outputs: dict, info, *, orbits: bool, root: Path | None,
-                     suffix: str, score, no_output, result) -> int:
+def score_and_report(
+    args: argparse.Namespace,
+    items,
+    outputs: dict,
+    info,
+    *,
+    orbits: bool,
+    root: Path | None,
+    suffix: str,
+    score,
+    no_output,
+    result,
+) -> int:
     """Score each case or orbit record (``items``) on its output (``outputs[id]``; None: the file
     ``root/<id><suffix>`` is missing, a failing "no output"), timing each, and :func:`report` the results
     (``result(item, score)``: :func:`golden.results.case_result` or ``orbit_result``)."""

@@ -13,15 +13,27 @@ MAX_LANES = 65536
 
 def add_common(p: argparse.ArgumentParser) -> None:
     add_param_args(p, PAPER_PARAMS)
-    p.add_argument("--profile", choices=("quick", "paper"), default="quick",
-                   help="quick: small (< 1 min); paper: the paper's scale (default quick)")
-    p.add_argument("--delta", type=real("--delta", lo=0.0, lo_open=True, hi=1.0), default=DELTA,
-                   help="capture distance to the periodic orbit, sup norm of (tau mod 2pi, sdot), 0 < delta <= 1 "
-                        f"(default {DELTA:g})")
-    p.add_argument("--lanes", type=positive_int("--lanes", MAX_LANES), default=None,
-                   help=f"orbits advanced together per device, 1 to {MAX_LANES} "
-                        "(default: the orbits per device, at most 256 on a CPU with the engine's XLA options, 512 "
-                        "without them, 65536 on an accelerator)")
+    p.add_argument(
+        "--profile",
+        choices=("quick", "paper"),
+        default="quick",
+        help="quick: small (< 1 min); paper: the paper's scale (default quick)",
+    )
+    p.add_argument(
+        "--delta",
+        type=real("--delta", lo=0.0, lo_open=True, hi=1.0),
+        default=DELTA,
+        help="capture distance to the periodic orbit, sup norm of (tau mod 2pi, sdot), 0 < delta <= 1 "
+        f"(default {DELTA:g})",
+    )
+    p.add_argument(
+        "--lanes",
+        type=positive_int("--lanes", MAX_LANES),
+        default=None,
+        help=f"orbits advanced together per device, 1 to {MAX_LANES} "
+        "(default: the orbits per device, at most 256 on a CPU with the engine's XLA options, 512 "
+        "without them, 65536 on an accelerator)",
+    )
     add_output_options(p, out=("out/transients", "output directory (default out/transients)"), quiet="no progress bar")
 
 
@@ -56,8 +68,10 @@ def human_lines(summary: dict) -> list[str]:
     ours = f"  delta = {d}: kappa = {_fmt(f['kappa'])} +- {_fmt(f['kappa_se_boot'], '.2g')}"
     if not isinstance(p, dict):  # not the paper's parameters: the line saying so
         return [head, f"{ours}, <n> = {_fmt(f['mean_n'], '.1f')}", f"  {p}"]
-    return [head, f"{ours} (paper {p.get('kappa', ['?'])[0]}), <n> = {_fmt(f['mean_n'], '.1f')} "
-                  f"(paper {p.get('mean_n', '?')})"]
+    return [
+        head,
+        f"{ours} (paper {p.get('kappa', ['?'])[0]}), <n> = {_fmt(f['mean_n'], '.1f')} (paper {p.get('mean_n', '?')})",
+    ]
 
 
 def print_summary(summary: dict, notes=(), files=()) -> None:
@@ -68,6 +82,8 @@ def print_summary(summary: dict, notes=(), files=()) -> None:
     for text in notes:
         note(text)
     e = summary.get("engine", {})
-    note(f"engine: {e.get('impacts')} impacts in {e.get('elapsed_s', 0):.1f} s ({e.get('impacts_per_s', 0):.3g} "
-         f"impacts/s), orbits with sticking: {e.get('orbits_with_sticking')}")
+    note(
+        f"engine: {e.get('impacts')} impacts in {e.get('elapsed_s', 0):.1f} s ({e.get('impacts_per_s', 0):.3g} "
+        f"impacts/s), orbits with sticking: {e.get('orbits_with_sticking')}"
+    )
     print_result({k: v for k, v in summary.items() if k != "engine"}, human_lines(summary), files)

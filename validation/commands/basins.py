@@ -23,16 +23,34 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     add_common(p)
     q, pp = (get_profile(k, "basins") for k in ("quick", "paper"))
-    p.add_argument("--nx", type=positive_int("--nx", MAX_MESH), default=None,
-                   help=f"mesh points in tau0, 1 to {MAX_MESH} (default: quick {q['nx']}, paper {pp['nx']})")
-    p.add_argument("--ny", type=positive_int("--ny", MAX_MESH), default=None,
-                   help=f"mesh points in sdot0, 1 to {MAX_MESH} (default: quick {q['ny']}, paper {pp['ny']}; with --nx "
-                        "the profile's ratio ny/nx times --nx)")
-    p.add_argument("--window", type=real("--window"), nargs=4, default=[0.0, 2 * math.pi, 0.0, 0.5],
-                   metavar=("TAU_LO", "TAU_HI", "SDOT_LO", "SDOT_HI"),
-                   help="mesh window, TAU_LO < TAU_HI within |tau| <= 1e6 and SDOT_LO < SDOT_HI (default 0 2pi 0 0.5)")
-    p.add_argument("--ns", type=positive_int("--ns", MAX_IMPACTS), nargs="+", default=[90, 500, 1000, 2000],
-                   help=f"thresholds n, each 1 to {MAX_IMPACTS} (default 90 500 1000 2000)")
+    p.add_argument(
+        "--nx",
+        type=positive_int("--nx", MAX_MESH),
+        default=None,
+        help=f"mesh points in tau0, 1 to {MAX_MESH} (default: quick {q['nx']}, paper {pp['nx']})",
+    )
+    p.add_argument(
+        "--ny",
+        type=positive_int("--ny", MAX_MESH),
+        default=None,
+        help=f"mesh points in sdot0, 1 to {MAX_MESH} (default: quick {q['ny']}, paper {pp['ny']}; with --nx "
+        "the profile's ratio ny/nx times --nx)",
+    )
+    p.add_argument(
+        "--window",
+        type=real("--window"),
+        nargs=4,
+        default=[0.0, 2 * math.pi, 0.0, 0.5],
+        metavar=("TAU_LO", "TAU_HI", "SDOT_LO", "SDOT_HI"),
+        help="mesh window, TAU_LO < TAU_HI within |tau| <= 1e6 and SDOT_LO < SDOT_HI (default 0 2pi 0 0.5)",
+    )
+    p.add_argument(
+        "--ns",
+        type=positive_int("--ns", MAX_IMPACTS),
+        nargs="+",
+        default=[90, 500, 1000, 2000],
+        help=f"thresholds n, each 1 to {MAX_IMPACTS} (default 90 500 1000 2000)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -46,11 +64,22 @@ def run(args: argparse.Namespace) -> int:
     params = params_from(args)
     t_lo, t_hi, s_lo, s_hi = args.window
     if not (t_lo < t_hi and s_lo < s_hi and max(abs(t_lo), abs(t_hi)) <= TAU0_MAX):
-        raise CliError(f"--window={' '.join(map(repr, args.window))} is out of range: allowed TAU_LO < TAU_HI "
-                       f"({TAU0_RANGE.replace('tau0', 'tau')}) and SDOT_LO < SDOT_HI")
+        raise CliError(
+            f"--window={' '.join(map(repr, args.window))} is out of range: allowed TAU_LO < TAU_HI "
+            f"({TAU0_RANGE.replace('tau0', 'tau')}) and SDOT_LO < SDOT_HI"
+        )
     check_common(args)
-    res = basins(profile=args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window),
-               ns=tuple(args.ns), delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
+    res = basins(
+        profile=args.profile,
+        nx=args.nx,
+        ny=args.ny,
+        window=tuple(args.window),
+        ns=tuple(args.ns),
+        delta=args.delta,
+        params=params,
+        progress=progress_arg(args),
+        lanes=args.lanes,
+    )
     files = write_basins(args.out, res)
     fig = Path(args.out) / "fig9_basins.png"
     save_figure(basins_figure(res), fig)

@@ -27,26 +27,78 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..golden.ondemand import MAX_CASE_IMPACTS, TOLERANCE_LIMIT
 
     g = p.add_argument_group("one input (or --from)")
-    g.add_argument("--alpha", type=real("--alpha", lo=0.0, hi=1e10), default=None, help="driving amplitude, 0 <= alpha <= 1e10 (no default: required without --from)")
-    g.add_argument("--beta", type=real("--beta", lo=0.0, lo_open=True, hi=1e10), default=None, help="damping, 0 < beta <= 1e10 (no default: required without --from)")
-    g.add_argument("--gamma", type=real("--gamma", max_abs=1e10), default=None, help="constant torque term, |gamma| <= 1e10 (no default: required without --from)")
-    g.add_argument("--r", type=real("--r", lo=0.0, lo_open=True, hi=1.0), default=None, help="restitution coefficient, 0 < r <= 1 (no default: required without --from)")
-    g.add_argument("--tau0", type=tau0_type(), default=None, help="initial time, |tau0| <= 1e6 (no default: required without --from)")
-    g.add_argument("--sdot0", type=real("--sdot0", max_abs=1e6), default=None,
-                   help="initial velocity just before impact 0, finite, |sdot0| <= 1e6 (> 0: upper wall s = 0, < 0: "
-                        "lower wall s = -1); with --s0 the velocity of the free-flight start (no default: required without --from)")
-    g.add_argument("--s0", type=real("--s0", lo=-1.0, lo_open=True), default=None,
-                   help="start in free flight at -1 < s0 < 0 (default: a pre-impact start)")
-    g.add_argument("--impacts", type=nonneg_int("--impacts", MAX_CASE_IMPACTS), default=None, metavar="N",
-                   help=f"impacts after impact 0, 0 <= N <= {MAX_CASE_IMPACTS} (the case may stop earlier: "
-                        f"no tolerance reaches {TOLERANCE_LIMIT:g}) (no default: required without --from)")
-    g.add_argument("--stick-time", type=real("--stick-time", lo=0.0, hi=1.0), default=None, metavar="T",
-                   help="the sticking policy's threshold STICK_TIME, 0 <= T <= 1 (default 1e-6)")
-    g.add_argument("--id", default=None, help="case id: the folder name under SUITE (no default: required without --from)")
-    p.add_argument("--from", dest="from_file", default=None, metavar="FILE",
-                   help="build one case per input of FILE (CSV with a header, or a JSON list of objects) "
-                        "(default: one input, from the options above)")
-    p.add_argument("--out", required=True, metavar="SUITE", help="suite directory to write the case(s) into (required; no default)")
+    g.add_argument(
+        "--alpha",
+        type=real("--alpha", lo=0.0, hi=1e10),
+        default=None,
+        help="driving amplitude, 0 <= alpha <= 1e10 (no default: required without --from)",
+    )
+    g.add_argument(
+        "--beta",
+        type=real("--beta", lo=0.0, lo_open=True, hi=1e10),
+        default=None,
+        help="damping, 0 < beta <= 1e10 (no default: required without --from)",
+    )
+    g.add_argument(
+        "--gamma",
+        type=real("--gamma", max_abs=1e10),
+        default=None,
+        help="constant torque term, |gamma| <= 1e10 (no default: required without --from)",
+    )
+    g.add_argument(
+        "--r",
+        type=real("--r", lo=0.0, lo_open=True, hi=1.0),
+        default=None,
+        help="restitution coefficient, 0 < r <= 1 (no default: required without --from)",
+    )
+    g.add_argument(
+        "--tau0",
+        type=tau0_type(),
+        default=None,
+        help="initial time, |tau0| <= 1e6 (no default: required without --from)",
+    )
+    g.add_argument(
+        "--sdot0",
+        type=real("--sdot0", max_abs=1e6),
+        default=None,
+        help="initial velocity just before impact 0, finite, |sdot0| <= 1e6 (> 0: upper wall s = 0, < 0: "
+        "lower wall s = -1); with --s0 the velocity of the free-flight start (no default: required without --from)",
+    )
+    g.add_argument(
+        "--s0",
+        type=real("--s0", lo=-1.0, lo_open=True),
+        default=None,
+        help="start in free flight at -1 < s0 < 0 (default: a pre-impact start)",
+    )
+    g.add_argument(
+        "--impacts",
+        type=nonneg_int("--impacts", MAX_CASE_IMPACTS),
+        default=None,
+        metavar="N",
+        help=f"impacts after impact 0, 0 <= N <= {MAX_CASE_IMPACTS} (the case may stop earlier: "
+        f"no tolerance reaches {TOLERANCE_LIMIT:g}) (no default: required without --from)",
+    )
+    g.add_argument(
+        "--stick-time",
+        type=real("--stick-time", lo=0.0, hi=1.0),
+        default=None,
+        metavar="T",
+        help="the sticking policy's threshold STICK_TIME, 0 <= T <= 1 (default 1e-6)",
+    )
+    g.add_argument(
+        "--id", default=None, help="case id: the folder name under SUITE (no default: required without --from)"
+    )
+    p.add_argument(
+        "--from",
+        dest="from_file",
+        default=None,
+        metavar="FILE",
+        help="build one case per input of FILE (CSV with a header, or a JSON list of objects) "
+        "(default: one input, from the options above)",
+    )
+    p.add_argument(
+        "--out", required=True, metavar="SUITE", help="suite directory to write the case(s) into (required; no default)"
+    )
     p.add_argument("--replace", action="store_true", help="overwrite cases of the same id already in SUITE")
     p.add_argument("--quiet", action="store_true", help="no progress bar (notes and errors still go to stderr)")
 
@@ -65,8 +117,20 @@ def _inputs(args: argparse.Namespace):
     missing = [f"--{k}" for k in ONE if getattr(args, k) is None]
     if missing:
         raise CliError(f"missing {', '.join(missing)} (or give --from FILE)")
-    return [case_input(args.id, args.alpha, args.beta, args.gamma, args.r, args.tau0, args.sdot0, args.impacts,
-                       s0=args.s0, stick_time=args.stick_time)]
+    return [
+        case_input(
+            args.id,
+            args.alpha,
+            args.beta,
+            args.gamma,
+            args.r,
+            args.tau0,
+            args.sdot0,
+            args.impacts,
+            s0=args.s0,
+            stick_time=args.stick_time,
+        )
+    ]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -84,8 +148,11 @@ def run(args: argparse.Namespace) -> int:
     if not args.replace:
         taken = [c.id for c in inputs if (suite / c.id).exists()]
         if taken:
-            raise CliError(f"--out {args.out}: case {taken[0]!r} exists" +
-                           (f" (and {len(taken) - 1} more)" if len(taken) > 1 else "") + ": use --replace to overwrite")
+            raise CliError(
+                f"--out {args.out}: case {taken[0]!r} exists"
+                + (f" (and {len(taken) - 1} more)" if len(taken) > 1 else "")
+                + ": use --replace to overwrite"
+            )
     failed = 0
     with Bar("case", total=len(inputs), unit="cases", enabled=progress_arg(args) is not False) as bar:
         for k, inp in enumerate(inputs):
@@ -104,6 +171,8 @@ def run(args: argparse.Namespace) -> int:
         update_index(suite, write_text_atomic)
     if failed:
         commit_pending()  # the cases that were built stay (io.atomic discards a failing command's files)
-        raise CommandFailed(f"{failed} of {len(inputs)} input(s) have no case (named above); "
-                            f"{len(inputs) - failed} written to {args.out}")
+        raise CommandFailed(
+            f"{failed} of {len(inputs)} input(s) have no case (named above); "
+            f"{len(inputs) - failed} written to {args.out}"
+        )
     return 0

@@ -33,45 +33,89 @@ HELP = "score another implementation's output against the golden conformance sui
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", nargs="?", default=None,
-                   help="directory with one <case-id>.csv per case (default: none; omit with --self)")
+    p.add_argument(
+        "path",
+        nargs="?",
+        default=None,
+        help="directory with one <case-id>.csv per case (default: none; omit with --self)",
+    )
     from ..golden.paths import DEFAULT_ORBITS, DEFAULT_SUITE
 
-    p.add_argument("--suite", default=None,
-                   help=f"suite directory (default: the copy installed with this package, {DEFAULT_SUITE}; "
-                        f"with --orbits {DEFAULT_ORBITS})")
-    p.add_argument("--cases", nargs="+", action="extend", default=None, metavar="ID",
-                   help="only these case (or orbit record) ids; repeated, the lists add up (default: all)")
-    p.add_argument("--level", action="extend", type=_levels, default=None, metavar="L[,L...]",
-                   help="only the cases of these levels, e.g. 1,2 (1, 2 or 3; repeated, they add up; orbit records "
-                        "are level 2; with --cases: the cases in both; default: all)")
-    p.add_argument("--self", dest="self_check", action="store_true",
-                   help="run our own track on every case and score it")
-    p.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map",
-                   help="track used by --self (default map)")
-    p.add_argument("--out", default=None, metavar="DIR",
-                   help="with --self: also write the track's <case-id>.csv (with --orbits <id>.json) files to DIR "
-                        "(default: none written)")
+    p.add_argument(
+        "--suite",
+        default=None,
+        help=f"suite directory (default: the copy installed with this package, {DEFAULT_SUITE}; "
+        f"with --orbits {DEFAULT_ORBITS})",
+    )
+    p.add_argument(
+        "--cases",
+        nargs="+",
+        action="extend",
+        default=None,
+        metavar="ID",
+        help="only these case (or orbit record) ids; repeated, the lists add up (default: all)",
+    )
+    p.add_argument(
+        "--level",
+        action="extend",
+        type=_levels,
+        default=None,
+        metavar="L[,L...]",
+        help="only the cases of these levels, e.g. 1,2 (1, 2 or 3; repeated, they add up; orbit records "
+        "are level 2; with --cases: the cases in both; default: all)",
+    )
+    p.add_argument(
+        "--self", dest="self_check", action="store_true", help="run our own track on every case and score it"
+    )
+    p.add_argument(
+        "--track", choices=("map", "scipy", "diffrax"), default="map", help="track used by --self (default map)"
+    )
+    p.add_argument(
+        "--out",
+        default=None,
+        metavar="DIR",
+        help="with --self: also write the track's <case-id>.csv (with --orbits <id>.json) files to DIR "
+        "(default: none written)",
+    )
     add_renamed(p, "--write", "--out")
-    p.add_argument("--orbits", action="store_true",
-                   help="score periodic orbits and bifurcation points (one <id>.json per record of "
-                        "validation/golden/orbits, or --self) instead of impact sequences")
-    p.add_argument("--summary", action="store_true",
-                   help="print only the summary line of the table (it names the failing cases)")
-    p.add_argument("--json", default=None, metavar="FILE",
-                   help="also write the results as strict JSON to FILE ('-': stdout, instead of the table): "
-                        "the suite's version and digest, per case id, level, passed, digits per column, worst "
-                        "|error| / tolerance, first failing row (default: none)")
-    p.add_argument("--junit-xml", default=None, metavar="FILE",
-                   help="also write a JUnit XML report to FILE (one testcase per case or orbit record, a failure "
-                        "with the note and the digits for each failing one; the suite's version and digest as "
-                        "properties; default: none)")
-    p.add_argument("--suite-version", action="store_true",
-                   help="print the suite's version and the digests of its files (with --suite DIR: of DIR, and "
-                        "whether they match the recorded version's; exit 1 if not), then exit; PATH not needed")
-    p.add_argument("--require-suite", default=None, metavar="VERSION",
-                   help="refuse to score (exit 2) unless the suite is VERSION with its files unmodified "
-                        "(pinning a suite version in CI; default: any)")
+    p.add_argument(
+        "--orbits",
+        action="store_true",
+        help="score periodic orbits and bifurcation points (one <id>.json per record of "
+        "validation/golden/orbits, or --self) instead of impact sequences",
+    )
+    p.add_argument(
+        "--summary", action="store_true", help="print only the summary line of the table (it names the failing cases)"
+    )
+    p.add_argument(
+        "--json",
+        default=None,
+        metavar="FILE",
+        help="also write the results as strict JSON to FILE ('-': stdout, instead of the table): "
+        "the suite's version and digest, per case id, level, passed, digits per column, worst "
+        "|error| / tolerance, first failing row (default: none)",
+    )
+    p.add_argument(
+        "--junit-xml",
+        default=None,
+        metavar="FILE",
+        help="also write a JUnit XML report to FILE (one testcase per case or orbit record, a failure "
+        "with the note and the digits for each failing one; the suite's version and digest as "
+        "properties; default: none)",
+    )
+    p.add_argument(
+        "--suite-version",
+        action="store_true",
+        help="print the suite's version and the digests of its files (with --suite DIR: of DIR, and "
+        "whether they match the recorded version's; exit 1 if not), then exit; PATH not needed",
+    )
+    p.add_argument(
+        "--require-suite",
+        default=None,
+        metavar="VERSION",
+        help="refuse to score (exit 2) unless the suite is VERSION with its files unmodified "
+        "(pinning a suite version in CI; default: any)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bars (notes and errors still go to stderr)")
 
 
@@ -104,8 +148,9 @@ def _levels(text: str) -> list[int]:
     out = []
     for part in text.split(","):
         if part.strip() not in [str(v) for v in LEVELS]:
-            raise argparse.ArgumentTypeError(f"{text!r}: allowed levels {', '.join(map(str, LEVELS))}, "
-                                             "comma-separated (e.g. 1,2)")
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: allowed levels {', '.join(map(str, LEVELS))}, comma-separated (e.g. 1,2)"
+            )
         out.append(int(part))
     return out
 
@@ -133,8 +178,15 @@ def _self_outputs(cases, track: str, write: str | None):
 def run(args: argparse.Namespace) -> int:
     from ..cliutil import check_distinct, check_output_file
     from ..golden.results import case_result
-    from ..golden.suite import DEFAULT_SUITE, MalformedFile, MissingFile, load_suite, no_output_score, \
-        read_sequence, score_sequence
+    from ..golden.suite import (
+        DEFAULT_SUITE,
+        MalformedFile,
+        MissingFile,
+        load_suite,
+        no_output_score,
+        read_sequence,
+        score_sequence,
+    )
 
     if args.suite_version:
         return suite_version(args)
@@ -167,9 +219,20 @@ def run(args: argparse.Namespace) -> int:
         outputs = _self_outputs(cases, args.track, args.out)
     else:
         root = check_input_path(args.path, "PATH", directory=True)
-        outputs, errors = read_outputs({case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases},
-                                       MalformedFile, MissingFile)
+        outputs, errors = read_outputs(
+            {case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases}, MalformedFile, MissingFile
+        )
         if errors:
             return report_malformed(args, cases, errors, info, orbits=False)
-    return score_and_report(args, cases, outputs, info, orbits=False, root=None if args.self_check else root,
-                            suffix=".csv", score=score_sequence, no_output=no_output_score, result=case_result)
+    return score_and_report(
+        args,
+        cases,
+        outputs,
+        info,
+        orbits=False,
+        root=None if args.self_check else root,
+        suffix=".csv",
+        score=score_sequence,
+        no_output=no_output_score,
+        result=case_result,
+    )

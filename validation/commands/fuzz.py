@@ -30,21 +30,51 @@ HELP = "differential fuzzing of another implementation against certified cases (
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..golden.fuzz import BATCH, SCENARIOS, TIMEOUT
 
-    p.add_argument("--impl", required=True, metavar="COMMAND",
-                   help="the implementation, called as COMMAND CASES_DIR OUT_DIR (shell words; required, no default)")
-    p.add_argument("--seed", type=seed_int(), default=0, help="random seed of the draws, 0 <= SEED <= 2**32 - 1 (default 0)")
-    p.add_argument("--budget", type=real("--budget", lo=0.0, lo_open=True, hi=1e6), default=60.0, metavar="SECONDS",
-                   help="seconds of search, 0 < SECONDS <= 1e6 (default %(default)s)")
-    p.add_argument("--out", default="fuzz-failures", metavar="DIR",
-                   help="where failing cases are written (default fuzz-failures; created only if one is found)")
+    p.add_argument(
+        "--impl",
+        required=True,
+        metavar="COMMAND",
+        help="the implementation, called as COMMAND CASES_DIR OUT_DIR (shell words; required, no default)",
+    )
+    p.add_argument(
+        "--seed", type=seed_int(), default=0, help="random seed of the draws, 0 <= SEED <= 2**32 - 1 (default 0)"
+    )
+    p.add_argument(
+        "--budget",
+        type=real("--budget", lo=0.0, lo_open=True, hi=1e6),
+        default=60.0,
+        metavar="SECONDS",
+        help="seconds of search, 0 < SECONDS <= 1e6 (default %(default)s)",
+    )
+    p.add_argument(
+        "--out",
+        default="fuzz-failures",
+        metavar="DIR",
+        help="where failing cases are written (default fuzz-failures; created only if one is found)",
+    )
     p.add_argument("--keep-going", action="store_true", help="go on after a failure until the budget is spent")
-    p.add_argument("--timeout", type=real("--timeout", lo=0.0, lo_open=True, hi=1e5), default=TIMEOUT,
-                   metavar="SECONDS", help="seconds one batch of the implementation may take, 0 < SECONDS <= 1e5 "
-                        "(default %(default)s)")
-    p.add_argument("--batch", type=int_range("--batch", 1, 1000), default=BATCH, metavar="N",
-                   help=f"cases per run of the implementation, 1 <= N <= 1000 (default {BATCH})")
-    p.add_argument("--scenarios", nargs="+", choices=sorted(SCENARIOS), default=None, metavar="NAME",
-                   help="draw only these scenarios (default: all): " + ", ".join(sorted(SCENARIOS)))
+    p.add_argument(
+        "--timeout",
+        type=real("--timeout", lo=0.0, lo_open=True, hi=1e5),
+        default=TIMEOUT,
+        metavar="SECONDS",
+        help="seconds one batch of the implementation may take, 0 < SECONDS <= 1e5 (default %(default)s)",
+    )
+    p.add_argument(
+        "--batch",
+        type=int_range("--batch", 1, 1000),
+        default=BATCH,
+        metavar="N",
+        help=f"cases per run of the implementation, 1 <= N <= 1000 (default {BATCH})",
+    )
+    p.add_argument(
+        "--scenarios",
+        nargs="+",
+        choices=sorted(SCENARIOS),
+        default=None,
+        metavar="NAME",
+        help="draw only these scenarios (default: all): " + ", ".join(sorted(SCENARIOS)),
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -60,20 +90,38 @@ def run(args: argparse.Namespace) -> int:
     check_output_dir(args.out, "--out")
     out = Path(args.out)
     with Bar("fuzz", total=None, unit="cases", enabled=progress_arg(args) is not False) as bar:
+
         def progress(cases: int, failures: int) -> None:
             bar.postfix(f"{failures} failing")
             bar(cases)
 
         # each shrunk case is moved into place as soon as it is written (io.atomic): an interrupted
         # --keep-going run keeps the failures it has found
-        res = fuzz(command, seed=args.seed, budget=args.budget, out=out, keep_going=args.keep_going,
-                   timeout=args.timeout, batch=args.batch, scenarios=args.scenarios, progress=progress,
-                   write=write_text_atomic, written=commit_pending)
+        res = fuzz(
+            command,
+            seed=args.seed,
+            budget=args.budget,
+            out=out,
+            keep_going=args.keep_going,
+            timeout=args.timeout,
+            batch=args.batch,
+            scenarios=args.scenarios,
+            progress=progress,
+            write=write_text_atomic,
+            written=commit_pending,
+        )
     summary = {
-        "implementation": args.impl, "seed": args.seed, "budget_s": args.budget,
-        "elapsed_s": round(res.elapsed, 2), "cases": res.cases, "batches": res.batches,
-        "inputs_drawn": res.drawn, "inputs_skipped": res.skipped, "scenarios": res.scenarios,
-        "failures": [f.summary() for f in res.failures], "out": str(out) if res.failures else None,
+        "implementation": args.impl,
+        "seed": args.seed,
+        "budget_s": args.budget,
+        "elapsed_s": round(res.elapsed, 2),
+        "cases": res.cases,
+        "batches": res.batches,
+        "inputs_drawn": res.drawn,
+        "inputs_skipped": res.skipped,
+        "scenarios": res.scenarios,
+        "failures": [f.summary() for f in res.failures],
+        "out": str(out) if res.failures else None,
         "status": "error" if res.error else ("failures" if res.failures else "clean"),
         "error": res.error or None,
     }

@@ -14,8 +14,7 @@ import sys
 
 from ...mapimpl.certified.balls import MAX_PREC, CertificationError, precision
 from ...core.paper import DELTA, PAPER_DECIMAL
-from ...mapimpl.certified.duration import PRECISIONS, ROUNDINGS, certified_release_duration, \
-    model_params
+from ...mapimpl.certified.duration import PRECISIONS, ROUNDINGS, certified_release_duration, model_params
 from ...mapimpl.certified.model import PARAM_NAMES, parameter_ball
 from ...mapimpl.certified.release import MAX_IMPACTS
 from ...mapimpl.float64_release import float64_release_duration
@@ -27,8 +26,9 @@ def _precisions(text: str) -> tuple:
     except ValueError:
         raise argparse.ArgumentTypeError(f"--precisions={text!r}: allowed a comma-separated list of integers") from None
     if not vals or any(not 64 <= v <= MAX_PREC for v in vals) or any(b <= a for a, b in zip(vals, vals[1:])):
-        raise argparse.ArgumentTypeError(f"--precisions={text!r} is out of range: allowed increasing integers "
-                                         f"in [64, {MAX_PREC}]")
+        raise argparse.ArgumentTypeError(
+            f"--precisions={text!r} is out of range: allowed increasing integers in [64, {MAX_PREC}]"
+        )
     return vals
 
 
@@ -58,20 +58,34 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _Parser(prog="python -m gear_rattle.validation.commands.release",
-                 description="Certified post-release duration T_post of the canonical release orbit "
-                             "(ball arithmetic at increasing precision; docs/release.md).")
+    ap = _Parser(
+        prog="python -m gear_rattle.validation.commands.release",
+        description="Certified post-release duration T_post of the canonical release orbit "
+        "(ball arithmetic at increasing precision; docs/release.md).",
+    )
     g = ap.add_argument_group("parameters (exact decimals as printed; default: the paper's Figs. 9-11)")
     for k in PARAM_NAMES:
         g.add_argument(f"--{k}", default=PAPER_DECIMAL[k], help=f"decimal (default {PAPER_DECIMAL[k]})")
     ap.add_argument("--wall", choices=("0", "-1", "both"), default="0", help="wall released from (default 0: s = 0)")
-    ap.add_argument("--rounding", choices=ROUNDINGS + ("both",), default="both",
-                    help="exact decimal parameters, their float64 roundings, or both (default)")
+    ap.add_argument(
+        "--rounding",
+        choices=ROUNDINGS + ("both",),
+        default="both",
+        help="exact decimal parameters, their float64 roundings, or both (default)",
+    )
     ap.add_argument("--delta", type=_positive_float, default=DELTA, help=f"capture distance (default {DELTA:g})")
-    ap.add_argument("--max-impacts", type=_positive_int, default=MAX_IMPACTS,
-                    help=f"most post-release impacts certified (default {MAX_IMPACTS})")
-    ap.add_argument("--precisions", type=_precisions, default=PRECISIONS,
-                    help="increasing precisions in bits (default " + ",".join(map(str, PRECISIONS)) + ")")
+    ap.add_argument(
+        "--max-impacts",
+        type=_positive_int,
+        default=MAX_IMPACTS,
+        help=f"most post-release impacts certified (default {MAX_IMPACTS})",
+    )
+    ap.add_argument(
+        "--precisions",
+        type=_precisions,
+        default=PRECISIONS,
+        help="increasing precisions in bits (default " + ",".join(map(str, PRECISIONS)) + ")",
+    )
     ap.add_argument("--no-confirm", action="store_true", help="skip the confirmation at the next precision")
     ap.add_argument("--time-budget", type=_positive_float, default=None, help="seconds for each schedule")
     ap.add_argument("--float64", action="store_true", help="also run the float64 engine's own T_post")
@@ -93,24 +107,37 @@ def main(argv: list[str] | None = None) -> int:
 
     results: list[dict] = []
     float64_engine: list[dict] = []
-    out = {"command": "python -m gear_rattle.validation.commands.release " + " ".join(argv or sys.argv[1:]),
-           "results": results, "float64_engine": float64_engine}
+    out = {
+        "command": "python -m gear_rattle.validation.commands.release " + " ".join(argv or sys.argv[1:]),
+        "results": results,
+        "float64_engine": float64_engine,
+    }
     try:
         for wall in walls:
             for rounding in roundings:
                 with Bar(f"T_post (wall {wall}, {rounding})", enabled=not args.quiet) as bar:
+
                     def prog(prec, n, rad, bar=bar):
                         bar.postfix(f"{prec} bits, radius {rad}")
                         bar.update(n)
 
-                    d = certified_release_duration(params, wall, args.delta, rounding=rounding,
-                                                   max_impacts=args.max_impacts, precisions=args.precisions,
-                                                   confirm=not args.no_confirm, time_budget_s=args.time_budget,
-                                                   progress=prog)
+                    d = certified_release_duration(
+                        params,
+                        wall,
+                        args.delta,
+                        rounding=rounding,
+                        max_impacts=args.max_impacts,
+                        precisions=args.precisions,
+                        confirm=not args.no_confirm,
+                        time_budget_s=args.time_budget,
+                        progress=prog,
+                    )
                 print(d.summary())
                 for a in d.attempts:
-                    print(f"    {a.prec:5d} bits: {a.status:13s} impacts {a.impacts:6d}  radius {a.radius:>9s}  "
-                          f"growth {a.growth:.3f} bits/impact  {a.seconds:7.1f} s  {a.reason}")
+                    print(
+                        f"    {a.prec:5d} bits: {a.status:13s} impacts {a.impacts:6d}  radius {a.radius:>9s}  "
+                        f"growth {a.growth:.3f} bits/impact  {a.seconds:7.1f} s  {a.reason}"
+                    )
                 results.append(d.to_dict())
             if args.float64:
                 f = float64_release_duration(model_params(params, "float64"), wall, args.delta)

@@ -15,8 +15,24 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import (MAX_IMPACTS, CliError, CommandFailed, add_output_options, int_range, add_param_args, check_outputs, nonneg_int, note, params_from, progress_arg,
-                       real, add_start_args, check_start_args, write_output, write_plot)
+from ..cliutil import (
+    MAX_IMPACTS,
+    CliError,
+    CommandFailed,
+    add_output_options,
+    int_range,
+    add_param_args,
+    check_outputs,
+    nonneg_int,
+    note,
+    params_from,
+    progress_arg,
+    real,
+    add_start_args,
+    check_start_args,
+    write_output,
+    write_plot,
+)
 
 NAME = "simulate"
 HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
@@ -30,16 +46,32 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     add_param_args(p)
     add_start_args(p, s0="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
-    p.add_argument("--impacts", type=nonneg_int("--impacts", MAX_IMPACTS), default=1000,
-                   help=f"impacts after impact 0, 0 to {MAX_IMPACTS} (default 1000)")
-    p.add_argument("--track", choices=("map", "scipy", "diffrax", "certified"), default="map",
-                   help="which track computes the orbit (default map; certified: every row proven, with float64 bounds)")
-    p.add_argument("--max-precision", type=int_range("--max-precision", 64, MAX_PREC), default=None,
-                   help=f"--track certified: the precision limit in bits, 64 to {MAX_PREC} (default {MAX_TRACK_PREC}); "
-                        "the precision starts at 320 bits (or the limit) and rises until every impact is certified")
+    p.add_argument(
+        "--impacts",
+        type=nonneg_int("--impacts", MAX_IMPACTS),
+        default=1000,
+        help=f"impacts after impact 0, 0 to {MAX_IMPACTS} (default 1000)",
+    )
+    p.add_argument(
+        "--track",
+        choices=("map", "scipy", "diffrax", "certified"),
+        default="map",
+        help="which track computes the orbit (default map; certified: every row proven, with float64 bounds)",
+    )
+    p.add_argument(
+        "--max-precision",
+        type=int_range("--max-precision", 64, MAX_PREC),
+        default=None,
+        help=f"--track certified: the precision limit in bits, 64 to {MAX_PREC} (default {MAX_TRACK_PREC}); "
+        "the precision starts at 320 bits (or the limit) and rises until every impact is certified",
+    )
     add_output_options(p, output="the events", plot="draw the paper's Figs. 2-3 for this orbit (default: no figure)")
-    p.add_argument("--plot-span", type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4), default=50.0,
-                   help="time span of the plot in tau units, 0 < span <= 1e4 (default 50.0)")
+    p.add_argument(
+        "--plot-span",
+        type=real("--plot-span", lo=0.0, lo_open=True, hi=1e4),
+        default=50.0,
+        help="time span of the plot in tau units, 0 < span <= 1e4 (default 50.0)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,8 +84,7 @@ def run(args: argparse.Namespace) -> int:
     check_start_args(args)
     if args.track == "certified":
         return _run_certified(args, params)
-    seq = orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, track=args.track,
-                progress=progress_arg(args))
+    seq = orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, track=args.track, progress=progress_arg(args))
     _finish(args, seq)
     return 0
 
@@ -67,9 +98,11 @@ def _finish(args: argparse.Namespace, seq) -> None:
         fig = time_series_figure(seq, span=args.plot_span)
     write_output(args, seq)
     if seq.status != "active":
-        why = {"no_impact": "no wall is reached within the flight horizon T_MAX",
-               "stuck_forever": "the tooth sticks to a wall and the forcing never releases it",
-               "step_cap": "the impact search hit its iteration cap"}.get(seq.status, seq.status)
+        why = {
+            "no_impact": "no wall is reached within the flight horizon T_MAX",
+            "stuck_forever": "the tooth sticks to a wall and the forcing never releases it",
+            "step_cap": "the impact search hit its iteration cap",
+        }.get(seq.status, seq.status)
         note(f"the orbit ended after {int(seq.impacts.sum()) - 1} impacts (status {seq.status}: {why})")
     write_plot(args, fig)
 
@@ -80,8 +113,9 @@ def _run_certified(args: argparse.Namespace, params) -> int:
     from ..io.atomic import commit_pending
 
     limit = MAX_TRACK_PREC if args.max_precision is None else args.max_precision
-    run = certified_orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit,
-                          progress=progress_arg(args))
+    run = certified_orbit(
+        params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit, progress=progress_arg(args)
+    )
     seq = run.sequence()
     if run.complete:
         _finish(args, seq)
@@ -89,5 +123,7 @@ def _run_certified(args: argparse.Namespace, params) -> int:
     write_output(args, seq)  # the certified prefix only (no plot of a partial orbit)
     commit_pending()  # a whole file, kept although the command fails (io.atomic discards on failure)
     k = run.impacts_certified
-    raise CommandFailed(f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
-                        f"{k} certified impact{'' if k == 1 else 's'} before it")
+    raise CommandFailed(
+        f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
+        f"{k} certified impact{'' if k == 1 else 's'} before it"
+    )

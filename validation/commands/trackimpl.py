@@ -34,8 +34,9 @@ def run_folder(cases: Path, out: Path, track: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m gear_rattle.validation.commands.trackimpl",
-                                 description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(
+        prog="python -m gear_rattle.validation.commands.trackimpl", description=__doc__.split("\n\n")[0]
+    )
     ap.add_argument("--track", choices=("map", "scipy", "diffrax"), default="map")
     ap.add_argument("cases", type=Path)
     ap.add_argument("out", type=Path)

@@ -23,21 +23,41 @@ HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common(p)
-    p.add_argument("--nx", type=positive_int("--nx", MAX_MESH), default=None,
-                   help=f"mesh points in tau0, 1 to {MAX_MESH} (default: quick 60, paper 400)")
-    p.add_argument("--ny", type=positive_int("--ny", MAX_MESH), default=None,
-                   help=f"mesh points in sdot0, 1 to {MAX_MESH} (default: --nx)")
+    p.add_argument(
+        "--nx",
+        type=positive_int("--nx", MAX_MESH),
+        default=None,
+        help=f"mesh points in tau0, 1 to {MAX_MESH} (default: quick 60, paper 400)",
+    )
+    p.add_argument(
+        "--ny",
+        type=positive_int("--ny", MAX_MESH),
+        default=None,
+        help=f"mesh points in sdot0, 1 to {MAX_MESH} (default: --nx)",
+    )
     add_renamed(p, "--n", "--nx", type=positive_int("--n", MAX_MESH))
-    p.add_argument("--cap", type=positive_int("--cap", MAX_IMPACTS), default=None,
-                   help=f"most impacts per orbit, 1 to {MAX_IMPACTS} (default 20000)")
-    add_s0_arg(p, help="read (tau0, sdot0) as a free-flight state at s = s0, -1 <= s0 <= 0 "
-                        "(default: none, pre-impact states)")
-    p.add_argument("--n-lo", type=nonneg_int("--n-lo", MAX_IMPACTS), default=None,
-                   help=f"start of the fit range in impacts, 0 to {MAX_IMPACTS} (default: the median duration)")
+    p.add_argument(
+        "--cap",
+        type=positive_int("--cap", MAX_IMPACTS),
+        default=None,
+        help=f"most impacts per orbit, 1 to {MAX_IMPACTS} (default 20000)",
+    )
+    add_s0_arg(
+        p, help="read (tau0, sdot0) as a free-flight state at s = s0, -1 <= s0 <= 0 (default: none, pre-impact states)"
+    )
+    p.add_argument(
+        "--n-lo",
+        type=nonneg_int("--n-lo", MAX_IMPACTS),
+        default=None,
+        help=f"start of the fit range in impacts, 0 to {MAX_IMPACTS} (default: the median duration)",
+    )
     p.add_argument("--seed", type=seed_int(), default=0, help="bootstrap seed, 0 to 2**32-1 (default 0)")
-    p.add_argument("--float64-rounding", action="store_true",
-                   help="also certify T_post for the float64 roundings of the parameters and report it in "
-                        "transients.json beside the value used (not used for the durations; ~20 s or more)")
+    p.add_argument(
+        "--float64-rounding",
+        action="store_true",
+        help="also certify T_post for the float64 roundings of the parameters and report it in "
+        "transients.json beside the value used (not used for the durations; ~20 s or more)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,10 +69,22 @@ def run(args: argparse.Namespace) -> int:
 
     params = params_from(args)
     check_common(args)
-    res = transients(profile=args.profile, nx=args.nx, ny=args.ny, cap=args.cap, delta=args.delta,
-                   deltas=recorded_deltas(args.delta), params=params,
-                   ic_mode="pre-impact" if args.s0 is None else "free", s0=args.s0, n_lo=args.n_lo, seed=args.seed,
-                   progress=progress_arg(args), lanes=args.lanes, float64_rounding=args.float64_rounding)
+    res = transients(
+        profile=args.profile,
+        nx=args.nx,
+        ny=args.ny,
+        cap=args.cap,
+        delta=args.delta,
+        deltas=recorded_deltas(args.delta),
+        params=params,
+        ic_mode="pre-impact" if args.s0 is None else "free",
+        s0=args.s0,
+        n_lo=args.n_lo,
+        seed=args.seed,
+        progress=progress_arg(args),
+        lanes=args.lanes,
+        float64_rounding=args.float64_rounding,
+    )
     files = write_survival(args.out, res)
     fig = Path(args.out) / "fig11_survival.png"
     save_figure(survival_figure(res), fig)

@@ -23,16 +23,37 @@ MAX_POINTS = 1_000_000
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_common(p)
-    p.add_argument("--points", type=int_range("--points", 10, MAX_POINTS), default=None,
-                   help=f"random points, 10 to {MAX_POINTS} (default: quick 300, paper 3000)")
-    p.add_argument("--eps-min", type=real("--eps-min", lo=0.0, lo_open=True, hi=0.1), default=1e-9,
-                   help="smallest eps, 0 < eps-min < eps-max (default 1e-09)")
-    p.add_argument("--eps-max", type=real("--eps-max", lo=0.0, lo_open=True, hi=0.1), default=1e-3,
-                   help="largest eps, eps-min < eps-max <= 0.1 (default 0.001)")
-    p.add_argument("--n-eps", type=int_range("--n-eps", 3, 100), default=None,
-                   help="eps values, log-spaced, 3 to 100 (default: quick 7, paper 13)")
-    p.add_argument("--ns", type=positive_int("--ns", MAX_IMPACTS), nargs="+", default=[500, 1000],
-                   help=f"durations n, each 1 to {MAX_IMPACTS} (default 500 1000)")
+    p.add_argument(
+        "--points",
+        type=int_range("--points", 10, MAX_POINTS),
+        default=None,
+        help=f"random points, 10 to {MAX_POINTS} (default: quick 300, paper 3000)",
+    )
+    p.add_argument(
+        "--eps-min",
+        type=real("--eps-min", lo=0.0, lo_open=True, hi=0.1),
+        default=1e-9,
+        help="smallest eps, 0 < eps-min < eps-max (default 1e-09)",
+    )
+    p.add_argument(
+        "--eps-max",
+        type=real("--eps-max", lo=0.0, lo_open=True, hi=0.1),
+        default=1e-3,
+        help="largest eps, eps-min < eps-max <= 0.1 (default 0.001)",
+    )
+    p.add_argument(
+        "--n-eps",
+        type=int_range("--n-eps", 3, 100),
+        default=None,
+        help="eps values, log-spaced, 3 to 100 (default: quick 7, paper 13)",
+    )
+    p.add_argument(
+        "--ns",
+        type=positive_int("--ns", MAX_IMPACTS),
+        nargs="+",
+        default=[500, 1000],
+        help=f"durations n, each 1 to {MAX_IMPACTS} (default 500 1000)",
+    )
     p.add_argument("--seed", type=seed_int(), default=0, help="random seed of the points, 0 to 2**32-1 (default 0)")
 
 
@@ -45,12 +66,23 @@ def run(args: argparse.Namespace) -> int:
 
     params = params_from(args)
     if not args.eps_min < args.eps_max:
-        raise CliError(f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "
-                       "allowed 0 < eps-min < eps-max <= 0.1")
+        raise CliError(
+            f"--eps-min={args.eps_min!r}, --eps-max={args.eps_max!r} are out of range: "
+            "allowed 0 < eps-min < eps-max <= 0.1"
+        )
     check_common(args)
     eps = default_eps(args.profile, args.n_eps, args.eps_min, args.eps_max)
-    res = uncertainty(profile=args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns),
-                    seed=args.seed, delta=args.delta, params=params, progress=progress_arg(args), lanes=args.lanes)
+    res = uncertainty(
+        profile=args.profile,
+        n_points=args.points,
+        eps=eps,
+        ns=tuple(args.ns),
+        seed=args.seed,
+        delta=args.delta,
+        params=params,
+        progress=progress_arg(args),
+        lanes=args.lanes,
+    )
     files = write_uncertainty(args.out, res)
     fig = Path(args.out) / "fig10_uncertainty.png"
     save_figure(uncertainty_figure(res), fig)

@@ -83,21 +83,46 @@ class Diagram:
 
     def arrays(self) -> dict:
         """The arrays of the diagram's NPZ file."""
-        return dict(param=self.param, values=self.values, sdot=self.sdot, theta=self.theta, active=self.active,
-                    mode=self.mode, transient=self.transient, keep=self.keep, alpha=self.base.alpha,
-                    beta=self.base.beta, gamma=self.base.gamma, r=self.base.r)
+        return dict(
+            param=self.param,
+            values=self.values,
+            sdot=self.sdot,
+            theta=self.theta,
+            active=self.active,
+            mode=self.mode,
+            transient=self.transient,
+            keep=self.keep,
+            alpha=self.base.alpha,
+            beta=self.base.beta,
+            gamma=self.base.gamma,
+            r=self.base.r,
+        )
 
     def table(self) -> tuple[list, list]:
         """``(header, rows)`` of the diagram's CSV: one row per recorded impact (parameter value, index,
         theta, sdot)."""
         return [self.param, "n", "theta", "sdot"], [
             [float(v), j, float(self.theta[i, j]), float(self.sdot[i, j])]
-            for i, v in enumerate(self.values) for j in range(self.sdot.shape[1]) if self.active[i, j]]
+            for i, v in enumerate(self.values)
+            for j in range(self.sdot.shape[1])
+            if self.active[i, j]
+        ]
 
 
-def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values: int = 200,
-                        transient: int = 1000, keep: int = 200, mode: str = "fixed", tau0: float = 0.0,
-                        sdot0: float = 0.5, reverse: bool = False, progress=None) -> Diagram:
+def bifurcation_diagram(
+    base: Params,
+    param: str,
+    lo: float,
+    hi: float,
+    n_values: int = 200,
+    transient: int = 1000,
+    keep: int = 200,
+    mode: str = "fixed",
+    tau0: float = 0.0,
+    sdot0: float = 0.5,
+    reverse: bool = False,
+    progress=None,
+) -> Diagram:
     """sdot_n against ``param`` in ``[lo, hi]`` (Fig. 4a: ``param="r"``, alpha = 3; Fig. 8a:
     ``param="alpha"``, r = 0.9), ``transient`` impacts discarded, ``keep`` recorded.
 
@@ -123,10 +148,16 @@ def bifurcation_diagram(base: Params, param: str, lo: float, hi: float, n_values
     p = param_arrays(base, param, values)
     if mode == "fixed":
         # one orbit per value on the many-orbit engine: impacts transient+1 .. transient+keep recorded
-        res = run(np.full(n_values, float(tau0)), np.full(n_values, float(sdot0)),
-                  np.full(n_values, 0 if sdot0 > 0 else -1, np.int32), p,
-                  Sample(keep=keep, n_start=transient + 1), cap=transient + keep, progress=progress,
-                  label="bifurcation")
+        res = run(
+            np.full(n_values, float(tau0)),
+            np.full(n_values, float(sdot0)),
+            np.full(n_values, 0 if sdot0 > 0 else -1, np.int32),
+            p,
+            Sample(keep=keep, n_start=transient + 1),
+            cap=transient + keep,
+            progress=progress,
+            label="bifurcation",
+        )
         sd, th = res.obs[0]["sdot"], res.obs[0]["theta"]
         act = np.isfinite(th)
     else:
@@ -165,16 +196,24 @@ class DiagramLyapunov:
 
     def _columns(self) -> dict[str, np.ndarray]:
         lam = self.lyapunov
-        return {"lambda1": lam.lam[:, 0], "lambda2": lam.lam[:, 1], "lambda1_free": lam.lam_free[:, 0],
-                "lambda2_free": lam.lam_free[:, 1]}
+        return {
+            "lambda1": lam.lam[:, 0],
+            "lambda2": lam.lam[:, 1],
+            "lambda1_free": lam.lam_free[:, 0],
+            "lambda2_free": lam.lam_free[:, 1],
+        }
 
     def arrays(self) -> dict:
         """The NPZ file's arrays: the diagram's (:meth:`Diagram.arrays`) and, per parameter value, the
         exponents drawn in panel b and their formal values (``lambda1``, ``lambda2``: ``-inf`` where a
         step stuck; ``lambda1_free``, ``lambda2_free``: over the free steps; NaN where the orbit ended
         early), ``n_stuck`` and the impacts averaged ``lyapunov_impacts``."""
-        return {**self.diagram.arrays(), **self._columns(), "n_stuck": self.lyapunov.n_stuck,
-                "lyapunov_impacts": self.lyapunov.n_steps}
+        return {
+            **self.diagram.arrays(),
+            **self._columns(),
+            "n_stuck": self.lyapunov.n_stuck,
+            "lyapunov_impacts": self.lyapunov.n_steps,
+        }
 
     def table(self) -> tuple[list, list]:
         """The CSV file's ``(header, rows)``: the diagram's rows (:meth:`Diagram.table`, one per recorded
@@ -186,8 +225,9 @@ class DiagramLyapunov:
         return header + list(cols), [row + [float(c[at[row[0]]]) for c in cols.values()] for row in rows]
 
 
-def diagram_with_lyapunov(base: Params, param: str, lo: float, hi: float, n_values: int, transient: int, keep: int,
-                          lyap_n: int) -> DiagramLyapunov:
+def diagram_with_lyapunov(
+    base: Params, param: str, lo: float, hi: float, n_values: int, transient: int, keep: int, lyap_n: int
+) -> DiagramLyapunov:
     """The diagram of ``param`` in ``[lo, hi]`` (``n_values`` values, ``transient`` impacts discarded,
     ``keep`` recorded, every value from the same initial condition) and the QR Lyapunov exponents over
     ``lyap_n`` impacts at the same values."""

@@ -123,8 +123,9 @@ def _final_orbits(P: Params, tail: dict, reached: np.ndarray, run_end: np.ndarra
     return settled, capture, period, mult
 
 
-def settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, n: int, eps: float,
-           seed: int) -> Settling:
+def settle(
+    base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, n: int, eps: float, seed: int
+) -> Settling:
     """Run ``n_ics`` orbits (random pre-impact states at s = 0, 0 <= tau0 < 2 pi, 0.05 <= sdot0 <= 0.5) at
     ``param = value`` for ``n`` impacts on the engine and see whether and when each settles near the
     reference orbit (``ref_th, ref_sd``).  Two observers, no history: a
@@ -140,16 +141,39 @@ def settle(base: Params, param: str, value: float, ref_th, ref_sd, n_ics: int, n
     rng = np.random.default_rng(seed)
     t0, s0 = rng.uniform(0.0, 2 * np.pi, n_ics), rng.uniform(SDOT0_RANGE[0], SDOT0_RANGE[1], n_ics)
     P = base.replace(**{param: value})
-    lam = Laminar(np.mod(np.asarray(ref_th, float), 2 * np.pi), np.asarray(ref_sd, float), eps=eps,
-                  min_length=MIN_LAMINAR, n_start=1)
-    res = run(t0, s0, np.zeros(n_ics, np.int32), P, (lam, Sample(keep=SETTLE_TAIL, n_start=n - SETTLE_TAIL + 1)),
-              cap=n, progress=False)
+    lam = Laminar(
+        np.mod(np.asarray(ref_th, float), 2 * np.pi),
+        np.asarray(ref_sd, float),
+        eps=eps,
+        min_length=MIN_LAMINAR,
+        n_start=1,
+    )
+    res = run(
+        t0,
+        s0,
+        np.zeros(n_ics, np.int32),
+        P,
+        (lam, Sample(keep=SETTLE_TAIL, n_start=n - SETTLE_TAIL + 1)),
+        cap=n,
+        progress=False,
+    )
     lo, tail = res.obs
     reached = res.n == n
     settled, capture, period, mult = _final_orbits(P, tail, reached, np.where(reached, lo["run"], 0), n)
-    return Settling(float(value), n_ics, n, float(eps), np.array(settled), np.array(capture),
-                    np.asarray(lo["count"], int), period, mult, int(np.sum(lo["count"])),
-                    float(np.sum(lo["total"])), float(np.sum(lo["total_sq"])))
+    return Settling(
+        float(value),
+        n_ics,
+        n,
+        float(eps),
+        np.array(settled),
+        np.array(capture),
+        np.asarray(lo["count"], int),
+        period,
+        mult,
+        int(np.sum(lo["count"])),
+        float(np.sum(lo["total"])),
+        float(np.sum(lo["total_sq"])),
+    )
 
 
 def laminar_in_series(sd: np.ndarray, eps: float) -> tuple[float, int, int | None]:

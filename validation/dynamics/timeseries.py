@@ -28,8 +28,7 @@ from ...core.checks import MAX_IMPACTS, check_int
 from ..paper import PAPER
 
 #: r values of the time-series figures (alpha = 3, beta = gamma = 0.1).
-FIGURE_R = {"fig5": float(PAPER["r2"].value), "fig6": float(PAPER["r2_fig6"].value),
-            "fig7": float(PAPER["r1"].value)}
+FIGURE_R = {"fig5": float(PAPER["r2"].value), "fig6": float(PAPER["r2_fig6"].value), "fig7": float(PAPER["r1"].value)}
 _TP = float(TWO_PI)
 
 
@@ -78,16 +77,25 @@ def stroboscopic(seq: ImpactSequence) -> tuple[np.ndarray, np.ndarray]:
     return k, v
 
 
-def time_series(params: Params, n_impacts: int = 3000, transient: int = 2000, tau0: float = 0.0,
-                sdot0: float = 0.5, progress=False) -> TimeSeries:
+def time_series(
+    params: Params, n_impacts: int = 3000, transient: int = 2000, tau0: float = 0.0, sdot0: float = 0.5, progress=False
+) -> TimeSeries:
     """Discrete and stroboscopic velocity series after ``transient`` impacts (n counted after it);
     ``progress``: see :func:`gear_rattle.mapimpl.orbit.map_orbit`."""
     check_int("n_impacts", n_impacts, 2, MAX_IMPACTS)
     check_int("transient", transient, 0, MAX_IMPACTS)
     seq = map_orbit(params, tau0, sdot0, int(n_impacts) + int(transient), progress=progress)
     keep = seq.n >= int(transient)
-    sub = ImpactSequence(params, seq.n[keep] - int(transient), seq.tau[keep], seq.theta[keep], seq.wall[keep],
-                         seq.sdot[keep], seq.kind[keep], seq.status)
+    sub = ImpactSequence(
+        params,
+        seq.n[keep] - int(transient),
+        seq.tau[keep],
+        seq.theta[keep],
+        seq.wall[keep],
+        seq.sdot[keep],
+        seq.kind[keep],
+        seq.status,
+    )
     k, v = stroboscopic(sub)
     m = sub.kind == "impact"
     return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0] if k.size else k, v)  # no sample: span < 2 pi

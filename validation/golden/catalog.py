@@ -18,24 +18,23 @@ from pathlib import Path
 BUG_CLASSES: dict[str, str] = {
     "flight-or-impact-law": "a wrong flight (Eqs. 7-8), impact law (Eq. 11) or event bookkeeping in general",
     "float64-drift": "event times located too loosely (e.g. to 1e-9): errors amplified along a chaotic orbit "
-                     "leave the tolerance",
+    "leave the tolerance",
     "cancellation": "the printed Eq. (7) evaluated as it stands: gamma/beta^2 cancellations for small beta",
     "free-flight-start": "a start in free flight handled as a pre-impact state (impact 0 not searched)",
     "lower-wall-conventions": "wall code or velocity sign wrong on the lower wall s = -1, or gamma < 0 mishandled",
     "return-to-start-wall": "a flight that returns to the wall it left is missed or tunnels through",
     "skipped-graze": "a finder that samples the flight (fixed-step sign change) misses a short excursion beyond "
-                     "a wall: every step from 1e-3 to 1 misses one of the grazes",
+    "a wall: every step from 1e-3 to 1 misses one of the grazes",
     "contact-tolerance": "a contact accepted where the gap is below a tolerance (near misses at 2e-7, 1e-9, 1e-11)",
     "release-departure": "the t^3 trap: a spurious impact (or a spurious row) right after a release",
     "sticking-threshold": "the accumulation time t_acc or its threshold STICK_TIME wrong (scaled by 0.99 .. 1.5)",
     "release-delay": "the condition 'release delay > t_acc' ignored: a chatter that must bounce sticks",
     "lower-wall-sticking": "sticking on s = -1 missing, with the wrong pressing sign, or released on the wrong "
-                           "branch of the contact force's zeros",
+    "branch of the contact force's zeros",
     "stuck-forever": "the never-release condition |gamma| >= R on the pressing side tested on the wrong side",
-    "elastic-r1": "r = 1 mishandled (e.g. a safe division (1 - r) f_in = 0 -> t_acc = 0: every pressing impact "
-                  "sticks)",
+    "elastic-r1": "r = 1 mishandled (e.g. a safe division (1 - r) f_in = 0 -> t_acc = 0: every pressing impact sticks)",
     "no-impact-ending": "rows invented (a placeholder or an impact at the search horizon) or dropped when the "
-                        "last flight never lands",
+    "last flight never lands",
     "trailing-rows": "stick/release rows written for the impact after the last counted one",
 }
 
@@ -61,9 +60,16 @@ def case_entry(folder: Path) -> dict:
     stick_walls = sorted({int(r["wall"]) for r in rows if r["kind"] == "stick"}, reverse=True)
     tol = min(v["abs"] for v in settings["tolerances"].values())
     return {
-        "id": settings["id"], "level": settings["level"], "tags": settings["tags"], "catches": settings["catches"],
-        "walls": impact_walls, "stick_walls": stick_walls, "ending": ENDINGS[settings["expected_status"]],
-        "rows": settings["expected_rows"], "n_impacts": settings["n_impacts"], "tolerance": tol,
+        "id": settings["id"],
+        "level": settings["level"],
+        "tags": settings["tags"],
+        "catches": settings["catches"],
+        "walls": impact_walls,
+        "stick_walls": stick_walls,
+        "ending": ENDINGS[settings["expected_status"]],
+        "rows": settings["expected_rows"],
+        "n_impacts": settings["n_impacts"],
+        "tolerance": tol,
     }
 
 
@@ -76,11 +82,14 @@ def build_index(suite: Path) -> dict:
         "format": "gear-rattle golden suite index, version 1",
         "suite": suite_block(suite),
         "fields": {
-            "level": "1, 2 or 3 (see levels)", "tags": "situations the case exercises",
+            "level": "1, 2 or 3 (see levels)",
+            "tags": "situations the case exercises",
             "catches": "bug classes the case exists to catch (see bug_classes)",
             "walls": "walls with impact rows (0 upper s = 0, -1 lower s = -1)",
-            "stick_walls": "walls with stick rows", "ending": "n_impacts (reached), stuck_forever or no_impact",
-            "rows": "rows of expected.csv", "n_impacts": "impacts to compute after impact 0",
+            "stick_walls": "walls with stick rows",
+            "ending": "n_impacts (reached), stuck_forever or no_impact",
+            "rows": "rows of expected.csv",
+            "n_impacts": "impacts to compute after impact 0",
             "tolerance": "smallest absolute tolerance of the case",
         },
         "levels": {str(k): v for k, v in LEVELS.items()},

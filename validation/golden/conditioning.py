@@ -46,7 +46,7 @@ from ...mapimpl.impact_map import jacobian
 
 #: Rounding step of a float64 position of magnitude below 2 at a wall (2^-53 for ``s`` at ``s = -1`` and
 #: for ``s + 1`` at ``s = 0``; 2^-52 beyond): the gap error of every contact.
-POSITION_STEP = 2.0 ** -52
+POSITION_STEP = 2.0**-52
 #: Error of a flight solution relative to the flight's height, and of the pre-impact velocity: a
 #: transversal impact located to ~1e-12 (the per-impact error of the chaotic horizon).
 FLIGHT_ERROR = 1e-12
@@ -107,14 +107,19 @@ class PropagatedError:
 
     def note(self, sets: list[str]) -> dict:
         """``notes.amplification`` of the case's settings."""
-        return {"tau_error": float(f"{self.tau:.3g}"), "tau_worst": self.tau_where,
-                "sdot_error": float(f"{self.sdot:.3g}"), "sdot_worst": self.sdot_where,
-                "tolerance": self.tolerances(), "sets": sets,
-                "rule": f"the largest first-order error at a row of an error made at one impact (gap error "
-                        f"2^-52 + {FLIGHT_ERROR:g} h at a contact of speed v: dtau = e / v, dsdot = |s''| e / v + "
-                        f"{FLIGHT_ERROR:g}), carried by the map's Jacobians; tolerance = {SAFETY:g} x that, rounded "
-                        "up to one digit, where it is not smaller than the case's own (docs/golden.md, tolerances "
-                        "from the conditioning)"}
+        return {
+            "tau_error": float(f"{self.tau:.3g}"),
+            "tau_worst": self.tau_where,
+            "sdot_error": float(f"{self.sdot:.3g}"),
+            "sdot_worst": self.sdot_where,
+            "tolerance": self.tolerances(),
+            "sets": sets,
+            "rule": f"the largest first-order error at a row of an error made at one impact (gap error "
+            f"2^-52 + {FLIGHT_ERROR:g} h at a contact of speed v: dtau = e / v, dsdot = |s''| e / v + "
+            f"{FLIGHT_ERROR:g}), carried by the map's Jacobians; tolerance = {SAFETY:g} x that, rounded "
+            "up to one digit, where it is not smaller than the case's own (docs/golden.md, tolerances "
+            "from the conditioning)",
+        }
 
 
 def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | None = None) -> PropagatedError:
@@ -129,7 +134,7 @@ def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | No
 
     def record(row: str, errors) -> None:
         for n, err in errors:
-            for k, c in enumerate(("tau", "sdot")[:len(err)]):
+            for k, c in enumerate(("tau", "sdot")[: len(err)]):
                 if err[k] > worst[c][0]:
                     worst[c] = (float(err[k]), f"impact {n} -> {row}")
 
@@ -148,8 +153,9 @@ def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | No
         if start is None:  # a free step from the previous impact (Eq. 11, then Eqs. 7-8)
             j = prev
             th0, v0, t0 = float(seq.tau_mod_2pi[j]), -p.r * float(seq.sdot[j]), float(seq.tau[j])
-            jac = np.asarray(_jacobian(th0, v0, tau - t0, float(seq.tau_mod_2pi[i]), sdot,
-                                       (p.alpha, p.beta, p.gamma, p.r)))
+            jac = np.asarray(
+                _jacobian(th0, v0, tau - t0, float(seq.tau_mod_2pi[i]), sdot, (p.alpha, p.beta, p.gamma, p.r))
+            )
             sources = [(n, jac @ P, loc) for n, P, loc in sources]
             start = (th0, v0, t0)
         h = flight_height(p, start[0], start[1], tau - start[2])
@@ -159,5 +165,14 @@ def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | No
     return PropagatedError(worst["tau"][0], worst["tau"][1], worst["sdot"][0], worst["sdot"][1])
 
 
-__all__ = ["POSITION_STEP", "FLIGHT_ERROR", "SAFETY", "PropagatedError", "propagated_error", "local_error",
-           "flight_height", "stick_sensitivity", "round_up_1"]
+__all__ = [
+    "POSITION_STEP",
+    "FLIGHT_ERROR",
+    "SAFETY",
+    "PropagatedError",
+    "propagated_error",
+    "local_error",
+    "flight_height",
+    "stick_sensitivity",
+    "round_up_1",
+]

@@ -61,8 +61,9 @@ def bisect(pred, lo: float, hi: float, iters: int = 60) -> tuple[float, float]:
     return lo, hi
 
 
-def contact_threshold(params: Params, tau0: float, lo: float, hi: float, wall: int,
-                      iters: int = 80) -> tuple[float, float]:
+def contact_threshold(
+    params: Params, tau0: float, lo: float, hi: float, wall: int, iters: int = 80
+) -> tuple[float, float]:
     """``(miss, reach)``: adjacent initial velocities (bisection in ``[lo, hi]``) at which the first
     flight from ``(tau0, sdot0)`` does not reach ``wall`` and does reach it first."""
     reach = lambda s: first_contact(params, tau0, s)[0] == wall  # noqa: E731
@@ -74,9 +75,11 @@ def contact_threshold(params: Params, tau0: float, lo: float, hi: float, wall: i
 def grazing_speed_sdot0(params: Params, tau0: float, lo: float, hi: float, speed: float) -> float:
     """The rule of case 0004: the initial pre-impact velocity (12 significant digits) whose flight
     reaches the lower wall with pre-impact speed about ``speed`` (bisection on the first impact)."""
+
     def pred(s):
         w, _, v = first_contact(params, tau0, s)
         return w == -1 and abs(v) >= speed
+
     _, h = bisect(pred, lo, hi)
     return float(f"{h:.12g}")
 
@@ -126,8 +129,9 @@ def float_excursion(params: Params, tau0: float, sdot0: float) -> tuple[int, flo
     return wall, t1, hi
 
 
-def graze_sdot0(params: Params, tau0: float, lo: float, hi: float, wall: int,
-                excursion: float = GRAZE_EXCURSION) -> float:
+def graze_sdot0(
+    params: Params, tau0: float, lo: float, hi: float, wall: int, excursion: float = GRAZE_EXCURSION
+) -> float:
     """Initial velocity (15 significant digits) whose first flight crosses ``wall`` with an excursion
     beyond it of about ``excursion``: the threshold of :func:`contact_threshold`, then bisection on
     the offset beyond it (the excursion grows like the square root of the offset)."""
@@ -208,9 +212,15 @@ def certified_excursion(params: Params, tau0: float, sdot0: float, prec: int = c
                 break
         t_enter = math.nextafter(float(t_in.lower()), -math.inf)
         t_exit = cert.upper_float(hi)
-    return {"wall": c.wall, "t_enter": t_enter, "t_exit": t_exit, "length": t_exit - t_enter, "speed": v,
-            "meaning": "flight times from the start of the first flight (after the reset of impact 0) between "
-                       "which the un-reset flight lies beyond the wall; certified bounds rounded outward"}
+    return {
+        "wall": c.wall,
+        "t_enter": t_enter,
+        "t_exit": t_exit,
+        "length": t_exit - t_enter,
+        "speed": v,
+        "meaning": "flight times from the start of the first flight (after the reset of impact 0) between "
+        "which the un-reset flight lies beyond the wall; certified bounds rounded outward",
+    }
 
 
 def certified_closest_approach(params: Params, tau0: float, sdot0: float, prec: int = cert.PREC) -> tuple[int, arb]:
@@ -243,8 +253,9 @@ def certified_closest_approach(params: Params, tau0: float, sdot0: float, prec: 
 # fixed-step finders
 
 
-def steps_that_catch(t_enter: float, t_exit: float, h_min: float = STEP_RANGE[0],
-                     h_max: float = STEP_RANGE[1]) -> list[tuple[float, float]]:
+def steps_that_catch(
+    t_enter: float, t_exit: float, h_min: float = STEP_RANGE[0], h_max: float = STEP_RANGE[1]
+) -> list[tuple[float, float]]:
     """Steps ``h`` in ``[h_min, h_max]`` for which a sample ``k h`` (``k >= 1``) lies in the
     excursion ``[t_enter, t_exit]``: the union of ``[t_enter / k, t_exit / k]``, sorted, each
     widened by :data:`STEP_SLACK` (a superset of the exact set)."""
@@ -271,8 +282,9 @@ def _intersect(a: list, b: list) -> list:
     return out
 
 
-def steps_catching_all(excursions: list[tuple[float, float]], h_min: float = STEP_RANGE[0],
-                       h_max: float = STEP_RANGE[1]) -> list[tuple[float, float]]:
+def steps_catching_all(
+    excursions: list[tuple[float, float]], h_min: float = STEP_RANGE[0], h_max: float = STEP_RANGE[1]
+) -> list[tuple[float, float]]:
     """The steps in ``[h_min, h_max]`` whose fixed-step finder catches *every* excursion
     ``(t_enter, t_exit)`` of the list (an empty list: each such finder misses one of them)."""
     sets = [steps_that_catch(a, b, h_min, h_max) for a, b in excursions]

@@ -64,12 +64,15 @@ def _spans(text: str, path, line: int) -> list[tuple[int, int, str]]:
             if q is None and text.startswith('"', p):
                 raise malformed(path, line, p + 1, "a quoted field without its closing quote")
             if q is not None:
-                e = q.end() + len(text[q.end():]) - len(text[q.end():].lstrip(_BLANKS))
+                e = q.end() + len(text[q.end() :]) - len(text[q.end() :].lstrip(_BLANKS))
                 raise malformed(path, line, e + 1, "text after the closing quote of a field")
-            raise malformed(path, line, text.index('"', p) + 1,
-                            'a quote (") inside a field that does not start with one')
+            raise malformed(
+                path, line, text.index('"', p) + 1, 'a quote (") inside a field that does not start with one'
+            )
         if m.end() - pos > MAX_FIELD:
-            raise malformed(path, line, pos + 1, f"a field longer than {MAX_FIELD} characters (the limit of the format)")
+            raise malformed(
+                path, line, pos + 1, f"a field longer than {MAX_FIELD} characters (the limit of the format)"
+            )
         inner = m.group(1)
         out.append((pos, m.end(), (inner.replace('""', '"') if inner is not None else m.group(2)).strip(_BLANKS)))
         if m.end() == len(text):
@@ -85,8 +88,9 @@ def split_line(text: str, path, line: int) -> list[str]:
             pos = 0
             for f in fields:
                 if len(f) > MAX_FIELD:
-                    raise malformed(path, line, pos + 1,
-                                    f"a field longer than {MAX_FIELD} characters (the limit of the format)")
+                    raise malformed(
+                        path, line, pos + 1, f"a field longer than {MAX_FIELD} characters (the limit of the format)"
+                    )
                 pos += len(f) + 1
         return [f.strip(_BLANKS) for f in fields]
     return [v for _, _, v in _spans(text, path, line)]
@@ -130,8 +134,12 @@ def read_csv(path: str | Path) -> Table:
             header = rec
             _check_header(path, rec)
         elif len(values) != len(header.values):
-            raise malformed(path, i + 1, field_column(rec, min(len(values), len(header.values)), path),
-                            f"{len(values)} fields, expected {len(header.values)} (as many as the header)")
+            raise malformed(
+                path,
+                i + 1,
+                field_column(rec, min(len(values), len(header.values)), path),
+                f"{len(values)} fields, expected {len(header.values)} (as many as the header)",
+            )
         else:
             records.append(rec)
     if header is None:
@@ -142,15 +150,23 @@ def read_csv(path: str | Path) -> Table:
 def _check_header(path, rec: Record) -> None:
     names = rec.values
     if len(names) > MAX_COLUMNS:
-        raise malformed(path, rec.line, field_column(rec, MAX_COLUMNS, path),
-                        f"more than {MAX_COLUMNS} columns (the limit of the format)")
+        raise malformed(
+            path,
+            rec.line,
+            field_column(rec, MAX_COLUMNS, path),
+            f"more than {MAX_COLUMNS} columns (the limit of the format)",
+        )
     seen: dict[str, int] = {}
     for k, name in enumerate(names):
         if not name:
             raise malformed(path, rec.line, field_column(rec, k, path), f"column {k + 1} has an empty name")
         if name in seen:
-            raise malformed(path, rec.line, field_column(rec, k, path),
-                            f"duplicate column name {name!r} (also column {seen[name] + 1})")
+            raise malformed(
+                path,
+                rec.line,
+                field_column(rec, k, path),
+                f"duplicate column name {name!r} (also column {seen[name] + 1})",
+            )
         seen[name] = k
 
 
@@ -171,8 +187,10 @@ def decimal_value(value: str) -> float:
 def integer_value(value: str) -> int:
     """The integer of an integral field (:data:`INTEGRAL`); ValueError names the problem."""
     if not INTEGRAL.fullmatch(value):
-        raise ValueError(f"is not an integer (allowed: up to {MAX_INT_DIGITS} digits with an optional sign, "
-                         "optionally followed by '.' and zeros)")
+        raise ValueError(
+            f"is not an integer (allowed: up to {MAX_INT_DIGITS} digits with an optional sign, "
+            "optionally followed by '.' and zeros)"
+        )
     return int(value.split(".")[0])
 
 

@@ -45,9 +45,20 @@ from .suite import MalformedFile, load_case, score_file
 
 #: The scenarios a recipe starts from (the hard places of docs/golden.md), each with its weight.
 SCENARIOS: dict[str, int] = {
-    "generic": 3, "paper": 2, "free-flight": 2, "graze": 3, "near-miss": 3, "chatter-upper": 2,
-    "chatter-lower": 2, "stick-threshold": 2, "release-delay": 2, "elastic-r1": 1, "small-beta": 1,
-    "negative-gamma": 1, "stuck-forever": 2, "no-impact": 2,
+    "generic": 3,
+    "paper": 2,
+    "free-flight": 2,
+    "graze": 3,
+    "near-miss": 3,
+    "chatter-upper": 2,
+    "chatter-lower": 2,
+    "stick-threshold": 2,
+    "release-delay": 2,
+    "elastic-r1": 1,
+    "small-beta": 1,
+    "negative-gamma": 1,
+    "stuck-forever": 2,
+    "no-impact": 2,
 }
 #: The parameter box of the draws: the documented ranges (core.params.RANGES) cut to where the model's
 #: behaviour changes (the paper's figures lie inside).
@@ -84,12 +95,25 @@ def recipe_strategy(scenarios: list[str] | None = None):
         return st.floats(lo, hi, allow_nan=False, allow_infinity=False)
 
     def logf(lo, hi):
-        return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0 ** e)
+        return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0**e)
 
-    common = {"alpha": fl(*ALPHA), "beta": logf(1e-3, BETA[1]), "gamma": fl(*GAMMA), "r": fl(*R),
-              "tau0": fl(0.0, TWO_PI), "impacts": st.integers(*IMPACTS), "sign": st.sampled_from([1.0, -1.0]),
-              "speed": logf(1e-2, 3.0), "s0": fl(-0.95, -0.05), "paper": st.integers(0, len(PAPER_SETS) - 1),
-              "depth": logf(1.5e-11, 1e-7), "ratio": fl(0.9, 1.1), "near1": logf(1e-4, 0.1), "lead": logf(1e-8, 5e-7), "small": logf(*BETA)}
+    common = {
+        "alpha": fl(*ALPHA),
+        "beta": logf(1e-3, BETA[1]),
+        "gamma": fl(*GAMMA),
+        "r": fl(*R),
+        "tau0": fl(0.0, TWO_PI),
+        "impacts": st.integers(*IMPACTS),
+        "sign": st.sampled_from([1.0, -1.0]),
+        "speed": logf(1e-2, 3.0),
+        "s0": fl(-0.95, -0.05),
+        "paper": st.integers(0, len(PAPER_SETS) - 1),
+        "depth": logf(1.5e-11, 1e-7),
+        "ratio": fl(0.9, 1.1),
+        "near1": logf(1e-4, 0.1),
+        "lead": logf(1e-8, 5e-7),
+        "small": logf(*BETA),
+    }
     names = sorted(scenarios or SCENARIOS)
     weighted = [n for n in names for _ in range(SCENARIOS[n])]
     return st.fixed_dictionaries({"scenario": st.sampled_from(weighted), **common})
@@ -110,8 +134,15 @@ def draw_recipes(seed: int, count: int, scenarios: list[str] | None = None) -> l
         got: list[dict] = []
 
         @hyp.seed(seed * 1_000_003 + k)
-        @hyp.settings(max_examples=EXAMPLES_PER_RECIPE, database=None, deadline=None, phases=[hyp.Phase.generate],
-                      derandomize=False, suppress_health_check=list(hyp.HealthCheck), print_blob=False)
+        @hyp.settings(
+            max_examples=EXAMPLES_PER_RECIPE,
+            database=None,
+            deadline=None,
+            phases=[hyp.Phase.generate],
+            derandomize=False,
+            suppress_health_check=list(hyp.HealthCheck),
+            print_blob=False,
+        )
         @hyp.given(strategy)
         def collect(recipe):
             got.append(recipe)
@@ -155,7 +186,7 @@ def _threshold(p: Params, tau0: float, sign: float) -> tuple[float, float] | Non
         c = first_contact(p, tau0, s)
         return c is not None and c[0] == other
 
-    speeds = [sign * 0.01 * 1.4 ** k for k in range(18)]
+    speeds = [sign * 0.01 * 1.4**k for k in range(18)]
     hits = [reach(s) for s in speeds]
     for a, b, ha, hb in zip(speeds, speeds[1:], hits, hits[1:]):
         if ha != hb:
@@ -210,7 +241,9 @@ def construct(recipe: dict, id: str) -> CaseInput | None:
             if abs(gamma) >= p.alpha * math.hypot(1.0, beta):
                 return None
             lead = _g(g["lead"], 2)
-            tau0, sdot0 = release_lead_state(p, wall, lead, _g(min(STICK_TIME, lead * (1 + 10 * (g["ratio"] - 0.9))), 2))
+            tau0, sdot0 = release_lead_state(
+                p, wall, lead, _g(min(STICK_TIME, lead * (1 + 10 * (g["ratio"] - 0.9))), 2)
+            )
         elif phase is None:
             return None
         elif k == "stick-threshold":
@@ -300,17 +333,21 @@ def run_implementation(command: list[str], cases: list[UserCase], timeout: float
         (given / c.input.id / "settings.json").write_text(json.dumps(c.settings, indent=1) + "\n")
         ondemand.write_user_case(ref, c)
     try:
-        proc = subprocess.run([*command, str(given), str(out)], capture_output=True, text=True, timeout=timeout,
-                              stdin=subprocess.DEVNULL)
+        proc = subprocess.run(
+            [*command, str(given), str(out)], capture_output=True, text=True, timeout=timeout, stdin=subprocess.DEVNULL
+        )
     except subprocess.TimeoutExpired:
-        raise ImplementationError(f"the implementation did not finish {len(cases)} cases within {timeout:g} s "
-                                  "(--timeout)") from None
+        raise ImplementationError(
+            f"the implementation did not finish {len(cases)} cases within {timeout:g} s (--timeout)"
+        ) from None
     except OSError as e:
         raise ImplementationError(f"cannot start the implementation {command[0]!r}: {e.strerror or e}") from None
     if proc.returncode != 0:
         tail = (proc.stderr or proc.stdout or "").strip().splitlines()
-        raise ImplementationError(f"the implementation exited with status {proc.returncode} on {len(cases)} cases"
-                                  + (f": {tail[-1][:300]}" if tail else ""))
+        raise ImplementationError(
+            f"the implementation exited with status {proc.returncode} on {len(cases)} cases"
+            + (f": {tail[-1][:300]}" if tail else "")
+        )
     scores = {}
     for c in cases:
         try:
@@ -332,8 +369,7 @@ def complexity(inp: CaseInput) -> tuple:
     nums = [inp.params.alpha, inp.params.beta, inp.params.gamma, inp.params.r, inp.tau0, inp.sdot0]
     nums += [] if inp.s0 is None else [inp.s0]
     digits = sum(_digits(x) for x in nums)
-    off = min(sum(getattr(inp.params, k) != getattr(q, k) for k in PARAM_NAMES)
-              for q in PAPER_SETS)
+    off = min(sum(getattr(inp.params, k) != getattr(q, k) for k in PARAM_NAMES) for q in PAPER_SETS)
     return (inp.impacts, digits, off)
 
 
@@ -382,8 +418,14 @@ def shrink_candidates(inp: CaseInput, fail_impact: int | None) -> list[CaseInput
 
 def _fields(inp: CaseInput) -> dict:
     p = inp.params
-    return {**p.as_dict(), "tau0": inp.tau0, "sdot0": inp.sdot0,
-            "impacts": inp.impacts, "s0": inp.s0, "stick_time": inp.stick_time}
+    return {
+        **p.as_dict(),
+        "tau0": inp.tau0,
+        "sdot0": inp.sdot0,
+        "impacts": inp.impacts,
+        "s0": inp.s0,
+        "stick_time": inp.stick_time,
+    }
 
 
 def first_failing_impact(case: UserCase, score) -> int | None:
@@ -416,11 +458,18 @@ class Failure:
     folder: str = ""
 
     def summary(self) -> dict:
-        return {"id": self.case.input.id, "folder": self.folder, "scenario": self.scenario,
-                "message": self.message, "found_after_s": round(self.found_after_s, 2),
-                "impacts": self.case.settings["n_impacts"], "rows": self.case.settings["expected_rows"],
-                "input": self.case.input.as_dict(), "original_input": self.original.as_dict(),
-                "shrink_rounds": self.shrink_rounds}
+        return {
+            "id": self.case.input.id,
+            "folder": self.folder,
+            "scenario": self.scenario,
+            "message": self.message,
+            "found_after_s": round(self.found_after_s, 2),
+            "impacts": self.case.settings["n_impacts"],
+            "rows": self.case.settings["expected_rows"],
+            "input": self.case.input.as_dict(),
+            "original_input": self.original.as_dict(),
+            "shrink_rounds": self.shrink_rounds,
+        }
 
 
 def _merged(inp: CaseInput, failing: list[CaseInput]) -> CaseInput | None:
@@ -444,8 +493,9 @@ def _merged(inp: CaseInput, failing: list[CaseInput]) -> CaseInput | None:
     return None if m in failing else m
 
 
-def shrink(inp: CaseInput, case: UserCase, message: str, evaluate: Callable, fail_impact: int | None,
-           deadline: float) -> tuple[UserCase, str, int]:
+def shrink(
+    inp: CaseInput, case: UserCase, message: str, evaluate: Callable, fail_impact: int | None, deadline: float
+) -> tuple[UserCase, str, int]:
     """The smallest failing case reachable by :func:`shrink_candidates` rounds, until no candidate fails or the
     deadline; returns ``(case, its failure message, rounds)``.  Each round runs every candidate of the current
     input in one batch, then (one more batch) all their failing changes at once; it keeps that merged input
@@ -486,8 +536,7 @@ def _build(inputs: list[CaseInput]) -> list[UserCase]:
 
 def _renamed(case: UserCase, id: str) -> UserCase:
     settings = {**case.settings, "id": id}
-    return replace(case, input=replace(case.input, id=id), settings=settings,
-                   provenance={**case.provenance, "id": id})
+    return replace(case, input=replace(case.input, id=id), settings=settings, provenance={**case.provenance, "id": id})
 
 
 # ---------------------------------------------------------------------------------------------
@@ -508,11 +557,20 @@ class FuzzResult:
     error: str = ""
 
 
-def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path | None = None,
-         keep_going: bool = False, timeout: float = TIMEOUT, batch: int = BATCH,
-         scenarios: list[str] | None = None, progress: Callable | None = None,
-         write: Callable[[Path, str], object] = generate.write_plain,
-         written: Callable[[], object] | None = None) -> FuzzResult:
+def fuzz(
+    command: list[str],
+    *,
+    seed: int = 0,
+    budget: float = 60.0,
+    out: Path | None = None,
+    keep_going: bool = False,
+    timeout: float = TIMEOUT,
+    batch: int = BATCH,
+    scenarios: list[str] | None = None,
+    progress: Callable | None = None,
+    write: Callable[[Path, str], object] = generate.write_plain,
+    written: Callable[[], object] | None = None,
+) -> FuzzResult:
     """Fuzz the implementation ``command`` for ``budget`` seconds (module docstring); failures are written
     under ``out`` as golden-format case folders (``fuzz-<seed>-<k>``) with an ``index.json``.  Stops at the
     first failure (after shrinking it) unless ``keep_going``; ``progress(cases, failures)`` after each batch.
@@ -559,8 +617,14 @@ def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path |
                     if sc.passed:
                         continue
                     found = time.monotonic() - t0
-                    shrunk, msg, rounds = shrink(c.input, c, sc.message, evaluate, first_failing_impact(c, sc),
-                                                 time.monotonic() + min(budget, SHRINK_TIME))
+                    shrunk, msg, rounds = shrink(
+                        c.input,
+                        c,
+                        sc.message,
+                        evaluate,
+                        first_failing_impact(c, sc),
+                        time.monotonic() + min(budget, SHRINK_TIME),
+                    )
                     f = Failure(shrunk, msg, scen, found, c.input, rounds)
                     if out is not None:
                         f.folder = str(ondemand.write_user_case(out, _with_fuzz_notes(shrunk, f, seed), write))
@@ -584,8 +648,15 @@ def fuzz(command: list[str], *, seed: int = 0, budget: float = 60.0, out: Path |
 
 def _with_fuzz_notes(case: UserCase, f: Failure, seed: int) -> UserCase:
     """The case with ``notes.fuzz`` (how it was found) in its settings: a regression case to keep."""
-    notes = {**case.settings["notes"], "fuzz": {
-        "found_by": f"gear-rattle fuzz --seed {seed}", "scenario": f.scenario, "failure": f.message,
-        "original_input": f.original.as_dict(), "shrink_rounds": f.shrink_rounds}}
+    notes = {
+        **case.settings["notes"],
+        "fuzz": {
+            "found_by": f"gear-rattle fuzz --seed {seed}",
+            "scenario": f.scenario,
+            "failure": f.message,
+            "original_input": f.original.as_dict(),
+            "shrink_rounds": f.shrink_rounds,
+        },
+    }
     settings = {**case.settings, "notes": notes, "tags": [*case.settings["tags"], "fuzz", f.scenario]}
     return replace(case, settings=settings)

@@ -32,8 +32,16 @@ from ...mapimpl.sticking import STICK_TIME
 from ...mapimpl import certified as cert
 from . import conditioning, contacts
 from .conditioning import FLIGHT_ERROR, POSITION_STEP, SAFETY, round_up_1
-from .suite import DEFAULT_SUITE, COLUMNS, RADIUS_COLUMNS, Case, Sequence, read_sequence, score_sequence, \
-    sequence_from_impacts
+from .suite import (
+    DEFAULT_SUITE,
+    COLUMNS,
+    RADIUS_COLUMNS,
+    Case,
+    Sequence,
+    read_sequence,
+    score_sequence,
+    sequence_from_impacts,
+)
 
 FIG2 = PAPER_FIG2
 FIG3 = PAPER_FIG3
@@ -45,8 +53,7 @@ RELEASE_TAU0 = 3.25
 
 def tol(tau: float, sdot: float | None = None) -> dict:
     sdot = tau if sdot is None else sdot
-    return {"tau": {"abs": tau, "rel": 0.0}, "tau_mod_2pi": {"abs": tau, "rel": 0.0},
-            "sdot": {"abs": sdot, "rel": 0.0}}
+    return {"tau": {"abs": tau, "rel": 0.0}, "tau_mod_2pi": {"abs": tau, "rel": 0.0}, "sdot": {"abs": sdot, "rel": 0.0}}
 
 
 #: Tolerance of most cases: a float64 implementation with event location to ~1e-12 passes easily,
@@ -125,14 +132,18 @@ def horizon(lam: float) -> int:
 
 
 def _chaos_lyapunov_text() -> str:
-    return (f"QR method (mapimpl/lyapunov.py) on the float64 map, one orbit from (tau0, sdot0) = (0, 0.5), "
-            f"{CHAOS_LYAP_IMPACTS} impacts after 500, rounded to {CHAOS_LYAP_DECIMALS} decimals: converged "
-            "(orbits of 1e6 impacts from other starts give 0.3512 ... 0.3525)")
+    return (
+        f"QR method (mapimpl/lyapunov.py) on the float64 map, one orbit from (tau0, sdot0) = (0, 0.5), "
+        f"{CHAOS_LYAP_IMPACTS} impacts after 500, rounded to {CHAOS_LYAP_DECIMALS} decimals: converged "
+        "(orbits of 1e6 impacts from other starts give 0.3512 ... 0.3525)"
+    )
 
 
 def _horizon_rule_text() -> str:
-    return (f"n = floor(ln(tol / (err0 * safety)) / lambda1) with tol={CHAOS_TOL:g}, err0={CHAOS_ERR0:g} (per-impact "
-            f"error of a good float64 solver), safety={CHAOS_SAFETY:g}; errors grow like exp(lambda1 n)")
+    return (
+        f"n = floor(ln(tol / (err0 * safety)) / lambda1) with tol={CHAOS_TOL:g}, err0={CHAOS_ERR0:g} (per-impact "
+        f"error of a good float64 solver), safety={CHAOS_SAFETY:g}; errors grow like exp(lambda1 n)"
+    )
 
 
 def finish_release_case(spec: Spec) -> Spec:
@@ -156,33 +167,49 @@ def finish_release_case(spec: Spec) -> Spec:
         if d.status != "captured" or not d.confirmed:
             raise cert.CertificationError(f"release case: T_post ({rounding}) not certified: {d.summary()}")
         cert_notes[rounding] = {
-            "params": d.params if rounding == "decimal" else
-            {k: str(Decimal(getattr(spec.params, k))) for k in cert.PARAM_NAMES},
-            "T_post": d.value, "precision_bits": d.precision,
-            "confirmed_at_bits": d.attempts[-1].prec, "capture_distance": d.attempts[-1].distance,
-            "release_phase": d.release_phase}
+            "params": d.params
+            if rounding == "decimal"
+            else {k: str(Decimal(getattr(spec.params, k))) for k in cert.PARAM_NAMES},
+            "T_post": d.value,
+            "precision_bits": d.precision,
+            "confirmed_at_bits": d.attempts[-1].prec,
+            "capture_distance": d.attempts[-1].distance,
+            "release_phase": d.release_phase,
+        }
     f64 = fl64.float64_release_duration(spec.params, 0)
     target = rel.float64_target(spec.params)
     notes = dict(spec.notes)
-    notes.update({
-        "lyapunov_lambda1_per_impact": lam,
-        "lyapunov_method": (f"QR exponent of the transient: {ly['orbits']} orbits from a {RELEASE_LYAP_SIDE}x"
-                            f"{RELEASE_LYAP_SIDE} grid of the Fig. 11 box, {ly['impacts_used']} impacts before each "
-                            "comes within 1e-2 of the 4-impact orbit (mapimpl/float64_release.py)"),
-        "horizon_rule": _horizon_rule_text(),
-        "T_post_definition": ("the release flight's first impact is post-release impact 1 (here: impact 1); T_post is "
-                              "the index of the first post-release impact whose pre-impact state lies within delta "
-                              "of the target (sup norm of the wrapped phase difference and the sdot difference, "
-                              "same wall); an initial condition that first sticks at its impact n_s has transient "
-                              "duration n_s + T_post"),
-        "T_post_certified": cert_notes,
-        "T_post_float64_engine": {"value": f64["value"], "meaning": "the float64 engine's own T_post: a sample of "
-                                  "a chaotic orbit, not a value (the float64 orbit leaves the true one after "
-                                  f"~{fl64.float64_horizon(lam, DELTA):.0f} impacts at this lambda1)"},
-        "capture_delta": DELTA,
-        "capture_target": target.as_dict() | {"source": "float64 4-impact period-1 orbit of "
-                                               "mapimpl.engine.transients.periodic_target, taken as exact numbers"},
-    })
+    notes.update(
+        {
+            "lyapunov_lambda1_per_impact": lam,
+            "lyapunov_method": (
+                f"QR exponent of the transient: {ly['orbits']} orbits from a {RELEASE_LYAP_SIDE}x"
+                f"{RELEASE_LYAP_SIDE} grid of the Fig. 11 box, {ly['impacts_used']} impacts before each "
+                "comes within 1e-2 of the 4-impact orbit (mapimpl/float64_release.py)"
+            ),
+            "horizon_rule": _horizon_rule_text(),
+            "T_post_definition": (
+                "the release flight's first impact is post-release impact 1 (here: impact 1); T_post is "
+                "the index of the first post-release impact whose pre-impact state lies within delta "
+                "of the target (sup norm of the wrapped phase difference and the sdot difference, "
+                "same wall); an initial condition that first sticks at its impact n_s has transient "
+                "duration n_s + T_post"
+            ),
+            "T_post_certified": cert_notes,
+            "T_post_float64_engine": {
+                "value": f64["value"],
+                "meaning": "the float64 engine's own T_post: a sample of "
+                "a chaotic orbit, not a value (the float64 orbit leaves the true one after "
+                f"~{fl64.float64_horizon(lam, DELTA):.0f} impacts at this lambda1)",
+            },
+            "capture_delta": DELTA,
+            "capture_target": target.as_dict()
+            | {
+                "source": "float64 4-impact period-1 orbit of "
+                "mapimpl.engine.transients.periodic_target, taken as exact numbers"
+            },
+        }
+    )
     return replace(spec, n_impacts=n, notes=notes, finish=None)
 
 
@@ -199,67 +226,175 @@ def specs() -> list[Spec]:
 
     rel_tau0, rel_sdot0 = stick_at_once_state(FIG11, 0, tau0=RELEASE_TAU0)
     return [
-        Spec("0001-regular-fig2", "Paper Fig. 2 parameters (alpha=0.5): regular rattling, transient into the "
-             "periodic motion; pre-impact start (tau0, sdot0) = (0, 0.5) on the upper wall.",
-             FIG2, 0.0, 0.5, 20, tags=("regular", "paper"), catches=("flight-or-impact-law",)),
-        Spec("0002-chaotic-fig3", "Paper Fig. 3 parameters (alpha=3): chaotic rattling, short horizon set by the "
-             "largest Lyapunov exponent so that a float64 implementation's error stays below the tolerance.",
-             FIG3, 0.0, 0.5, n_chaos, tolerances=tol(CHAOS_TOL), tags=("chaotic", "paper"),
-             notes={"lyapunov_lambda1_per_impact": lam, "lyapunov_method": _chaos_lyapunov_text(),
-                    "horizon_rule": _horizon_rule_text()},
-             catches=("float64-drift", "flight-or-impact-law")),
-        Spec("0003-free-flight-start", "Start in free flight (tau0, s0, sdot0) = (1, -0.3, 0.2), Fig. 2 parameters: "
-             "impact 0 is the first wall reached.", FIG2, 1.0, 0.2, 20, s0=-0.3, tags=("regular", "free-flight"),
-             catches=("free-flight-start",)),
-        Spec("0004-grazing-impact", f"Near-tangential impact: from the upper wall at tau0=2 the flight reaches the "
-             f"lower wall with pre-impact speed ~{GRAZE_SPEED:g} (impact 1). Impact times near a graze are "
-             "ill-conditioned (dtau ~ gap error / speed), hence the looser tolerance.",
-             FIG2, 2.0, graze_v, 10, tolerances=tol(1e-7), tags=("grazing",),
-             notes={"sdot0_rule": f"bisection on sdot0 in [0.40, 0.41] for a first impact on the lower wall "
-                                  f"with |sdot| >= {GRAZE_SPEED:g}, rounded to 12 significant digits"},
-             level=3, catches=("skipped-graze",)),
-        Spec("0005-near-miss-return", "Near miss: the flight from the upper wall approaches the lower wall "
-             "tangentially without touching it and returns to the wall it left (impact 1 on s=0). Tests that no "
-             "spurious contact is reported.", FIG2, 2.0, miss_v, 10, tolerances=tol(1e-7),
-             tags=("grazing", "return-to-start-wall"),
-             notes={"sdot0_rule": f"{NEAR_MISS_OFFSET:g} below the bisected threshold sdot0 at which the first "
-                                  "impact switches to the lower wall, rounded to 12 significant digits"},
-             level=3, catches=("contact-tolerance", "return-to-start-wall")),
-        Spec("0006-return-to-start-wall", "A full flight returning to the wall it left (impact 1 on s=0 after "
-             "leaving s=0 with speed 0.36), then regular rattling (Fig. 2 parameters).",
-             FIG2, 2.0, 0.4, 20, tags=("return-to-start-wall",), catches=("return-to-start-wall",)),
-        Spec("0007-chatter-sticking", "Chatter to sticking: alpha=2, beta=0.1, gamma=1, r=0.5. Bounces on the upper "
-             "wall accumulate; the tooth sticks (policy: accumulation time <= STICK_TIME) and is released where the "
-             "contact force changes sign (closed form); then flies on.",
-             Params(2.0, 0.1, 1.0, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking"), level=2,
-             catches=("release-departure",)),
-        Spec("0008-stuck-forever", "Chatter ending stuck forever: alpha=0.5, gamma=0.9 > R = alpha sqrt(1+beta^2), "
-             "r=0.5; the contact force never changes sign, the orbit ends with status stuck_forever.",
-             Params(0.5, 0.1, 0.9, 0.5), 0.0, 0.5, 40, tags=("chatter", "sticking", "stuck-forever"), level=2,
-             catches=("stuck-forever",)),
-        Spec("0009-small-beta", "Very small damping beta=1e-8 (alpha=1, gamma=0.1, r=0.9): the printed Eq. (7) "
-             "cancels like gamma/beta^2; implementations must evaluate the flight without that loss.",
-             Params(1.0, 1e-8, 0.1, 0.9), 0.0, 0.5, 20, tags=("small-beta",), catches=("cancellation",)),
-        Spec("0010-negative-gamma", "Negative constant torque gamma=-0.2 (alpha=1, beta=0.1, r=0.8), start on the "
-             "lower wall (sdot0 < 0).", Params(1.0, 0.1, -0.2, 0.8), 0.0, -0.5, 20, tags=("negative-gamma",),
-             catches=("lower-wall-conventions",)),
-        Spec("0011-small-beta-negative-gamma", "beta=1e-6 with gamma=-0.05 (alpha=0.8, r=0.95), free-flight start "
-             "at rest in the middle of the backlash. The orbit is irregular (errors grow ~10x per 3 impacts), hence "
-             "the short horizon.", Params(0.8, 1e-6, -0.05, 0.95), 0.5, 0.0, 10, s0=-0.5,
-             tags=("small-beta", "negative-gamma", "free-flight"),
-             catches=("cancellation", "free-flight-start", "float64-drift")),
-        Spec("0012-release-orbit-fig11", "Paper Figs. 9-11 setting (alpha=1.245, beta=gamma=0.1, r=0.9): a pre-impact "
-             "state in the Fig. 11 box that sticks at once to the upper wall; the tooth is released at the exact zero "
-             "of the contact force (the canonical release phase, a function of the parameters alone) and flies on the "
-             "post-release orbit that every sticking initial condition of the mesh shares. Short horizon set by the "
-             "Lyapunov exponent of the transient; the notes carry its certified post-release duration T_post.",
-             FIG11, rel_tau0, rel_sdot0, 0, tolerances=tol(CHAOS_TOL),
-             tags=("chaotic", "paper", "sticking", "release"),
-             notes={"sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
-                                  "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
-                                  "to 3 significant digits (mapimpl/float64_release.py: "
-                                  "stick_at_once_state)"},
-             finish=finish_release_case, level=2, catches=("release-departure", "float64-drift")),
+        Spec(
+            "0001-regular-fig2",
+            "Paper Fig. 2 parameters (alpha=0.5): regular rattling, transient into the "
+            "periodic motion; pre-impact start (tau0, sdot0) = (0, 0.5) on the upper wall.",
+            FIG2,
+            0.0,
+            0.5,
+            20,
+            tags=("regular", "paper"),
+            catches=("flight-or-impact-law",),
+        ),
+        Spec(
+            "0002-chaotic-fig3",
+            "Paper Fig. 3 parameters (alpha=3): chaotic rattling, short horizon set by the "
+            "largest Lyapunov exponent so that a float64 implementation's error stays below the tolerance.",
+            FIG3,
+            0.0,
+            0.5,
+            n_chaos,
+            tolerances=tol(CHAOS_TOL),
+            tags=("chaotic", "paper"),
+            notes={
+                "lyapunov_lambda1_per_impact": lam,
+                "lyapunov_method": _chaos_lyapunov_text(),
+                "horizon_rule": _horizon_rule_text(),
+            },
+            catches=("float64-drift", "flight-or-impact-law"),
+        ),
+        Spec(
+            "0003-free-flight-start",
+            "Start in free flight (tau0, s0, sdot0) = (1, -0.3, 0.2), Fig. 2 parameters: "
+            "impact 0 is the first wall reached.",
+            FIG2,
+            1.0,
+            0.2,
+            20,
+            s0=-0.3,
+            tags=("regular", "free-flight"),
+            catches=("free-flight-start",),
+        ),
+        Spec(
+            "0004-grazing-impact",
+            f"Near-tangential impact: from the upper wall at tau0=2 the flight reaches the "
+            f"lower wall with pre-impact speed ~{GRAZE_SPEED:g} (impact 1). Impact times near a graze are "
+            "ill-conditioned (dtau ~ gap error / speed), hence the looser tolerance.",
+            FIG2,
+            2.0,
+            graze_v,
+            10,
+            tolerances=tol(1e-7),
+            tags=("grazing",),
+            notes={
+                "sdot0_rule": f"bisection on sdot0 in [0.40, 0.41] for a first impact on the lower wall "
+                f"with |sdot| >= {GRAZE_SPEED:g}, rounded to 12 significant digits"
+            },
+            level=3,
+            catches=("skipped-graze",),
+        ),
+        Spec(
+            "0005-near-miss-return",
+            "Near miss: the flight from the upper wall approaches the lower wall "
+            "tangentially without touching it and returns to the wall it left (impact 1 on s=0). Tests that no "
+            "spurious contact is reported.",
+            FIG2,
+            2.0,
+            miss_v,
+            10,
+            tolerances=tol(1e-7),
+            tags=("grazing", "return-to-start-wall"),
+            notes={
+                "sdot0_rule": f"{NEAR_MISS_OFFSET:g} below the bisected threshold sdot0 at which the first "
+                "impact switches to the lower wall, rounded to 12 significant digits"
+            },
+            level=3,
+            catches=("contact-tolerance", "return-to-start-wall"),
+        ),
+        Spec(
+            "0006-return-to-start-wall",
+            "A full flight returning to the wall it left (impact 1 on s=0 after "
+            "leaving s=0 with speed 0.36), then regular rattling (Fig. 2 parameters).",
+            FIG2,
+            2.0,
+            0.4,
+            20,
+            tags=("return-to-start-wall",),
+            catches=("return-to-start-wall",),
+        ),
+        Spec(
+            "0007-chatter-sticking",
+            "Chatter to sticking: alpha=2, beta=0.1, gamma=1, r=0.5. Bounces on the upper "
+            "wall accumulate; the tooth sticks (policy: accumulation time <= STICK_TIME) and is released where the "
+            "contact force changes sign (closed form); then flies on.",
+            Params(2.0, 0.1, 1.0, 0.5),
+            0.0,
+            0.5,
+            40,
+            tags=("chatter", "sticking"),
+            level=2,
+            catches=("release-departure",),
+        ),
+        Spec(
+            "0008-stuck-forever",
+            "Chatter ending stuck forever: alpha=0.5, gamma=0.9 > R = alpha sqrt(1+beta^2), "
+            "r=0.5; the contact force never changes sign, the orbit ends with status stuck_forever.",
+            Params(0.5, 0.1, 0.9, 0.5),
+            0.0,
+            0.5,
+            40,
+            tags=("chatter", "sticking", "stuck-forever"),
+            level=2,
+            catches=("stuck-forever",),
+        ),
+        Spec(
+            "0009-small-beta",
+            "Very small damping beta=1e-8 (alpha=1, gamma=0.1, r=0.9): the printed Eq. (7) "
+            "cancels like gamma/beta^2; implementations must evaluate the flight without that loss.",
+            Params(1.0, 1e-8, 0.1, 0.9),
+            0.0,
+            0.5,
+            20,
+            tags=("small-beta",),
+            catches=("cancellation",),
+        ),
+        Spec(
+            "0010-negative-gamma",
+            "Negative constant torque gamma=-0.2 (alpha=1, beta=0.1, r=0.8), start on the lower wall (sdot0 < 0).",
+            Params(1.0, 0.1, -0.2, 0.8),
+            0.0,
+            -0.5,
+            20,
+            tags=("negative-gamma",),
+            catches=("lower-wall-conventions",),
+        ),
+        Spec(
+            "0011-small-beta-negative-gamma",
+            "beta=1e-6 with gamma=-0.05 (alpha=0.8, r=0.95), free-flight start "
+            "at rest in the middle of the backlash. The orbit is irregular (errors grow ~10x per 3 impacts), hence "
+            "the short horizon.",
+            Params(0.8, 1e-6, -0.05, 0.95),
+            0.5,
+            0.0,
+            10,
+            s0=-0.5,
+            tags=("small-beta", "negative-gamma", "free-flight"),
+            catches=("cancellation", "free-flight-start", "float64-drift"),
+        ),
+        Spec(
+            "0012-release-orbit-fig11",
+            "Paper Figs. 9-11 setting (alpha=1.245, beta=gamma=0.1, r=0.9): a pre-impact "
+            "state in the Fig. 11 box that sticks at once to the upper wall; the tooth is released at the exact zero "
+            "of the contact force (the canonical release phase, a function of the parameters alone) and flies on the "
+            "post-release orbit that every sticking initial condition of the mesh shares. Short horizon set by the "
+            "Lyapunov exponent of the transient; the notes carry its certified post-release duration T_post.",
+            FIG11,
+            rel_tau0,
+            rel_sdot0,
+            0,
+            tolerances=tol(CHAOS_TOL),
+            tags=("chaotic", "paper", "sticking", "release"),
+            notes={
+                "sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
+                "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
+                "to 3 significant digits (mapimpl/float64_release.py: "
+                "stick_at_once_state)"
+            },
+            finish=finish_release_case,
+            level=2,
+            catches=("release-departure", "float64-drift"),
+        ),
     ] + new_specs()
 
 
@@ -275,8 +410,12 @@ STICK_RATIO_BELOW, STICK_RATIO_ABOVE = 0.995, 1.005
 #: t_acc = RELEASE_DELAY_TACC (t_acc <= STICK_TIME, but longer than the release delay).
 RELEASE_LEAD, RELEASE_DELAY_TACC = 2e-7, 9e-7
 #: Graze cases (Fig. 3 parameters): (id suffix, tau0, sdot0 bracket, wall grazed).
-GRAZES = (("lower-wall-a", 2.5, (0.2, 0.4), -1), ("lower-wall-b", 3.5, (2.0, 2.2), -1),
-          ("upper-wall-a", 0.0, (-1.4, -1.6), 0), ("upper-wall-b", 0.5, (-2.1, -2.3), 0))
+GRAZES = (
+    ("lower-wall-a", 2.5, (0.2, 0.4), -1),
+    ("lower-wall-b", 3.5, (2.0, 2.2), -1),
+    ("upper-wall-a", 0.0, (-1.4, -1.6), 0),
+    ("upper-wall-b", 0.5, (-2.1, -2.3), 0),
+)
 #: Near-miss distances of cases 0024 and 0025.
 NEAR_MISS_1E9, NEAR_MISS_1E11 = 1e-9, 1e-11
 
@@ -304,9 +443,11 @@ def release_lead_state(params: Params, wall: int, lead: float, t_acc: float) -> 
     with cert.precision(cert.PREC):
         phase = cert.release_phase(cert.Model(params), wall)
         if phase is None:
-            raise ValueError(f"params={params!r} is out of range for wall={wall}: the contact force never stops "
-                             "pressing (|gamma| >= alpha sqrt(1 + beta^2) or alpha = 0): allowed parameters "
-                             "with a release phase")
+            raise ValueError(
+                f"params={params!r} is out of range for wall={wall}: the contact force never stops "
+                "pressing (|gamma| >= alpha sqrt(1 + beta^2) or alpha = 0): allowed parameters "
+                "with a release phase"
+            )
         tau0 = cert.nearest_float(phase - cert.exact(lead))
     v = t_acc * (1 - params.r) * forcing_in(params, tau0, wall) / (2 * params.r)
     v = float(f"{v:.3g}")
@@ -324,10 +465,14 @@ def certified_policy(spec: Spec) -> dict:
         t_acc = 2 * m.r * abs(cert.exact(spec.sdot0)) / ((1 - m.r) * f_in)
         delay = cert.release_delay(m, tau, wall)
         ratio = t_acc / cert.exact(STICK_TIME)
-        return {"wall": wall, "pressing": bool(f_in > 0), "t_acc_over_stick_time": f"{float(ratio.mid()):.6g}",
-                "release_delay": "never" if delay is None else f"{float(delay.mid()):.6g}",
-                "t_acc": f"{float(t_acc.mid()):.6g}",
-                "meaning": "the policy's quantities at impact 0, certified (ball radii < 1e-80)"}
+        return {
+            "wall": wall,
+            "pressing": bool(f_in > 0),
+            "t_acc_over_stick_time": f"{float(ratio.mid()):.6g}",
+            "release_delay": "never" if delay is None else f"{float(delay.mid()):.6g}",
+            "t_acc": f"{float(t_acc.mid()):.6g}",
+            "meaning": "the policy's quantities at impact 0, certified (ball radii < 1e-80)",
+        }
 
 
 def _graze_tol(params: Params, tau0: float, sdot0: float) -> dict:
@@ -359,13 +504,15 @@ def chatter_tolerance(spec: Spec, orb: cert.CertifiedOrbit) -> tuple[dict, str] 
         return None
     slow = min(reached, key=lambda e: abs(cert.nearest_float(e.sdot)))
     v = abs(cert.nearest_float(slow.sdot))
-    f_max = p.alpha * math.sqrt(1 + p.beta ** 2) + abs(p.gamma)
+    f_max = p.alpha * math.sqrt(1 + p.beta**2) + abs(p.gamma)
     x_tau = CHATTER_SAFETY * (1 + p.r) / (1 - p.r) ** 2 * POSITION_STEP / v
-    x_sdot = CHATTER_SAFETY * f_max / (1 - p.r ** 2) * POSITION_STEP / v
-    note = (f"chatter: slowest bounce v_min = {v:.4g} (impact {slow.n}, wall {slow.wall}); tau and tau_mod_2pi: "
-            f"{CHATTER_SAFETY:g} (1 + r)/(1 - r)^2 2^-52 / v_min = {x_tau:.3g}, sdot: {CHATTER_SAFETY:g} "
-            f"(R + |gamma|)/(1 - r^2) 2^-52 / v_min = {x_sdot:.3g}, each rounded up to one digit; a column keeps "
-            "its own tolerance where that is larger (docs/golden.md, tolerances from the conditioning)")
+    x_sdot = CHATTER_SAFETY * f_max / (1 - p.r**2) * POSITION_STEP / v
+    note = (
+        f"chatter: slowest bounce v_min = {v:.4g} (impact {slow.n}, wall {slow.wall}); tau and tau_mod_2pi: "
+        f"{CHATTER_SAFETY:g} (1 + r)/(1 - r)^2 2^-52 / v_min = {x_tau:.3g}, sdot: {CHATTER_SAFETY:g} "
+        f"(R + |gamma|)/(1 - r^2) 2^-52 / v_min = {x_sdot:.3g}, each rounded up to one digit; a column keeps "
+        "its own tolerance where that is larger (docs/golden.md, tolerances from the conditioning)"
+    )
     return tol(round_up_1(x_tau), round_up_1(x_sdot)), note
 
 
@@ -385,10 +532,15 @@ def with_chatter_rule(spec: Spec, orb: cert.CertifiedOrbit) -> Spec:
 def certified_rows(orb: cert.CertifiedOrbit) -> Sequence:
     """The rows of a certified orbit as printed in ``expected.csv`` (float64 nearest to each ball)."""
     ev = orb.events
-    return Sequence("<certified>", np.array([e.n for e in ev]), np.array([cert.nearest_float(e.tau) for e in ev]),
-                    np.array([cert.nearest_float(e.theta) for e in ev]), np.array([e.wall for e in ev]),
-                    np.array([math.nan if e.sdot is None else cert.nearest_float(e.sdot) for e in ev]),
-                    np.array([e.kind for e in ev], dtype=object))
+    return Sequence(
+        "<certified>",
+        np.array([e.n for e in ev]),
+        np.array([cert.nearest_float(e.tau) for e in ev]),
+        np.array([cert.nearest_float(e.theta) for e in ev]),
+        np.array([e.wall for e in ev]),
+        np.array([math.nan if e.sdot is None else cert.nearest_float(e.sdot) for e in ev]),
+        np.array([e.kind for e in ev], dtype=object),
+    )
 
 
 def with_amplification_rule(spec: Spec, orb: cert.CertifiedOrbit) -> Spec:
@@ -415,22 +567,35 @@ def graze_specs() -> list[Spec]:
         w, a, b = contacts.float_excursion(FIG3, tau0, sd)
         exc.append((a, b))
         where = "lower wall s=-1 from the upper wall" if wall == -1 else "upper wall s=0 from the lower wall"
-        out.append(Spec(
-            f"{20 + k:04d}-graze-{name}", f"Graze: Fig. 3 parameters (alpha=3), the first flight reaches the {where} "
-            f"with a normal speed ~{abs(contacts.first_contact(FIG3, tau0, sd)[2]):.1e}; the un-reset flight would "
-            f"stay beyond the wall for only ~{contacts.GRAZE_EXCURSION:g} time units. One of four grazes at different "
-            "phases that together defeat every fixed-step sign-change finder with a step from 1e-3 to 1.",
-            FIG3, tau0, sd, 4, tolerances=_graze_tol(FIG3, tau0, sd), tags=("grazing",), level=3,
-            catches=("skipped-graze",), extras=("excursion",),
-            notes={"sdot0_rule": f"threshold sdot0 at which the first impact switches to wall {wall} (bisection in "
-                                 f"[{lo}, {hi}]), moved beyond it until the excursion beyond the wall is "
-                                 f"{contacts.GRAZE_EXCURSION:g} (bisection), 15 significant digits",
-                   "tolerance_rule": f"{contacts.GAP_BUDGET:g} / (normal speed at the graze), rounded up to one "
-                                     "digit: the impact time error is about (gap error) / (speed)",
-                   "purpose": "catches a finder that samples the flight at fixed steps and looks for a sign change "
-                              "of the gap: the sample must fall inside the excursion; for every step h in [1e-3, 1] "
-                              "at least one of cases 0020-0023 has no sample k h inside its excursion "
-                              "(validation/golden/contacts.py, tests/test_golden_mutants.py)"}))
+        out.append(
+            Spec(
+                f"{20 + k:04d}-graze-{name}",
+                f"Graze: Fig. 3 parameters (alpha=3), the first flight reaches the {where} "
+                f"with a normal speed ~{abs(contacts.first_contact(FIG3, tau0, sd)[2]):.1e}; the un-reset flight would "
+                f"stay beyond the wall for only ~{contacts.GRAZE_EXCURSION:g} time units. One of four grazes at different "
+                "phases that together defeat every fixed-step sign-change finder with a step from 1e-3 to 1.",
+                FIG3,
+                tau0,
+                sd,
+                4,
+                tolerances=_graze_tol(FIG3, tau0, sd),
+                tags=("grazing",),
+                level=3,
+                catches=("skipped-graze",),
+                extras=("excursion",),
+                notes={
+                    "sdot0_rule": f"threshold sdot0 at which the first impact switches to wall {wall} (bisection in "
+                    f"[{lo}, {hi}]), moved beyond it until the excursion beyond the wall is "
+                    f"{contacts.GRAZE_EXCURSION:g} (bisection), 15 significant digits",
+                    "tolerance_rule": f"{contacts.GAP_BUDGET:g} / (normal speed at the graze), rounded up to one "
+                    "digit: the impact time error is about (gap error) / (speed)",
+                    "purpose": "catches a finder that samples the flight at fixed steps and looks for a sign change "
+                    "of the gap: the sample must fall inside the excursion; for every step h in [1e-3, 1] "
+                    "at least one of cases 0020-0023 has no sample k h inside its excursion "
+                    "(validation/golden/contacts.py, tests/test_golden_mutants.py)",
+                },
+            )
+        )
     if contacts.steps_catching_all(exc):
         raise RuntimeError("the grazes do not defeat every fixed-step finder in the step range")
     return out
@@ -443,97 +608,207 @@ def new_specs() -> list[Spec]:
     lead_tau0, lead_v = release_lead_state(CHATTER_UP, 0, RELEASE_LEAD, RELEASE_DELAY_TACC)
     miss9 = contacts.near_miss_sdot0(FIG2, 3.0, 0.93, 0.95, -1, NEAR_MISS_1E9)
     miss11 = contacts.near_miss_sdot0(FIG3, 6.0, -0.9, -1.0, 0, NEAR_MISS_1E11)
-    return [
-        Spec("0013-lower-wall-sticking", "Chatter to sticking on the lower wall s=-1: case 0007 mirrored (alpha=2, "
-             "beta=0.1, gamma=-1, r=0.5), start on the lower wall. The tooth sticks to s=-1 after impact 24, is "
-             "released where the contact force -f stops pressing (f rises through zero: phase phi + pi - "
-             "asin(gamma/R)), flies on, and chatters again; the case ends with impact 47, whose own sticking "
-             "(rows after the last counted impact) is not written.",
-             CHATTER_DOWN, 3.0, -0.5, 47, tags=("chatter", "sticking", "lower-wall"), level=2,
-             catches=("lower-wall-sticking", "trailing-rows", "release-departure"),
-             notes={"purpose": "catches no sticking on s=-1, the wrong pressing sign on s=-1 (f > 0 instead of "
-                               "-f > 0), the wall-0 release branch used on s=-1, and stick/release rows written for "
-                               "the impact after the last counted one (impact 47 sticks)"}),
-        Spec("0014-lower-wall-stuck-forever", "Chatter ending stuck forever on the lower wall: case 0008 mirrored "
-             "(alpha=0.5, beta=0.1, gamma=-0.9, r=0.5): gamma <= -R, the force -f presses into s=-1 for ever.",
-             Params(0.5, 0.1, -0.9, 0.5), 0.0, -0.5, 40, tags=("chatter", "sticking", "stuck-forever", "lower-wall"),
-             level=2, catches=("stuck-forever", "lower-wall-sticking"),
-             notes={"purpose": "catches the never-release test gamma >= R applied on s=-1 (the pressing side there "
-                               "is gamma <= -R), and missing sticking on s=-1"}),
-        Spec("0015-no-impact-after-release", "An orbit that ends with no_impact: alpha=0.1, beta=0.3, gamma=0, "
-             "r=0.6. The tooth chatters on the upper wall, sticks after impact 29 and is released; the release flight "
-             "oscillates inside the backlash for ever (gamma=0: no drift; certified for all t > 0). The file ends "
-             "with the stick and release rows: no row for the flight that never lands.",
-             Params(0.1, 0.3, 0.0, 0.6), 4.5, 0.05, 40, tags=("chatter", "sticking", "no-impact"), level=3,
-             catches=("no-impact-ending",), ending="no_impact",
-             notes={"purpose": "catches an invented row after the last event (an impact at the search horizon "
-                               "T_MAX, a NaN placeholder) and the stick/release rows of the last step dropped "
-                               "because its flight never lands"}),
-        Spec("0016-elastic-r1", "Elastic impacts r=1 (Fig. 2 parameters otherwise): nothing accumulates, nothing "
-             "sticks, although most impacts happen while the forcing presses into the wall.",
-             Params(0.5, 0.1, 0.1, 1.0), 0.0, 0.5, 20, tags=("regular", "elastic"), catches=("elastic-r1",),
-             notes={"purpose": "catches t_acc = 2 u / ((1 - r) f_in) evaluated with a 'safe' division that "
-                               "returns 0 where (1 - r) f_in = 0 (every pressing impact would stick), or any "
-                               "sticking at r = 1"}),
-        Spec("0017-release-before-accumulation", "A chatter impact that must not stick: case 0007's parameters, an "
-             f"impact {RELEASE_LEAD:g} before the contact force stops pressing, with t_acc = "
-             f"{RELEASE_DELAY_TACC:g} <= STICK_TIME but longer than the release delay: the tooth bounces, the "
-             "force turns before it can come back, and it flies to the lower wall.",
-             CHATTER_UP, lead_tau0, lead_v, 12, tags=("chatter", "release-delay"), level=2,
-             catches=("release-delay",), extras=("policy",),
-             notes={"sdot0_rule": f"tau0 = the float64 nearest to (certified release phase - {RELEASE_LEAD:g}); "
-                                  f"sdot0 = t_acc (1 - r) f(tau0) / (2 r) with t_acc = {RELEASE_DELAY_TACC:g}, "
-                                  "3 significant digits",
+    return (
+        [
+            Spec(
+                "0013-lower-wall-sticking",
+                "Chatter to sticking on the lower wall s=-1: case 0007 mirrored (alpha=2, "
+                "beta=0.1, gamma=-1, r=0.5), start on the lower wall. The tooth sticks to s=-1 after impact 24, is "
+                "released where the contact force -f stops pressing (f rises through zero: phase phi + pi - "
+                "asin(gamma/R)), flies on, and chatters again; the case ends with impact 47, whose own sticking "
+                "(rows after the last counted impact) is not written.",
+                CHATTER_DOWN,
+                3.0,
+                -0.5,
+                47,
+                tags=("chatter", "sticking", "lower-wall"),
+                level=2,
+                catches=("lower-wall-sticking", "trailing-rows", "release-departure"),
+                notes={
+                    "purpose": "catches no sticking on s=-1, the wrong pressing sign on s=-1 (f > 0 instead of "
+                    "-f > 0), the wall-0 release branch used on s=-1, and stick/release rows written for "
+                    "the impact after the last counted one (impact 47 sticks)"
+                },
+            ),
+            Spec(
+                "0014-lower-wall-stuck-forever",
+                "Chatter ending stuck forever on the lower wall: case 0008 mirrored "
+                "(alpha=0.5, beta=0.1, gamma=-0.9, r=0.5): gamma <= -R, the force -f presses into s=-1 for ever.",
+                Params(0.5, 0.1, -0.9, 0.5),
+                0.0,
+                -0.5,
+                40,
+                tags=("chatter", "sticking", "stuck-forever", "lower-wall"),
+                level=2,
+                catches=("stuck-forever", "lower-wall-sticking"),
+                notes={
+                    "purpose": "catches the never-release test gamma >= R applied on s=-1 (the pressing side there "
+                    "is gamma <= -R), and missing sticking on s=-1"
+                },
+            ),
+            Spec(
+                "0015-no-impact-after-release",
+                "An orbit that ends with no_impact: alpha=0.1, beta=0.3, gamma=0, "
+                "r=0.6. The tooth chatters on the upper wall, sticks after impact 29 and is released; the release flight "
+                "oscillates inside the backlash for ever (gamma=0: no drift; certified for all t > 0). The file ends "
+                "with the stick and release rows: no row for the flight that never lands.",
+                Params(0.1, 0.3, 0.0, 0.6),
+                4.5,
+                0.05,
+                40,
+                tags=("chatter", "sticking", "no-impact"),
+                level=3,
+                catches=("no-impact-ending",),
+                ending="no_impact",
+                notes={
+                    "purpose": "catches an invented row after the last event (an impact at the search horizon "
+                    "T_MAX, a NaN placeholder) and the stick/release rows of the last step dropped "
+                    "because its flight never lands"
+                },
+            ),
+            Spec(
+                "0016-elastic-r1",
+                "Elastic impacts r=1 (Fig. 2 parameters otherwise): nothing accumulates, nothing "
+                "sticks, although most impacts happen while the forcing presses into the wall.",
+                Params(0.5, 0.1, 0.1, 1.0),
+                0.0,
+                0.5,
+                20,
+                tags=("regular", "elastic"),
+                catches=("elastic-r1",),
+                notes={
+                    "purpose": "catches t_acc = 2 u / ((1 - r) f_in) evaluated with a 'safe' division that "
+                    "returns 0 where (1 - r) f_in = 0 (every pressing impact would stick), or any "
+                    "sticking at r = 1"
+                },
+            ),
+            Spec(
+                "0017-release-before-accumulation",
+                "A chatter impact that must not stick: case 0007's parameters, an "
+                f"impact {RELEASE_LEAD:g} before the contact force stops pressing, with t_acc = "
+                f"{RELEASE_DELAY_TACC:g} <= STICK_TIME but longer than the release delay: the tooth bounces, the "
+                "force turns before it can come back, and it flies to the lower wall.",
+                CHATTER_UP,
+                lead_tau0,
+                lead_v,
+                12,
+                tags=("chatter", "release-delay"),
+                level=2,
+                catches=("release-delay",),
+                extras=("policy",),
+                notes={
+                    "sdot0_rule": f"tau0 = the float64 nearest to (certified release phase - {RELEASE_LEAD:g}); "
+                    f"sdot0 = t_acc (1 - r) f(tau0) / (2 r) with t_acc = {RELEASE_DELAY_TACC:g}, "
+                    "3 significant digits",
                     "purpose": "catches a policy that ignores the condition 'release delay > t_acc' (it would "
-                               "stick at impact 0 and release before the stick row)"}),
-        Spec("0018-stick-threshold-below", f"Sticking with t_acc = {STICK_RATIO_BELOW:g} STICK_TIME (upper wall, "
-             "case 0007's parameters): the tooth sticks at impact 0, is released at the zero of the contact force "
-             "and flies on.", CHATTER_UP, 4.0, below_v, 10, tags=("sticking", "threshold"), level=2,
-             catches=("sticking-threshold",), extras=("policy",),
-             notes={"sdot0_rule": f"sdot0 = {STICK_RATIO_BELOW:g} STICK_TIME (1 - r) f(tau0) / (2 r), 6 significant "
-                                  "digits",
+                    "stick at impact 0 and release before the stick row)",
+                },
+            ),
+            Spec(
+                "0018-stick-threshold-below",
+                f"Sticking with t_acc = {STICK_RATIO_BELOW:g} STICK_TIME (upper wall, "
+                "case 0007's parameters): the tooth sticks at impact 0, is released at the zero of the contact force "
+                "and flies on.",
+                CHATTER_UP,
+                4.0,
+                below_v,
+                10,
+                tags=("sticking", "threshold"),
+                level=2,
+                catches=("sticking-threshold",),
+                extras=("policy",),
+                notes={
+                    "sdot0_rule": f"sdot0 = {STICK_RATIO_BELOW:g} STICK_TIME (1 - r) f(tau0) / (2 r), 6 significant "
+                    "digits",
                     "purpose": "catches a sticking threshold scaled by 0.99 or less (or t_acc overestimated by "
-                               "0.5 % or more)"}),
-        Spec("0019-stick-threshold-above-lower-wall", f"No sticking with t_acc = {STICK_RATIO_ABOVE:g} STICK_TIME "
-             "on the lower wall (case 0013's parameters): impact 0 bounces, the tooth comes back after ~5e-7 and "
-             "sticks at impact 1, is released at the lower wall's release phase and flies on.",
-             CHATTER_DOWN, 1.0, above_v, 10, tags=("sticking", "threshold", "lower-wall"), level=2,
-             catches=("sticking-threshold", "lower-wall-sticking"), extras=("policy",),
-             notes={"sdot0_rule": f"sdot0 = -{STICK_RATIO_ABOVE:g} STICK_TIME (1 - r) (-f(tau0)) / (2 r), 6 "
-                                  "significant digits",
+                    "0.5 % or more)",
+                },
+            ),
+            Spec(
+                "0019-stick-threshold-above-lower-wall",
+                f"No sticking with t_acc = {STICK_RATIO_ABOVE:g} STICK_TIME "
+                "on the lower wall (case 0013's parameters): impact 0 bounces, the tooth comes back after ~5e-7 and "
+                "sticks at impact 1, is released at the lower wall's release phase and flies on.",
+                CHATTER_DOWN,
+                1.0,
+                above_v,
+                10,
+                tags=("sticking", "threshold", "lower-wall"),
+                level=2,
+                catches=("sticking-threshold", "lower-wall-sticking"),
+                extras=("policy",),
+                notes={
+                    "sdot0_rule": f"sdot0 = -{STICK_RATIO_ABOVE:g} STICK_TIME (1 - r) (-f(tau0)) / (2 r), 6 "
+                    "significant digits",
                     "purpose": "catches a sticking threshold scaled by 1.01 .. 1.5 (or t_acc underestimated by "
-                               "0.5 % or more), and sticking missing on s=-1"}),
-    ] + graze_specs() + [
-        Spec("0024-near-miss-1e-9", "Near miss at ~1e-9: Fig. 2 parameters, the flight from the upper wall at "
-             "tau0=3 turns back ~1e-9 above the lower wall and returns to the wall it left (impact 1 on s=0).",
-             FIG2, 3.0, miss9, 10, tags=("grazing", "return-to-start-wall", "near-miss"), level=3,
-             catches=("contact-tolerance", "return-to-start-wall"),
-             notes={"sdot0_rule": f"the threshold sdot0 at which the first impact switches to the lower wall "
-                                  f"(bisection in [0.93, 0.95]), moved to the missing side so that the closest "
-                                  f"approach is ~{NEAR_MISS_1E9:g}, 15 significant digits",
+                    "0.5 % or more), and sticking missing on s=-1",
+                },
+            ),
+        ]
+        + graze_specs()
+        + [
+            Spec(
+                "0024-near-miss-1e-9",
+                "Near miss at ~1e-9: Fig. 2 parameters, the flight from the upper wall at "
+                "tau0=3 turns back ~1e-9 above the lower wall and returns to the wall it left (impact 1 on s=0).",
+                FIG2,
+                3.0,
+                miss9,
+                10,
+                tags=("grazing", "return-to-start-wall", "near-miss"),
+                level=3,
+                catches=("contact-tolerance", "return-to-start-wall"),
+                notes={
+                    "sdot0_rule": f"the threshold sdot0 at which the first impact switches to the lower wall "
+                    f"(bisection in [0.93, 0.95]), moved to the missing side so that the closest "
+                    f"approach is ~{NEAR_MISS_1E9:g}, 15 significant digits",
                     "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-9 or more "
-                               "(e.g. 1e-8)"}),
-        Spec("0025-near-miss-1e-11-upper-wall", "Near miss at ~1e-11 on the upper wall: Fig. 3 parameters, the "
-             "flight from the lower wall at tau0=6 turns back ~1e-11 below s=0 and returns to the lower wall.",
-             FIG3, 6.0, miss11, 4, tags=("grazing", "return-to-start-wall", "near-miss"), level=3,
-             catches=("contact-tolerance", "return-to-start-wall"),
-             notes={"sdot0_rule": f"the threshold sdot0 at which the first impact switches to the upper wall "
-                                  f"(bisection in [-1.0, -0.9]), moved to the missing side so that the closest "
-                                  f"approach is ~{NEAR_MISS_1E11:g}, 15 significant digits",
+                    "(e.g. 1e-8)",
+                },
+            ),
+            Spec(
+                "0025-near-miss-1e-11-upper-wall",
+                "Near miss at ~1e-11 on the upper wall: Fig. 3 parameters, the "
+                "flight from the lower wall at tau0=6 turns back ~1e-11 below s=0 and returns to the lower wall.",
+                FIG3,
+                6.0,
+                miss11,
+                4,
+                tags=("grazing", "return-to-start-wall", "near-miss"),
+                level=3,
+                catches=("contact-tolerance", "return-to-start-wall"),
+                notes={
+                    "sdot0_rule": f"the threshold sdot0 at which the first impact switches to the upper wall "
+                    f"(bisection in [-1.0, -0.9]), moved to the missing side so that the closest "
+                    f"approach is ~{NEAR_MISS_1E11:g}, 15 significant digits",
                     "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-11 or "
-                               "more (e.g. 1e-10)"}),
-    ]
+                    "more (e.g. 1e-10)",
+                },
+            ),
+        ]
+    )
 
 
 def spec_from_settings(settings: dict, prec: int = cert.PREC) -> Spec:
     """The :class:`Spec` of a committed ``settings.json`` (to re-certify a case without the searches)."""
     ini = settings["initial_state"]
-    return Spec(settings["id"], settings["description"], Params(**settings["params"]), ini["tau0"], ini["sdot0"],
-                int(settings["n_impacts"]), s0=ini.get("s0"), tolerances=settings["tolerances"],
-                tags=tuple(settings.get("tags", ())), notes=dict(settings.get("notes", {})), prec=prec,
-                level=int(settings.get("level", 1)), catches=tuple(settings.get("catches", ())),
-                ending="no_impact" if settings["expected_status"] == "no_impact" else "active",
-                stick_time=float(settings.get("stick_time", STICK_TIME)))
+    return Spec(
+        settings["id"],
+        settings["description"],
+        Params(**settings["params"]),
+        ini["tau0"],
+        ini["sdot0"],
+        int(settings["n_impacts"]),
+        s0=ini.get("s0"),
+        tolerances=settings["tolerances"],
+        tags=tuple(settings.get("tags", ())),
+        notes=dict(settings.get("notes", {})),
+        prec=prec,
+        level=int(settings.get("level", 1)),
+        catches=tuple(settings.get("catches", ())),
+        ending="no_impact" if settings["expected_status"] == "no_impact" else "active",
+        stick_time=float(settings.get("stick_time", STICK_TIME)),
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -572,14 +847,23 @@ def expected_csv(orb: cert.CertifiedOrbit) -> str:
 
 def settings_json(spec: Spec, orb: cert.CertifiedOrbit) -> dict:
     p = spec.params
-    ini = {"kind": "pre-impact", "tau0": spec.tau0, "sdot0": spec.sdot0} if spec.s0 is None else \
-        {"kind": "free-flight", "tau0": spec.tau0, "s0": spec.s0, "sdot0": spec.sdot0}
+    ini = (
+        {"kind": "pre-impact", "tau0": spec.tau0, "sdot0": spec.sdot0}
+        if spec.s0 is None
+        else {"kind": "free-flight", "tau0": spec.tau0, "s0": spec.s0, "sdot0": spec.sdot0}
+    )
     return {
-        "id": spec.id, "description": spec.description, "tags": list(spec.tags),
-        "level": spec.level, "catches": list(spec.catches),
+        "id": spec.id,
+        "description": spec.description,
+        "tags": list(spec.tags),
+        "level": spec.level,
+        "catches": list(spec.catches),
         "params": p.as_dict(),
-        "initial_state": ini, "n_impacts": spec.n_impacts, "stick_time": spec.stick_time,
-        "expected_rows": len(orb.events), "expected_status": orb.status,
+        "initial_state": ini,
+        "n_impacts": spec.n_impacts,
+        "stick_time": spec.stick_time,
+        "expected_rows": len(orb.events),
+        "expected_status": orb.status,
         "tolerances": spec.tolerances,
         "exact_columns": ["n", "wall", "kind"],
         "notes": dict(spec.notes),
@@ -594,9 +878,14 @@ def _versions() -> dict:
 
     from ...core._jax import xla_tuning_active
 
-    return {"python": ".".join(platform.python_version_tuple()[:2]), "python-flint": flint.__version__,
-            "numpy": numpy.__version__, "scipy": scipy.__version__, "jax": jax.__version__,
-            "engine_xla_options": xla_tuning_active()}
+    return {
+        "python": ".".join(platform.python_version_tuple()[:2]),
+        "python-flint": flint.__version__,
+        "numpy": numpy.__version__,
+        "scipy": scipy.__version__,
+        "jax": jax.__version__,
+        "engine_xla_options": xla_tuning_active(),
+    }
 
 
 def _track_agreement(case: Case, tracks=("map", "scipy")) -> dict:
@@ -614,9 +903,12 @@ def _track_agreement(case: Case, tracks=("map", "scipy")) -> dict:
             out[tr] = {"rows": len(got), "agrees": False, "reason": "different number of rows"}
             continue
         sc = score_sequence(case, got)
-        out[tr] = {"agrees": sc.passed, "status": seq.status,
-                   "max_abs_error": {c: float("%.1e" % sc.columns[c].max_error) for c in ("tau", "tau_mod_2pi", "sdot")},
-                   "digits": {c: round(sc.columns[c].digits, 1) for c in ("tau", "tau_mod_2pi", "sdot")}}
+        out[tr] = {
+            "agrees": sc.passed,
+            "status": seq.status,
+            "max_abs_error": {c: float("%.1e" % sc.columns[c].max_error) for c in ("tau", "tau_mod_2pi", "sdot")},
+            "digits": {c: round(sc.columns[c].digits, 1) for c in ("tau", "tau_mod_2pi", "sdot")},
+        }
     return out
 
 
@@ -627,8 +919,14 @@ def provenance_json(spec: Spec, orb: cert.CertifiedOrbit, radii: dict, agreement
         r = {"line": k + 2, "n": e.n, "kind": e.kind, "source": e.note.get("source", "")}
         if e.kind == "impact" and e.n in fl and e.note.get("source") == "certified flight":
             f = fl[e.n]
-            r.update({"wall": f["wall"], "root_bracket": ["%.6g" % f["bracket"][0], "%.6g" % f["bracket"][1]],
-                      "positive_gap_pieces": f["pieces"], "departure": "%.3g" % f["departure"]})
+            r.update(
+                {
+                    "wall": f["wall"],
+                    "root_bracket": ["%.6g" % f["bracket"][0], "%.6g" % f["bracket"][1]],
+                    "positive_gap_pieces": f["pieces"],
+                    "departure": "%.3g" % f["departure"],
+                }
+            )
         if e.kind == "release":
             r["pressing_pieces"] = e.note.get("pieces")
         rows.append(r)
@@ -637,19 +935,19 @@ def provenance_json(spec: Spec, orb: cert.CertifiedOrbit, radii: dict, agreement
         "generator": "python -m gear_rattle.validation.golden.generate",
         "method": {
             "impacts": "certified: ball arithmetic (python-flint arb) on the closed-form flight, Eqs. (7)-(8); "
-                       "(a) unique root: sign change of the gap and derivative enclosure excluding 0 on the root "
-                       "bracket; (b) no earlier wall contact: [0, t_lo] covered by pieces on which both gap "
-                       "enclosures are > 0; states propagated impact to impact as balls (mean-value form with the "
-                       "analytic Jacobian, intersected with the direct enclosure). The certified track: "
-                       "mapimpl/certified/ (contact.py: one flight; sticking.py: the policy; orbit.py: the sequence; "
-                       "noimpact.py: a flight that never lands).",
+            "(a) unique root: sign change of the gap and derivative enclosure excluding 0 on the root "
+            "bracket; (b) no earlier wall contact: [0, t_lo] covered by pieces on which both gap "
+            "enclosures are > 0; states propagated impact to impact as balls (mean-value form with the "
+            "analytic Jacobian, intersected with the direct enclosure). The certified track: "
+            "mapimpl/certified/ (contact.py: one flight; sticking.py: the policy; orbit.py: the sequence; "
+            "noimpact.py: a flight that never lands).",
             "initial_state": "exact (float64 inputs are exact binary numbers)",
             "stick_rows": "policy values (tau_n + t_acc, accumulation-point formula of mapimpl/sticking.py), "
-                          "not solutions of the ODE; the sticking decision itself is certified definite",
+            "not solutions of the ODE; the sticking decision itself is certified definite",
             "release_rows": "closed-form zero of the contact force f, certified (sign change, f' excludes 0) and "
-                            "f certified pressing on the whole stuck interval before it",
+            "f certified pressing on the whole stuck interval before it",
             "printed_values": "float64 nearest to the ball midpoint, 17 significant digits; the *_radius columns "
-                              "bound |printed - true| (ball radius + rounding), rounded up",
+            "bound |printed - true| (ball radius + rounding), rounded up",
         },
         "precision_bits": orb.prec,
         "stop_reason": orb.stop_reason,
@@ -680,10 +978,26 @@ def certify_spec(spec: Spec, radius_limit: float) -> cert.CertifiedOrbit:
         if hint.status != "no_impact":
             raise cert.CertificationError(f"{spec.id}: the map track ends with status {hint.status!r}, not 'no_impact'")
         last = int(hint.n[hint.kind == "impact"][-1])
-        return cert.certify_no_impact_orbit(spec.params, spec.tau0, spec.sdot0, last, s0=spec.s0, prec=spec.prec,
-                                            radius_limit=radius_limit, stick_time=spec.stick_time)
-    return cert.certify_orbit(spec.params, spec.tau0, spec.sdot0, spec.n_impacts, s0=spec.s0, prec=spec.prec,
-                              radius_limit=radius_limit, stick_time=spec.stick_time)
+        return cert.certify_no_impact_orbit(
+            spec.params,
+            spec.tau0,
+            spec.sdot0,
+            last,
+            s0=spec.s0,
+            prec=spec.prec,
+            radius_limit=radius_limit,
+            stick_time=spec.stick_time,
+        )
+    return cert.certify_orbit(
+        spec.params,
+        spec.tau0,
+        spec.sdot0,
+        spec.n_impacts,
+        s0=spec.s0,
+        prec=spec.prec,
+        radius_limit=radius_limit,
+        stick_time=spec.stick_time,
+    )
 
 
 def radius_stats(text: str, orb: cert.CertifiedOrbit) -> dict:
@@ -729,7 +1043,8 @@ def build_case(spec: Spec, *, tracks: bool = True) -> tuple[dict, str, dict]:
         xm, ym = sum(xs) / len(xs), sum(ys) / len(ys)
         slope = sum((x - xm) * (y - ym) for x, y in zip(xs, ys)) / sum((x - xm) ** 2 for x in xs)
         spec.notes["certified_radius_growth_per_impact"] = (
-            f"{slope:.2f} (least-squares slope of ln(tau ball radius) over the impacts; compare lambda1)")
+            f"{slope:.2f} (least-squares slope of ln(tau ball radius) over the impacts; compare lambda1)"
+        )
     if "near-miss" in spec.id:
         key, approach = closest_approach(spec)
         spec.notes[key] = approach
@@ -751,8 +1066,9 @@ def write_plain(path: Path, text: str) -> None:
     path.write_text(text)
 
 
-def write_case(folder: Path, settings: dict, text: str, prov: dict,
-               write: Callable[[Path, str], object] = write_plain) -> None:
+def write_case(
+    folder: Path, settings: dict, text: str, prov: dict, write: Callable[[Path, str], object] = write_plain
+) -> None:
     """A case folder: ``settings.json``, ``expected.csv`` and ``provenance.json``, each through ``write``."""
     folder.mkdir(parents=True, exist_ok=True)
     write(folder / "settings.json", json.dumps(settings, indent=1) + "\n")
@@ -761,12 +1077,17 @@ def write_case(folder: Path, settings: dict, text: str, prov: dict,
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m gear_rattle.validation.golden.generate", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(
+        prog="python -m gear_rattle.validation.golden.generate", description=__doc__.split("\n\n")[0]
+    )
     ap.add_argument("--out", default=str(DEFAULT_SUITE), help="suite directory (default: the committed one)")
     ap.add_argument("--cases", nargs="*", default=None, help="only these case ids")
     ap.add_argument("--no-tracks", action="store_true", help="skip the map/scipy agreement in the provenance")
-    ap.add_argument("--recertify", action="store_true",
-                    help="re-certify the committed cases with their committed settings (no searches)")
+    ap.add_argument(
+        "--recertify",
+        action="store_true",
+        help="re-certify the committed cases with their committed settings (no searches)",
+    )
     args = ap.parse_args(argv)
     from ...core._jax import use_cpu_devices
 
@@ -775,8 +1096,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.recertify:
         from .suite import case_ids
 
-        all_specs = [spec_from_settings(json.loads((DEFAULT_SUITE / c / "settings.json").read_text()))
-                     for c in case_ids()]
+        all_specs = [
+            spec_from_settings(json.loads((DEFAULT_SUITE / c / "settings.json").read_text())) for c in case_ids()
+        ]
     else:
         all_specs = specs()
     known = [s.id for s in all_specs]
@@ -795,8 +1117,10 @@ def main(argv: list[str] | None = None) -> int:
         write_case(Path(args.out) / spec.id, settings, text, prov)
         agree = prov["tracks_agreement"] or {}
         ok = ", ".join(f"{k}: {'agrees' if v.get('agrees') else 'DISAGREES'}" for k, v in agree.items())
-        print(f"{spec.id}: {settings['expected_rows']} rows, status {settings['expected_status']}, "
-              f"max tau radius {prov['radius']['tau_radius'].get('max')}, {ok} ({time.time() - t:.1f} s)")
+        print(
+            f"{spec.id}: {settings['expected_rows']} rows, status {settings['expected_status']}, "
+            f"max tau radius {prov['radius']['tau_radius'].get('max')}, {ok} ({time.time() - t:.1f} s)"
+        )
     from .catalog import write_index
 
     print(f"{write_index(Path(args.out))}: index of the cases in {args.out}")

@@ -50,8 +50,9 @@ class JsonDoc:
         """A :class:`MalformedFile` at the value ``where`` (or at its nearest enclosing value)."""
         while where not in self.offsets and where:
             where = where[:-1]
-        return malformed(self.path, *position(self.text, self.offsets.get(where, 0)),
-                         f"{_name(where)}: {msg}" if where else msg)
+        return malformed(
+            self.path, *position(self.text, self.offsets.get(where, 0)), f"{_name(where)}: {msg}" if where else msg
+        )
 
 
 def _name(where: tuple) -> str:
@@ -83,7 +84,7 @@ class _Parser:
     def value(self, pos: int, where: tuple, depth: int):
         t = self.text
         self.offsets[where] = pos
-        c = t[pos:pos + 1]
+        c = t[pos : pos + 1]
         if c == "{" or c == "[":
             if depth >= MAX_DEPTH:
                 raise self.fail(pos, f"nested deeper than {MAX_DEPTH} arrays and objects (the limit of the format)")
@@ -117,20 +118,24 @@ class _Parser:
             parts.append(m.group())
             n += len(m.group())
             p = m.end()
-            c = t[p:p + 1]
+            c = t[p : p + 1]
             if c == '"':
                 break
             if c == "\\":
-                e = t[p + 1:p + 2]
+                e = t[p + 1 : p + 2]
                 if e in _ESCAPES:
                     parts.append(_ESCAPES[e])
                     p += 2
                 elif e == "u" and _HEX4.fullmatch(t, p + 2, p + 6):
-                    u = int(t[p + 2:p + 6], 16)
+                    u = int(t[p + 2 : p + 6], 16)
                     p += 6
-                    if 0xD800 <= u < 0xDC00 and t.startswith("\\u", p) and _HEX4.fullmatch(t, p + 2, p + 6) \
-                            and 0xDC00 <= int(t[p + 2:p + 6], 16) < 0xE000:
-                        u = 0x10000 + ((u - 0xD800) << 10) + (int(t[p + 2:p + 6], 16) - 0xDC00)
+                    if (
+                        0xD800 <= u < 0xDC00
+                        and t.startswith("\\u", p)
+                        and _HEX4.fullmatch(t, p + 2, p + 6)
+                        and 0xDC00 <= int(t[p + 2 : p + 6], 16) < 0xE000
+                    ):
+                        u = 0x10000 + ((u - 0xD800) << 10) + (int(t[p + 2 : p + 6], 16) - 0xDC00)
                         p += 6
                     elif 0xD800 <= u < 0xE000:
                         raise self.fail(p - 6, "an escaped lone surrogate (not a character)")
@@ -168,7 +173,7 @@ class _Parser:
             q = self.ws(q + 1)
             out[k], q = self.value(q, where + (k,), depth)
             q = self.ws(q)
-            c = self.text[q:q + 1]
+            c = self.text[q : q + 1]
             if c == "}":
                 return out, q + 1
             if c != ",":
@@ -184,7 +189,7 @@ class _Parser:
             v, q = self.value(p, where + (len(out),), depth)
             out.append(v)
             q = self.ws(q)
-            c = self.text[q:q + 1]
+            c = self.text[q : q + 1]
             if c == "]":
                 return out, q + 1
             if c != ",":

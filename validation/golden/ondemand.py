@@ -77,8 +77,7 @@ class CaseInput:
     def as_dict(self) -> dict:
         """The input as a ``--from`` JSON entry."""
         p = self.params
-        d = {"id": self.id, **p.as_dict(), "tau0": self.tau0,
-             "sdot0": self.sdot0, "impacts": self.impacts}
+        d = {"id": self.id, **p.as_dict(), "tau0": self.tau0, "sdot0": self.sdot0, "impacts": self.impacts}
         if self.s0 is not None:
             d["s0"] = self.s0
         if self.stick_time != STICK_TIME:
@@ -94,15 +93,18 @@ def _finite(name: str, value, lo: float | None = None, hi: float | None = None, 
             value = float(value)
         except ValueError:
             raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}") from None
-    return check_real(name, value, -math.inf if lo is None else lo, math.inf if hi is None else hi,
-                      allowed=allowed or None)
+    return check_real(
+        name, value, -math.inf if lo is None else lo, math.inf if hi is None else hi, allowed=allowed or None
+    )
 
 
 def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, stick_time=None) -> CaseInput:
     """A validated :class:`CaseInput`; ``ValueError`` naming the field and its allowed range."""
     if not isinstance(id, str) or not ID_PATTERN.fullmatch(id):
-        raise ValueError(f"id={id!r} is out of range: allowed a folder name of 1-100 letters, digits, '.', '_' "
-                         "or '-', not starting with '.' or '-'")
+        raise ValueError(
+            f"id={id!r} is out of range: allowed a folder name of 1-100 letters, digits, '.', '_' "
+            "or '-', not starting with '.' or '-'"
+        )
     values = dict(zip(PARAM_NAMES, (alpha, beta, gamma, r)))
     for k, v in values.items():
         if isinstance(v, bool):
@@ -113,15 +115,25 @@ def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, st
     if s0 is not None:
         s0 = _finite("s0", s0, allowed="-1 < s0 < 0 (a free-flight start strictly between the walls)")
         if not -1.0 < s0 < 0.0:
-            raise ValueError(f"s0={s0!r} is out of range: allowed -1 < s0 < 0 (a free-flight start strictly "
-                             "between the walls)")
+            raise ValueError(
+                f"s0={s0!r} is out of range: allowed -1 < s0 < 0 (a free-flight start strictly between the walls)"
+            )
     elif sdot0 == 0.0:
-        raise ValueError("sdot0=0.0 is out of range: a pre-impact start needs sdot0 != 0 (> 0: upper wall s = 0, "
-                         "< 0: lower wall s = -1); give s0 for a start in free flight")
-    n = check_int("impacts", _finite("impacts", impacts, allowed=f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}"),
-                  0, MAX_CASE_IMPACTS)
-    st = STICK_TIME if stick_time is None else _finite("stick_time", stick_time, 0.0, 1.0,
-                                                        "a finite number 0 <= stick_time <= 1")
+        raise ValueError(
+            "sdot0=0.0 is out of range: a pre-impact start needs sdot0 != 0 (> 0: upper wall s = 0, "
+            "< 0: lower wall s = -1); give s0 for a start in free flight"
+        )
+    n = check_int(
+        "impacts",
+        _finite("impacts", impacts, allowed=f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}"),
+        0,
+        MAX_CASE_IMPACTS,
+    )
+    st = (
+        STICK_TIME
+        if stick_time is None
+        else _finite("stick_time", stick_time, 0.0, 1.0, "a finite number 0 <= stick_time <= 1")
+    )
     return CaseInput(id, params, tau0, sdot0, n, s0, st)
 
 
@@ -134,8 +146,9 @@ def _from_mapping(entry: dict, where: str) -> CaseInput:
         raise ValueError(f"{where}: an input must be an object with the fields {', '.join(REQUIRED_FIELDS)}")
     unknown = sorted(set(entry) - set(REQUIRED_FIELDS) - set(OPTIONAL_FIELDS))
     if unknown:
-        raise ValueError(f"{where}: unknown field(s) {', '.join(unknown)} (allowed: "
-                         f"{', '.join(REQUIRED_FIELDS + OPTIONAL_FIELDS)})")
+        raise ValueError(
+            f"{where}: unknown field(s) {', '.join(unknown)} (allowed: {', '.join(REQUIRED_FIELDS + OPTIONAL_FIELDS)})"
+        )
     missing = [k for k in REQUIRED_FIELDS if _blank(entry.get(k))]
     if missing:
         raise ValueError(f"{where}: missing field(s) {', '.join(missing)}")
@@ -167,8 +180,10 @@ def read_inputs(path: str | Path) -> list[CaseInput]:
     else:
         rows = list(csv.reader(io.StringIO(text)))
         if not rows:
-            raise ValueError(f"--from {path}: empty file (a CSV with the header {','.join(REQUIRED_FIELDS)}"
-                             "[,s0][,stick_time], or a JSON list)")
+            raise ValueError(
+                f"--from {path}: empty file (a CSV with the header {','.join(REQUIRED_FIELDS)}"
+                "[,s0][,stick_time], or a JSON list)"
+            )
         head = [h.strip() for h in rows[0]]
         for line, row in enumerate(rows[1:], start=2):
             if not any(c.strip() for c in row):
@@ -192,11 +207,23 @@ def read_inputs(path: str | Path) -> list[CaseInput]:
 
 def _spec(inp: CaseInput, n_impacts: int) -> generate.Spec:
     p = inp.params
-    start = (f"pre-impact start (tau0, sdot0) = ({inp.tau0!r}, {inp.sdot0!r})" if inp.s0 is None else
-             f"free-flight start (tau0, s0, sdot0) = ({inp.tau0!r}, {inp.s0!r}, {inp.sdot0!r})")
-    return generate.Spec(inp.id, f"A case on demand (gear-rattle case): alpha={p.alpha!r}, beta={p.beta!r}, "
-                         f"gamma={p.gamma!r}, r={p.r!r}, {start}.", p, inp.tau0, inp.sdot0, n_impacts, s0=inp.s0,
-                         tags=("user",), stick_time=inp.stick_time)
+    start = (
+        f"pre-impact start (tau0, sdot0) = ({inp.tau0!r}, {inp.sdot0!r})"
+        if inp.s0 is None
+        else f"free-flight start (tau0, s0, sdot0) = ({inp.tau0!r}, {inp.s0!r}, {inp.sdot0!r})"
+    )
+    return generate.Spec(
+        inp.id,
+        f"A case on demand (gear-rattle case): alpha={p.alpha!r}, beta={p.beta!r}, "
+        f"gamma={p.gamma!r}, r={p.r!r}, {start}.",
+        p,
+        inp.tau0,
+        inp.sdot0,
+        n_impacts,
+        s0=inp.s0,
+        tags=("user",),
+        stick_time=inp.stick_time,
+    )
 
 
 def graze_tolerance(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[float, str] | None:
@@ -220,9 +247,11 @@ def graze_tolerance(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[floa
     t = round_up_1(GAP_BUDGET / abs(worst[1]))
     if t <= generate.TOL["tau"]["abs"]:
         return None
-    return t, (f"graze: the slowest contact against the pull of the force, impact {worst[0]} (wall {worst[2]}), "
-               f"speed {abs(worst[1]):.4g}: {GAP_BUDGET:g} / v = {GAP_BUDGET / abs(worst[1]):.3g}, rounded up to one "
-               "digit (docs/golden.md, grazes and near misses)")
+    return t, (
+        f"graze: the slowest contact against the pull of the force, impact {worst[0]} (wall {worst[2]}), "
+        f"speed {abs(worst[1]):.4g}: {GAP_BUDGET:g} / v = {GAP_BUDGET / abs(worst[1]):.3g}, rounded up to one "
+        "digit (docs/golden.md, grazes and near misses)"
+    )
 
 
 def ruled_spec(spec: generate.Spec, orb: cert.CertifiedOrbit) -> generate.Spec:
@@ -293,16 +322,22 @@ def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int,
             start = (float(rows.tau_mod_2pi[i]), 0.0, tau, float(rows.wall[i]))
             continue
         if start is None and prev is not None:
-            start = (float(rows.tau_mod_2pi[prev]), -p.r * float(rows.sdot[prev]), float(rows.tau[prev]),
-                     float(rows.wall[prev]))
+            start = (
+                float(rows.tau_mod_2pi[prev]),
+                -p.r * float(rows.sdot[prev]),
+                float(rows.tau[prev]),
+                float(rows.wall[prev]),
+            )
         if start is not None:
             dt = tau - start[2]
             gap = _turns(p, start[0], start[1], start[3], dt)
             e = POSITION_STEP + FLIGHT_ERROR * flight_height(p, start[0], start[1], dt)
             if gap < NEAR_MISS_SAFETY * e:
-                return int(rows.n[i]), (f"the flight to impact {int(rows.n[i])} turns back {gap:.3g} from a wall, "
-                                        f"within {NEAR_MISS_SAFETY:g} times the gap error {e:.3g} of a correct float64 "
-                                        "implementation (it may take it for a contact)")
+                return int(rows.n[i]), (
+                    f"the flight to impact {int(rows.n[i])} turns back {gap:.3g} from a wall, "
+                    f"within {NEAR_MISS_SAFETY:g} times the gap error {e:.3g} of a correct float64 "
+                    "implementation (it may take it for a contact)"
+                )
         prev, start = i, None
     return None
 
@@ -314,8 +349,13 @@ def _loosest(spec: generate.Spec) -> float:
 def _prefix(orb: cert.CertifiedOrbit, k: int) -> cert.CertifiedOrbit:
     """The orbit up to impact ``k`` (its rows, no row after it): a case of ``k`` impacts, status active."""
     last = max(i for i, e in enumerate(orb.events) if e.kind == "impact" and e.n == k)
-    return cert.CertifiedOrbit(orb.events[:last + 1], "active", f"truncated at impact {k}", orb.prec,
-                               [f for f in orb.flights if f["impact"] <= k])
+    return cert.CertifiedOrbit(
+        orb.events[: last + 1],
+        "active",
+        f"truncated at impact {k}",
+        orb.prec,
+        [f for f in orb.flights if f["impact"] <= k],
+    )
 
 
 def _last_impact(orb: cert.CertifiedOrbit) -> int:
@@ -334,11 +374,16 @@ def _certify(inp: CaseInput, n: int, prec: int) -> tuple[cert.CertifiedOrbit | N
     radius limit)."""
     from ...mapimpl.certified.track import certified_orbit
 
-    run = certified_orbit(inp.params, inp.tau0, inp.sdot0, n, s0=inp.s0, stick_time=inp.stick_time, prec=prec,
-                          progress=False)
+    run = certified_orbit(
+        inp.params, inp.tau0, inp.sdot0, n, s0=inp.s0, stick_time=inp.stick_time, prec=prec, progress=False
+    )
     last = run.impacts_certified - 1
-    kw = dict(s0=inp.s0, prec=run.precision, stick_time=inp.stick_time,
-              radius_limit=generate.RADIUS_FRACTION * generate.TOL["tau"]["abs"])
+    kw = dict(
+        s0=inp.s0,
+        prec=run.precision,
+        stick_time=inp.stick_time,
+        radius_limit=generate.RADIUS_FRACTION * generate.TOL["tau"]["abs"],
+    )
     if last < 0:
         return None, run.reason
     why = "" if run.complete else f"impact {run.first_uncertified} is not certified ({run.reason})"
@@ -414,9 +459,11 @@ def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
         rules = [k for k in ("graze_rule", "tolerance_rule") if k in bad.notes]
         rules += ["amplification"] if bad.notes["amplification"]["sets"] else []
         where = bad.notes["amplification"]
-        reason = (f"with impact {hi} the tolerance of a correct float64 implementation would be {cols} (rules: "
-                  f"{', '.join(rules)}; amplified tau error {where['tau_error']:.3g} at {where['tau_worst']}), not "
-                  f"below the limit {TOLERANCE_LIMIT:g}")
+        reason = (
+            f"with impact {hi} the tolerance of a correct float64 implementation would be {cols} (rules: "
+            f"{', '.join(rules)}; amplified tau error {where['tau_error']:.3g} at {where['tau_worst']}), not "
+            f"below the limit {TOLERANCE_LIMIT:g}"
+        )
         if lo < 0:
             raise CaseError(f"case {inp.id}: {reason} (no impact within the limit)")
         orb = _prefix(orb, lo)
@@ -427,11 +474,15 @@ def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
     spec = replace(ruled, n_impacts=kept) if not over else ruled_spec(_spec(inp, kept), orb)
     truncation = None
     if reason:
-        truncation = {"requested_impacts": inp.impacts, "kept_impacts": kept, "limit": TOLERANCE_LIMIT,
-                      "reason": reason,
-                      "rule": f"the case stops at the last impact whose rows keep every tolerance below "
-                              f"{TOLERANCE_LIMIT:g}, or at the last certified impact (docs/golden.md, asking the "
-                              "oracle)"}
+        truncation = {
+            "requested_impacts": inp.impacts,
+            "kept_impacts": kept,
+            "limit": TOLERANCE_LIMIT,
+            "reason": reason,
+            "rule": f"the case stops at the last impact whose rows keep every tolerance below "
+            f"{TOLERANCE_LIMIT:g}, or at the last certified impact (docs/golden.md, asking the "
+            "oracle)",
+        }
         spec = replace(spec, tags=spec.tags + ("truncated",), notes={**spec.notes, "truncation": truncation})
     text = generate.expected_csv(orb)
     settings = generate.settings_json(spec, orb)
@@ -516,9 +567,16 @@ def update_index(suite: Path, write: Callable[[Path, str], object] = generate.wr
     # suite's) with the digests of its files as they are now, so that check says it matches
     mine = old.get("suite")
     mine = mine if isinstance(mine, dict) else {}
-    block = {**fresh["suite"], "name": str(mine.get("name", USER_SUITE_NAME)),
-             "version": str(mine.get("version", "unversioned"))}
-    merged = {**fresh, **{k: v for k, v in old.items() if k not in ("cases", "suite")}, "suite": block,
-              "cases": fresh["cases"]}
+    block = {
+        **fresh["suite"],
+        "name": str(mine.get("name", USER_SUITE_NAME)),
+        "version": str(mine.get("version", "unversioned")),
+    }
+    merged = {
+        **fresh,
+        **{k: v for k, v in old.items() if k not in ("cases", "suite")},
+        "suite": block,
+        "cases": fresh["cases"],
+    }
     write(path, json.dumps(merged, indent=1) + "\n")
     return path

@@ -24,8 +24,7 @@ from ...mapimpl.certified import jets
 from ...mapimpl.certified.balls import PREC, CertificationError, decimal_interval, precision
 from ...mapimpl.certified.krawczyk import refine, verify_box
 from ...mapimpl.certified.model import Model
-from ...mapimpl.certified.periodic import (CertifiedBifurcation, CertifiedPeriodicOrbit, floquet, prove_flights,
-                                           unwrap)
+from ...mapimpl.certified.periodic import CertifiedBifurcation, CertifiedPeriodicOrbit, floquet, prove_flights, unwrap
 from ...mapimpl.certified.shooting import Numbers, Shape, extended_residual, monodromy, orbit_residual
 
 #: Significant digits of the decimal interval ends (the enclosures are ~1e-90 wide: the printed
@@ -128,9 +127,11 @@ def tolerances(orbit: CertifiedPeriodicOrbit, unknowns: list, fun_M) -> dict:
     err = [sum(abs(c) * ej for c, ej in zip(row, e)) for row in C]
     _, dM = jets.jacobian(fun_M, unknowns)
     err_M = max(sum(abs(float(d)) * ek for d, ek in zip(row, err)) for row in dM) + p * RESIDUAL_FLOOR * mmax
-    out = {"tau_mod_2pi": _pow10_up(SAFETY * max(err[0:2 * p:2])),
-           "sdot": _pow10_up(SAFETY * max(err[1:2 * p:2])),
-           "multipliers": _pow10_up(SAFETY * _kappa(orbit.monodromy, orbit.multipliers) * err_M)}
+    out = {
+        "tau_mod_2pi": _pow10_up(SAFETY * max(err[0 : 2 * p : 2])),
+        "sdot": _pow10_up(SAFETY * max(err[1 : 2 * p : 2])),
+        "multipliers": _pow10_up(SAFETY * _kappa(orbit.monodromy, orbit.multipliers) * err_M),
+    }
     if len(C) > 2 * p:
         out["value"] = _pow10_up(SAFETY * err[-1])
     return out
@@ -143,8 +144,10 @@ def tolerances(orbit: CertifiedPeriodicOrbit, unknowns: list, fun_M) -> dict:
 def _orbit_fields(orbit: CertifiedPeriodicOrbit, bifurcation: bool) -> dict:
     """Points, multipliers and the proven stability (``non-hyperbolic`` at a bifurcation point, where
     a multiplier is exactly +1 or -1)."""
-    pts = [{"tau_mod_2pi": _interval(th), "sdot": _interval(v), "wall": w}
-           for th, v, w in zip(orbit.theta, orbit.sdot, orbit.walls)]
+    pts = [
+        {"tau_mod_2pi": _interval(th), "sdot": _interval(v), "wall": w}
+        for th, v, w in zip(orbit.theta, orbit.sdot, orbit.walls)
+    ]
     mult = [{"re": _interval(z.real), "im": _interval(z.imag)} for z in orbit.multipliers]
     if bifurcation:
         stability = "non-hyperbolic"
@@ -154,8 +157,13 @@ def _orbit_fields(orbit: CertifiedPeriodicOrbit, bifurcation: bool) -> dict:
         stability = "unstable"
     else:  # pragma: no cover - a multiplier on the unit circle away from a bifurcation point
         raise CertificationError("stability not decided: a multiplier's modulus encloses 1")
-    return {"impacts_per_period": orbit.shape.impacts, "turns": orbit.shape.turns, "points": pts,
-            "multipliers": mult, "stability": stability}
+    return {
+        "impacts_per_period": orbit.shape.impacts,
+        "turns": orbit.shape.turns,
+        "points": pts,
+        "multipliers": mult,
+        "stability": stability,
+    }
 
 
 def record(case: OrbitCase, result, seed: str) -> dict:
@@ -178,6 +186,7 @@ def record(case: OrbitCase, result, seed: str) -> dict:
 
             unknowns = x + [result.value]
         else:
+
             def fun_M(y):
                 return [a for row in monodromy(y, P, shape) for a in row]
 
@@ -186,22 +195,32 @@ def record(case: OrbitCase, result, seed: str) -> dict:
         rec["tolerances"] = tolerances(orbit, unknowns, fun_M)
         k = orbit.krawczyk
         rec["provenance"] = {
-            "method": ("Krawczyk operator on the multiple-shooting system in the pre-impact states (closed-form "
-                       "flights, Eqs. 7-8, reset Eq. 11)" + (f" extended by det(M {'-' if case.kind == 'fold' else '+'} I)"
-                                                             f" = 0 with {case.parameter} unknown"
-                                                             if case.parameter else "")
-                       + "; Jacobian enclosed by forward mode over balls; no earlier wall contact proven over the "
-                       "enclosure for every flight (mapimpl/certified/contact.py); multipliers: eigenvalues of "
-                       "the monodromy matrix enclosed over the box (mapimpl/certified/periodic.py)"),
+            "method": (
+                "Krawczyk operator on the multiple-shooting system in the pre-impact states (closed-form "
+                "flights, Eqs. 7-8, reset Eq. 11)"
+                + (
+                    f" extended by det(M {'-' if case.kind == 'fold' else '+'} I) = 0 with {case.parameter} unknown"
+                    if case.parameter
+                    else ""
+                )
+                + "; Jacobian enclosed by forward mode over balls; no earlier wall contact proven over the "
+                "enclosure for every flight (mapimpl/certified/contact.py); multipliers: eigenvalues of "
+                "the monodromy matrix enclosed over the box (mapimpl/certified/periodic.py)"
+            ),
             "precision_bits": k.prec,
-            "krawczyk": {"box_radius": float(f"{max(float(b.rad()) for b in k.trial):.3g}"),
-                         "contraction": float(f"{k.contraction:.3g}"), "norm_I_minus_CJ": float(f"{k.norm:.3g}"),
-                         "residual_at_center": float(f"{k.residual:.3g}"),
-                         "max_radius": float(f"{max(float(b.rad()) for b in k.box):.3g}")},
+            "krawczyk": {
+                "box_radius": float(f"{max(float(b.rad()) for b in k.trial):.3g}"),
+                "contraction": float(f"{k.contraction:.3g}"),
+                "norm_I_minus_CJ": float(f"{k.norm:.3g}"),
+                "residual_at_center": float(f"{k.residual:.3g}"),
+                "max_radius": float(f"{max(float(b.rad()) for b in k.box):.3g}"),
+            },
             "flights": [{"pieces": c.pieces, "evals": c.evals} for c in orbit.flights],
             "decimal_digits": DIGITS,
-            "tolerances": (f"float64 residual floor {RESIDUAL_FLOOR:g} per equation propagated through the inverse "
-                           f"Jacobian, times {SAFETY:g}, rounded up to a power of 10"),
+            "tolerances": (
+                f"float64 residual floor {RESIDUAL_FLOOR:g} per equation propagated through the inverse "
+                f"Jacobian, times {SAFETY:g}, rounded up to a power of 10"
+            ),
             "seed": seed,
         }
         return rec
@@ -262,9 +281,10 @@ def verify_record(rec: dict, prec: int = PREC) -> Verified:
 
             def fun(y):
                 return extended_residual(y, base, shape, name, kind)
+
         res = verify_box(fun, box)  # a unique zero in the box spanned by the record's intervals
         tight = refine(fun, res.box)
-        x = tight[:2 * shape.impacts]
+        x = tight[: 2 * shape.impacts]
         model = base
         if kind != "periodic-orbit":
             balls = base.balls()

@@ -50,8 +50,9 @@ def float64_values(rec: Record) -> tuple[dict, Values]:
         d["value"] = float(f.mu)
         if not f.converged:
             d["note"] = f"locate did not converge (residual {f.residual:.2g})"
-    d["points"] = [{"tau_mod_2pi": float(t) % (2 * np.pi), "sdot": float(v), "wall": int(w)}
-                   for t, v, w in zip(th, sd, walls)]
+    d["points"] = [
+        {"tau_mod_2pi": float(t) % (2 * np.pi), "sdot": float(v), "wall": int(w)} for t, v, w in zip(th, sd, walls)
+    ]
     d["multipliers"] = [{"re": float(complex(z).real), "im": float(complex(z).imag)} for z in mult]
     from .orbit_suite import values_from_dict
 

@@ -26,32 +26,72 @@ from .orbit_certify import OrbitCase, dumps, loads_exact, record, verify_record
 #: Where the committed records live.
 DEFAULT_ORBITS = Path(__file__).resolve().parent / "orbits"
 
-_FIG4 = Params(3.0, 0.1, 0.1, 0.8)       # Fig. 4's window: the 6-impact period-1 orbit (alpha = 3)
-_FIG11 = PAPER_PARAMS                    # Figs. 9-11: the capture target, a 4-impact period-1 orbit
+_FIG4 = Params(3.0, 0.1, 0.1, 0.8)  # Fig. 4's window: the 6-impact period-1 orbit (alpha = 3)
+_FIG11 = PAPER_PARAMS  # Figs. 9-11: the capture target, a 4-impact period-1 orbit
 _AT11 = f"alpha{_FIG11.alpha:g}-r{_FIG11.r:g}"
-_FIG2 = PAPER_FIG2                       # Fig. 2: regular motion, a 3-impact period-1 orbit
+_FIG2 = PAPER_FIG2  # Fig. 2: regular motion, a 3-impact period-1 orbit
 
 CASES = (
-    OrbitCase("orbit-6-impact-stable-alpha3-r0.8", "periodic-orbit",
-              "the stable 6-impact period-1 orbit of Fig. 4 (alpha = 3, r = 0.8, below r2)", _FIG4, 6),
-    OrbitCase("orbit-6-impact-saddle-alpha3-r0.8", "periodic-orbit",
-              "its saddle partner (born with it at the fold r2; mediates the interior crisis r1)", _FIG4, 6),
-    OrbitCase(f"orbit-4-impact-stable-{_AT11}", "periodic-orbit",
-              f"the stable 4-impact period-1 orbit, capture target of Figs. 9-11 (alpha = {_FIG11.alpha:g}, "
-              f"r = {_FIG11.r:g})", _FIG11, 4),
-    OrbitCase(f"orbit-4-impact-saddle-{_AT11}", "periodic-orbit",
-              "its saddle partner (on the basin boundary; mediates the boundary crisis alpha1)", _FIG11, 4),
-    OrbitCase("orbit-3-impact-fig2-alpha0.5-r0.9", "periodic-orbit",
-              "the regular 3-impact period-1 orbit of Fig. 2 (alpha = 0.5, r = 0.9)", _FIG2, 3),
-    OrbitCase("fold-r2-6-impact-alpha3", "fold",
-              "r2: the saddle-node (fold) where the 6-impact period-1 orbit is born (alpha = 3; Figs. 4-5)",
-              _FIG4, 6, parameter="r"),
-    OrbitCase("period-doubling-6-impact-alpha3", "period-doubling",
-              "the first period doubling of the stable 6-impact orbit as r decreases from r2 (alpha = 3; Fig. 4)",
-              _FIG4, 6, parameter="r"),
-    OrbitCase("fold-alpha-sn-4-impact-r0.9", "fold",
-              "alpha_sn: the saddle-node where the 4-impact period-1 orbit is born (r = 0.9; Fig. 8)",
-              _FIG11, 4, parameter="alpha"),
+    OrbitCase(
+        "orbit-6-impact-stable-alpha3-r0.8",
+        "periodic-orbit",
+        "the stable 6-impact period-1 orbit of Fig. 4 (alpha = 3, r = 0.8, below r2)",
+        _FIG4,
+        6,
+    ),
+    OrbitCase(
+        "orbit-6-impact-saddle-alpha3-r0.8",
+        "periodic-orbit",
+        "its saddle partner (born with it at the fold r2; mediates the interior crisis r1)",
+        _FIG4,
+        6,
+    ),
+    OrbitCase(
+        f"orbit-4-impact-stable-{_AT11}",
+        "periodic-orbit",
+        f"the stable 4-impact period-1 orbit, capture target of Figs. 9-11 (alpha = {_FIG11.alpha:g}, "
+        f"r = {_FIG11.r:g})",
+        _FIG11,
+        4,
+    ),
+    OrbitCase(
+        f"orbit-4-impact-saddle-{_AT11}",
+        "periodic-orbit",
+        "its saddle partner (on the basin boundary; mediates the boundary crisis alpha1)",
+        _FIG11,
+        4,
+    ),
+    OrbitCase(
+        "orbit-3-impact-fig2-alpha0.5-r0.9",
+        "periodic-orbit",
+        "the regular 3-impact period-1 orbit of Fig. 2 (alpha = 0.5, r = 0.9)",
+        _FIG2,
+        3,
+    ),
+    OrbitCase(
+        "fold-r2-6-impact-alpha3",
+        "fold",
+        "r2: the saddle-node (fold) where the 6-impact period-1 orbit is born (alpha = 3; Figs. 4-5)",
+        _FIG4,
+        6,
+        parameter="r",
+    ),
+    OrbitCase(
+        "period-doubling-6-impact-alpha3",
+        "period-doubling",
+        "the first period doubling of the stable 6-impact orbit as r decreases from r2 (alpha = 3; Fig. 4)",
+        _FIG4,
+        6,
+        parameter="r",
+    ),
+    OrbitCase(
+        "fold-alpha-sn-4-impact-r0.9",
+        "fold",
+        "alpha_sn: the saddle-node where the 4-impact period-1 orbit is born (r = 0.9; Fig. 8)",
+        _FIG11,
+        4,
+        parameter="alpha",
+    ),
 )
 CASE_IDS = tuple(c.id for c in CASES)
 
@@ -90,9 +130,12 @@ def float64_seeds() -> dict:
     b6 = six_impact_branch()
     seeds[CASES[1].id] = orbit_seed(orbit_on_branch(b6, 0.8, "saddle"), "continuation in r through r2, saddle branch")
     b4 = four_impact_branch()
-    seeds[CASES[2].id] = orbit_seed(orbit_on_branch(b4, _FIG11.alpha, "node"), "continuation in alpha from 1.3, node branch")
-    seeds[CASES[3].id] = orbit_seed(orbit_on_branch(b4, _FIG11.alpha, "saddle"), "continuation in alpha through alpha_sn, "
-                                                                            "saddle branch")
+    seeds[CASES[2].id] = orbit_seed(
+        orbit_on_branch(b4, _FIG11.alpha, "node"), "continuation in alpha from 1.3, node branch"
+    )
+    seeds[CASES[3].id] = orbit_seed(
+        orbit_on_branch(b4, _FIG11.alpha, "saddle"), "continuation in alpha through alpha_sn, saddle branch"
+    )
     th, sd = attractor_point(_FIG2)
     seeds[CASES[4].id] = orbit_seed(find_periodic(_FIG2, th, sd, 3), "find_periodic from the attractor")
     seeds[CASES[5].id] = point_seed(_FIG4, b6.folds[0], 6, "continuation in r: the fold located on the extended system")
@@ -112,8 +155,12 @@ def seeds_from_records(folder: str | Path = DEFAULT_ORBITS) -> dict:
     seeds = {}
     for rec in load_records(folder):
         mu = float(sum(rec.value) / 2) if rec.value is not None else None
-        seeds[rec.id] = ([float(sum(p[:2]) / 2) for p in rec.points], [float(sum(p[2:]) / 2) for p in rec.points],
-                         mu, rec.data["provenance"]["seed"])
+        seeds[rec.id] = (
+            [float(sum(p[:2]) / 2) for p in rec.points],
+            [float(sum(p[2:]) / 2) for p in rec.points],
+            mu,
+            rec.data["provenance"]["seed"],
+        )
     return seeds
 
 
@@ -135,11 +182,15 @@ def build(case: OrbitCase, seed) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--cases", nargs="+", default=None, metavar="ID", choices=CASE_IDS,
-                    help="only these case ids (default: all)")
+    ap.add_argument(
+        "--cases", nargs="+", default=None, metavar="ID", choices=CASE_IDS, help="only these case ids (default: all)"
+    )
     ap.add_argument("--out", default=str(DEFAULT_ORBITS), help="output directory (default: validation/golden/orbits)")
-    ap.add_argument("--from-records", action="store_true",
-                    help="seed from the committed records' midpoints instead of the float64 runs (fast)")
+    ap.add_argument(
+        "--from-records",
+        action="store_true",
+        help="seed from the committed records' midpoints instead of the float64 runs (fast)",
+    )
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -61,7 +61,9 @@ def _show(x) -> str:
 
 def _num(doc: JsonDoc, where: tuple, x) -> float:
     if isinstance(x, bool) or not isinstance(x, (int, float)):
-        raise doc.error(where, f"{_show(x)} is not a finite number" if x is not None else "missing (a number is needed)")
+        raise doc.error(
+            where, f"{_show(x)} is not a finite number" if x is not None else "missing (a number is needed)"
+        )
     return float(x)
 
 
@@ -96,14 +98,24 @@ def load_record(path: str | Path) -> Record:
     if d["kind"] not in KINDS:
         raise doc.error(("kind",), f"{d['kind']!r} is not one of {', '.join(KINDS)}")
     points = _objects(doc, "points", "tau_mod_2pi, sdot, wall")
-    pts = np.array([[*_pair(doc, ("points", i, "tau_mod_2pi"), p.get("tau_mod_2pi")),
-                     *_pair(doc, ("points", i, "sdot"), p.get("sdot"))] for i, p in enumerate(points)])
+    pts = np.array(
+        [
+            [
+                *_pair(doc, ("points", i, "tau_mod_2pi"), p.get("tau_mod_2pi")),
+                *_pair(doc, ("points", i, "sdot"), p.get("sdot")),
+            ]
+            for i, p in enumerate(points)
+        ]
+    )
     walls = [p.get("wall") for p in points]
     if len(points) != d["impacts_per_period"] or any(w not in (0, -1) or isinstance(w, bool) for w in walls):
         raise doc.error(("points",), f"expected {d['impacts_per_period']!r} points with wall 0 or -1")
-    mult = np.array([[*_pair(doc, ("multipliers", i, "re"), m.get("re")),
-                      *_pair(doc, ("multipliers", i, "im"), m.get("im"))]
-                     for i, m in enumerate(_objects(doc, "multipliers", "re, im"))])
+    mult = np.array(
+        [
+            [*_pair(doc, ("multipliers", i, "re"), m.get("re")), *_pair(doc, ("multipliers", i, "im"), m.get("im"))]
+            for i, m in enumerate(_objects(doc, "multipliers", "re, im"))
+        ]
+    )
     value = None
     if d["kind"] != "periodic-orbit":
         if "value" not in d or d.get("parameter") not in ("r", "alpha"):
@@ -112,8 +124,12 @@ def load_record(path: str | Path) -> Record:
     tol = d["tolerances"]
     need = ("tau_mod_2pi", "sdot", "multipliers") + (("value",) if value is not None else ())
     for c in need:
-        if not (isinstance(tol, dict) and isinstance(tol.get(c), (int, float)) and not isinstance(tol[c], bool)
-                and tol[c] >= 0):
+        if not (
+            isinstance(tol, dict)
+            and isinstance(tol.get(c), (int, float))
+            and not isinstance(tol[c], bool)
+            and tol[c] >= 0
+        ):
             raise doc.error(("tolerances", c), "must be a number >= 0")
     return Record(d["id"], d["kind"], d, pts, np.array(walls, dtype=np.int64), mult, value, dict(tol))
 
@@ -125,8 +141,9 @@ def record_ids(folder: str | Path = DEFAULT_ORBITS) -> list[str]:
     return sorted(p.stem for p in folder.glob("*.json"))
 
 
-def load_records(folder: str | Path = DEFAULT_ORBITS, ids: list[str] | None = None,
-                 levels: list[int] | None = None) -> list[Record]:
+def load_records(
+    folder: str | Path = DEFAULT_ORBITS, ids: list[str] | None = None, levels: list[int] | None = None
+) -> list[Record]:
     """Every record of a folder (or the listed ids); none when ``levels`` is given without
     :data:`LEVEL` (every record is level 2)."""
     if levels and LEVEL not in levels:
@@ -157,8 +174,12 @@ def values_from_doc(doc: JsonDoc) -> Values:
     if "points" in d:
         rows, walls = [], []
         for i, p in enumerate(_objects(doc, "points", "tau_mod_2pi, sdot, wall")):
-            rows.append([_num(doc, ("points", i, "tau_mod_2pi"), p.get("tau_mod_2pi")),
-                         _num(doc, ("points", i, "sdot"), p.get("sdot"))])
+            rows.append(
+                [
+                    _num(doc, ("points", i, "tau_mod_2pi"), p.get("tau_mod_2pi")),
+                    _num(doc, ("points", i, "sdot"), p.get("sdot")),
+                ]
+            )
             w = p.get("wall")
             if w not in (0, -1) or isinstance(w, bool):
                 raise doc.error(("points", i, "wall"), f"{_show(w)} is not 0 or -1")
@@ -167,8 +188,12 @@ def values_from_doc(doc: JsonDoc) -> Values:
     if "multipliers" in d:
         zs = []
         for i, m in enumerate(_objects(doc, "multipliers", "re, im")):
-            zs.append((_num(doc, ("multipliers", i, "re"), m.get("re")),
-                       _num(doc, ("multipliers", i, "im"), m.get("im", 0.0))))
+            zs.append(
+                (
+                    _num(doc, ("multipliers", i, "re"), m.get("re")),
+                    _num(doc, ("multipliers", i, "im"), m.get("im", 0.0)),
+                )
+            )
         out.multipliers = np.array([complex(*z) for z in zs])
     if "value" in d:
         out.value = _num(doc, ("value",), d["value"])
@@ -202,9 +227,9 @@ def read_values(path: str | Path, rec: Record | None = None) -> Values:
 class Column:
     column: str
     passed: bool
-    error: float          # largest distance to the record's interval
+    error: float  # largest distance to the record's interval
     tolerance: float
-    digits: float         # -log10(largest error / scale), capped at DIGITS_CAP
+    digits: float  # -log10(largest error / scale), capped at DIGITS_CAP
 
 
 @dataclass
@@ -226,8 +251,10 @@ class OrbitScore:
     @property
     def worst_ratio(self) -> float | None:
         """The largest error / tolerance over the scored columns (``None`` when none was scored)."""
-        ratios = [c.error / c.tolerance if c.tolerance > 0 else (math.inf if c.error > 0 else 0.0)
-                  for c in self.columns.values()]
+        ratios = [
+            c.error / c.tolerance if c.tolerance > 0 else (math.inf if c.error > 0 else 0.0)
+            for c in self.columns.values()
+        ]
         return max(ratios) if ratios else None
 
 
@@ -294,8 +321,7 @@ def _score_multipliers(rec: Record, got: Values, cols: dict) -> str:
         if best is None or max(e) < max(best):
             best = e
     assert best is not None, "one permutation at least"
-    cols["multipliers"] = _column("multipliers", best, rec.tolerances["multipliers"],
-                                  max(1.0, float(np.abs(m).max())))
+    cols["multipliers"] = _column("multipliers", best, rec.tolerances["multipliers"], max(1.0, float(np.abs(m).max())))
     return ""
 
 
@@ -319,5 +345,3 @@ def score(rec: Record, got: Values) -> OrbitScore:
     bad = [c for c in cols.values() if not c.passed]
     msgs += [f"{c.column}: error {c.error:.3g} > tolerance {c.tolerance:g}" for c in bad]
     return OrbitScore(rec.id, not msgs, cols, "; ".join(msgs))
-
-

@@ -58,7 +58,9 @@ def case_result(case, score) -> dict:
     level = getattr(score, "level", None) or case.settings.get("level")
     cols = score.columns
     return {
-        "id": score.case, "level": level, "passed": bool(score.passed),
+        "id": score.case,
+        "level": level,
+        "passed": bool(score.passed),
         "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in CASE_COLUMNS},
         "exact_columns_match": bool(cols) and all(c in cols and cols[c].passed for c in EXACT_COLUMNS),
         "worst_over_tolerance": _finite(_case_worst_over_tolerance(score, case.tolerances)),
@@ -73,7 +75,9 @@ def orbit_result(record, score) -> dict:
     ratios = [c.error / max(c.tolerance, 1e-300) for c in cols.values()]
     bad = [c for c in ORBIT_COLUMNS if c in cols and not cols[c].passed]
     return {
-        "id": score.id, "level": getattr(score, "level", None) or ORBIT_LEVEL, "passed": bool(score.passed),
+        "id": score.id,
+        "level": getattr(score, "level", None) or ORBIT_LEVEL,
+        "passed": bool(score.passed),
         "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in ORBIT_COLUMNS},
         "worst_over_tolerance": _finite(max(ratios)) if ratios else None,
         "first_failing": None if score.passed else ({"column": bad[0]} if bad else None),
@@ -86,13 +90,22 @@ def malformed_result(id_: str, level: int | None, problem: str | None, orbits: b
     problem (``problem``, one line naming file, line and column) is an error; where its file was read
     but another was malformed (``problem`` None) it is not scored."""
     cols = ORBIT_COLUMNS if orbits else CASE_COLUMNS
-    out = {"id": id_, "level": level or (ORBIT_LEVEL if orbits else None), "passed": False,
-           "digits": {c: None for c in cols}}
+    out = {
+        "id": id_,
+        "level": level or (ORBIT_LEVEL if orbits else None),
+        "passed": False,
+        "digits": {c: None for c in cols},
+    }
     if not orbits:
         out["exact_columns_match"] = False
-    out.update({"worst_over_tolerance": None, "first_failing": None,
-                "malformed": problem is not None,
-                "note": problem if problem is not None else "not scored: other output files are malformed"})
+    out.update(
+        {
+            "worst_over_tolerance": None,
+            "first_failing": None,
+            "malformed": problem is not None,
+            "note": problem if problem is not None else "not scored: other output files are malformed",
+        }
+    )
     return out
 
 
@@ -105,8 +118,10 @@ def aligned(rows: list[list[str]], right: set[int]) -> list[str]:
     widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
     out = []
     for r in rows:
-        cells = [c.rjust(w) if k in right else (c if k == len(r) - 1 else c.ljust(w))
-                 for k, (c, w) in enumerate(zip(r, widths))]
+        cells = [
+            c.rjust(w) if k in right else (c if k == len(r) - 1 else c.ljust(w))
+            for k, (c, w) in enumerate(zip(r, widths))
+        ]
         out.append("  ".join(cells).rstrip())
     return out
 
@@ -136,8 +151,11 @@ def summary_line(results: list[dict], orbits: bool = False, suite: str = "") -> 
     the suite's version label, so that ``--summary`` alone says what was scored against)."""
     n_pass = sum(r["passed"] for r in results)
     what = "orbits and bifurcation points" if orbits else "cases"
-    scale = ("min over values of -log10 of the error relative to the scale" if orbits
-             else "min over rows of -log10 relative error")
+    scale = (
+        "min over values of -log10 of the error relative to the scale"
+        if orbits
+        else "min over rows of -log10 relative error"
+    )
     line = f"{n_pass}/{len(results)} {what} pass ({f'golden suite {suite}; ' if suite else ''}digits: {scale}, capped at 17)"
     failing = [r["id"] for r in results if not r["passed"]]
     return line + (f"; failing: {', '.join(failing)}" if failing else "")
@@ -151,9 +169,15 @@ def document(results: list[dict], suite: dict, *, orbits: bool, source: str) -> 
     scored (``source``: the output directory or our own track), the counts and the results."""
     errors = sum(bool(r.get("malformed")) for r in results)
     return {
-        "format": FORMAT, "suite": suite, "scored": "orbits" if orbits else "cases", "source": source,
-        "tests": len(results), "passed": sum(r["passed"] for r in results),
-        "failed": sum(not r["passed"] for r in results) - errors, "errors": errors, "results": results,
+        "format": FORMAT,
+        "suite": suite,
+        "scored": "orbits" if orbits else "cases",
+        "source": source,
+        "tests": len(results),
+        "passed": sum(r["passed"] for r in results),
+        "failed": sum(not r["passed"] for r in results) - errors,
+        "errors": errors,
+        "results": results,
     }
 
 
@@ -186,8 +210,12 @@ def junit_xml(doc: dict, times: dict | None = None) -> str:
     times = times or {}
     name = _x(f"{suite['name']} {suite['label']} ({doc['scored']})")
     total = sum(times.values())
-    attrs = {"tests": str(doc["tests"]), "failures": str(doc["failed"]), "errors": str(doc.get("errors", 0)),
-             "time": f"{total:.6f}"}
+    attrs = {
+        "tests": str(doc["tests"]),
+        "failures": str(doc["failed"]),
+        "errors": str(doc.get("errors", 0)),
+        "time": f"{total:.6f}",
+    }
     root = ET.Element("testsuites", {"name": "gear-rattle check", **attrs})
     ts = ET.SubElement(root, "testsuite", {"name": name, **attrs, "skipped": "0"})
     props = ET.SubElement(ts, "properties")
@@ -196,8 +224,9 @@ def junit_xml(doc: dict, times: dict | None = None) -> str:
     ET.SubElement(props, "property", {"name": "source", "value": _x(doc["source"])})
     classname = f"gear-rattle.golden.{doc['scored']}"
     for r in doc["results"]:
-        tc = ET.SubElement(ts, "testcase", {"classname": classname, "name": _x(r["id"]),
-                                            "time": f"{times.get(r['id'], 0.0):.6f}"})
+        tc = ET.SubElement(
+            ts, "testcase", {"classname": classname, "name": _x(r["id"]), "time": f"{times.get(r['id'], 0.0):.6f}"}
+        )
         if r.get("malformed"):
             e = ET.SubElement(tc, "error", {"message": _x(r["note"]), "type": "golden.malformed"})
             e.text = _x(r["note"])

@@ -99,8 +99,9 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
     header, hrec = table.header.values, table.header
     for k, col in enumerate(COLUMNS):
         if col not in header:
-            raise table.error(hrec, min(k, len(header)), f"missing column {col!r} "
-                              f"(header must start with {','.join(COLUMNS)})")
+            raise table.error(
+                hrec, min(k, len(header)), f"missing column {col!r} (header must start with {','.join(COLUMNS)})"
+            )
         if k >= len(header) or header[k] != col:
             raise table.error(hrec, k, f"wrong header {','.join(header)!r}: must start with {','.join(COLUMNS)}")
     for col in required_extra:
@@ -109,8 +110,9 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
     data = table.records
     if expected_rows is not None and len(data) != expected_rows:
         last = data[-1].line if data else hrec.line
-        raise MalformedFile(f"{table.path}: line {last}: wrong row count: {len(data)} data rows, "
-                            f"expected {expected_rows}")
+        raise MalformedFile(
+            f"{table.path}: line {last}: wrong row count: {len(data)} data rows, expected {expected_rows}"
+        )
     idx = {h: i for i, h in enumerate(header)}
     cols: dict[str, list] = {c: [] for c in (*COLUMNS, *required_extra)}
     for r in data:
@@ -130,15 +132,26 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
         elif is_absent(r.values[4]):
             cols["sdot"].append(math.nan)
         else:
-            raise table.error(r, 4, f"column 'sdot': {r.values[4]!r} on a {kind} row "
-                              "(must be empty or nan: a stick/release row has no pre-impact velocity)")
+            raise table.error(
+                r,
+                4,
+                f"column 'sdot': {r.values[4]!r} on a {kind} row "
+                "(must be empty or nan: a stick/release row has no pre-impact velocity)",
+            )
         for c in required_extra:
             cols[c].append(_field(table, r, idx[c], c, lambda v: math.nan if is_absent(v) else decimal_value(v)))
     extra = {c: np.asarray(cols[c], dtype=float) for c in required_extra}
-    return Sequence(table.path, np.asarray(cols["n"], dtype=np.int64), np.asarray(cols["tau"], dtype=float),
-                    np.asarray(cols["tau_mod_2pi"], dtype=float), np.asarray(cols["wall"], dtype=np.int64),
-                    np.asarray(cols["sdot"], dtype=float), np.asarray(cols["kind"], dtype=object), extra,
-                    [r.line for r in data])
+    return Sequence(
+        table.path,
+        np.asarray(cols["n"], dtype=np.int64),
+        np.asarray(cols["tau"], dtype=float),
+        np.asarray(cols["tau_mod_2pi"], dtype=float),
+        np.asarray(cols["wall"], dtype=np.int64),
+        np.asarray(cols["sdot"], dtype=float),
+        np.asarray(cols["kind"], dtype=object),
+        extra,
+        [r.line for r in data],
+    )
 
 
 def read_suite_json(path: Path):
@@ -149,8 +162,17 @@ def read_suite_json(path: Path):
         raise MalformedFile(str(e)) from None
 
 
-SETTINGS_KEYS = ("id", "description", "params", "initial_state", "n_impacts", "stick_time", "expected_rows",
-                 "expected_status", "tolerances")
+SETTINGS_KEYS = (
+    "id",
+    "description",
+    "params",
+    "initial_state",
+    "n_impacts",
+    "stick_time",
+    "expected_rows",
+    "expected_status",
+    "tolerances",
+)
 
 
 def _is_number(x) -> bool:
@@ -167,16 +189,22 @@ def load_case(folder: str | Path) -> Case:
             raise doc.error((), f"missing key {k!r}")
     if not isinstance(settings["id"], str):
         raise doc.error(("id",), "must be a string")
-    if not (isinstance(settings["expected_rows"], int) and not isinstance(settings["expected_rows"], bool)
-            and settings["expected_rows"] >= 0):
+    if not (
+        isinstance(settings["expected_rows"], int)
+        and not isinstance(settings["expected_rows"], bool)
+        and settings["expected_rows"] >= 0
+    ):
         raise doc.error(("expected_rows",), "must be an integer >= 0")
     if "level" in settings and settings["level"] not in LEVELS:
         raise doc.error(("level",), f"must be one of {', '.join(map(str, LEVELS))}")
     tols = settings["tolerances"]
     for c in TOLERANCE_COLUMNS:
         tol = tols.get(c) if isinstance(tols, dict) else None
-        if not (isinstance(tol, dict) and {"abs", "rel"} <= set(tol) and all(_is_number(tol[k]) and tol[k] >= 0
-                                                                           for k in ("abs", "rel"))):
+        if not (
+            isinstance(tol, dict)
+            and {"abs", "rel"} <= set(tol)
+            and all(_is_number(tol[k]) and tol[k] >= 0 for k in ("abs", "rel"))
+        ):
             raise doc.error(("tolerances", c), "must be {'abs': a number >= 0, 'rel': a number >= 0}")
     exp = read_sequence(folder / "expected.csv", expected_rows=settings["expected_rows"], required_extra=RADIUS_COLUMNS)
     return Case(settings["id"], folder, settings, exp)
@@ -201,8 +229,9 @@ def select_ids(known: list[str], wanted: list[str] | None, where, what: str = "c
     return [c for c in known if c in wanted]
 
 
-def load_suite(suite: str | Path = DEFAULT_SUITE, cases: list[str] | None = None,
-               levels: list[int] | None = None) -> list[Case]:
+def load_suite(
+    suite: str | Path = DEFAULT_SUITE, cases: list[str] | None = None, levels: list[int] | None = None
+) -> list[Case]:
     """Load every case of a suite directory, or those listed in ``cases`` and (if given) of a level
     in ``levels`` (both: the cases in both selections)."""
     loaded = [load_case(Path(suite) / i) for i in select_ids(case_ids(suite), cases, suite)]
@@ -217,10 +246,10 @@ def load_suite(suite: str | Path = DEFAULT_SUITE, cases: list[str] | None = None
 class ColumnScore:
     column: str
     passed: bool
-    max_error: float          # largest |x - e| (circular_distance for tau_mod_2pi; mismatch count for exact columns)
-    worst_row: int            # 0-based data row of the largest violation ratio (or first mismatch), -1 if none
-    digits: float             # min over rows of -log10(relative error), capped at DIGITS_CAP
-    first_row: int = -1       # 0-based data row of the first failure, -1 if none
+    max_error: float  # largest |x - e| (circular_distance for tau_mod_2pi; mismatch count for exact columns)
+    worst_row: int  # 0-based data row of the largest violation ratio (or first mismatch), -1 if none
+    digits: float  # min over rows of -log10(relative error), capped at DIGITS_CAP
+    first_row: int = -1  # 0-based data row of the first failure, -1 if none
     worst_ratio: float = 0.0  # |error| / tolerance on worst_row (inf for a missing value, 0 for exact columns)
 
 
@@ -307,8 +336,7 @@ def circular_distance_exact(d: Fraction) -> Fraction:
     ``|d| 2^-1199``)."""
     num, den = d.numerator << TWO_PI_BITS, d.denominator * _TWO_PI_FIXED  # d / 2 pi = num / den
     k = (2 * num + den) // (2 * den)  # nearest integer
-    return abs(Fraction((d.numerator << TWO_PI_BITS) - k * _TWO_PI_FIXED * d.denominator,
-                        d.denominator << TWO_PI_BITS))
+    return abs(Fraction((d.numerator << TWO_PI_BITS) - k * _TWO_PI_FIXED * d.denominator, d.denominator << TWO_PI_BITS))
 
 
 def _circular_distance_1(x: float, g: float) -> float:
@@ -352,11 +380,19 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
         # episode) is a wrong answer, not a malformed file: the case fails
         k = min(len(got), len(exp))
         diff = np.nonzero((got.kind[:k] != exp.kind[:k]) | (got.wall[:k] != exp.wall[:k]))[0]
-        where = (f"first differing event at line {got.line(int(diff[0]))}" if diff.size
-                 else f"the first {k} events agree in kind and wall")
-        return CaseScore(case.id, False, {}, f"wrong number of events: {len(got)} rows, expected {len(exp)} "
-                                             f"({where} of {got.path})", case.level,
-                         int(diff[0]) if diff.size else k)
+        where = (
+            f"first differing event at line {got.line(int(diff[0]))}"
+            if diff.size
+            else f"the first {k} events agree in kind and wall"
+        )
+        return CaseScore(
+            case.id,
+            False,
+            {},
+            f"wrong number of events: {len(got)} rows, expected {len(exp)} ({where} of {got.path})",
+            case.level,
+            int(diff[0]) if diff.size else k,
+        )
     cols: dict[str, ColumnScore] = {}
     for c in EXACT_COLUMNS:
         a, e = getattr(got, c), getattr(exp, c)
@@ -369,8 +405,15 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
     if passed:
         return CaseScore(case.id, True, cols, "", case.level, -1)
     failing = _first_failing(cols)
-    return CaseScore(case.id, False, cols, _failure_note(cols, got, exp, case.tolerances), case.level,
-                     failing.first_row, first_failing={"line": got.line(failing.first_row), "column": failing.column})
+    return CaseScore(
+        case.id,
+        False,
+        cols,
+        _failure_note(cols, got, exp, case.tolerances),
+        case.level,
+        failing.first_row,
+        first_failing={"line": got.line(failing.first_row), "column": failing.column},
+    )
 
 
 def _first_failing(cols: dict) -> ColumnScore:
@@ -394,15 +437,23 @@ def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScor
     # pass/fail exactly (rationals), not by the rounded float64 differences above; those decide only
     # rows certainly inside (1e-9 below the tolerance: the roundings are ~1e-16 relative)
     near = mask & ~((diff < allowed * (1.0 - 1e-9)) & (allowed > 1e-280))
-    failing = np.array([i for i in np.nonzero(near)[0]
-                        if outside_tolerance(float(a[i]), float(e[i]), tol, c == "tau_mod_2pi")], dtype=np.int64)
+    failing = np.array(
+        [i for i in np.nonzero(near)[0] if outside_tolerance(float(a[i]), float(e[i]), tol, c == "tau_mod_2pi")],
+        dtype=np.int64,
+    )
     ok = failing.size == 0
     worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if not ok else -1)
     # relative error; the scale is 2 pi for the phase and at least 1 for the elapsed time
     scale = np.full(e.shape, TWO_PI) if c == "tau_mod_2pi" else (np.maximum(np.abs(e), 1.0) if c == "tau" else e)
-    return ColumnScore(c, ok, float(np.max(diff[mask])) if mask.any() else 0.0, worst,
-                       _digits(diff[mask], scale[mask]), int(failing[0]) if failing.size else -1,
-                       float(ratio[worst]) if worst >= 0 else 0.0)
+    return ColumnScore(
+        c,
+        ok,
+        float(np.max(diff[mask])) if mask.any() else 0.0,
+        worst,
+        _digits(diff[mask], scale[mask]),
+        int(failing[0]) if failing.size else -1,
+        float(ratio[worst]) if worst >= 0 else 0.0,
+    )
 
 
 def _row_note(column: str, row: int, got: Sequence, exp: Sequence, tolerances: dict) -> str:
@@ -436,12 +487,17 @@ def score_file(case: Case, path: str | Path) -> CaseScore:
     return score_sequence(case, got)
 
 
-
 def sequence_from_impacts(seq, path: str = "<memory>") -> Sequence:
     """A :class:`Sequence` from a :class:`core.results.ImpactSequence` (any track)."""
-    return Sequence(path, np.asarray(seq.n, dtype=np.int64), np.asarray(seq.tau, dtype=float),
-                    np.asarray(seq.theta, dtype=float), np.asarray(seq.wall, dtype=np.int64),
-                    np.asarray(seq.sdot, dtype=float), np.asarray(seq.kind, dtype=object))
+    return Sequence(
+        path,
+        np.asarray(seq.n, dtype=np.int64),
+        np.asarray(seq.tau, dtype=float),
+        np.asarray(seq.theta, dtype=float),
+        np.asarray(seq.wall, dtype=np.int64),
+        np.asarray(seq.sdot, dtype=float),
+        np.asarray(seq.kind, dtype=object),
+    )
 
 
 def run_case(case: Case, track: str = "map"):

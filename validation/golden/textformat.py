@@ -64,14 +64,19 @@ def read_text(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
         raise MalformedFile(f"{path}: cannot read: {e.strerror or e}") from None
     if len(data) > max_bytes:
         head = data[:max_bytes]
-        raise malformed(path, head.count(b"\n") + 1, max_bytes - head.rfind(b"\n"),
-                        f"file larger than {max_bytes} bytes (the limit of the format)")
+        raise malformed(
+            path,
+            head.count(b"\n") + 1,
+            max_bytes - head.rfind(b"\n"),
+            f"file larger than {max_bytes} bytes (the limit of the format)",
+        )
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:
         line = data.count(b"\n", 0, e.start) + 1
-        raise malformed(path, line, e.start - data.rfind(b"\n", 0, e.start),
-                        f"not UTF-8 (byte 0x{data[e.start]:02x})") from None
+        raise malformed(
+            path, line, e.start - data.rfind(b"\n", 0, e.start), f"not UTF-8 (byte 0x{data[e.start]:02x})"
+        ) from None
     if text.startswith("\ufeff"):
         text = text[1:]
     lines = text.count("\n") + (not text.endswith("\n"))

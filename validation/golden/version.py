@@ -82,11 +82,16 @@ def suite_block(cases: str | Path) -> dict:
     orbits = cases.parent / "orbits"
     d_cases = folder_digest(cases)
     d_orbits = folder_digest(orbits) if orbits.is_dir() else None
-    return {"name": SUITE_NAME, "version": SUITE_VERSION, "digest": combined_digest(d_cases, d_orbits),
-            "cases_digest": d_cases, "orbits_digest": d_orbits,
-            "digest_rule": "sha256 over each file (*.json, *.csv at depth 1-2 but index.json and *.manifest.json), sorted by relative "
-                           "path: path, NUL, size, NUL, bytes; the suite's: sha256 of 'cases:<hex>\\norbits:<hex>\\n' "
-                           "(docs/golden.md, Versions of the suite)"}
+    return {
+        "name": SUITE_NAME,
+        "version": SUITE_VERSION,
+        "digest": combined_digest(d_cases, d_orbits),
+        "cases_digest": d_cases,
+        "orbits_digest": d_orbits,
+        "digest_rule": "sha256 over each file (*.json, *.csv at depth 1-2 but index.json and *.manifest.json), sorted by relative "
+        "path: path, NUL, size, NUL, bytes; the suite's: sha256 of 'cases:<hex>\\norbits:<hex>\\n' "
+        "(docs/golden.md, Versions of the suite)",
+    }
 
 
 def recorded(index: str | Path | None = None) -> dict:
@@ -130,14 +135,24 @@ class SuiteInfo:
         if self.recorded_digest is None:
             state = "no index.json with a recorded version and digest describes this folder"
         else:
-            state = ("matches the digest recorded for this version" if self.matches else
-                     f"DIFFERS from the digest recorded for {self.version} ({self.recorded_digest})")
+            state = (
+                "matches the digest recorded for this version"
+                if self.matches
+                else f"DIFFERS from the digest recorded for {self.version} ({self.recorded_digest})"
+            )
         return f"{self.name} {self.label}: {self.part} {self.folder} {self.digest} ({state})"
 
     def as_dict(self) -> dict:
-        return {"name": self.name, "version": self.version, "label": self.label, "part": self.part,
-                "folder": str(self.folder), "digest": self.digest, "recorded_digest": self.recorded_digest,
-                "digest_matches": self.matches}
+        return {
+            "name": self.name,
+            "version": self.version,
+            "label": self.label,
+            "part": self.part,
+            "folder": str(self.folder),
+            "digest": self.digest,
+            "recorded_digest": self.recorded_digest,
+            "digest_matches": self.matches,
+        }
 
 
 def suite_info(folder: str | Path, part: str) -> SuiteInfo:
@@ -153,8 +168,14 @@ def suite_info(folder: str | Path, part: str) -> SuiteInfo:
     if not block and _same(folder, PARTS[part]):
         block = recorded()
     # a suite of one's own (gear-rattle case) names itself in its index; one without a block is unversioned
-    return SuiteInfo(part, folder, folder_digest(folder), str(block.get("version", "unversioned")),
-                     block.get(f"{part}_digest"), str(block.get("name", "suite without a recorded version")))
+    return SuiteInfo(
+        part,
+        folder,
+        folder_digest(folder),
+        str(block.get("version", "unversioned")),
+        block.get(f"{part}_digest"),
+        str(block.get("name", "suite without a recorded version")),
+    )
 
 
 def _same(a: Path, b: Path) -> bool:

@@ -8,5 +8,15 @@ report and the commands (which compose: compute -> write -> plot); docs/architec
 from .formats import csv_columns, csv_text, save_figure, write_csv, write_json, write_npz
 from .jsontext import json_text, jsonable, nan_from_null, read_json
 
-__all__ = ["csv_columns", "csv_text", "json_text", "jsonable", "nan_from_null", "read_json", "save_figure", "write_csv",
-           "write_json", "write_npz"]
+__all__ = [
+    "csv_columns",
+    "csv_text",
+    "json_text",
+    "jsonable",
+    "nan_from_null",
+    "read_json",
+    "save_figure",
+    "write_csv",
+    "write_json",
+    "write_npz",
+]

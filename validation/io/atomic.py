@@ -70,6 +70,7 @@ LOADED = time.time()
 
 # ------------------------------------------------------------------------------------- names and debris
 
+
 def _base(name: str) -> str:
     raw = name.encode("utf-8", "surrogateescape")
     return raw[:BASE_BYTES].decode("utf-8", "ignore") if len(raw) > BASE_BYTES else name
@@ -124,13 +125,19 @@ def remove_debris(folder: Path, base: str, since: float | None = None) -> list[P
 
 # ---------------------------------------------------------------------------------- the set of outputs
 
+
 class Outputs:
     """The files a command writes, renamed into place together by :meth:`commit` (see the module
     docstring).  ``folder``: its ``--out`` directory, where :meth:`commit` writes the manifest naming
     the run (``label``: the command, e.g. ``report``)."""
 
-    def __init__(self, label: str = "gear-rattle", folder: str | Path | None = None, argv: list[str] | None = None,
-                 merge: bool = False):
+    def __init__(
+        self,
+        label: str = "gear-rattle",
+        folder: str | Path | None = None,
+        argv: list[str] | None = None,
+        merge: bool = False,
+    ):
         self.label = label
         self.merge = merge  # the manifest keeps the earlier run's entries of files not written again
         self.folder = Path(folder) if folder is not None else None
@@ -187,10 +194,17 @@ class Outputs:
         from .jsontext import json_text
 
         assert self.folder is not None
-        doc = {"command": self.label, "argv": self.argv, "complete": complete,
-               "run": {"started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(self.started)),
-                       "pid": os.getpid(), "host": socket.gethostname()},
-               "files": files}
+        doc = {
+            "command": self.label,
+            "argv": self.argv,
+            "complete": complete,
+            "run": {
+                "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(self.started)),
+                "pid": os.getpid(),
+                "host": socket.gethostname(),
+            },
+            "files": files,
+        }
         return _write_temp(self.folder / MANIFEST.format(self.label), (json_text(doc) + "\n").encode())
 
     def discard(self) -> None:
@@ -226,8 +240,9 @@ def current() -> Outputs | None:
 
 
 @contextlib.contextmanager
-def outputs(label: str = "gear-rattle", folder: str | Path | None = None,
-            argv: list[str] | None = None, merge: bool = False) -> Iterator[Outputs]:
+def outputs(
+    label: str = "gear-rattle", folder: str | Path | None = None, argv: list[str] | None = None, merge: bool = False
+) -> Iterator[Outputs]:
     """Open a set of outputs (:class:`Outputs`): files written inside wait at their temporary names and
     are renamed into place together when the block ends without an exception
     (:meth:`Outputs.commit`), else removed."""
@@ -249,6 +264,7 @@ def commit_pending() -> None:
 
 
 # ------------------------------------------------------------------------------------------ one file
+
 
 @contextlib.contextmanager
 def _locked() -> Iterator[None]:
@@ -280,7 +296,9 @@ def _fsync_dir(folder: Path) -> None:
         os.close(fd)
 
 
-def _write_temp(target: Path, data: bytes | Callable[[IO[bytes]], object], mode: int | None = None) -> tuple[Path, Path]:
+def _write_temp(
+    target: Path, data: bytes | Callable[[IO[bytes]], object], mode: int | None = None
+) -> tuple[Path, Path]:
     """Write ``data`` (bytes, or a function filling a binary file) to a new temporary file beside
     ``target``, flushed to disk; returns ``(temporary file, target)``.  The temporary file is in
     :data:`validation.interrupt.CLEANUP` until it is renamed or removed."""
@@ -375,6 +393,7 @@ def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> P
 
 # ----------------------------------------------------------------------------------- a staged folder
 
+
 @contextlib.contextmanager
 def staged(out: str | Path, label: str = "report") -> Iterator[Path]:
     """A staging folder for a folder of outputs that is written as a whole before any of it goes in
@@ -391,7 +410,7 @@ def staged(out: str | Path, label: str = "report") -> Iterator[Path]:
     for folder in {out.parent, out} if out.is_dir() else {out.parent}:
         remove_debris(folder, name, since)
     stage = home / staging_name(name)
-    with (contextlib.nullcontext(tx) if tx is not None else outputs(label, out)) as tx:
+    with contextlib.nullcontext(tx) if tx is not None else outputs(label, out) as tx:
         with _locked():
             stage.mkdir()
             interrupt.CLEANUP.append(str(stage))
@@ -428,6 +447,8 @@ def read_manifest(folder: str | Path, command: str) -> dict | None:
     except (OSError, ValueError) as e:
         raise ValueError(f"{str(path)!r} cannot be read: {e}") from None
     if doc.get("complete") is not True:
-        raise ValueError(f"{str(path)!r}: the run that wrote this folder was stopped while moving its files in "
-                         "(complete: false): its files mix two runs; run the command again")
+        raise ValueError(
+            f"{str(path)!r}: the run that wrote this folder was stopped while moving its files in "
+            "(complete: false): its files mix two runs; run the command again"
+        )
     return doc

@@ -12,5 +12,9 @@ from .transients import out_dir
 
 def write_crises(outdir, profile: str, r2, r1, a1) -> list[Path]:
     """``crises.json`` in ``outdir`` (created)."""
-    return [write_json(out_dir(outdir) / "crises.json", {"profile": profile, "r2": r2.as_dict(), "r1": r1.as_dict(),
-                                                          "alpha1": a1.as_dict()})]
+    return [
+        write_json(
+            out_dir(outdir) / "crises.json",
+            {"profile": profile, "r2": r2.as_dict(), "r1": r1.as_dict(), "alpha1": a1.as_dict()},
+        )
+    ]

@@ -92,4 +92,3 @@ def save_figure(fig, path) -> Path:
     writer of a figure.  Returns the path."""
     fmt = Path(path).suffix[1:].lower() or None
     return write_atomic(path, lambda fh: fig.savefig(fh, format=fmt, dpi=FIGURE_DPI))
-

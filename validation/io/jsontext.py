@@ -46,6 +46,7 @@ def read_json(path):
     """The data of a JSON file written by :func:`.formats.write_json`: strict (a bare ``NaN`` or ``Infinity`` is
     refused with ``ValueError``); ``null`` stays ``None`` -- the reader of a numeric field turns it
     back into NaN where NaN is what was written (:func:`nan_from_null`)."""
+
     def refuse(name):
         raise ValueError(f"{str(path)!r}: {name} is not JSON (RFC 8259): allowed numbers and null")
 

@@ -29,15 +29,21 @@ def write_basins(outdir, res) -> list[Path]:
 def write_uncertainty(outdir, res) -> list[Path]:
     """Fig. 10 (:class:`~gear_rattle.validation.transient.results.UncertaintyResult`)."""
     out = out_dir(outdir)
-    return [write_npz(out / "uncertainty.npz", **res.arrays()), write_csv(out / "uncertainty.csv", *res.table()),
-            write_json(out / "uncertainty.json", res.summary())]
+    return [
+        write_npz(out / "uncertainty.npz", **res.arrays()),
+        write_csv(out / "uncertainty.csv", *res.table()),
+        write_json(out / "uncertainty.json", res.summary()),
+    ]
 
 
 def write_survival(outdir, res) -> list[Path]:
     """Fig. 11 (:class:`~gear_rattle.validation.transient.results.SurvivalResult`)."""
     out = out_dir(outdir)
-    return [write_npz(out / "transients.npz", **res.arrays()), write_csv(out / "survival.csv", *res.survival_table()),
-            write_json(out / "transients.json", res.summary())]
+    return [
+        write_npz(out / "transients.npz", **res.arrays()),
+        write_csv(out / "survival.csv", *res.survival_table()),
+        write_json(out / "transients.json", res.summary()),
+    ]
 
 
 def write_stick_time_sensitivity(outdir, res) -> list[Path]:

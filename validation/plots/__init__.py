@@ -7,5 +7,11 @@ the intermittency law), :mod:`.transients` (Figs. 9-11), :mod:`.atlas` (the (alp
 from .base import subplots
 from .orbits import branch_figure, diagram_figure, lyapunov_figure, time_series_figure, velocity_series_figure
 
-__all__ = ["subplots", "branch_figure", "diagram_figure", "lyapunov_figure", "time_series_figure",
-           "velocity_series_figure"]
+__all__ = [
+    "subplots",
+    "branch_figure",
+    "diagram_figure",
+    "lyapunov_figure",
+    "time_series_figure",
+    "velocity_series_figure",
+]

@@ -53,8 +53,10 @@ def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None
     pcm = ListedColormap(colours).with_extremes(bad="0.45")
     ax2.pcolormesh(xa, yr, codes, cmap=pcm, vmin=-0.5, vmax=len(colours) - 0.5)
     handles = [Patch(facecolor="white", edgecolor="k", label="no period found")]
-    handles += [Patch(facecolor=colours[k], edgecolor="k", label=f"{pp} impacts in {mm} period{'s' * (mm != 1)}")
-                for k, (pp, mm, _n) in enumerate(classes, start=1)]
+    handles += [
+        Patch(facecolor=colours[k], edgecolor="k", label=f"{pp} impacts in {mm} period{'s' * (mm != 1)}")
+        for k, (pp, mm, _n) in enumerate(classes, start=1)
+    ]
     if other.any():
         handles.append(Patch(facecolor="0.85", edgecolor="k", label="other periodic"))
     if ended.any():
@@ -67,14 +69,30 @@ def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None
     for ax in (ax1, ax2):
         for k, (label, xs, ys) in enumerate(paper_lines(spec)):
             colour = ("#007000", "#b000b0")[k % 2]
-            lines.append(ax.plot(xs, ys, "-", color=colour, lw=2.2, solid_capstyle="butt", path_effects=outline,
-                                 label=f"the paper's {label} scan")[0])
+            lines.append(
+                ax.plot(
+                    xs,
+                    ys,
+                    "-",
+                    color=colour,
+                    lw=2.2,
+                    solid_capstyle="butt",
+                    path_effects=outline,
+                    label=f"the paper's {label} scan",
+                )[0]
+            )
         ax.set_xlabel(r"$\alpha$ (driving amplitude)")
         ax.set_ylabel(r"$r$ (restitution)")
     # the scans' names in a legend below the panels: a label inside covered cells
-    fig.legend(handles=lines[:len(lines) // 2], loc="lower center", ncol=2, fontsize=8, frameon=False)
-    fig.suptitle(title or (rf"Parameter-plane atlas, $\beta$ = {spec.beta:g}, $\gamma$ = {spec.gamma:g}: "
-                           f"{spec.n_alpha} x {spec.n_r} points, {spec.transient} transient + {spec.impacts} "
-                           f"measured impacts from (tau0, sdot0) = ({spec.tau0:g}, {spec.sdot0:g})"), fontsize=10)
+    fig.legend(handles=lines[: len(lines) // 2], loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.suptitle(
+        title
+        or (
+            rf"Parameter-plane atlas, $\beta$ = {spec.beta:g}, $\gamma$ = {spec.gamma:g}: "
+            f"{spec.n_alpha} x {spec.n_r} points, {spec.transient} transient + {spec.impacts} "
+            f"measured impacts from (tau0, sdot0) = ({spec.tau0:g}, {spec.sdot0:g})"
+        ),
+        fontsize=10,
+    )
     fig.tight_layout(rect=(0, 0.05, 1, 1))
     return fig

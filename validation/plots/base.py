@@ -36,8 +36,9 @@ def params_text(params, swept: str | None = None, values=None) -> str:
     for f in fields(params):
         if f.name == swept:
             v = np.asarray(values, dtype=np.float64)
-            out.append(f"{f.name} in [{v.min():g}, {v.max():g}] ({v.size} values)" if v.size > 1
-                       else f"{f.name}={v.min():g}")
+            out.append(
+                f"{f.name} in [{v.min():g}, {v.max():g}] ({v.size} values)" if v.size > 1 else f"{f.name}={v.min():g}"
+            )
         else:
             out.append(f"{f.name}={getattr(params, f.name):g}")
     return ", ".join(out)

@@ -28,10 +28,21 @@ def diagram_lyapunov_figure(dl, fig: str, marks=()):
         for a in ax:
             a.axvline(val, color="C3", lw=0.6, ls="--")
         # inside the axes (x in data, y in axes units), clear of the title above
-        ax[0].text(val, 0.97, f" {name}", transform=ax[0].get_xaxis_transform(), color="C3", fontsize=8,
-                   ha="left", va="top", bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})
-    ax[0].set_title(f"{fig} reproduced (computed): {params_text(d.base, d.param, d.values)}, "
-                    f"{d.transient} impacts discarded", fontsize=9)
+        ax[0].text(
+            val,
+            0.97,
+            f" {name}",
+            transform=ax[0].get_xaxis_transform(),
+            color="C3",
+            fontsize=8,
+            ha="left",
+            va="top",
+            bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1},
+        )
+    ax[0].set_title(
+        f"{fig} reproduced (computed): {params_text(d.base, d.param, d.values)}, {d.transient} impacts discarded",
+        fontsize=9,
+    )
     f.tight_layout()
     return f
 
@@ -44,8 +55,13 @@ def _crisis_panel(axis, res, key: str, rows: list, name: str) -> None:
     lo = np.array([row_["lo"] for row_ in rows], float)
     hi = np.array([row_["hi"] for row_ in rows], float)
     ok = (x > 0) & np.isfinite(T)
-    axis.errorbar(x[ok], T[ok], yerr=[T[ok] - lo[ok], np.where(np.isfinite(hi[ok]), hi[ok] - T[ok], 0)], fmt="o",
-                  label="measured (95%)")
+    axis.errorbar(
+        x[ok],
+        T[ok],
+        yerr=[T[ok] - lo[ok], np.where(np.isfinite(hi[ok]), hi[ok] - T[ok], 0)],
+        fmt="o",
+        label="measured (95%)",
+    )
     cens = (x > 0) & ~np.isfinite(T)
     if cens.any():
         axis.plot(x[cens], lo[cens], "^", label="no event: lower bound (95%)")
@@ -53,10 +69,15 @@ def _crisis_panel(axis, res, key: str, rows: list, name: str) -> None:
         xx = np.geomspace(x[ok].min(), x[ok].max(), 50)
         fit = res.fit_goy
         axis.plot(xx, np.exp(fit.log_C) * xx ** (-fit.g), "-", label=f"GOY fit, g = {fit.g:.3f}")
-    axis.set_xscale("log"); axis.set_yscale("log")
-    axis.set_xlabel("r1 - r" if key == "r1" else "alpha - alpha1"); axis.set_ylabel("mean time (impacts)")
-    axis.set_title(f"GOY fit {key} = {mu_c:.7g} +- {getattr(res, key + '_goy_err'):.1g}; reported "
-                   f"{getattr(res, key):.7g} +- {getattr(res, key + '_err'):.1g}", fontsize=8)
+    axis.set_xscale("log")
+    axis.set_yscale("log")
+    axis.set_xlabel("r1 - r" if key == "r1" else "alpha - alpha1")
+    axis.set_ylabel("mean time (impacts)")
+    axis.set_title(
+        f"GOY fit {key} = {mu_c:.7g} +- {getattr(res, key + '_goy_err'):.1g}; reported "
+        f"{getattr(res, key):.7g} +- {getattr(res, key + '_err'):.1g}",
+        fontsize=8,
+    )
     axis.legend(fontsize=7)
 
 
@@ -79,9 +100,12 @@ def laminar_law_figure(r2, theory: float):
     ax.errorbar(dr, ls.mean, yerr=ls.sem, fmt="o")
     xx = np.array([dr.min(), dr.max()])
     k = np.exp(np.mean(np.log(ls.mean) - r2.slope * np.log(dr)))
-    ax.plot(xx, k * xx ** r2.slope, "-", label=f"fit: slope {r2.slope:.3f} +- {r2.slope_err:.3f}")
+    ax.plot(xx, k * xx**r2.slope, "-", label=f"fit: slope {r2.slope:.3f} +- {r2.slope_err:.3f}")
     ax.plot(xx, ls.mean[0] * (xx / dr[0]) ** theory, ":", label=f"slope {theory:g} (theory) through the first point")
-    ax.set_xscale("log"); ax.set_yscale("log")
-    ax.set_xlabel("r - r2"); ax.set_ylabel("mean laminar length (impacts)")
-    ax.legend(fontsize=8); fg.tight_layout()
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("r - r2")
+    ax.set_ylabel("mean laminar length (impacts)")
+    ax.legend(fontsize=8)
+    fg.tight_layout()
     return fg

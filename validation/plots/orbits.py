@@ -51,9 +51,11 @@ def velocity_series_figure(ts, title: str | None = None):
     :class:`~gear_rattle.validation.dynamics.timeseries.TimeSeries`)."""
     fig, ax = subplots(2, 1, figsize=(7, 5))
     ax[0].plot(ts.n, ts.sdot_n, ".k", ms=1)
-    ax[0].set_xlabel("n"); ax[0].set_ylabel(r"$\dot s_n$")
+    ax[0].set_xlabel("n")
+    ax[0].set_ylabel(r"$\dot s_n$")
     ax[1].plot(ts.k, ts.sdot_strobe, ".k", ms=1)
-    ax[1].set_xlabel("k"); ax[1].set_ylabel(r"$\dot s(2\pi k)$")
+    ax[1].set_xlabel("k")
+    ax[1].set_ylabel(r"$\dot s(2\pi k)$")
     ax[0].set_title(title or params_text(ts.params))
     fig.tight_layout()
     return fig
@@ -69,8 +71,12 @@ def diagram_figure(diag, lyap=None, title: str | None = None):
     x = np.repeat(diag.values, diag.sdot.shape[1])
     ax.plot(x, diag.sdot.ravel(), ",k", alpha=0.5)
     ax.set_ylabel(r"$\dot s_n$")
-    ax.set_title(title or f"bifurcation diagram ({diag.mode}): {params_text(diag.base, diag.param, diag.values)}\n"
-                          f"{diag.transient} impacts discarded, {diag.keep} recorded", fontsize=9)
+    ax.set_title(
+        title
+        or f"bifurcation diagram ({diag.mode}): {params_text(diag.base, diag.param, diag.values)}\n"
+        f"{diag.transient} impacts discarded, {diag.keep} recorded",
+        fontsize=9,
+    )
     if lyap is not None:
         v, lam = lyap
         axes[1, 0].plot(v, lam[:, 0], "-", lw=0.8, label=r"$\lambda_1$")
@@ -92,7 +98,9 @@ def lyapunov_figure(values, lam, param: str, title: str | None = None):
     ax.plot(values, lam[:, 0], "-", label=r"$\lambda_1$")
     ax.plot(values, lam[:, 1], "-", label=r"$\lambda_2$")
     ax.axhline(0, color="gray", lw=0.5)
-    ax.set_xlabel(param); ax.set_ylabel("per impact"); legend_outside(ax)
+    ax.set_xlabel(param)
+    ax.set_ylabel("per impact")
+    legend_outside(ax)
     fig.tight_layout()
     return fig
 
@@ -107,14 +115,21 @@ def branch_figure(branch, param: str, title: str | None = None):
     ax[0].plot(a["mu"], a["sdot"], "-", color="gray", lw=0.6)
     ax[0].plot(a["mu"][st], a["sdot"][st], ".b", ms=3, label="stable")
     ax[0].plot(a["mu"][~st], a["sdot"][~st], ".r", ms=3, label="unstable")
-    ax[0].set_ylabel(r"$\dot s$ (one point of the orbit)"); legend_outside(ax[0])
+    ax[0].set_ylabel(r"$\dot s$ (one point of the orbit)")
+    legend_outside(ax[0])
     mods = np.abs(a["mult_re"] + 1j * a["mult_im"])
-    ax[1].semilogy(a["mu"], mods, ".", ms=3); ax[1].axhline(1, color="k", lw=0.5)
+    ax[1].semilogy(a["mu"], mods, ".", ms=3)
+    ax[1].axhline(1, color="k", lw=0.5)
     for f in branch.folds + branch.flips:
         for x in ax:
             x.axvline(f.mu, color="g" if f.kind == "fold" else "m", lw=0.6)
-    ax[1].set_ylabel("|Floquet multipliers|"); ax[1].set_xlabel(param)
-    ax[0].set_title(title or f"{branch.impacts}-impact orbit in {branch.turns} driving period(s), {param} continued; "
-                             f"start: {params_text(branch.params)}", fontsize=9)
+    ax[1].set_ylabel("|Floquet multipliers|")
+    ax[1].set_xlabel(param)
+    ax[0].set_title(
+        title
+        or f"{branch.impacts}-impact orbit in {branch.turns} driving period(s), {param} continued; "
+        f"start: {params_text(branch.params)}",
+        fontsize=9,
+    )
     fig.tight_layout()
     return fig

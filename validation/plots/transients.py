@@ -18,17 +18,36 @@ def basins_figure(res):
     (a :class:`~gear_rattle.validation.transient.results.BasinsResult`)."""
     fig, axs = subplots(2, 2, figsize=(9, 7), sharex=True, sharey=True)
     for ax, n, lab in zip(axs.ravel(), res.ns, "abcd"):
-        ax.imshow(res.duration < n, origin="lower", extent=res.window, aspect="auto", cmap="Greys", vmin=0, vmax=1,
-                  interpolation="nearest")
-        ax.add_patch(Rectangle((PAPER_BOX[0], PAPER_BOX[2]), PAPER_BOX[1] - PAPER_BOX[0],
-                               PAPER_BOX[3] - PAPER_BOX[2], fill=False, ec="C3", lw=1))
+        ax.imshow(
+            res.duration < n,
+            origin="lower",
+            extent=res.window,
+            aspect="auto",
+            cmap="Greys",
+            vmin=0,
+            vmax=1,
+            interpolation="nearest",
+        )
+        ax.add_patch(
+            Rectangle(
+                (PAPER_BOX[0], PAPER_BOX[2]),
+                PAPER_BOX[1] - PAPER_BOX[0],
+                PAPER_BOX[3] - PAPER_BOX[2],
+                fill=False,
+                ec="C3",
+                lw=1,
+            )
+        )
         ax.set_title(f"({lab}) n = {n}: black = duration < n ({100 * res.short_fraction[n]:.1f}%)", fontsize=9)
     for ax in axs[1]:
         ax.set_xlabel(r"$\tau_0$")
     for ax in axs[:, 0]:
         ax.set_ylabel(r"$\dot s_0$")
-    fig.suptitle(f"Fig. 9: transient basins, {params_text(res.params)}, {res.nx}x{res.ny}, delta={res.delta:g}, "
-                 f"IC {res.ic_mode}", fontsize=10)
+    fig.suptitle(
+        f"Fig. 9: transient basins, {params_text(res.params)}, {res.nx}x{res.ny}, delta={res.delta:g}, "
+        f"IC {res.ic_mode}",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig
 
@@ -43,12 +62,25 @@ def uncertainty_figure(res):
         se = np.sqrt(f * (1.0 - f) / res.n_points)  # binomial standard error of each f(eps)
         pos = f > 0
         lo = np.minimum(se, 0.999 * f)  # keep the lower bar on the log axis
-        eb = ax.errorbar(eps[pos], f[pos], yerr=[lo[pos], se[pos]], fmt=mk, mfc="none" if mk == "s" else None,
-                         capsize=2, label=f"n = {n} (bars: sqrt(f(1-f)/{res.n_points}))")
+        eb = ax.errorbar(
+            eps[pos],
+            f[pos],
+            yerr=[lo[pos], se[pos]],
+            fmt=mk,
+            mfc="none" if mk == "s" else None,
+            capsize=2,
+            label=f"n = {n} (bars: sqrt(f(1-f)/{res.n_points}))",
+        )
         ft = res.fits[n]
         if ft is not None:
-            ax.loglog(eps, 10 ** ft.log10_C * eps ** ft.phi, "-", lw=0.8, color=eb[0].get_color(),
-                      label=f"fit: phi = {ft.phi:.4f} +- {ft.phi_se_ls:.4f} (boot {ft.phi_se_boot:.4f})")
+            ax.loglog(
+                eps,
+                10**ft.log10_C * eps**ft.phi,
+                "-",
+                lw=0.8,
+                color=eb[0].get_color(),
+                label=f"fit: phi = {ft.phi:.4f} +- {ft.phi_se_ls:.4f} (boot {ft.phi_se_boot:.4f})",
+            )
     ax.set_xscale("log")
     if any(np.any(res.fraction(n) > 0) for n in res.ns):
         ax.set_yscale("log")
@@ -56,8 +88,10 @@ def uncertainty_figure(res):
         ax.text(0.5, 0.5, "no uncertain points (f = 0 at every eps)", transform=ax.transAxes, ha="center")
     ax.set_xlabel(r"$\epsilon$")
     ax.set_ylabel(r"$f(\epsilon)$")
-    ax.set_title(f"Fig. 10: uncertain fraction, {params_text(res.params)},\n{res.n_points} points in the paper's box",
-                 fontsize=10)
+    ax.set_title(
+        f"Fig. 10: uncertain fraction, {params_text(res.params)},\n{res.n_points} points in the paper's box",
+        fontsize=10,
+    )
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=8)
     fig.tight_layout()
@@ -73,15 +107,26 @@ def survival_figure(res):
     ax.semilogy(n, np.where(N > 0, N, np.nan), "-", lw=1, label=f"N(n), delta = {res.delta:g}")
     if main is not None:
         xs = np.array([main.n_lo, main.n_hi])
-        ax.semilogy(xs, main.N0 * np.exp(-main.kappa * xs / main.mean_n), "k--", lw=1,
-                    label=f"Eq. (14): <n> = {main.mean_n:.0f}, kappa = {main.kappa:.3f} +- {main.kappa_se_boot:.3f}")
+        ax.semilogy(
+            xs,
+            main.N0 * np.exp(-main.kappa * xs / main.mean_n),
+            "k--",
+            lw=1,
+            label=f"Eq. (14): <n> = {main.mean_n:.0f}, kappa = {main.kappa:.3f} +- {main.kappa_se_boot:.3f}",
+        )
     ax.set_xlabel("n")
     ax.set_ylabel("N(n): orbits still transient")
     named = ", ".join(f"{k} = {v}" for k, v in decimal_params(res.params).items())
-    paper = (f"paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed}" if res.paper_setting else
-             "not the paper's parameters: no comparison with the paper")
-    ax.set_title(f"Fig. 11: {named}\n{res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, "
-                 f"T_post {res.release.value}\n({paper})", fontsize=9)
+    paper = (
+        f"paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed}"
+        if res.paper_setting
+        else "not the paper's parameters: no comparison with the paper"
+    )
+    ax.set_title(
+        f"Fig. 11: {named}\n{res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, "
+        f"T_post {res.release.value}\n({paper})",
+        fontsize=9,
+    )
     ax.legend(fontsize=8, loc="upper right")  # N(n) falls from the upper left: the upper right is empty
     fig.tight_layout()
     return fig

@@ -12,8 +12,10 @@ from .builder import rerender
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m gear_rattle.validation.report",
-                                 description="Draw a written validation report again from its document.json.")
+    ap = argparse.ArgumentParser(
+        prog="python -m gear_rattle.validation.report",
+        description="Draw a written validation report again from its document.json.",
+    )
     ap.add_argument("action", choices=["rerender"], help="rerender: rewrite report.html, report.md, summary.json")
     ap.add_argument("dir", help="the report's folder (holds document.json and the figures)")
     a = ap.parse_args(argv)

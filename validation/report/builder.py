@@ -88,9 +88,14 @@ def environment() -> dict:
     import scipy
 
     env = {
-        "python": sys.version.split()[0], "platform": platform.platform(), "machine": platform.machine(),
-        "cpu_count": os.cpu_count(), "numpy": numpy.__version__, "scipy": scipy.__version__,
-        "jax": jax.__version__, "jax_devices": ", ".join(str(d) for d in jax.devices()),
+        "python": sys.version.split()[0],
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "numpy": numpy.__version__,
+        "scipy": scipy.__version__,
+        "jax": jax.__version__,
+        "jax_devices": ", ".join(str(d) for d in jax.devices()),
         "jax_enable_x64": bool(jax.config.jax_enable_x64),  # type: ignore[attr-defined]  # jax.config: dynamic attrs
     }
     for mod in ("diffrax", "optimistix", "matplotlib", "mpmath"):
@@ -110,10 +115,19 @@ def git_commit() -> str:
         import subprocess
 
         root = Path(__file__).resolve().parents[2]
-        commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                                cwd=root, timeout=5).stdout.strip() or "unknown"
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], capture_output=True,
-                               text=True, cwd=root, timeout=5).stdout.strip()
+        commit = (
+            subprocess.run(
+                ["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=root, timeout=5
+            ).stdout.strip()
+            or "unknown"
+        )
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True,
+            text=True,
+            cwd=root,
+            timeout=5,
+        ).stdout.strip()
         return commit + (" (with uncommitted changes)" if dirty and commit != "unknown" else "")
     except Exception:  # pragma: no cover
         return "unknown"
@@ -122,15 +136,24 @@ def git_commit() -> str:
 def summary_json(sections: list[Section], **header) -> dict:
     """summary.json: the run's header, the sections' status, the verdict counts and one entry per summary
     row (stable ``key``, numeric ``value``/``error``, the paper's value/error/kind; see docs/report.md)."""
-    return {**header,
-            "sections": [{"key": s.key, "title": s.title, "ok": s.ok, "seconds": s.seconds, "error": s.error}
-                         for s in sections],
-            "counts": verdict_counts(sections),
-            "numbers": [n.as_json(s.title) for s in sections for n in s.numbers]}
+    return {
+        **header,
+        "sections": [
+            {"key": s.key, "title": s.title, "ok": s.ok, "seconds": s.seconds, "error": s.error} for s in sections
+        ],
+        "counts": verdict_counts(sections),
+        "numbers": [n.as_json(s.title) for s in sections for n in s.numbers],
+    }
 
 
-def build_report(profile: str = "quick", out_dir: str | Path = "report", sections: list[str] | None = None,
-                 seed: int = 20040101, progress: bool = True, argv: list[str] | None = None) -> tuple[Path, bool]:
+def build_report(
+    profile: str = "quick",
+    out_dir: str | Path = "report",
+    sections: list[str] | None = None,
+    seed: int = 20040101,
+    progress: bool = True,
+    argv: list[str] | None = None,
+) -> tuple[Path, bool]:
     """Run the sections and write the report; return ``(path of report.html, all sections ok)``."""
     check_choice("profile", profile, PROFILES)
     mods = [importlib.import_module(m) for m in SECTIONS]
@@ -173,9 +196,11 @@ def compose(header: dict, sections: list[Section]) -> Document:
     """The page's text around the sections, from the run's header (profile, seed, seconds, environment,
     command): the title, the introduction, and the run's provenance with how verdicts are reached."""
     profile = header["profile"]
-    intro = ["Reproduction of de Souza, Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-772, "
-             "by the gear-rattle reference implementation. Every computed number and figure below was produced "
-             "by the run that wrote this page; the paper's values are quoted from the paper's text."]
+    intro = [
+        "Reproduction of de Souza, Caldas, Viana and Balthazar, Chaos, Solitons & Fractals 21 (2004) 763-772, "
+        "by the gear-rattle reference implementation. Every computed number and figure below was produced "
+        "by the run that wrote this page; the paper's values are quoted from the paper's text."
+    ]
     about = [
         f"Profile: {profile}. Seed: {header['seed']}. Total run time: {header['seconds']:.1f} s. "
         f"Command: {header['command']}",
@@ -191,9 +216,11 @@ def compose(header: dict, sections: list[Section]) -> Document:
         f"compared' and carry a separate pass/fail against their stated tolerance.",
     ]
     if header.get("rerendered"):
-        about.append(f"This page was drawn again from document.json by commit {header['rerendered']['git_commit']}, "
-                     "with that commit's verdict rules and layout; the numbers, texts and figures are those of the "
-                     "run above (nothing was recomputed).")
+        about.append(
+            f"This page was drawn again from document.json by commit {header['rerendered']['git_commit']}, "
+            "with that commit's verdict rules and layout; the numbers, texts and figures are those of the "
+            "run above (nothing was recomputed)."
+        )
     return Document(f"gear-rattle validation report ({profile} profile)", intro, about, sections)
 
 

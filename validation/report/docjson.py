@@ -47,27 +47,41 @@ def document_json(header: dict, sections: list[Section], out_dir: Path) -> dict:
     for s in sections:
         for n in s.numbers:
             if n.paper_value is not None and PAPER.get(n.paper_value.key) is not n.paper_value:
-                raise ValueError(f"row {n.key!r} compares with a paper value that is not "
-                                 f"paper.PAPER[{n.paper_value.key!r}]")
+                raise ValueError(
+                    f"row {n.key!r} compares with a paper value that is not paper.PAPER[{n.paper_value.key!r}]"
+                )
 
     def block(b):
         if b[0] != "fig":
             return list(b)
         return ["fig", Path(b[1]).resolve().relative_to(out_dir.resolve()).as_posix(), b[2]]
 
-    return {"format": DOCUMENT_FORMAT, "header": header, "sections": [
-        {"key": s.key, "title": s.title, "ok": s.ok, "error": s.error, "seconds": s.seconds,
-         "blocks": [block(b) for b in s.blocks],
-         "rows": [{k: (_enc(v) if k in _NUMERIC_SPEC else v) for k, v in n.spec.items()} for n in s.numbers]}
-        for s in sections]}
+    return {
+        "format": DOCUMENT_FORMAT,
+        "header": header,
+        "sections": [
+            {
+                "key": s.key,
+                "title": s.title,
+                "ok": s.ok,
+                "error": s.error,
+                "seconds": s.seconds,
+                "blocks": [block(b) for b in s.blocks],
+                "rows": [{k: (_enc(v) if k in _NUMERIC_SPEC else v) for k, v in n.spec.items()} for n in s.numbers],
+            }
+            for s in sections
+        ],
+    }
 
 
 def sections_from_json(data: dict, out_dir: Path) -> tuple[dict, list[Section]]:
     """Read :func:`document_json`'s output back: ``(header, sections)``, every row judged again by
     :func:`.verdict.row` (so a change of the verdict rules or of the page applies without computing)."""
     if not isinstance(data, dict) or data.get("format") != DOCUMENT_FORMAT:
-        raise ValueError(f"document format={data.get('format') if isinstance(data, dict) else data!r} is not "
-                         f"known: allowed {DOCUMENT_FORMAT!r}")
+        raise ValueError(
+            f"document format={data.get('format') if isinstance(data, dict) else data!r} is not "
+            f"known: allowed {DOCUMENT_FORMAT!r}"
+        )
     sections = []
     for d in data["sections"]:
         sec = Section(d["key"], d["title"], ok=d["ok"], error=d["error"], seconds=d["seconds"])

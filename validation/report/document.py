@@ -88,7 +88,10 @@ class Number:
         bound = getattr(o, "bound", None)
         enc = getattr(o, "enclosure", None)
         return {
-            "key": self.key, "quantity": self.quantity, "value": _json_num(self.value), "error": _json_num(self.error),
+            "key": self.key,
+            "quantity": self.quantity,
+            "value": _json_num(self.value),
+            "error": _json_num(self.error),
             "paper_value": None if pv is None else (_json_num(pv.value) if pv.numeric else pv.value),
             "paper_error": None if pv is None else _json_num(pv.error),
             "paper_sigma": None if pv is None or not pv.numeric else _json_num(pv.sigma),
@@ -97,14 +100,24 @@ class Number:
             "paper_quote": None if pv is None else pv.quote,
             "deviation_value": None if o is None else _json_num(o.deviation),
             "z": None if o is None else _json_num(o.z),
-            "verdict": self.verdict, "check": self.check or None,
+            "verdict": self.verdict,
+            "check": self.check or None,
             "tolerance": None if o is None else _json_num(o.tolerance),
             "paper_digit": None if pv is None else _json_num(pv.printed_unit),
-            "bound": bound, "margin_digits": (_json_num(o.deviation / o.unit) if o is not None and bound and o.unit
-                                              and o.deviation is not None else None),
+            "bound": bound,
+            "margin_digits": (
+                _json_num(o.deviation / o.unit)
+                if o is not None and bound and o.unit and o.deviation is not None
+                else None
+            ),
             "enclosure": None if enc is None else [_json_num(enc[0]), _json_num(enc[1])],
-            "paper": self.paper, "computed": self.computed, "error_bar": self.error_bar, "deviation": self.deviation,
-            "explanation": self.explanation, "where": self.where, "section": section,
+            "paper": self.paper,
+            "computed": self.computed,
+            "error_bar": self.error_bar,
+            "deviation": self.deviation,
+            "explanation": self.explanation,
+            "where": self.where,
+            "section": section,
         }
 
 
@@ -185,6 +198,7 @@ def verdict_counts(sections: list[Section]) -> dict[str, int]:
 
 # ------------------------------------------------------------------------------------ the verdict table
 
+
 @dataclass(frozen=True)
 class Mark:
     """How a row's verdict is shown: ``symbol`` (a tick, a cross or a dash: readable without colour),
@@ -238,15 +252,20 @@ VERDICT_HEADER = ["key", "paper", "ours ± error", "verdict", "reason"]
 VERDICT_TITLE = "Verdicts: the paper's numbers beside ours"
 DETAILS_TITLE = "Details of each row"
 ABOUT_TITLE = "About this run"
-LEGEND = ("✓ agrees with the paper, or a bound of the paper is satisfied, or an internal check passes; "
-          "✗ (in capitals, shaded) disagrees, or a bound is violated, or a check fails; – not compared (not "
-          "stated in the paper). A satisfied bound counts as agreeing, a violated one as disagreeing.")
+LEGEND = (
+    "✓ agrees with the paper, or a bound of the paper is satisfied, or an internal check passes; "
+    "✗ (in capitals, shaded) disagrees, or a bound is violated, or a check fails; – not compared (not "
+    "stated in the paper). A satisfied bound counts as agreeing, a violated one as disagreeing."
+)
 
 
 def verdict_rows(sections: list[Section]) -> list[tuple[Number, list[str]]]:
     """Each row with its cells in the verdict table (:data:`VERDICT_HEADER`)."""
-    return [(n, [n.key, n.paper.replace(" +- ", " ± "), ours_text(n), mark(n).text, reason_text(n)])
-            for s in sections for n in s.numbers]
+    return [
+        (n, [n.key, n.paper.replace(" +- ", " ± "), ours_text(n), mark(n).text, reason_text(n)])
+        for s in sections
+        for n in s.numbers
+    ]
 
 
 def counts_line(sections: list[Section]) -> str:
@@ -257,8 +276,10 @@ def counts_line(sections: list[Section]) -> str:
     failed = [n.key for n in rows if n.check == "fail"]
     bad_txt = f" ({', '.join(bad)})" if bad else ""
     failed_txt = f": {', '.join(failed)}" if failed else ""
-    line = (f"Verdicts: {c['agrees']} agree, {c['disagrees']} disagree{bad_txt}, {c['not compared']} not compared "
-            f"(internal checks: {c['check pass']} pass, {c['check fail']} fail{failed_txt}).")
+    line = (
+        f"Verdicts: {c['agrees']} agree, {c['disagrees']} disagree{bad_txt}, {c['not compared']} not compared "
+        f"(internal checks: {c['check pass']} pass, {c['check fail']} fail{failed_txt})."
+    )
     if c["sections failed"]:
         line += f" {c['sections failed']} section(s) FAILED."
     return line
@@ -289,6 +310,7 @@ def details_items(n: Number, section: Section) -> list[tuple[str, str]]:
 
 
 # ------------------------------------------------------------------------------------------ the document
+
 
 @dataclass
 class Document:
@@ -426,8 +448,10 @@ def _html_details(sections: list[Section]) -> str:
         for n in s.numbers:
             m = mark(n)
             dl = "".join(f"<dt>{_esc(k)}</dt><dd>{_esc(v)}</dd>" for k, v in details_items(n, s))
-            out.append(f"<details id='row-{_esc(n.key)}' class='{m.css}'><summary><b>{_esc(n.key)}</b>: "
-                       f"{_esc(n.quantity)} — {_esc(m.text)}</summary><dl>{dl}</dl></details>")
+            out.append(
+                f"<details id='row-{_esc(n.key)}' class='{m.css}'><summary><b>{_esc(n.key)}</b>: "
+                f"{_esc(n.quantity)} — {_esc(m.text)}</summary><dl>{dl}</dl></details>"
+            )
     return "\n".join(out)
 
 
@@ -438,8 +462,10 @@ def _html_block(b) -> str:
         return _html_table(b[1], b[2])
     if b[0] == "fig":
         data = base64.b64encode(Path(b[1]).read_bytes()).decode()
-        return (f"<figure><img src='data:image/png;base64,{data}' alt='{_esc(b[2])}'>"
-                f"<figcaption>{_esc(b[2])}</figcaption></figure>")
+        return (
+            f"<figure><img src='data:image/png;base64,{data}' alt='{_esc(b[2])}'>"
+            f"<figcaption>{_esc(b[2])}</figcaption></figure>"
+        )
     return f"<pre>{_esc(b[1])}</pre>"
 
 
@@ -447,17 +473,25 @@ def render_html(doc: Document) -> str:
     """The self-contained page (figures embedded, no outside resource), in the order of the module's
     docstring; no element is wider than the page (wide tables of the sections scroll in their box)."""
     secs = doc.sections
-    parts = ["<!doctype html><html><head><meta charset='utf-8'>"
-             "<meta name='viewport' content='width=device-width, initial-scale=1'>"
-             f"<title>{_esc(doc.title)}</title><style>{_CSS}</style></head><body><h1>{_esc(doc.title)}</h1>"]
+    parts = [
+        "<!doctype html><html><head><meta charset='utf-8'>"
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>"
+        f"<title>{_esc(doc.title)}</title><style>{_CSS}</style></head><body><h1>{_esc(doc.title)}</h1>"
+    ]
     parts += [f"<p>{_esc(p)}</p>" for p in doc.intro]
     parts.append(f"<p class='counts'>{_esc(counts_line(secs))}</p>")
-    parts += [f"<h2 id='verdicts'>{_esc(VERDICT_TITLE)}</h2>", f"<p class='legend'>{_esc(LEGEND)}</p>",
-              _html_verdict_table(secs)]
+    parts += [
+        f"<h2 id='verdicts'>{_esc(VERDICT_TITLE)}</h2>",
+        f"<p class='legend'>{_esc(LEGEND)}</p>",
+        _html_verdict_table(secs),
+    ]
     toc = [("verdicts", VERDICT_TITLE), ("details", DETAILS_TITLE), ("about", ABOUT_TITLE)]
     toc += [(f"sec-{s.key}", _heading(s)) for s in secs]
-    parts.append("<nav><p>Contents:</p><ul>" + "".join(f"<li><a href='#{_esc(a)}'>{_esc(t)}</a></li>"
-                                                       for a, t in toc) + "</ul></nav>")
+    parts.append(
+        "<nav><p>Contents:</p><ul>"
+        + "".join(f"<li><a href='#{_esc(a)}'>{_esc(t)}</a></li>" for a, t in toc)
+        + "</ul></nav>"
+    )
     parts.append(_html_details(secs))
     parts.append(f"<h2 id='about'>{_esc(ABOUT_TITLE)}</h2>")
     parts += [f"<p>{_esc(p)}</p>" for p in doc.about]

@@ -91,8 +91,7 @@ def compare_value(computed, error, paper: PaperValue) -> Verdict:
     d = c - p
     if paper.kind == "count":  # exact
         ok = d == 0
-        return Verdict(AGREES if ok else DISAGREES, d, None, None,
-                       "equal" if ok else f"{d:+g} (counts must be equal)")
+        return Verdict(AGREES if ok else DISAGREES, d, None, None, "equal" if ok else f"{d:+g} (counts must be equal)")
     if not math.isfinite(c):
         return Verdict(DISAGREES, float("nan"), None, None, f"computed value is {c}")
     s = math.hypot(_err(error), paper.sigma)
@@ -147,8 +146,11 @@ def compare_bound(computed, error, paper: PaperValue, enclosure=None) -> Verdict
     ok = d <= 0 if upper else d >= 0
     need = "<=" if upper else ">="
     side = "at" if d == 0 else "above" if d > 0 else "below"
-    txt = (f"{abs(d):.3g} {side} {paper.printed} ({abs(d) / unit:.3g} × its last digit, {unit:g})" if d
-           else f"at {paper.printed}")
+    txt = (
+        f"{abs(d):.3g} {side} {paper.printed} ({abs(d) / unit:.3g} × its last digit, {unit:g})"
+        if d
+        else f"at {paper.printed}"
+    )
     txt += f"; must be {need} it"
     if e > 0 and abs(d) <= Z_AGREE * e:
         txt += f"; within {Z_AGREE:g} of our error bars (+- {e:.2g}): the side is not decided by our accuracy"
@@ -168,8 +170,9 @@ def compare_bound(computed, error, paper: PaperValue, enclosure=None) -> Verdict
 def compare_category(category: str, paper: PaperValue) -> Verdict:
     """A qualitative statement: the computed category must be the paper's word."""
     ok = str(category) == paper.printed
-    return Verdict(AGREES if ok else DISAGREES, None, None, None,
-                   "same" if ok else f"{category!s} instead of {paper.printed}")
+    return Verdict(
+        AGREES if ok else DISAGREES, None, None, None, "same" if ok else f"{category!s} instead of {paper.printed}"
+    )
 
 
 def internal_check(measured, tolerance: float, ok: bool = True) -> Verdict:
@@ -185,8 +188,15 @@ def internal_check(measured, tolerance: float, ok: bool = True) -> Verdict:
     return Verdict(NOT_COMPARED, None, None, None, txt, PASS if ok else FAIL, t)
 
 
-def compare(computed, error, paper: PaperValue | None, category: str | None = None,
-            tolerance: float | None = None, check_ok: bool = True, enclosure=None) -> Verdict:
+def compare(
+    computed,
+    error,
+    paper: PaperValue | None,
+    category: str | None = None,
+    tolerance: float | None = None,
+    check_ok: bool = True,
+    enclosure=None,
+) -> Verdict:
     """Dispatch on the paper value's kind (``None``: not in the paper -> not compared, with an internal
     check when a ``tolerance`` is given).  ``enclosure`` (a proven ``(lo, hi)`` of the computed value) is
     used by bounds, refused elsewhere (no other verdict uses it yet)."""
@@ -196,8 +206,12 @@ def compare(computed, error, paper: PaperValue | None, category: str | None = No
         return Verdict(DISAGREES, text="no value computed in this run")
     if paper is None:
         if computed is None:  # an internal check that was not computed fails
-            return Verdict(NOT_COMPARED, text="no value computed in this run",
-                           check=FAIL if tolerance is not None else None, tolerance=tolerance)
+            return Verdict(
+                NOT_COMPARED,
+                text="no value computed in this run",
+                check=FAIL if tolerance is not None else None,
+                tolerance=tolerance,
+            )
         if tolerance is not None:
             return internal_check(computed, tolerance, check_ok)
         return Verdict(NOT_COMPARED)
@@ -210,9 +224,22 @@ def compare(computed, error, paper: PaperValue | None, category: str | None = No
     return compare_value(computed, error, paper)
 
 
-def row(key: str, quantity: str, value, error=None, *, paper: PaperValue | str | None = None,
-        explanation: str = "", where: str = "", computed_text: str | None = None, error_text: str | None = None,
-        category: str | None = None, tolerance: float | None = None, check_ok: bool = True, enclosure=None):
+def row(
+    key: str,
+    quantity: str,
+    value,
+    error=None,
+    *,
+    paper: PaperValue | str | None = None,
+    explanation: str = "",
+    where: str = "",
+    computed_text: str | None = None,
+    error_text: str | None = None,
+    category: str | None = None,
+    tolerance: float | None = None,
+    check_ok: bool = True,
+    enclosure=None,
+):
     """A summary row with its verdict.  ``paper`` is a :class:`.paper.PaperValue`, a key of
     :data:`.paper.PAPER`, or ``None`` (not in the paper); ``value`` and ``error`` are the computed
     number and its standard error (``None`` where there is none); ``category`` the computed word of a
@@ -231,16 +258,46 @@ def row(key: str, quantity: str, value, error=None, *, paper: PaperValue | str |
     pv = PAPER[paper] if isinstance(paper, str) else paper
     v = compare(value, error, pv, category=category, tolerance=tolerance, check_ok=check_ok, enclosure=enclosure)
     if computed_text is None:
-        computed_text = (f"{category} ({fmt(value)})" if category is not None and value is not None
-                         else fmt(value) if value is not None else "not computed")
+        computed_text = (
+            f"{category} ({fmt(value)})"
+            if category is not None and value is not None
+            else fmt(value)
+            if value is not None
+            else "not computed"
+        )
     if error_text is None:
-        error_text = (f"+- {error:.2g}" if error is not None
-                      else f"tolerance {tolerance:.0e}" if tolerance is not None else "")
+        error_text = (
+            f"+- {error:.2g}" if error is not None else f"tolerance {tolerance:.0e}" if tolerance is not None else ""
+        )
     paper_text = "(not in the paper)" if pv is None else f"{pv.text()} ({pv.where})"
-    spec = {"key": key, "quantity": quantity, "value": value, "error": error, "paper": None if pv is None else pv.key,
-            "explanation": explanation, "where": where, "computed_text": computed_text, "error_text": error_text,
-            "category": category, "tolerance": tolerance, "check_ok": bool(check_ok),
-            "enclosure": None if v.enclosure is None else list(v.enclosure)}
-    return Number(key=key, quantity=quantity, paper=paper_text, computed=computed_text, error_bar=error_text,
-                  deviation=v.text, verdict=v.verdict, explanation=explanation, where=where,
-                  value=value, error=error, paper_value=pv, outcome=v, spec=spec)
+    spec = {
+        "key": key,
+        "quantity": quantity,
+        "value": value,
+        "error": error,
+        "paper": None if pv is None else pv.key,
+        "explanation": explanation,
+        "where": where,
+        "computed_text": computed_text,
+        "error_text": error_text,
+        "category": category,
+        "tolerance": tolerance,
+        "check_ok": bool(check_ok),
+        "enclosure": None if v.enclosure is None else list(v.enclosure),
+    }
+    return Number(
+        key=key,
+        quantity=quantity,
+        paper=paper_text,
+        computed=computed_text,
+        error_bar=error_text,
+        deviation=v.text,
+        verdict=v.verdict,
+        explanation=explanation,
+        where=where,
+        value=value,
+        error=error,
+        paper_value=pv,
+        outcome=v,
+        spec=spec,
+    )

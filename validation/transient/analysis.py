@@ -82,7 +82,7 @@ def linear_fit(x, y, w=None):
     if rank < 2:
         raise ValueError("linear_fit needs at least two distinct x values")
     res = y - a - b * x
-    s2 = float((w * res ** 2).sum()) / (x.size - 2)
+    s2 = float((w * res**2).sum()) / (x.size - 2)
     # (X^T W X)^-1 from the triangular factor of the weighted design matrix: R^-1 R^-T
     Rinv = np.linalg.inv(np.linalg.qr(X, mode="r"))
     cov = s2 * (Rinv @ Rinv.T)
@@ -109,8 +109,16 @@ def _bootstrap(sample, statistic, n_boot: int, seed: int):
     give NaN and the interval is then undefined: its warning is silenced)."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", category=stats.DegenerateDataWarning)
-        return stats.bootstrap((sample,), statistic, n_resamples=int(n_boot), batch=1, vectorized=True,
-                               axis=0, method="percentile", rng=np.random.default_rng(seed))
+        return stats.bootstrap(
+            (sample,),
+            statistic,
+            n_resamples=int(n_boot),
+            batch=1,
+            vectorized=True,
+            axis=0,
+            method="percentile",
+            rng=np.random.default_rng(seed),
+        )
 
 
 @dataclass
@@ -149,8 +157,16 @@ def _fit_once(d, n_lo, n_hi, n_max):
     return a, b, se_a, se_b
 
 
-def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | None = None, n_hi: int | None = None,
-                 n_min_count: int = 100, n_boot: int = 200, seed: int = 0) -> SurvivalFit:
+def fit_survival(
+    durations,
+    censored=None,
+    cap: int | None = None,
+    n_lo: int | None = None,
+    n_hi: int | None = None,
+    n_min_count: int = 100,
+    n_boot: int = 200,
+    seed: int = 0,
+) -> SurvivalFit:
     """Fit Eq. (14) to the survival curve of ``durations`` (Fig. 11; see the module docstring).
 
     ``censored`` marks orbits stopped at ``cap`` (their duration is >= cap); the fit range must end
@@ -165,8 +181,10 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
     n_boot = check_int("n_boot", n_boot, 0, MAX_RESAMPLES)
     n_min_count = check_int("n_min_count", n_min_count, 1, MAX_ORBITS)
     if n_hi is None and d.size < n_min_count:
-        raise ValueError(f"{d.size} orbits are too few to fit: allowed at least n_min_count={n_min_count} (the fit "
-                         "range ends where fewer than n_min_count orbits are still transient)")
+        raise ValueError(
+            f"{d.size} orbits are too few to fit: allowed at least n_min_count={n_min_count} (the fit "
+            "range ends where fewer than n_min_count orbits are still transient)"
+        )
     auto_hi = "" if n_hi is not None else f" (n_hi: the last n with at least n_min_count={n_min_count} orbits left)"
     n_lo = int(np.median(d)) if n_lo is None else check_int("n_lo", n_lo, 0, MAX_AVERAGED)
     _, N = survival(d, cap)
@@ -183,9 +201,10 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
     tau = -1.0 / b
     kappa = mean_n / tau
     kappa_se_ls = mean_n * se_b  # slope error only, <n> held fixed (what a plain LS fit reports)
-    tau_se_ls = se_b / b ** 2
+    tau_se_ls = se_b / b**2
     kse = tse = math.nan
     if n_boot >= 2 and d.size >= 2:
+
         def stat(db, axis=-1):  # (..., n) resamples of the durations -> (2, ...): kappa, tau_fit
             db = np.moveaxis(db, axis, -1)
             out = np.full((2,) + db.shape[:-1], np.nan)
@@ -200,11 +219,25 @@ def fit_survival(durations, censored=None, cap: int | None = None, n_lo: int | N
             return out
 
         kse, tse = (float(v) for v in _boot_se(_bootstrap(d, stat, n_boot, seed)))
-    return SurvivalFit(float(math.exp(a)), float(kappa), float(kappa_se_ls), kse, mean_n, mean_se, float(tau),
-                       float(tau_se_ls), tse, n_lo, n_hi, int(d.size), int(c.sum()))
+    return SurvivalFit(
+        float(math.exp(a)),
+        float(kappa),
+        float(kappa_se_ls),
+        kse,
+        mean_n,
+        mean_se,
+        float(tau),
+        float(tau_se_ls),
+        tse,
+        n_lo,
+        n_hi,
+        int(d.size),
+        int(c.sum()),
+    )
 
 
 # ---------------------------------------------------------------- uncertainty exponent (Fig. 10)
+
 
 @dataclass
 class UncertaintyFit:
@@ -220,9 +253,16 @@ class UncertaintyFit:
     n_points: int
 
     def as_dict(self) -> dict:
-        return {"n_threshold": self.n_threshold, "eps": self.eps.tolist(), "f": self.f.tolist(), "phi": self.phi,
-                "phi_se_ls": self.phi_se_ls, "phi_se_boot": self.phi_se_boot, "log10_C": self.log10_C,
-                "n_points": self.n_points}
+        return {
+            "n_threshold": self.n_threshold,
+            "eps": self.eps.tolist(),
+            "f": self.f.tolist(),
+            "phi": self.phi,
+            "phi_se_ls": self.phi_se_ls,
+            "phi_se_boot": self.phi_se_boot,
+            "log10_C": self.log10_C,
+            "n_points": self.n_points,
+        }
 
 
 def uncertain_fraction(dA, dB, dC, n_threshold: int) -> np.ndarray:

@@ -66,8 +66,14 @@ def rounding_release(fig11) -> Release:
     where that certification is undecided, as for every certified source)."""
     if fig11.float64_rounding is not None:
         return fig11.float64_rounding
-    return release_for(fig11.engine, fig11.delta, ReleaseSource.CERTIFIED_FLOAT64_ROUNDING, deltas=(fig11.delta,),
-                       confirm=fig11.confirm, stick_time=fig11.stick_time)
+    return release_for(
+        fig11.engine,
+        fig11.delta,
+        ReleaseSource.CERTIFIED_FLOAT64_ROUNDING,
+        deltas=(fig11.delta,),
+        confirm=fig11.confirm,
+        stick_time=fig11.stick_time,
+    )
 
 
 def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> StickingConventions:
@@ -82,13 +88,20 @@ def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> Sticking
         variants.append((FLOAT64_ROUNDING, *res.duration(release=rounding_release(fig11))))
         variants.append((SAMPLE, *res.duration(delta)))
     variants += [(DECAYED, np.where(stuck, 0, dur), cens & ~stuck), (LEFT_OUT, dur[~stuck], cens[~stuck])]
-    rows = [ConventionFit(name, int(d.size), fit_survival(d, c, cap=cap, n_boot=n_boot, seed=seed))
-            for name, d, c in variants]
+    rows = [
+        ConventionFit(name, int(d.size), fit_survival(d, c, cap=cap, n_boot=n_boot, seed=seed))
+        for name, d, c in variants
+    ]
     decayed = next(r for r in rows if r.name == DECAYED)
-    between = all(min(getattr(rows[0].fit, k), getattr(decayed.fit, k)) <= pv
-                  <= max(getattr(rows[0].fit, k), getattr(decayed.fit, k))
-                  for k, pv in (("mean_n", PAPER["mean_n"].value), ("kappa", PAPER["kappa"].value)))
-    spans = {name: (min(getattr(r.fit, k) for r in rows), max(getattr(r.fit, k) for r in rows))
-             for name, k in (("decay time", "tau_fit"), ("<n>", "mean_n"), ("kappa", "kappa"))}
+    between = all(
+        min(getattr(rows[0].fit, k), getattr(decayed.fit, k))
+        <= pv
+        <= max(getattr(rows[0].fit, k), getattr(decayed.fit, k))
+        for k, pv in (("mean_n", PAPER["mean_n"].value), ("kappa", PAPER["kappa"].value))
+    )
+    spans = {
+        name: (min(getattr(r.fit, k) for r in rows), max(getattr(r.fit, k) for r in rows))
+        for name, k in (("decay time", "tau_fit"), ("<n>", "mean_n"), ("kappa", "kappa"))
+    }
     rel_spans = {name: (hi - lo) / lo if lo else float("nan") for name, (lo, hi) in spans.items()}
     return StickingConventions(rows, float(stuck.mean()), spans, rel_spans, between)

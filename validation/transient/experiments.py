@@ -23,8 +23,15 @@ from ...mapimpl.engine.transients import grid, transient_times
 from ...mapimpl.sticking import STICK_TIME
 from . import analysis as A
 from ..profiles import get_profile
-from .results import (BasinsResult, Float64Horizon, StickTimeRow, StickTimeSensitivity, SurvivalResult,
-                      UncertaintyResult, stick_counts)
+from .results import (
+    BasinsResult,
+    Float64Horizon,
+    StickTimeRow,
+    StickTimeSensitivity,
+    SurvivalResult,
+    UncertaintyResult,
+    stick_counts,
+)
 
 BASIN_NS = (90, 500, 1000, 2000)
 #: Fig. 9 window: the whole phase circle, 0 < sdot0 < 0.5 (contains the paper's box).
@@ -45,6 +52,7 @@ def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
 
 # ------------------------------------------------------------------------------------- Fig. 9
 
+
 def basins_mesh(profile: str, nx: int | None, ny: int | None) -> tuple[int, int]:
     """The Fig. 9 mesh ``(nx, ny)``: the profile's, ``ny`` with ``nx`` given keeping the profile's ratio
     ``ny/nx`` (quick 120 x 60: ``nx=121`` gives 121 x 60)."""
@@ -54,8 +62,19 @@ def basins_mesh(profile: str, nx: int | None, ny: int | None) -> tuple[int, int]
     return (size["nx"] if nx is None else int(nx)), int(ny)
 
 
-def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, delta=DELTA,
-           params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, progress=None, lanes=None) -> BasinsResult:
+def basins(
+    profile="quick",
+    nx=None,
+    ny=None,
+    window=BASIN_WINDOW,
+    ns=BASIN_NS,
+    delta=DELTA,
+    params: Params = PAPER_PARAMS,
+    ic_mode="pre-impact",
+    s0=None,
+    progress=None,
+    lanes=None,
+) -> BasinsResult:
     """Fig. 9: durations on an ``nx`` x ``ny`` mesh computed once (cap = max(ns)), thresholded at each
     n: black = duration < n ("short" transients).  Defaults: the profile's mesh; ``ny`` with ``nx``
     given keeps the profile's ratio ``ny/nx`` (quick: 120 x 60, so ``nx=121`` gives 121 x 60)."""
@@ -64,17 +83,44 @@ def basins(profile="quick", nx=None, ny=None, window=BASIN_WINDOW, ns=BASIN_NS, 
     if not ns:
         raise ValueError(f"ns=() is out of range: allowed one or more integers 1 <= n <= {MAX_AVERAGED}")
     T, S = grid(window, nx, ny)
-    res = transient_times(params, T.ravel(), S.ravel(), ic_mode=ic_mode, s0=s0, delta=delta, deltas=(delta,),
-                          cap=ns[-1], progress=progress, label="basins", lanes=lanes)
+    res = transient_times(
+        params,
+        T.ravel(),
+        S.ravel(),
+        ic_mode=ic_mode,
+        s0=s0,
+        delta=delta,
+        deltas=(delta,),
+        cap=ns[-1],
+        progress=progress,
+        label="basins",
+        lanes=lanes,
+    )
     rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=get_profile(profile, "confirm"), progress=progress)
     dur, cens = res.duration(release=rel)
     D = dur.reshape(T.shape)
     fractions = {int(n): float(np.mean(D < n)) for n in ns}
-    return BasinsResult(params, tuple(window), nx, ny, ns, delta, ic_mode, T, S, D, cens.reshape(T.shape), fractions,
-                        stick_counts(res, delta), rel.info(), res)
+    return BasinsResult(
+        params,
+        tuple(window),
+        nx,
+        ny,
+        ns,
+        delta,
+        ic_mode,
+        T,
+        S,
+        D,
+        cens.reshape(T.shape),
+        fractions,
+        stick_counts(res, delta),
+        rel.info(),
+        res,
+    )
 
 
 # ------------------------------------------------------------------------------------ Fig. 10
+
 
 def default_eps(profile: str, n_eps: int | None = None, lo: float = EPS_RANGE[0], hi: float = EPS_RANGE[1]):
     """``n_eps`` (default: the profile's) log-spaced eps values from ``lo`` to ``hi``."""
@@ -82,8 +128,19 @@ def default_eps(profile: str, n_eps: int | None = None, lo: float = EPS_RANGE[0]
     return np.logspace(np.log10(lo), np.log10(hi), n_eps)
 
 
-def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0, box=PAPER_BOX, delta=DELTA,
-                params: Params = PAPER_PARAMS, n_boot=200, progress=None, lanes=None) -> UncertaintyResult:
+def uncertainty(
+    profile="quick",
+    n_points=None,
+    eps=None,
+    ns=(500, 1000),
+    seed=0,
+    box=PAPER_BOX,
+    delta=DELTA,
+    params: Params = PAPER_PARAMS,
+    n_boot=200,
+    progress=None,
+    lanes=None,
+) -> UncertaintyResult:
     """Fig. 10: fraction f(eps) of eps-uncertain points among ``n_points`` random points of ``box``
     (deterministic ``seed``); B, C = (tau0 +- eps, sdot0).  Fits f ~ eps^phi for each n."""
     n_points = get_profile(profile, "uncertainty")["n_points"] if n_points is None else int(n_points)
@@ -100,25 +157,55 @@ def uncertainty(profile="quick", n_points=None, eps=None, ns=(500, 1000), seed=0
     E = eps.size
     tau = np.concatenate([tA, (tA[:, None] + eps).ravel(), (tA[:, None] - eps).ravel()])
     sd = np.concatenate([sA, np.repeat(sA, E), np.repeat(sA, E)])
-    res = transient_times(params, tau, sd, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress,
-                          label="uncertainty", lanes=lanes)
+    res = transient_times(
+        params, tau, sd, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress, label="uncertainty", lanes=lanes
+    )
     rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=get_profile(profile, "confirm"), progress=progress)
     dur = res.duration(release=rel)[0]
     dA = dur[:n_points]
-    dB = dur[n_points:n_points * (1 + E)].reshape(n_points, E)
-    dC = dur[n_points * (1 + E):].reshape(n_points, E)
+    dB = dur[n_points : n_points * (1 + E)].reshape(n_points, E)
+    dC = dur[n_points * (1 + E) :].reshape(n_points, E)
     notes: list = []
-    fits = {n: _fit_or_note(notes, f"uncertainty: n={n}", A.fit_uncertainty, eps, A.uncertain_mask(dA, dB, dC, n),
-                            n, n_boot=n_boot, seed=seed) for n in ns}
+    fits = {
+        n: _fit_or_note(
+            notes,
+            f"uncertainty: n={n}",
+            A.fit_uncertainty,
+            eps,
+            A.uncertain_mask(dA, dB, dC, n),
+            n,
+            n_boot=n_boot,
+            seed=seed,
+        )
+        for n in ns
+    }
     return UncertaintyResult(params, n_points, eps, seed, delta, ns, tA, sA, dA, dB, dC, fits, rel.info(), res, notes)
 
 
 # ------------------------------------------------------------------------------------ Fig. 11
 
-def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta=DELTA, deltas=DELTAS,
-               params: Params = PAPER_PARAMS, ic_mode="pre-impact", s0=None, n_lo=None, n_hi=None, n_boot=200, seed=0,
-               progress=None, lanes=None, stick_time: float = STICK_TIME,
-               release: ReleaseSource | str = ReleaseSource.CERTIFIED, float64_rounding: bool = False) -> SurvivalResult:
+
+def transients(
+    profile="quick",
+    nx=None,
+    ny=None,
+    cap=None,
+    box=PAPER_BOX,
+    delta=DELTA,
+    deltas=DELTAS,
+    params: Params = PAPER_PARAMS,
+    ic_mode="pre-impact",
+    s0=None,
+    n_lo=None,
+    n_hi=None,
+    n_boot=200,
+    seed=0,
+    progress=None,
+    lanes=None,
+    stick_time: float = STICK_TIME,
+    release: ReleaseSource | str = ReleaseSource.CERTIFIED,
+    float64_rounding: bool = False,
+) -> SurvivalResult:
     """Fig. 11: survival N(n) on an ``nx`` x ``ny`` mesh of ``box``; Eq. (14) fit for every recorded
     delta (the dependence on delta).
 
@@ -138,22 +225,71 @@ def transients(profile="quick", nx=None, ny=None, cap=None, box=PAPER_BOX, delta
     cap = size["cap"] if cap is None else int(cap)
     confirm = get_profile(profile, "confirm")
     T, S = grid(box, nx, ny)
-    res = transient_times(params, T.ravel(), S.ravel(), ic_mode=ic_mode, s0=s0, delta=delta, deltas=deltas, cap=cap,
-                          progress=progress, label="transients", lanes=lanes, stick_time=stick_time)
+    res = transient_times(
+        params,
+        T.ravel(),
+        S.ravel(),
+        ic_mode=ic_mode,
+        s0=s0,
+        delta=delta,
+        deltas=deltas,
+        cap=cap,
+        progress=progress,
+        label="transients",
+        lanes=lanes,
+        stick_time=stick_time,
+    )
     fit_kw = dict(cap=cap, n_lo=n_lo, n_hi=n_hi, n_boot=n_boot, seed=seed)
     notes: list = []
-    t_post = {float(d): release_for(res, d, release, confirm=confirm, stick_time=stick_time, progress=progress)
-              for d in res.deltas}
+    t_post = {
+        float(d): release_for(res, d, release, confirm=confirm, stick_time=stick_time, progress=progress)
+        for d in res.deltas
+    }
     composed = {d: res.duration(release=r) for d, r in t_post.items()}
-    fits = {d: _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **fit_kw)
-            for d, (dur, cens) in composed.items()}
+    fits = {
+        d: _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **fit_kw)
+        for d, (dur, cens) in composed.items()
+    }
     hit = np.stack([np.where(cens, -1, dur) for dur, cens in composed.values()], axis=1)
-    rounding = (release_for(res, delta, ReleaseSource.CERTIFIED_FLOAT64_ROUNDING, deltas=(delta,), confirm=confirm,
-                            stick_time=stick_time, progress=progress) if float64_rounding else None)
+    rounding = (
+        release_for(
+            res,
+            delta,
+            ReleaseSource.CERTIFIED_FLOAT64_ROUNDING,
+            deltas=(delta,),
+            confirm=confirm,
+            stick_time=stick_time,
+            progress=progress,
+        )
+        if float64_rounding
+        else None
+    )
     fit_sample = _fit_or_note([], "", A.fit_survival, *res.duration(delta), **fit_kw)
     n, N = A.survival(composed[float(res.deltas[res.column(delta)])][0], cap)
-    return SurvivalResult(params, tuple(box), nx, ny, cap, delta, ic_mode, s0, stick_time, release, confirm, T, S,
-                          hit, fits, fit_sample, t_post, rounding, n, N, res, notes)
+    return SurvivalResult(
+        params,
+        tuple(box),
+        nx,
+        ny,
+        cap,
+        delta,
+        ic_mode,
+        s0,
+        stick_time,
+        release,
+        confirm,
+        T,
+        S,
+        hit,
+        fits,
+        fit_sample,
+        t_post,
+        rounding,
+        n,
+        N,
+        res,
+        notes,
+    )
 
 
 # ------------------------------------------------------------ sensitivity to the sticking decision
@@ -172,8 +308,16 @@ def _base_row_data(fig11: SurvivalResult, stride: int, k: int):
     return np.where(cens, fig11.cap, h), cens, comp, {str(w): int(np.sum(comp & (sw == w))) for w in (0, -1)}
 
 
-def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=STICK_TIMES, stride=None,
-                           n_boot=100, seed=0, progress=None, lanes=None) -> StickTimeSensitivity:
+def stick_time_sensitivity(
+    fig11: SurvivalResult,
+    profile="quick",
+    stick_times=STICK_TIMES,
+    stride=None,
+    n_boot=100,
+    seed=0,
+    progress=None,
+    lanes=None,
+) -> StickTimeSensitivity:
     """<n>, kappa and the sticking fraction of Eq. (14) for other values of the chatter threshold
     ``stick_time`` (the predicted accumulation time below which chatter is replaced by sticking,
     :mod:`mapimpl.sticking`), on a sub-mesh of the Fig. 11 run ``fig11`` (a :class:`SurvivalResult` with
@@ -181,8 +325,9 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
     the quick profile, 4 in the paper profile -- a 100 x 100 sub-mesh -- to bound the cost).  The run's
     own threshold is taken from its durations (not recomputed); every threshold uses its own certified
     ``T_post`` (the post-release orbit's sticking decisions depend on it too)."""
-    stride = get_profile(profile, "stick_time")["stride"] if stride is None else check_int("stride", stride, 1,
-                                                                                             MAX_ORBITS)
+    stride = (
+        get_profile(profile, "stick_time")["stride"] if stride is None else check_int("stride", stride, 1, MAX_ORBITS)
+    )
     for st in stick_times:
         if not (math.isfinite(float(st)) and 0 < float(st) <= 1e-2):
             raise ValueError(f"stick_times: {st!r} is out of range: allowed 0 < stick_time <= 1e-2")
@@ -198,8 +343,18 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
         if st == base:
             dur, cens, comp, counts = _base_row_data(fig11, stride, k)
         else:
-            res = transient_times(p, T.ravel(), S.ravel(), delta=delta, deltas=(delta,), cap=cap, progress=progress,
-                                  label=f"stick_time={st:g}", lanes=lanes, stick_time=st)
+            res = transient_times(
+                p,
+                T.ravel(),
+                S.ravel(),
+                delta=delta,
+                deltas=(delta,),
+                cap=cap,
+                progress=progress,
+                label=f"stick_time={st:g}",
+                lanes=lanes,
+                stick_time=st,
+            )
             rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=confirm, stick_time=st, progress=progress)
             dur, cens = res.duration(release=rel)
             comp, counts = res.composed(delta), stick_counts(res, delta)
@@ -211,8 +366,14 @@ def stick_time_sensitivity(fig11: SurvivalResult, profile="quick", stick_times=S
 
 # --------------------------------------------------------------- the float64 horizon (a sample, not a value)
 
-def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float = DELTA, n_side: int | None = None,
-                    impacts: int | None = None) -> Float64Horizon:
+
+def float64_horizon(
+    params: Params = PAPER_PARAMS,
+    profile="quick",
+    delta: float = DELTA,
+    n_side: int | None = None,
+    impacts: int | None = None,
+) -> Float64Horizon:
     """The number of impacts after which a float64 transient orbit has lost the true one: the
     transient Lyapunov exponent ``lambda1`` (:func:`mapimpl.float64_release.transient_lyapunov`, a
     small grid of the Fig. 11 box: 6 x 6 orbits x 2000 impacts quick, 8 x 8 x 3000 paper) and
@@ -225,5 +386,14 @@ def float64_horizon(params: Params = PAPER_PARAMS, profile="quick", delta: float
     impacts = size["impacts"] if impacts is None else int(impacts)
     ly = REL.transient_lyapunov(params, n_side=n_side, impacts=impacts)
     lam = float(ly["lambda1"])
-    return Float64Horizon(lam, int(ly["impacts_used"]), int(ly["orbits"]), int(ly["orbits_reaching_target"]), n_side,
-                          impacts, delta, REL.float64_horizon(lam, delta), REL.float64_horizon(lam, 1.0))
+    return Float64Horizon(
+        lam,
+        int(ly["impacts_used"]),
+        int(ly["orbits"]),
+        int(ly["orbits_reaching_target"]),
+        n_side,
+        impacts,
+        delta,
+        REL.float64_horizon(lam, delta),
+        REL.float64_horizon(lam, 1.0),
+    )

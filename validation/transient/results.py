@@ -52,16 +52,32 @@ class BasinsResult:
 
     def arrays(self) -> dict:
         """The arrays of ``basins.npz``."""
-        return dict(tau0=self.tau0, sdot0=self.sdot0, duration=self.duration, censored=self.censored,
-                    nstick=self.engine.nstick.reshape(self.tau0.shape), ns=np.array(self.ns), delta=self.delta,
-                    window=np.array(self.window))
+        return dict(
+            tau0=self.tau0,
+            sdot0=self.sdot0,
+            duration=self.duration,
+            censored=self.censored,
+            nstick=self.engine.nstick.reshape(self.tau0.shape),
+            ns=np.array(self.ns),
+            delta=self.delta,
+            window=np.array(self.window),
+        )
 
     def summary(self) -> dict:
         """The numbers of ``basins.json``."""
-        return {"figure": "9", "nx": self.nx, "ny": self.ny, "window": list(self.window), "ns": list(self.ns),
-                "delta": self.delta, "short_fraction": self.short_fraction,
-                "orbits_with_sticking": self.engine.n_stuck_orbits, "stick_counts": self.stick_counts,
-                "release": self.release, "engine": self.engine.summary()}
+        return {
+            "figure": "9",
+            "nx": self.nx,
+            "ny": self.ny,
+            "window": list(self.window),
+            "ns": list(self.ns),
+            "delta": self.delta,
+            "short_fraction": self.short_fraction,
+            "orbits_with_sticking": self.engine.n_stuck_orbits,
+            "stick_counts": self.stick_counts,
+            "release": self.release,
+            "engine": self.engine.summary(),
+        }
 
 
 @dataclass
@@ -92,8 +108,16 @@ class UncertaintyResult:
 
     def arrays(self) -> dict:
         """The arrays of ``uncertainty.npz``."""
-        return dict(eps=self.eps, tauA=self.tauA, sdotA=self.sdotA, dA=self.dA, dB=self.dB, dC=self.dC,
-                    ns=np.array(self.ns), f=np.array([self.fraction(n) for n in self.ns]))
+        return dict(
+            eps=self.eps,
+            tauA=self.tauA,
+            sdotA=self.sdotA,
+            dA=self.dA,
+            dB=self.dB,
+            dC=self.dC,
+            ns=np.array(self.ns),
+            f=np.array([self.fraction(n) for n in self.ns]),
+        )
 
     def table(self) -> tuple[list, list]:
         """``(header, rows)`` of ``uncertainty.csv``: eps and f(eps) at each n."""
@@ -103,10 +127,17 @@ class UncertaintyResult:
     def summary(self) -> dict:
         """The numbers of ``uncertainty.json``."""
         paper = {str(n): [PAPER[f"phi_{n}"].value, PAPER[f"phi_{n}"].error] for n in (500, 1000)}
-        return {"figure": "10", "n_points": self.n_points, "eps": self.eps.tolist(), "seed": self.seed,
-                "delta": self.delta,
-                "fits": {str(n): (f.as_dict() if f is not None else None) for n, f in self.fits.items()},
-                "paper": paper, "release": self.release, "engine": self.engine.summary()}
+        return {
+            "figure": "10",
+            "n_points": self.n_points,
+            "eps": self.eps.tolist(),
+            "seed": self.seed,
+            "delta": self.delta,
+            "fits": {str(n): (f.as_dict() if f is not None else None) for n, f in self.fits.items()},
+            "paper": paper,
+            "release": self.release,
+            "engine": self.engine.summary(),
+        }
 
 
 @dataclass
@@ -207,12 +238,25 @@ class SurvivalResult(Outcome):
         """The arrays of ``transients.npz``."""
         shape, r, p = self.tau0.shape, self.engine, self.params
         sample = np.stack([np.where(c, -1, d) for d, c in (r.duration(x) for x in r.deltas)], axis=1)
-        return dict(tau0=self.tau0, sdot0=self.sdot0, hit=self.hit.reshape(shape + (-1,)),
-                    hit_float64_sample=sample.reshape(shape + (-1,)), deltas=r.deltas, delta=self.delta, cap=self.cap,
-                    status=r.status.reshape(shape), nstick=r.nstick.reshape(shape),
-                    first_stick=r.first_stick.reshape(shape), stick_wall=r.stick_wall.reshape(shape),
-                    composed=self.composed.reshape(shape), stick_time=self.stick_time, release=self.release.value,
-                    params=np.array([p.alpha, p.beta, p.gamma, p.r]), n=self.n, N=self.N)
+        return dict(
+            tau0=self.tau0,
+            sdot0=self.sdot0,
+            hit=self.hit.reshape(shape + (-1,)),
+            hit_float64_sample=sample.reshape(shape + (-1,)),
+            deltas=r.deltas,
+            delta=self.delta,
+            cap=self.cap,
+            status=r.status.reshape(shape),
+            nstick=r.nstick.reshape(shape),
+            first_stick=r.first_stick.reshape(shape),
+            stick_wall=r.stick_wall.reshape(shape),
+            composed=self.composed.reshape(shape),
+            stick_time=self.stick_time,
+            release=self.release.value,
+            params=np.array([p.alpha, p.beta, p.gamma, p.r]),
+            n=self.n,
+            N=self.N,
+        )
 
     def survival_table(self, rows: int = SURVIVAL_ROWS) -> tuple[list, list]:
         """``(header, rows)`` of ``survival.csv``: ``n, N(n)``, every ``len(n) // rows``-th point."""
@@ -223,16 +267,30 @@ class SurvivalResult(Outcome):
         """The numbers of ``transients.json``; ``paper``: the paper's values where the parameters are
         the paper's, else a line saying that no comparison is made."""
         fs = self.fit_float64_sample
-        return {"figure": "11", "nx": self.nx, "ny": self.ny, "cap": self.cap, "box": list(self.box),
-                "delta": self.delta, "ic_mode": self.ic_mode, "s0": self.s0, "stick_time": self.stick_time,
-                "release_source": self.release.value, "params_decimal": decimal_params(self.params),
-                "fits": {f"{d:g}": (f.as_dict() if f is not None else None) for d, f in self.fits.items()},
-                "fits_float64_sample": fs.as_dict() if fs is not None else None,
-                "stick_counts": self.stick_counts, "n_composed": int(self.composed.sum()),
-                "release": self.release_info(),
-                "paper": ({"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]}
-                          if self.paper_setting else no_comparison(self.params)),
-                "engine": self.engine.summary()}
+        return {
+            "figure": "11",
+            "nx": self.nx,
+            "ny": self.ny,
+            "cap": self.cap,
+            "box": list(self.box),
+            "delta": self.delta,
+            "ic_mode": self.ic_mode,
+            "s0": self.s0,
+            "stick_time": self.stick_time,
+            "release_source": self.release.value,
+            "params_decimal": decimal_params(self.params),
+            "fits": {f"{d:g}": (f.as_dict() if f is not None else None) for d, f in self.fits.items()},
+            "fits_float64_sample": fs.as_dict() if fs is not None else None,
+            "stick_counts": self.stick_counts,
+            "n_composed": int(self.composed.sum()),
+            "release": self.release_info(),
+            "paper": (
+                {"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]}
+                if self.paper_setting
+                else no_comparison(self.params)
+            ),
+            "engine": self.engine.summary(),
+        }
 
 
 def paper_setting(params: Params) -> bool:
@@ -263,10 +321,16 @@ class StickTimeRow:
     fit: A.SurvivalFit | None
 
     def as_dict(self) -> dict:
-        return {"stick_time": self.stick_time, "base": self.base, "n_ic": self.n_ic,
-                "sticking_fraction": self.sticking_fraction, "stick_counts": self.stick_counts,
-                "T_post_upper": self.T_post_upper, "T_post_upper_status": self.T_post_upper_status,
-                "fit": self.fit.as_dict() if self.fit is not None else None}
+        return {
+            "stick_time": self.stick_time,
+            "base": self.base,
+            "n_ic": self.n_ic,
+            "sticking_fraction": self.sticking_fraction,
+            "stick_counts": self.stick_counts,
+            "T_post_upper": self.T_post_upper,
+            "T_post_upper_status": self.T_post_upper_status,
+            "fit": self.fit.as_dict() if self.fit is not None else None,
+        }
 
 
 @dataclass
@@ -284,8 +348,14 @@ class StickTimeSensitivity:
 
     def summary(self) -> dict:
         """The numbers of ``stick_time_sensitivity.json``."""
-        return {"stride": self.stride, "nx": self.nx, "ny": self.ny, "cap": self.cap, "delta": self.delta,
-                "rows": [r.as_dict() for r in self.rows]}
+        return {
+            "stride": self.stride,
+            "nx": self.nx,
+            "ny": self.ny,
+            "cap": self.cap,
+            "delta": self.delta,
+            "rows": [r.as_dict() for r in self.rows],
+        }
 
 
 @dataclass

@@ -15,18 +15,64 @@ wrapper in :mod:`.orbits`, the run sizes in :mod:`validation.profiles`.  Methods
 """
 
 from .alpha1 import PAPER_ALPHA1, locate_alpha1
-from ....mapimpl.branches import (ALPHA1_START, R2_START, attractor_point, four_impact_branch, orbit_on_branch,
-                                  six_impact_branch)
+from ....mapimpl.branches import (
+    ALPHA1_START,
+    R2_START,
+    attractor_point,
+    four_impact_branch,
+    orbit_on_branch,
+    six_impact_branch,
+)
 from .r1 import PAPER_R1_FIG7, locate_r1
 from .r2 import PAPER_R2_FIG5, LaminarStats, laminar_statistics, locate_r2
 from .results import Alpha1Result, R1Result, R2Result
-from .stats import (Bracket, CrisisFit, Located, MeanTime, bracket, locate, censored_lifetimes, fit_crisis, fit_crisis_fixed,
-                    fit_power_law, goy_exponent, lifetime_lower_bound, mean_time, range_systematic)
+from .stats import (
+    Bracket,
+    CrisisFit,
+    Located,
+    MeanTime,
+    bracket,
+    locate,
+    censored_lifetimes,
+    fit_crisis,
+    fit_crisis_fixed,
+    fit_power_law,
+    goy_exponent,
+    lifetime_lower_bound,
+    mean_time,
+    range_systematic,
+)
 
 __all__ = [
-    "locate_r2", "locate_r1", "locate_alpha1", "R2Result", "R1Result", "Alpha1Result", "PAPER_R2_FIG5", "PAPER_R1_FIG7", "PAPER_ALPHA1",
-    "attractor_point", "six_impact_branch", "four_impact_branch", "orbit_on_branch", "R2_START", "ALPHA1_START",
-    "LaminarStats", "laminar_statistics", "MeanTime", "CrisisFit", "Bracket", "mean_time", "censored_lifetimes",
-    "lifetime_lower_bound", "fit_crisis", "fit_crisis_fixed", "range_systematic", "fit_power_law", "goy_exponent",
-    "bracket", "Located", "locate",
+    "locate_r2",
+    "locate_r1",
+    "locate_alpha1",
+    "R2Result",
+    "R1Result",
+    "Alpha1Result",
+    "PAPER_R2_FIG5",
+    "PAPER_R1_FIG7",
+    "PAPER_ALPHA1",
+    "attractor_point",
+    "six_impact_branch",
+    "four_impact_branch",
+    "orbit_on_branch",
+    "R2_START",
+    "ALPHA1_START",
+    "LaminarStats",
+    "laminar_statistics",
+    "MeanTime",
+    "CrisisFit",
+    "Bracket",
+    "mean_time",
+    "censored_lifetimes",
+    "lifetime_lower_bound",
+    "fit_crisis",
+    "fit_crisis_fixed",
+    "range_systematic",
+    "fit_power_law",
+    "goy_exponent",
+    "bracket",
+    "Located",
+    "locate",
 ]

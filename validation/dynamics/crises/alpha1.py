@@ -70,8 +70,9 @@ def nodes(branch, alphas) -> list:
     return [orbit_on_branch(branch, float(a), "node") for a in np.atleast_1d(alphas)]
 
 
-def attractor_ics(branch, alpha_ref: float, n: int, settle: int, seed: int = 0, cost: Cost | None = None,
-                  base: Params = ALPHA1_START) -> dict:
+def attractor_ics(
+    branch, alpha_ref: float, n: int, settle: int, seed: int = 0, cost: Cost | None = None, base: Params = ALPHA1_START
+) -> dict:
     """``n`` states on the chaotic attractor at ``alpha_ref`` (< alpha1): end states of box orbits that
     the node did not capture in ``settle`` impacts.  Returns ``theta, sdot, wall`` and ``drawn``,
     ``captured`` (box orbits captured by the node: its basin)."""
@@ -84,19 +85,31 @@ def attractor_ics(branch, alpha_ref: float, n: int, settle: int, seed: int = 0, 
     for attempt in range(6):
         m = int(math.ceil(1.3 * (n - len(out_th)))) + 8
         t0, s0, w0 = box_ics(m, seed + 1000 * attempt)
-        r = engine_run(cost, "alpha1: settle on the attractor", t0, s0, w0, base.replace(alpha=alpha_ref), obs,
-                       cap=settle)
+        r = engine_run(
+            cost, "alpha1: settle on the attractor", t0, s0, w0, base.replace(alpha=alpha_ref), obs, cap=settle
+        )
         ok = r.status == Status.CAPPED
         drawn += m
         captured += int(np.sum(r.status == Status.STOPPED))
-        out_th += list(r.theta[ok]); out_sd += list(r.sdot[ok]); out_w += list(r.wall[ok])
+        out_th += list(r.theta[ok])
+        out_sd += list(r.sdot[ok])
+        out_w += list(r.wall[ok])
         if len(out_th) >= n:
             break
     else:
-        raise RuntimeError(f"only {len(out_th)} of {drawn} box orbits stayed off the node at alpha_ref={alpha_ref} "
-                           f"(is alpha_ref below alpha1?)")
-    return {"theta": np.array(out_th[:n]), "sdot": np.array(out_sd[:n]), "wall": np.array(out_w[:n], np.int32),
-            "drawn": drawn, "captured": captured, "alpha_ref": float(alpha_ref), "settle": int(settle)}
+        raise RuntimeError(
+            f"only {len(out_th)} of {drawn} box orbits stayed off the node at alpha_ref={alpha_ref} "
+            f"(is alpha_ref below alpha1?)"
+        )
+    return {
+        "theta": np.array(out_th[:n]),
+        "sdot": np.array(out_sd[:n]),
+        "wall": np.array(out_w[:n], np.int32),
+        "drawn": drawn,
+        "captured": captured,
+        "alpha_ref": float(alpha_ref),
+        "settle": int(settle),
+    }
 
 
 def _first(ics: dict, n: int) -> dict:
@@ -104,8 +117,17 @@ def _first(ics: dict, n: int) -> dict:
     return {k: (v[:n] if k in ("theta", "sdot", "wall") else v) for k, v in ics.items()}
 
 
-def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | None = None,
-              label: str = "alpha1: lifetimes", base: Params = ALPHA1_START, level: float = LEVEL) -> list[dict]:
+def lifetimes(
+    alphas,
+    ics: dict,
+    branch,
+    cap: int,
+    n0: int = N0,
+    cost: Cost | None = None,
+    label: str = "alpha1: lifetimes",
+    base: Params = ALPHA1_START,
+    level: float = LEVEL,
+) -> list[dict]:
     """Mean escape time from the chaotic set at each alpha: every initial condition of ``ics`` at every
     alpha, one engine run, capped at ``cap`` impacts.  Per alpha: ``alpha``, ``rate``
     (:class:`~.stats.MeanTime`), ``dropped`` (escaped before ``n0``), ``approach_lag_max`` (largest
@@ -114,9 +136,16 @@ def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | No
     m = ics["theta"].size
     th, sd, w = orbit_points(nodes(branch, alphas))
     A = np.repeat(alphas, m)
-    r = engine_run(cost, label, np.tile(ics["theta"], alphas.size), np.tile(ics["sdot"], alphas.size),
-                   np.tile(ics["wall"], alphas.size), per_orbit(base, "alpha", A),
-                   Capture(th, sd, w, np.array([APPROACH, DELTA])), cap=cap)
+    r = engine_run(
+        cost,
+        label,
+        np.tile(ics["theta"], alphas.size),
+        np.tile(ics["sdot"], alphas.size),
+        np.tile(ics["wall"], alphas.size),
+        per_orbit(base, "alpha", A),
+        Capture(th, sd, w, np.array([APPROACH, DELTA])),
+        cap=cap,
+    )
     hit = r.obs[0]["hit"]
     out = []
     for i, a in enumerate(alphas):
@@ -126,8 +155,15 @@ def lifetimes(alphas, ics: dict, branch, cap: int, n0: int = N0, cost: Cost | No
         ended = (r.status[sl] != Status.CAPPED) & ~captured  # stuck forever / no impact: censored where they ended
         rate, dropped = censored_lifetimes(h[:, 1], r.n[sl], n0, level)
         lag = int(np.max(h[captured, 1] - h[captured, 0])) if captured.any() else 0
-        out.append({"alpha": float(a), "rate": rate, "dropped": dropped, "approach_lag_max": lag,
-                    "other_end": int(ended.sum())})
+        out.append(
+            {
+                "alpha": float(a),
+                "rate": rate,
+                "dropped": dropped,
+                "approach_lag_max": lag,
+                "other_end": int(ended.sum()),
+            }
+        )
     return out
 
 
@@ -175,8 +211,7 @@ def _bracket_runs(pr: dict, br, probe_ics: dict, rows: list, g: float, goy, stro
         probes = next_probes(a, k, E, "above", goy.mu_c, max(2 * err, pr["target"] / 2), pr["target"], strong, deep)
         if not probes:
             break
-        rows += lifetimes(np.round(probes, 9), probe_ics, br, pr["probe_cap"], cost=cost,
-                          label="alpha1: bracket runs")
+        rows += lifetimes(np.round(probes, 9), probe_ics, br, pr["probe_cap"], cost=cost, label="alpha1: bracket runs")
         goy = fit_crisis(*_arrays(rows), "above", g=g)
 
 
@@ -185,21 +220,40 @@ def _lifetime_table(rows: list) -> list[dict]:
     table = []
     for x in sorted(rows, key=lambda x: x["alpha"]):
         rt = x["rate"]
-        table.append({"alpha": x["alpha"], "T": rt.T, "lo": rt.lo, "hi": rt.hi, "events": rt.events,
-                      "exposure": rt.exposure, "orbits": rt.orbits, "dropped": x["dropped"],
-                      "approach_lag_max": x["approach_lag_max"], "other_end": x["other_end"]})
+        table.append(
+            {
+                "alpha": x["alpha"],
+                "T": rt.T,
+                "lo": rt.lo,
+                "hi": rt.hi,
+                "events": rt.events,
+                "exposure": rt.exposure,
+                "orbits": rt.orbits,
+                "dropped": x["dropped"],
+                "approach_lag_max": x["approach_lag_max"],
+                "other_end": x["other_end"],
+            }
+        )
     return table
 
 
 def _at_paper_alpha1(table: list[dict], goy) -> dict:
     """The measured mean lifetime at the paper's alpha1 (the scan row nearest to it) and the law's."""
     row = min(table, key=lambda x: abs(x["alpha"] - PAPER_ALPHA1))
-    return {"alpha": PAPER_ALPHA1, "measured_at": row["alpha"], "T": row["T"], "lo": row["lo"], "hi": row["hi"],
-            "diagram_impacts_equal": row["T"], "T_law": float(goy.T(PAPER_ALPHA1))}
+    return {
+        "alpha": PAPER_ALPHA1,
+        "measured_at": row["alpha"],
+        "T": row["T"],
+        "lo": row["lo"],
+        "hi": row["hi"],
+        "diagram_impacts_equal": row["T"],
+        "T_law": float(goy.T(PAPER_ALPHA1)),
+    }
 
 
-def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int = 0, *,
-                  sizes: dict | None = None) -> Alpha1Result:
+def locate_alpha1(
+    profile: str = "quick", branch=None, progress=None, seed: int = 0, *, sizes: dict | None = None
+) -> Alpha1Result:
     """Locate the boundary crisis alpha1 (Fig. 8, r = 0.9) from escape times of the pre-crisis chaotic
     set (the module docstring).
 
@@ -229,8 +283,16 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     With tiny run sizes (a rough estimate; the paper profile, docs/dynamics.md):
 
     >>> from gear_rattle.validation.dynamics.crises.alpha1 import locate_alpha1
-    >>> tiny = {"ics": 8, "settle": 500, "coarse": [1.2442, 1.2465], "fine": [1.5e-5], "cap": 4000,
-    ...         "probe_cap": 4000, "max_probes": 1, "T_deep": 1e3}
+    >>> tiny = {
+    ...     "ics": 8,
+    ...     "settle": 500,
+    ...     "coarse": [1.2442, 1.2465],
+    ...     "fine": [1.5e-5],
+    ...     "cap": 4000,
+    ...     "probe_cap": 4000,
+    ...     "max_probes": 1,
+    ...     "T_deep": 1e3,
+    ... }
     >>> res = locate_alpha1(sizes=tiny)
     >>> bool(1.2420 < res.alpha1 < 1.2450), bool(res.alpha_sn < res.alpha1)
     (True, True)
@@ -260,14 +322,36 @@ def locate_alpha1(profile: str = "quick", branch=None, progress=None, seed: int 
     table = _lifetime_table(rows)
     finite_T = [x["T"] for x in table if x["events"] > 0]
     return Alpha1Result(
-        alpha1=where.value, alpha1_err=where.err, method=where.method, located=where, alpha1_goy=goy.mu_c,
-        alpha1_goy_err=total, alpha1_stat=goy.err, alpha1_syst=syst_goy, alpha1_free=free.mu_c,
-        alpha1_free_err=math.hypot(free.err, syst_free), g_free=free.g, g_free_err=free.g_err, fit_goy=goy,
-        fit_free=free, subranges_goy=sub_goy, subranges_free=sub_free, goy_exponent=g, saddle=sad,
-        alpha_sn=br.folds[0].mu, node=node, branch=br, bracket=brk, bracket_margin=margin,
-        consistent=where.outside <= 1.0 and np.isfinite(brk.clear), lifetimes=table,
-        T_max_measured=float(max(finite_T)) if finite_T else math.nan, paper=_at_paper_alpha1(table, goy),
+        alpha1=where.value,
+        alpha1_err=where.err,
+        method=where.method,
+        located=where,
+        alpha1_goy=goy.mu_c,
+        alpha1_goy_err=total,
+        alpha1_stat=goy.err,
+        alpha1_syst=syst_goy,
+        alpha1_free=free.mu_c,
+        alpha1_free_err=math.hypot(free.err, syst_free),
+        g_free=free.g,
+        g_free_err=free.g_err,
+        fit_goy=goy,
+        fit_free=free,
+        subranges_goy=sub_goy,
+        subranges_free=sub_free,
+        goy_exponent=g,
+        saddle=sad,
+        alpha_sn=br.folds[0].mu,
+        node=node,
+        branch=br,
+        bracket=brk,
+        bracket_margin=margin,
+        consistent=where.outside <= 1.0 and np.isfinite(brk.clear),
+        lifetimes=table,
+        T_max_measured=float(max(finite_T)) if finite_T else math.nan,
+        paper=_at_paper_alpha1(table, goy),
         diagram={"impacts": DIAGRAM_IMPACTS, "alpha_apparent": goy.mu_at(DIAGRAM_IMPACTS)},
-        ics={k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")} | {
-            "n": int(ics["theta"].size), "probe_n": int(probe_ics["theta"].size)},
-        cost=cost.as_dict(), profile=_label(profile, sizes))
+        ics={k_: ics[k_] for k_ in ("alpha_ref", "settle", "drawn", "captured")}
+        | {"n": int(ics["theta"].size), "probe_n": int(probe_ics["theta"].size)},
+        cost=cost.as_dict(),
+        profile=_label(profile, sizes),
+    )

@@ -13,6 +13,7 @@ from .meantime import LEVEL, check_counts, check_level, check_side, lifetime_low
 
 # ------------------------------------------------------------------------------ bracket
 
+
 @dataclass
 class Bracket:
     """A crisis bracketed by direct observation.
@@ -40,8 +41,16 @@ class Bracket:
         return abs(self.seen - self.clear)
 
     def as_dict(self) -> dict:
-        return {"side": self.side, "seen": self.seen, "clear": self.clear, "clear_exposure": self.clear_exposure,
-                "clear_bound": self.clear_bound, "level": self.level, "interval": self.interval, "width": self.width}
+        return {
+            "side": self.side,
+            "seen": self.seen,
+            "clear": self.clear,
+            "clear_exposure": self.clear_exposure,
+            "clear_bound": self.clear_bound,
+            "level": self.level,
+            "interval": self.interval,
+            "width": self.width,
+        }
 
 
 def bracket(mu, events, exposure, side: str, level: float = LEVEL, min_exposure: float = 0.0) -> Bracket:
@@ -71,8 +80,17 @@ def bracket(mu, events, exposure, side: str, level: float = LEVEL, min_exposure:
     return Bracket(side, seen, float(vals[j]), float(EE[j]), lifetime_lower_bound(EE[j], level), level)
 
 
-def next_probes(mu, events, exposure, side: str, mu_fit: float, step: float, target: float, strong: float,
-                event_probe: float | None = None) -> list[float]:
+def next_probes(
+    mu,
+    events,
+    exposure,
+    side: str,
+    mu_fit: float,
+    step: float,
+    target: float,
+    strong: float,
+    event_probe: float | None = None,
+) -> list[float]:
     """The next bracket runs (a bisection started from a fit), each to be observed for ``strong`` impacts.
 
     Pre-crisis side: with no value there lacking events after ``strong`` impacts, probe ``step`` beyond
@@ -101,6 +119,7 @@ def next_probes(mu, events, exposure, side: str, mu_fit: float, step: float, tar
 
 # ------------------------------------------------------------------------------ the reported value
 
+
 @dataclass(frozen=True)
 class Located:
     """The crisis point a report states: ``value`` +- ``err`` and how it was decided.
@@ -118,8 +137,14 @@ class Located:
     why: str = ""
 
     def as_dict(self) -> dict:
-        return {"value": self.value, "err": self.err, "method": self.method, "why": self.why,
-                "outside": self.outside, "interval": self.interval}
+        return {
+            "value": self.value,
+            "err": self.err,
+            "method": self.method,
+            "why": self.why,
+            "outside": self.outside,
+            "interval": self.interval,
+        }
 
 
 #: The reasons :func:`locate` gives.

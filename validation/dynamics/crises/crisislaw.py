@@ -14,6 +14,7 @@ from .meantime import check_counts, check_side
 
 # ------------------------------------------------------------------------------ crisis law fit
 
+
 @dataclass
 class CrisisFit:
     """Maximum-likelihood fit of ``T(mu) = C x^-g`` (see the module docstring).
@@ -62,9 +63,20 @@ class CrisisFit:
         return self.mu_c + d if self.side == "above" else self.mu_c - d
 
     def as_dict(self) -> dict:
-        return {"mu_c": self.mu_c, "err_lo": self.err_lo, "err_hi": self.err_hi, "err": self.err, "g": self.g,
-                "g_err": self.g_err, "fixed_g": self.fixed_g, "log_C": self.log_C, "deviance": self.deviance,
-                "dof": self.dof, "dispersion": self.dispersion, "n_points": int(np.size(self.values))}
+        return {
+            "mu_c": self.mu_c,
+            "err_lo": self.err_lo,
+            "err_hi": self.err_hi,
+            "err": self.err,
+            "g": self.g,
+            "g_err": self.g_err,
+            "fixed_g": self.fixed_g,
+            "log_C": self.log_C,
+            "deviance": self.deviance,
+            "dof": self.dof,
+            "dispersion": self.dispersion,
+            "n_points": int(np.size(self.values)),
+        }
 
 
 def _poisson_deviance(k: np.ndarray, m: np.ndarray) -> np.ndarray:
@@ -86,7 +98,7 @@ class _Law:
     def log_C(self, mu_c, g):
         """Closed-form maximum-likelihood ``ln C`` for given ``(mu_c, g)``: ``sum k/w = sum E x^g / (C w)``."""
         x = self.x(mu_c)
-        return float(np.log(np.sum(self.E * x ** g / self.w)) - np.log(np.sum(self.k / self.w)))
+        return float(np.log(np.sum(self.E * x**g / self.w)) - np.log(np.sum(self.k / self.w)))
 
     def expected(self, mu_c, g, log_C):
         x = self.x(mu_c)
@@ -107,8 +119,15 @@ class _Law:
         return np.sign(self.k - m) * np.sqrt(d / self.w)
 
 
-def fit_crisis(mu, events, exposure, side: str, g: float | None = None, dispersion=None,
-               g_bounds: tuple[float, float] = (0.05, 5.0)) -> CrisisFit:
+def fit_crisis(
+    mu,
+    events,
+    exposure,
+    side: str,
+    g: float | None = None,
+    dispersion=None,
+    g_bounds: tuple[float, float] = (0.05, 5.0),
+) -> CrisisFit:
     """Fit the crisis law ``T = C |mu - mu_c|^-g`` to ``events`` in ``exposure`` impacts at ``mu``
     (points without events are ignored: they belong to a bracket, see :func:`bracket`).
 
@@ -135,8 +154,9 @@ def fit_crisis(mu, events, exposure, side: str, g: float | None = None, dispersi
     def best_g(mu_c):
         if g is not None:
             return g
-        r = optimize.minimize_scalar(lambda gg: law.deviance(mu_c, gg), bounds=g_bounds, method="bounded",
-                                     options={"xatol": 1e-7})
+        r = optimize.minimize_scalar(
+            lambda gg: law.deviance(mu_c, gg), bounds=g_bounds, method="bounded", options={"xatol": 1e-7}
+        )
         return float(r.x)
 
     def prof(dist):  # profile deviance as a function of the distance of mu_c beyond the edge
@@ -158,8 +178,9 @@ def fit_crisis(mu, events, exposure, side: str, g: float | None = None, dispersi
         lb = [-np.inf, mu_c - far if side == "above" else edge + tiny, g_bounds[0]]
         ub = [np.inf, edge - tiny if side == "above" else mu_c + far, g_bounds[1]]
         x0 = np.clip([log_C, mu_c, g_best], np.array(lb) + 1e-15, np.array(ub) - 1e-15)
-        ls = optimize.least_squares(law.residuals, x0, bounds=(lb, ub), x_scale=[1.0, span, 0.1],
-                                    xtol=1e-14, ftol=1e-14, gtol=1e-14)
+        ls = optimize.least_squares(
+            law.residuals, x0, bounds=(lb, ub), x_scale=[1.0, span, 0.1], xtol=1e-14, ftol=1e-14, gtol=1e-14
+        )
         if law.deviance(ls.x[1], ls.x[2], ls.x[0]) < law.deviance(mu_c, g_best, log_C):
             log_C, mu_c, g_best = (float(v) for v in ls.x)
             d_best = abs(mu_c - edge)
@@ -184,8 +205,20 @@ def fit_crisis(mu, events, exposure, side: str, g: float | None = None, dispersi
     far_err = (float(optimize.brentq(f, d_best, far, xtol=tiny)) - d_best) if f(far) > 0 else math.inf
     # "near" moves mu_c towards the data
     err_lo, err_hi = (far_err, near_err) if side == "above" else (near_err, far_err)
-    return CrisisFit(side, float(mu_c), float(err_lo), float(err_hi), float(g_best), g_err, g is not None,
-                     float(log_C), float(D), dof, float(phi), mu)
+    return CrisisFit(
+        side,
+        float(mu_c),
+        float(err_lo),
+        float(err_hi),
+        float(g_best),
+        g_err,
+        g is not None,
+        float(log_C),
+        float(D),
+        dof,
+        float(phi),
+        mu,
+    )
 
 
 def fit_crisis_fixed(values, T, T_err, g: float) -> tuple[float, float, float]:
@@ -203,8 +236,9 @@ def fit_crisis_fixed(values, T, T_err, g: float) -> tuple[float, float, float]:
     return fit.mu_c, fit.err, fit.deviance / max(fit.dof, 1)
 
 
-def range_systematic(mu, events, exposure, side: str, g: float | None = None, dispersion=None,
-                     drop: int = 2) -> tuple[float, list[tuple[str, float]]]:
+def range_systematic(
+    mu, events, exposure, side: str, g: float | None = None, dispersion=None, drop: int = 2
+) -> tuple[float, list[tuple[str, float]]]:
     """Fit-range systematic of :func:`fit_crisis`: refit without the ``1..drop`` farthest points from the
     crisis, and without the nearest one (as long as enough points with events remain).  Returns the
     largest shift of ``mu_c`` from the fit of all points and ``[(which points, mu_c), ...]``."""
@@ -219,7 +253,9 @@ def range_systematic(mu, events, exposure, side: str, g: float | None = None, di
     out = []
     for j in range(1, int(drop) + 1):
         if mu.size - j >= need + 1:
-            out.append((f"without the {j} farthest", fit_crisis(mu[:-j], k[:-j], E[:-j], side, g=g, dispersion=w[:-j]).mu_c))
+            out.append(
+                (f"without the {j} farthest", fit_crisis(mu[:-j], k[:-j], E[:-j], side, g=g, dispersion=w[:-j]).mu_c)
+            )
     if mu.size - 1 >= need + 1:
         out.append(("without the nearest", fit_crisis(mu[1:], k[1:], E[1:], side, g=g, dispersion=w[1:]).mu_c))
     syst = max((abs(m - nominal) for _, m in out), default=0.0)
@@ -227,6 +263,7 @@ def range_systematic(mu, events, exposure, side: str, g: float | None = None, di
 
 
 # ------------------------------------------------------------------------------ power law (r2)
+
 
 def fit_power_law(x, y, yerr) -> tuple[float, float, float, float]:
     """Weighted fit ``ln y = a + s ln x`` (:func:`scipy.optimize.curve_fit`, sigma = relative errors);

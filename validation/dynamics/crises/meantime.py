@@ -47,6 +47,7 @@ def check_counts(mu, k, E, dispersion=None):
 
 # ------------------------------------------------------------------------------ mean times
 
+
 @dataclass(frozen=True)
 class MeanTime:
     """Mean time ``T = exposure / events`` (impacts) of a memoryless process and its exact interval.
@@ -100,9 +101,16 @@ class MeanTime:
         return lifetime_lower_bound(self.exposure, self.level, self.events, self.dispersion)
 
     def as_dict(self) -> dict:
-        return {"T": self.T, "lo": self.lo, "hi": self.hi, "events": int(self.events),
-                "exposure": float(self.exposure), "dispersion": float(self.dispersion), "orbits": int(self.orbits),
-                "level": self.level}
+        return {
+            "T": self.T,
+            "lo": self.lo,
+            "hi": self.hi,
+            "events": int(self.events),
+            "exposure": float(self.exposure),
+            "dispersion": float(self.dispersion),
+            "orbits": int(self.orbits),
+            "level": self.level,
+        }
 
 
 def lifetime_lower_bound(exposure: float, level: float = LEVEL, events: int = 0, dispersion: float = 1.0) -> float:
@@ -167,6 +175,7 @@ def censored_lifetimes(escape, n_run, n0: int = 0, level: float = LEVEL) -> tupl
 
 
 # ------------------------------------------------------------------------------ GOY exponent
+
 
 def goy_exponent(multipliers) -> float:
     """Grebogi-Ott-Yorke critical exponent ``1/2 + ln|m_u| / |ln|m_s||`` of a crisis mediated by a saddle

@@ -49,8 +49,13 @@ class Cost:
         self.parts.append({"label": label, "impacts": int(impacts), "wall_s": wall, "cpu_s": cpu})
 
     def as_dict(self) -> dict:
-        return {"impacts": self.impacts, "wall_s": self.wall_s, "cpu_s": self.cpu_s, "runs": self.runs,
-                "parts": list(self.parts)}
+        return {
+            "impacts": self.impacts,
+            "wall_s": self.wall_s,
+            "cpu_s": self.cpu_s,
+            "runs": self.runs,
+            "parts": list(self.parts),
+        }
 
 
 class Timer:
@@ -68,8 +73,18 @@ class Timer:
         return False
 
 
-def engine_run(cost: Cost | None, label: str, theta, sdot, wall, params: Params | ParamArrays, observers, cap: int,
-               lanes: int | None = None, progress=None) -> EngineResult:
+def engine_run(
+    cost: Cost | None,
+    label: str,
+    theta,
+    sdot,
+    wall,
+    params: Params | ParamArrays,
+    observers,
+    cap: int,
+    lanes: int | None = None,
+    progress=None,
+) -> EngineResult:
     """:func:`gear_rattle.mapimpl.engine.driver.run` with its cost added to ``cost``.  ``lanes``: default
     as many as there are orbits per device, up to 512 on the CPU and 65536 on an accelerator (these
     runs have few, long orbits; a micro-step has a fixed cost, so wide blocks pay)."""

@@ -40,8 +40,7 @@ from .orbits import Cost, Timer, box_ics, engine_run, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
 from .results import R1Result
-from .stats import (LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes,
-                    range_systematic)
+from .stats import LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes, range_systematic
 from ...paper import PAPER
 
 #: The paper's Fig. 7: r = 0.74001 "<~ r1".
@@ -56,15 +55,18 @@ def _hops_observer() -> BandEscape:
     return BandEscape(p=BANDS, m=1, threshold=THRESHOLD, min_inside=MIN_INSIDE, n_start=N0)
 
 
-def band_ics(r_ref: float, n: int, settle: int, seed: int = 1, cost: Cost | None = None,
-             base: Params = R2_START) -> dict:
+def band_ics(
+    r_ref: float, n: int, settle: int, seed: int = 1, cost: Cost | None = None, base: Params = R2_START
+) -> dict:
     """``n`` states on the 6-band attractor at ``r_ref`` (> r1): end states of box orbits whose last 13
     impacts lie inside the bands and that did not hop after impact ``settle // 2``."""
     out: dict[str, list] = {"theta": [], "sdot": [], "wall": []}
     drawn = rejected = 0
     keep = 13
-    obs = (BandEscape(p=BANDS, m=1, threshold=THRESHOLD, min_inside=MIN_INSIDE, n_start=settle // 2),
-           Sample(keep=keep, n_start=settle - keep + 1))
+    obs = (
+        BandEscape(p=BANDS, m=1, threshold=THRESHOLD, min_inside=MIN_INSIDE, n_start=settle // 2),
+        Sample(keep=keep, n_start=settle - keep + 1),
+    )
     for attempt in range(4):
         m = int(math.ceil(1.2 * (n - len(out["theta"])))) + 8
         t0, s0, w0 = box_ics(m, seed + 1000 * attempt)
@@ -80,31 +82,58 @@ def band_ics(r_ref: float, n: int, settle: int, seed: int = 1, cost: Cost | None
         if len(out["theta"]) >= n:
             break
     else:
-        raise RuntimeError(f"only {len(out['theta'])} of {drawn} box orbits settled in the 6 bands at r_ref={r_ref} "
-                           "(is r_ref above r1?)")
-    return {"theta": np.array(out["theta"][:n]), "sdot": np.array(out["sdot"][:n]),
-            "wall": np.array(out["wall"][:n], np.int32), "drawn": drawn, "rejected": rejected,
-            "r_ref": float(r_ref), "settle": int(settle)}
+        raise RuntimeError(
+            f"only {len(out['theta'])} of {drawn} box orbits settled in the 6 bands at r_ref={r_ref} "
+            "(is r_ref above r1?)"
+        )
+    return {
+        "theta": np.array(out["theta"][:n]),
+        "sdot": np.array(out["sdot"][:n]),
+        "wall": np.array(out["wall"][:n], np.int32),
+        "drawn": drawn,
+        "rejected": rejected,
+        "r_ref": float(r_ref),
+        "settle": int(settle),
+    }
 
 
-def hop_counts(r_values, ics: dict, orbits: int, cap: int, cost: Cost | None = None, label: str = "r1: hops",
-               base: Params = R2_START, level: float = LEVEL) -> list[dict]:
+def hop_counts(
+    r_values,
+    ics: dict,
+    orbits: int,
+    cap: int,
+    cost: Cost | None = None,
+    label: str = "r1: hops",
+    base: Params = R2_START,
+    level: float = LEVEL,
+) -> list[dict]:
     """Band hops at each r: ``orbits`` orbits per value (from the first ``orbits`` states of ``ics``,
     reused cyclically), ``cap`` impacts each, one engine run.  Per r: ``r``, ``rate``
     (:class:`~.stats.MeanTime` with the Pearson dispersion), ``hops``, ``exposure`` (per-orbit arrays)."""
     r_values = np.atleast_1d(np.asarray(r_values, float))
     idx = np.arange(orbits) % ics["theta"].size
     R = np.repeat(r_values, orbits)
-    res = engine_run(cost, label, np.tile(ics["theta"][idx], r_values.size), np.tile(ics["sdot"][idx], r_values.size),
-                     np.tile(ics["wall"][idx], r_values.size), per_orbit(base, "r", R), _hops_observer(), cap=cap)
+    res = engine_run(
+        cost,
+        label,
+        np.tile(ics["theta"][idx], r_values.size),
+        np.tile(ics["sdot"][idx], r_values.size),
+        np.tile(ics["wall"][idx], r_values.size),
+        per_orbit(base, "r", R),
+        _hops_observer(),
+        cap=cap,
+    )
     b = res.obs[0]["bursts"].reshape(r_values.size, orbits)
     e = res.obs[0]["exposure"].reshape(r_values.size, orbits)
-    return [{"r": float(rv), "rate": mean_time(bb, ee, overdispersed=True, level=level), "hops": bb, "exposure": ee}
-            for rv, bb, ee in zip(r_values, b, e)]
+    return [
+        {"r": float(rv), "rate": mean_time(bb, ee, overdispersed=True, level=level), "hops": bb, "exposure": ee}
+        for rv, bb, ee in zip(r_values, b, e)
+    ]
 
 
-def lyapunov_at(r: float, ics: dict, orbits: int, n: int, cost: Cost | None = None, transient: int = 1000,
-                base: Params = R2_START) -> dict:
+def lyapunov_at(
+    r: float, ics: dict, orbits: int, n: int, cost: Cost | None = None, transient: int = 1000, base: Params = R2_START
+) -> dict:
     """Largest Lyapunov exponent (per impact, QR method on the engine's
     :class:`~gear_rattle.mapimpl.engine.observers.Tangent`, turned into exponents by
     :func:`~gear_rattle.mapimpl.engine.exponents.exponents`) of ``orbits`` band orbits (the first states
@@ -114,13 +143,29 @@ def lyapunov_at(r: float, ics: dict, orbits: int, n: int, cost: Cost | None = No
     (sticking steps), ``ended`` (orbits that ended early), ``chaotic`` (every orbit ran to the end, none
     stuck, and ``lam1_min > 0``)."""
     idx = np.arange(orbits) % ics["theta"].size
-    res = engine_run(cost, "r1: Lyapunov at the bracket's upper end", ics["theta"][idx], ics["sdot"][idx],
-                     ics["wall"][idx], base.replace(r=float(r)), Tangent(n_start=transient), cap=transient + n)
+    res = engine_run(
+        cost,
+        "r1: Lyapunov at the bracket's upper end",
+        ics["theta"][idx],
+        ics["sdot"][idx],
+        ics["wall"][idx],
+        base.replace(r=float(r)),
+        Tangent(n_start=transient),
+        cap=transient + n,
+    )
     ex = exponents(res)
     lam1 = ex.lam_free[:, 0]
-    return {"r": float(r), "lam1_min": float(lam1.min()), "lam1_mean": float(lam1.mean()),
-            "lam1_max": float(lam1.max()), "orbits": int(orbits), "n": int(n), "stuck": int(ex.n_stuck.sum()),
-            "ended": ex.ended, "chaotic": bool(np.all(ex.lam[:, 0] > 0.0))}
+    return {
+        "r": float(r),
+        "lam1_min": float(lam1.min()),
+        "lam1_mean": float(lam1.mean()),
+        "lam1_max": float(lam1.max()),
+        "orbits": int(orbits),
+        "n": int(n),
+        "stuck": int(ex.n_stuck.sum()),
+        "ended": ex.ended,
+        "chaotic": bool(np.all(ex.lam[:, 0] > 0.0)),
+    }
 
 
 def _arrays(rows):
@@ -131,8 +176,9 @@ def _arrays(rows):
     return r, k, E, phi
 
 
-def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1, *,
-              sizes: dict | None = None) -> R1Result:
+def locate_r1(
+    profile: str = "quick", branch=None, progress=None, seed: int = 1, *, sizes: dict | None = None
+) -> R1Result:
     """Locate the interior crisis r1 (alpha = 3, Figs. 6-7) from band hops (the module docstring).
 
     Parameters
@@ -161,9 +207,19 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     With tiny run sizes (a rough estimate; the paper profile locates r1 to ~1e-6, docs/dynamics.md):
 
     >>> from gear_rattle.validation.dynamics.crises.r1 import locate_r1
-    >>> tiny = {"ics": 8, "settle": 500, "coarse": [0.7410, 0.7413], "fine": [2e-5], "orbits": 8,
-    ...         "cap": 4000, "probe_orbits": 8, "probe_cap": 4000, "max_probes": 1, "lyap_orbits": 2,
-    ...         "lyap_n": 1000}
+    >>> tiny = {
+    ...     "ics": 8,
+    ...     "settle": 500,
+    ...     "coarse": [0.7410, 0.7413],
+    ...     "fine": [2e-5],
+    ...     "orbits": 8,
+    ...     "cap": 4000,
+    ...     "probe_orbits": 8,
+    ...     "probe_cap": 4000,
+    ...     "max_probes": 1,
+    ...     "lyap_orbits": 2,
+    ...     "lyap_n": 1000,
+    ... }
     >>> res = locate_r1(sizes=tiny)
     >>> bool(0.740 < res.r1 < 0.742), res.method in ("fit", "bracket"), len(res.hops) >= 3
     (True, True, True)
@@ -179,8 +235,14 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
     g0 = goy_exponent(sad0.multipliers)
     r, k, E, phi = _arrays(rows)
     first = fit_crisis(r, k, E, "below", g=g0, dispersion=phi)
-    rows += hop_counts(np.round(first.mu_c - np.asarray(pr["fine"]), 10), ics, pr["orbits"], pr["cap"], cost=cost,
-                       label="r1: fine scan")
+    rows += hop_counts(
+        np.round(first.mu_c - np.asarray(pr["fine"]), 10),
+        ics,
+        pr["orbits"],
+        pr["cap"],
+        cost=cost,
+        label="r1: fine scan",
+    )
     r, k, E, phi = _arrays(rows)
     sad = orbit_on_branch(br, fit_crisis(r, k, E, "below", g=g0, dispersion=phi).mu_c, "saddle")
     g = goy_exponent(sad.multipliers)
@@ -195,8 +257,9 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
         probes = next_probes(r, k, E, "below", goy.mu_c, step, pr["target"], strong, goy.mu_c - pr["target"] / 2)
         if not probes:
             break
-        rows += hop_counts(np.round(probes, 10), ics, pr["probe_orbits"], pr["probe_cap"], cost=cost,
-                           label="r1: bracket runs")
+        rows += hop_counts(
+            np.round(probes, 10), ics, pr["probe_orbits"], pr["probe_cap"], cost=cost, label="r1: bracket runs"
+        )
         r, k, E, phi = _arrays(rows)
         goy = fit_crisis(r, k, E, "below", g=g, dispersion=phi)
     with Timer(cost, "r1: fits"):
@@ -207,24 +270,48 @@ def locate_r1(profile: str = "quick", branch=None, progress=None, seed: int = 1,
         syst_free, sub_free = range_systematic(r, k, E, "below", dispersion=phi)
         brk = bracket(r, k, E, "below", min_exposure=strong)
         margin = goy.distance_at(brk.clear_bound) if np.isfinite(brk.clear) else math.nan
-    window = (lyapunov_at(brk.clear, ics, pr["lyap_orbits"], pr["lyap_n"], cost=cost)
-              if np.isfinite(brk.clear) else None)
+    window = lyapunov_at(brk.clear, ics, pr["lyap_orbits"], pr["lyap_n"], cost=cost) if np.isfinite(brk.clear) else None
     total = math.hypot(goy.err, syst_goy)
     # a window at the upper end would not bound r1: then the fit alone
     used = brk if window is None or window["chaotic"] else Bracket("below", brk.seen, math.nan, 0.0, 0.0, brk.level)
     where = locate(goy.mu_c, total, used, margin if np.isfinite(margin) else 0.0)
-    table = [{"r": x["r"], **{kk: v for kk, v in x["rate"].as_dict().items() if kk != "level"}}
-             for x in sorted(rows, key=lambda x: x["r"])]
+    table = [
+        {"r": x["r"], **{kk: v for kk, v in x["rate"].as_dict().items() if kk != "level"}}
+        for x in sorted(rows, key=lambda x: x["r"])
+    ]
     seen = [x for x in rows if x["r"] == brk.seen]
-    near_rate = mean_time(np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]),
-                          overdispersed=True)
+    near_rate = mean_time(
+        np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]), overdispersed=True
+    )
     return R1Result(
-        r1=where.value, r1_err=where.err, method=where.method, located=where, r1_goy=goy.mu_c, r1_goy_err=total,
-        r1_stat=goy.err, r1_syst=syst_goy, r1_free=free.mu_c, r1_free_err=math.hypot(free.err, syst_free),
-        g_free=free.g, g_free_err=free.g_err, fit_goy=goy, fit_free=free, subranges_goy=sub_goy,
-        subranges_free=sub_free, goy_exponent=g, saddle=sad, bracket=brk, bracket_margin=margin,
-        lower_bound=brk.seen, upper_bound=brk.clear, consistent=where.outside <= 1.0 and np.isfinite(brk.clear),
-        clear_lyapunov=window, near={"r": brk.seen, **near_rate.as_dict()}, hops=table,
+        r1=where.value,
+        r1_err=where.err,
+        method=where.method,
+        located=where,
+        r1_goy=goy.mu_c,
+        r1_goy_err=total,
+        r1_stat=goy.err,
+        r1_syst=syst_goy,
+        r1_free=free.mu_c,
+        r1_free_err=math.hypot(free.err, syst_free),
+        g_free=free.g,
+        g_free_err=free.g_err,
+        fit_goy=goy,
+        fit_free=free,
+        subranges_goy=sub_goy,
+        subranges_free=sub_free,
+        goy_exponent=g,
+        saddle=sad,
+        bracket=brk,
+        bracket_margin=margin,
+        lower_bound=brk.seen,
+        upper_bound=brk.clear,
+        consistent=where.outside <= 1.0 and np.isfinite(brk.clear),
+        clear_lyapunov=window,
+        near={"r": brk.seen, **near_rate.as_dict()},
+        hops=table,
         paper_fig7={"r": PAPER_R1_FIG7, "below_r1_by": where.value - PAPER_R1_FIG7},
         ics={k_: ics[k_] for k_ in ("r_ref", "settle", "drawn", "rejected")} | {"n": int(ics["theta"].size)},
-        cost=cost.as_dict(), profile=_label(profile, sizes))
+        cost=cost.as_dict(),
+        profile=_label(profile, sizes),
+    )

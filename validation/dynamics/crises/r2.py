@@ -39,9 +39,18 @@ PAPER_R2_FIG5 = float(PAPER["r2"].value)
 EPS, MIN_LENGTH = 0.05, 12
 
 
-def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 2000, eps: float = EPS,
-                       min_length: int = MIN_LENGTH, base: Params = R2_START, seed: int = 2,
-                       cost: Cost | None = None) -> LaminarStats:
+def laminar_statistics(
+    r_values,
+    fold,
+    orbits: int,
+    cap: int,
+    n_start: int = 2000,
+    eps: float = EPS,
+    min_length: int = MIN_LENGTH,
+    base: Params = R2_START,
+    seed: int = 2,
+    cost: Cost | None = None,
+) -> LaminarStats:
     """Laminar phases at each r of ``r_values`` near the fold orbit ``fold`` (a
     :class:`~..continuation.BifurcationPoint`): ``orbits`` box orbits per value, ``cap`` impacts each,
     counted from ``n_start`` (one engine run)."""
@@ -49,8 +58,9 @@ def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 200
     oth, osd = orbit_states(base.replace(r=fold.mu), fold.tau, fold.sdot, 6)
     th, sd, w = box_ics(orbits * r_values.size, seed)
     obs = Laminar(oth, osd, eps=eps, min_length=min_length, n_start=n_start)
-    res = engine_run(cost, "r2: laminar phases", th, sd, w, per_orbit(base, "r", np.repeat(r_values, orbits)), obs,
-                     cap=cap)
+    res = engine_run(
+        cost, "r2: laminar phases", th, sd, w, per_orbit(base, "r", np.repeat(r_values, orbits)), obs, cap=cap
+    )
     o = res.obs[0]
     shape = (r_values.size, orbits)
     n = o["count"].reshape(shape).sum(axis=1).astype(float)
@@ -58,10 +68,19 @@ def laminar_statistics(r_values, fold, orbits: int, cap: int, n_start: int = 200
     s2 = o["total_sq"].reshape(shape).sum(axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         mean = np.where(n > 0, s1 / n, np.nan)
-        var = np.where(n > 1, (s2 - n * mean ** 2) / (n - 1), np.nan)
+        var = np.where(n > 1, (s2 - n * mean**2) / (n - 1), np.nan)
         sem = np.sqrt(var / n)
-    return LaminarStats(r_values, mean, sem, n.astype(int), o["exposure"].reshape(shape).sum(axis=1).astype(float),
-                        float(eps), int(min_length), int(orbits), int(cap))
+    return LaminarStats(
+        r_values,
+        mean,
+        sem,
+        n.astype(int),
+        o["exposure"].reshape(shape).sum(axis=1).astype(float),
+        float(eps),
+        int(min_length),
+        int(orbits),
+        int(cap),
+    )
 
 
 def locate_r2(profile: str = "quick", branch=None, progress=None, *, sizes: dict | None = None) -> R2Result:
@@ -116,10 +135,22 @@ def locate_r2(profile: str = "quick", branch=None, progress=None, *, sizes: dict
         if keep.size >= 3:
             subs.append((f"without the {j} largest r - r2", fit_power_law(dr[keep], ls.mean[keep], ls.sem[keep])[0]))
     syst = max((abs(s - slope) for _, s in subs), default=0.0)
-    return R2Result(r2=f.mu, fold=f, branch=br, laminar=ls, dr=dr, slope=slope, slope_err=math.hypot(stat, syst),
-                    slope_stat=stat, slope_syst=syst, chi2_red=chi2, subranges=subs,
-                    paper_fig5={"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu}, cost=cost.as_dict(),
-                    profile=_label(profile, sizes))
+    return R2Result(
+        r2=f.mu,
+        fold=f,
+        branch=br,
+        laminar=ls,
+        dr=dr,
+        slope=slope,
+        slope_err=math.hypot(stat, syst),
+        slope_stat=stat,
+        slope_syst=syst,
+        chi2_red=chi2,
+        subranges=subs,
+        paper_fig5={"r": PAPER_R2_FIG5, "minus_r2": PAPER_R2_FIG5 - f.mu},
+        cost=cost.as_dict(),
+        profile=_label(profile, sizes),
+    )
 
 
 @dataclass(frozen=True)

@@ -40,13 +40,50 @@ bracket (then the bracket).
 
 from __future__ import annotations
 
-from .brackets import (WHY_BRACKET_NARROWER, WHY_FIT_NARROWER, WHY_FIT_OUTSIDE, WHY_NO_BRACKET, Bracket, Located,
-                       bracket, locate, next_probes)
+from .brackets import (
+    WHY_BRACKET_NARROWER,
+    WHY_FIT_NARROWER,
+    WHY_FIT_OUTSIDE,
+    WHY_NO_BRACKET,
+    Bracket,
+    Located,
+    bracket,
+    locate,
+    next_probes,
+)
 from .crisislaw import CrisisFit, fit_crisis, fit_crisis_fixed, fit_power_law, range_systematic
-from .meantime import (LEVEL, SIDES, MeanTime, censored_lifetimes, goy_exponent, lifetime_lower_bound, mean_time,
-                       pearson_dispersion)
+from .meantime import (
+    LEVEL,
+    SIDES,
+    MeanTime,
+    censored_lifetimes,
+    goy_exponent,
+    lifetime_lower_bound,
+    mean_time,
+    pearson_dispersion,
+)
 
-__all__ = ["LEVEL", "SIDES", "MeanTime", "lifetime_lower_bound", "pearson_dispersion", "mean_time",
-           "censored_lifetimes", "goy_exponent", "CrisisFit", "fit_crisis", "fit_crisis_fixed", "range_systematic",
-           "fit_power_law", "Bracket", "bracket", "next_probes", "Located", "locate", "WHY_NO_BRACKET",
-           "WHY_FIT_NARROWER", "WHY_BRACKET_NARROWER", "WHY_FIT_OUTSIDE"]
+__all__ = [
+    "LEVEL",
+    "SIDES",
+    "MeanTime",
+    "lifetime_lower_bound",
+    "pearson_dispersion",
+    "mean_time",
+    "censored_lifetimes",
+    "goy_exponent",
+    "CrisisFit",
+    "fit_crisis",
+    "fit_crisis_fixed",
+    "range_systematic",
+    "fit_power_law",
+    "Bracket",
+    "bracket",
+    "next_probes",
+    "Located",
+    "locate",
+    "WHY_NO_BRACKET",
+    "WHY_FIT_NARROWER",
+    "WHY_BRACKET_NARROWER",
+    "WHY_FIT_OUTSIDE",
+]
