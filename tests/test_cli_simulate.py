@@ -88,3 +88,5 @@ def test_ended_orbit_is_reported(capsys):
     rc, out, err = run_cli(["simulate", "--alpha", "0", "--gamma", "0", "--s0", "-0.5", "--sdot0", "0.01"], capsys)
     assert rc == 0 and out.strip() == "n,tau,tau_mod_2pi,wall,sdot,kind"
     assert "status no_impact" in err
+    # it made no impact at all: said so, not "after -1 impacts" (found by the oracle's tests, issue 31)
+    assert "ended before its first impact" in err and "-1" not in err

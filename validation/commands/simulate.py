@@ -103,7 +103,9 @@ def _finish(args: argparse.Namespace, seq) -> None:
             "stuck_forever": "the tooth sticks to a wall and the forcing never releases it",
             "step_cap": "the impact search hit its iteration cap",
         }.get(seq.status, seq.status)
-        note(f"the orbit ended after {int(seq.impacts.sum()) - 1} impacts (status {seq.status}: {why})")
+        made = int(seq.impacts.sum())  # impact 0 and those after it
+        when = "before its first impact" if made == 0 else f"after {made - 1} impacts"
+        note(f"the orbit ended {when} (status {seq.status}: {why})")
     write_plot(args, fig)
 
 
