@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import time
 from dataclasses import asdict, dataclass
+from functools import partial
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 from ...core.checks import (
     MAX_IMPACTS as MAX_ORBIT_IMPACTS,
@@ -213,14 +214,7 @@ def certified_release_durations(
     wall = check_wall("wall", wall)
     ds = check_deltas(deltas)
     max_impacts = check_int("max_impacts", max_impacts, 1, MAX_ORBIT_IMPACTS)
-    if isinstance(precisions, (str, bytes)) or not isinstance(precisions, Sequence):
-        raise InputTypeError(
-            f"precisions={precisions!r} is a {type(precisions).__name__}: allowed a non-empty "
-            f"increasing list of bits, 64 <= prec <= {MAX_PREC}"
-        )
-    precs = [check_prec(p) for p in precisions]
-    if not precs or any(b <= a for a, b in zip(precs, precs[1:])):
-        raise ValueError(f"precisions={precisions!r} is out of range: allowed a non-empty increasing list of bits")
+    precs = _check_precisions(precisions)
     if not isinstance(confirm, bool):
         raise InputTypeError(f"confirm={confirm!r} is a {type(confirm).__name__}: allowed True or False")
     if target is not None and not isinstance(target, Target):
@@ -236,6 +230,38 @@ def certified_release_durations(
     with precision(128):
         ph = release_phase(Model(pm), wall)
     phase_text = "never" if ph is None else ph.str(30, radius=False)
+    run_at = partial(
+        certify_post_release_deltas,
+        pm,
+        wall,
+        target=target,
+        max_impacts=max_impacts,
+        stick_time=stick_time,
+        radius_limit=radius_limit,
+        deadline=deadline,
+        progress=progress,
+    )
+    attempts, decided, confirmed = _schedule(run_at, ds, precs, confirm, deadline)
+    seconds = time.monotonic() - t0
+    common = dict(
+        params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES},
+        rounding=rounding,
+        wall=wall,
+        max_impacts=int(max_impacts),
+        target=target.as_dict(),
+        release_phase=phase_text,
+        seconds=seconds,
+    )
+    return {d: _release_duration(d, decided[d], confirmed[d], attempts[d], common) for d in ds}
+
+
+def _schedule(
+    run_at: Callable[..., dict[float, Attempt]], ds: tuple, precs: list[int], confirm: bool, deadline: float | None
+) -> tuple[dict[float, list[Attempt]], dict[float, Attempt | None], dict[float, bool]]:
+    """The precision schedule of :func:`certified_release_durations` for the distances ``ds``:
+    ``run_at(prec=, deltas=)`` is one run of the orbit.  Per distance: its attempts, the attempt that
+    decided it (None: undecided) and whether the next precision confirmed it (a different definite outcome
+    there raises :class:`.balls.CertificationError`: a bug)."""
     attempts: dict[float, list[Attempt]] = {d: [] for d in ds}
     decided: dict[float, Attempt | None] = {d: None for d in ds}
     confirmed = {d: False for d in ds}
@@ -256,18 +282,7 @@ def certified_release_durations(
         open_ = [d for d in ds if decided[d] is None]
         if not (open_ or to_confirm) or (deadline is not None and time.monotonic() > deadline):
             break
-        run = certify_post_release_deltas(
-            pm,
-            wall,
-            prec=prec,
-            target=target,
-            deltas=open_ + to_confirm,
-            max_impacts=max_impacts,
-            stick_time=stick_time,
-            radius_limit=radius_limit,
-            deadline=deadline,
-            progress=progress,
-        )
+        run = run_at(prec=prec, deltas=open_ + to_confirm)
         for d in to_confirm:
             attempts[d].append(run[d])
             confirm_with(d, run[d])
@@ -281,41 +296,41 @@ def certified_release_durations(
     # decided at the last precision of the list: confirmed at twice it
     nxt = min(2 * precs[-1], MAX_PREC)
     if to_confirm and nxt > precs[-1] and (deadline is None or time.monotonic() <= deadline):
-        run = certify_post_release_deltas(
-            pm,
-            wall,
-            prec=nxt,
-            target=target,
-            deltas=to_confirm,
-            max_impacts=max_impacts,
-            stick_time=stick_time,
-            radius_limit=radius_limit,
-            deadline=deadline,
-            progress=progress,
-        )
+        run = run_at(prec=nxt, deltas=to_confirm)
         for d in to_confirm:
             attempts[d].append(run[d])
             confirm_with(d, run[d])
-    seconds = time.monotonic() - t0
-    out = {}
-    for d in ds:
-        a = decided[d]
-        lower = max([b.impacts - (1 if b.status == "captured" else 0) for b in attempts[d]] or [0])
-        status = a.status if a is not None else "undecided"
-        out[d] = ReleaseDuration(
-            params={k: str(params_decimal[k]).strip() for k in PARAM_NAMES},
-            rounding=rounding,
-            wall=wall,
-            delta=d,
-            max_impacts=int(max_impacts),
-            target=target.as_dict(),
-            release_phase=phase_text,
-            status=status,
-            value=a.impacts if a is not None and status == "captured" else None,
-            precision=a.prec if a is not None else None,
-            confirmed=confirmed[d],
-            lower_bound=lower,
-            attempts=attempts[d],
-            seconds=seconds,
+    return attempts, decided, confirmed
+
+
+def _check_precisions(precisions) -> list[int]:
+    """The precision schedule ``precisions`` checked: a non-empty increasing sequence of bits (``check_prec``)."""
+    if isinstance(precisions, (str, bytes)) or not isinstance(precisions, Sequence):
+        raise InputTypeError(
+            f"precisions={precisions!r} is a {type(precisions).__name__}: allowed a non-empty "
+            f"increasing list of bits, 64 <= prec <= {MAX_PREC}"
         )
-    return out
+    precs = [check_prec(p) for p in precisions]
+    if not precs or any(b <= a for a, b in zip(precs, precs[1:])):
+        raise ValueError(f"precisions={precisions!r} is out of range: allowed a non-empty increasing list of bits")
+    return precs
+
+
+def _release_duration(
+    delta: float, decided: Attempt | None, confirmed: bool, attempts: list[Attempt], common: dict
+) -> ReleaseDuration:
+    """The :class:`ReleaseDuration` of the distance ``delta`` from its schedule: the attempt that decided it
+    (None: undecided), whether the next precision confirmed it, every attempt; ``common``: the fields shared
+    by every distance.  ``lower_bound``: the most impacts an attempt certified not captured."""
+    lower = max([b.impacts - (1 if b.status == "captured" else 0) for b in attempts] or [0])
+    status = decided.status if decided is not None else "undecided"
+    return ReleaseDuration(
+        delta=delta,
+        status=status,
+        value=decided.impacts if decided is not None and status == "captured" else None,
+        precision=decided.prec if decided is not None else None,
+        confirmed=confirmed,
+        lower_bound=lower,
+        attempts=attempts,
+        **common,
+    )

@@ -202,6 +202,46 @@ def _stick_end(st, cur: int, n: int, walls_stuck: list, released_from: set) -> t
     return None
 
 
+@dataclass
+class _Trace:
+    """What a run at ``prec`` bits (started at ``t0``) has certified so far: ``n`` impacts, ``log2r`` (log2
+    of the largest radius at impact ``n``), ``xs``/``ys`` (the impacts with a nonzero radius and log2 of
+    it), the walls stuck to after the release and, with ``record``, the orbit's float64 midpoints."""
+
+    prec: int
+    t0: float
+    n: int = 0
+    log2r: float = -math.inf
+    xs: list[int] = field(default_factory=list)
+    ys: list[float] = field(default_factory=list)
+    walls_stuck: list = field(default_factory=list)
+    orbit: list = field(default_factory=list)
+
+    def impact(self, lr: float) -> None:
+        """Impact ``n + 1`` certified, with ``log2`` of its largest radius ``lr``."""
+        self.n, self.log2r = self.n + 1, lr
+        if lr > -math.inf:
+            self.xs.append(self.n)
+            self.ys.append(lr)
+
+    def attempt(self, status: str, reason: str, closest: float | None, dist_text: str | None = None) -> Attempt:
+        """The :class:`Attempt` of an outcome reached after the ``n`` impacts certified so far."""
+        k = sum(1 for x in self.xs if x <= self.n)
+        return Attempt(
+            self.prec,
+            status,
+            self.n,
+            reason,
+            _radius_text(self.log2r),
+            _slope(self.xs[:k], self.ys[:k]),
+            dist_text,
+            closest,
+            list(self.walls_stuck),
+            time.monotonic() - self.t0,
+            list(self.orbit[: self.n]),
+        )
+
+
 def certify_post_release_deltas(
     params,
     wall: int = 0,
@@ -228,33 +268,15 @@ def certify_post_release_deltas(
         raise ValueError(f"wall={wall!r} is out of range: allowed 0 (upper, s = 0) or -1 (lower, s = -1)")
     check_int("max_impacts", max_impacts, 1, checks.MAX_IMPACTS, strict=True)
     pending = list(check_deltas(deltas))
-    t0 = time.monotonic()
-    xs: list[int] = []  # post-release impacts with a nonzero radius, and log2 of that radius
-    ys: list[float] = []
+    trace = _Trace(prec, time.monotonic())
     closest: dict[float, float | None] = {d: None for d in pending}
-    walls_stuck: list = []
-    n, log2r = 0, -math.inf
     log2_limit = math.log2(radius_limit)
-    orbit: list = []
     out: dict[float, Attempt] = {}
 
     def done(ds, status, reason, dist_text=None):
-        """The outcome of the distances ``ds`` after ``n`` certified impacts."""
-        k = sum(1 for x in xs if x <= n)
+        """The outcome of the distances ``ds`` after the impacts certified so far."""
         for d in ds:
-            out[d] = Attempt(
-                prec,
-                status,
-                n,
-                reason,
-                _radius_text(log2r),
-                _slope(xs[:k], ys[:k]),
-                dist_text,
-                closest[d],
-                list(walls_stuck),
-                time.monotonic() - t0,
-                list(orbit[:n]),
-            )
+            out[d] = trace.attempt(status, reason, closest[d], dist_text)
             pending.remove(d)
 
     with precision(prec):
@@ -276,7 +298,7 @@ def certify_post_release_deltas(
                     done(
                         list(pending),
                         "failed",
-                        f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} at impact {n + 1}",
+                        f"radius {_radius_text(lr)} > radius_limit={radius_limit:g} at impact {trace.n + 1}",
                     )
                     return out
                 theta = mod_two_pi(tau)
@@ -286,15 +308,13 @@ def certify_post_release_deltas(
                     try:
                         captured[d] = capture_decision(dist, d)
                     except CertificationError as e:
-                        done([d], "failed", f"{e} (impact {n + 1} undecided)")
+                        done([d], "failed", f"{e} (impact {trace.n + 1} undecided)")
                 if not pending:
                     return out
-                n, log2r = n + 1, lr
+                trace.impact(lr)
+                n = trace.n
                 if record:
-                    orbit.append((nearest_float(theta), nearest_float(sdot), cur))
-                if lr > -math.inf:
-                    xs.append(n)
-                    ys.append(lr)
+                    trace.orbit.append((nearest_float(theta), nearest_float(sdot), cur))
                 if progress is not None and n % 50 == 0:
                     progress(prec, n, _radius_text(lr))
                 for d in list(pending):
@@ -315,11 +335,11 @@ def certify_post_release_deltas(
                     done(list(pending), *end)
                     return out
                 st = certified_step(model, tau, sdot, cur, prec=prec, stick_time=stick_time)
-                end = _stick_end(st, cur, n, walls_stuck, released_from)
+                end = _stick_end(st, cur, n, trace.walls_stuck, released_from)
                 if end:
                     done(list(pending), *end)
                     return out
                 tau, sdot, cur, _ = st.landed()
         except CertificationError as e:
-            done(list(pending), "failed", f"{e} (impact {n + 1} undecided)")
+            done(list(pending), "failed", f"{e} (impact {trace.n + 1} undecided)")
             return out

@@ -335,28 +335,10 @@ def _attempt(
     with precision(prec):
         model = Model(params)
         try:
-            if s0 is None:
-                tau, sdot = exact(tau0), exact(sdot0)
-                wall = 0 if sdot0 > 0 else -1
-            elif sdot0 == 0.0 and s0 in (0.0, -1.0) and (1 if s0 == 0.0 else -1) * model.forcing(exact(tau0)) > 0:
-                # at rest on a wall that the force presses into: the contact is at once (the map track's
-                # rule), impact 0 with sdot 0, and the sticking policy decides what follows
-                tau, sdot, wall = exact(tau0), arb(0), (0 if s0 == 0.0 else -1)
-            else:
-                try:
-                    c = certified_flight(model, exact(tau0), s0, exact(sdot0), prec=prec, t_max=t_max)
-                except NoContactError:
-                    return _Run(
-                        events,
-                        -1,
-                        True,
-                        "no_impact",
-                        _no_impact_reason(
-                            model, exact(tau0), s0, exact(sdot0), False, prec, t_max, "the free-flight start"
-                        ),
-                        math.nan,
-                    )
-                tau, sdot, wall = exact(tau0) + c.t, c.v, c.wall
+            zero = _impact_zero(model, tau0, sdot0, s0, prec, t_max)
+            if isinstance(zero, str):
+                return _Run(events, -1, True, "no_impact", zero, math.nan)
+            tau, sdot, wall = zero
             if not accept([Event(0, tau, mod_two_pi(tau), wall, sdot, "impact")]):
                 return stopped(0, WIDE)
         except CertificationError as e:
@@ -370,56 +352,74 @@ def _attempt(
             work = working_precision(prec, _bits_left(tau, sdot), cap)
             try:
                 with precision(work):
-                    dep = certified_departure(
-                        model, tau, sdot, wall, prec=work, stick_time=stick_time, decide_prec=COVER_PREC
-                    )
-                    rows = []
-                    if dep.stick is not None:
-                        rows.append(Event(n - 1, dep.stick, mod_two_pi(dep.stick), wall, None, "stick"))
-                    if dep.start is None or dep.v0 is None:
+                    rows, end = _step(model, tau, sdot, wall, n, work, stick_time, t_max)
+                    if end is not None:
+                        status, reason, which_rows = end
                         if not accept(rows):
-                            return stopped(n, WIDE + " (a stick row)")
-                        return _Run(
-                            events,
-                            n - 1,
-                            True,
-                            "stuck_forever",
-                            f"stuck forever to wall {wall} after impact {n - 1} (|gamma| >= R)",
-                            growth(),
-                        )
-                    if dep.rel is not None:
-                        rows.append(Event(n - 1, dep.rel, mod_two_pi(dep.rel), wall, None, "release"))
-                    try:
-                        c = _flight(model, dep.start, float(wall), dep.v0, dep.release, work, t_max)
-                    except NoContactError:
-                        reason = _no_impact_reason(
-                            model,
-                            dep.start,
-                            float(wall),
-                            dep.v0,
-                            dep.release,
-                            work,
-                            t_max,
-                            f"the flight after impact {n - 1}",
-                        )
-                        if not accept(rows):
-                            return stopped(n, WIDE + " (a stick/release row)")
-                        return _Run(events, n - 1, True, "no_impact", reason, growth())
-                    if dep.release or (dep.start.is_exact() and dep.v0.is_exact()):
-                        new_tau, new_v = c.t + dep.start, c.v  # (_flight refined it at the working precision)
-                    else:
-                        new_tau, new_v = mean_value_impact(
-                            model, c, dep.start, float(wall), dep.v0, dep.release, work, t_max, lean=True
-                        )
-                    rows.append(Event(n, new_tau, mod_two_pi(new_tau), c.wall, new_v, "impact"))
+                            return stopped(n, WIDE + which_rows)
+                        return _Run(events, n - 1, True, status, reason, growth())
             except CertificationError as e:
                 return stopped(n, str(e))
             if not accept(rows):
                 return stopped(n, WIDE)
-            tau, sdot, wall = new_tau, new_v, c.wall
+            impact = rows[-1]  # impact n: the state the next step starts from
+            assert impact.sdot is not None, "an impact row has a velocity"
+            tau, sdot, wall = impact.tau, impact.sdot, impact.wall
             log_bits.append((n, _bits_left(tau, sdot)))
             tick(n, prec)
     return _Run(events, n_impacts, True, "active", "n_impacts reached", growth())
+
+
+def _impact_zero(
+    model: Model, tau0: float, sdot0: float, s0: float | None, prec: int, t_max: float
+) -> tuple[arb, arb, int] | str:
+    """Impact 0 ``(tau, sdot, wall)`` of an attempt, exact or certified at ``prec`` bits (the context's): the
+    pre-impact start itself, a start at rest on a wall the force presses into, or the first impact of a
+    free-flight start; or, where that flight is proven to reach no wall, the reason of the ``no_impact``
+    ending."""
+    if s0 is None:
+        return exact(tau0), exact(sdot0), (0 if sdot0 > 0 else -1)
+    if sdot0 == 0.0 and s0 in (0.0, -1.0) and (1 if s0 == 0.0 else -1) * model.forcing(exact(tau0)) > 0:
+        # at rest on a wall that the force presses into: the contact is at once (the map track's
+        # rule), impact 0 with sdot 0, and the sticking policy decides what follows
+        return exact(tau0), arb(0), (0 if s0 == 0.0 else -1)
+    try:
+        c = certified_flight(model, exact(tau0), s0, exact(sdot0), prec=prec, t_max=t_max)
+    except NoContactError:
+        return _no_impact_reason(model, exact(tau0), s0, exact(sdot0), False, prec, t_max, "the free-flight start")
+    return exact(tau0) + c.t, c.v, c.wall
+
+
+def _step(
+    model: Model, tau: arb, sdot: arb, wall: int, n: int, work: int, stick_time: float, t_max: float
+) -> tuple[list[Event], tuple[str, str, str] | None]:
+    """The step from impact ``n - 1`` (``tau, sdot, wall``) at the working precision ``work`` (the context's):
+    its rows (a stick, a release, impact ``n``) and ``None``, or, where the orbit ends before impact ``n``
+    (stuck forever, a flight proven to reach no wall), the rows before that end and ``(status, reason, the
+    rows' name in the reason of an attempt that cannot accept them)``."""
+    dep = certified_departure(model, tau, sdot, wall, prec=work, stick_time=stick_time, decide_prec=COVER_PREC)
+    rows = []
+    if dep.stick is not None:
+        rows.append(Event(n - 1, dep.stick, mod_two_pi(dep.stick), wall, None, "stick"))
+    if dep.start is None or dep.v0 is None:
+        reason = f"stuck forever to wall {wall} after impact {n - 1} (|gamma| >= R)"
+        return rows, ("stuck_forever", reason, " (a stick row)")
+    if dep.rel is not None:
+        rows.append(Event(n - 1, dep.rel, mod_two_pi(dep.rel), wall, None, "release"))
+    try:
+        c = _flight(model, dep.start, float(wall), dep.v0, dep.release, work, t_max)
+    except NoContactError:
+        what = f"the flight after impact {n - 1}"
+        reason = _no_impact_reason(model, dep.start, float(wall), dep.v0, dep.release, work, t_max, what)
+        return rows, ("no_impact", reason, " (a stick/release row)")
+    if dep.release or (dep.start.is_exact() and dep.v0.is_exact()):
+        new_tau, new_v = c.t + dep.start, c.v  # (_flight refined it at the working precision)
+    else:
+        new_tau, new_v = mean_value_impact(
+            model, c, dep.start, float(wall), dep.v0, dep.release, work, t_max, lean=True
+        )
+    rows.append(Event(n, new_tau, mod_two_pi(new_tau), c.wall, new_v, "impact"))
+    return rows, None
 
 
 def _flight(model: Model, start: arb, s0: float, v0: arb, release: bool, work: int, t_max: float):
@@ -596,20 +596,9 @@ def certified_orbit(
                 hint = run.growth
     assert best is not None
     first = None if best.complete else best.reached + 1
-    reason = best.reason
-    if not best.complete and attempts[-1].reason == TIME_OUT:
-        reason = (
-            f"{TIME_OUT} ({time_budget_s:g} s) at {attempts[-1].prec} bits; the best attempt ({best_prec} bits) "
-            f"stopped: {best.reason}"
-            if best_prec != attempts[-1].prec
-            else f"{TIME_OUT} ({time_budget_s:g} s) at {best_prec} bits"
-        )
-    elif not best.complete:
-        reason = (
-            f"the precision limit ({max_prec} bits) is reached and {best.reason}"
-            if best.reason.startswith(WIDE)
-            else f"{best.reason} (at {best_prec} bits; the precision limit is {max_prec} bits)"
-        )
+    reason = (
+        best.reason if best.complete else _incomplete_reason(best, best_prec, attempts[-1], time_budget_s, max_prec)
+    )
     out = CertifiedRun(
         p64,
         tau0,
@@ -628,6 +617,23 @@ def certified_orbit(
     )
     out.rows = rows_of(best.events)
     return out
+
+
+def _incomplete_reason(best: _Run, best_prec: int, last: Attempt, time_budget_s: float | None, max_prec: int) -> str:
+    """Why the schedule kept an incomplete orbit: the time budget ran out during the ``last`` attempt, or
+    the best attempt (at ``best_prec`` bits) stopped and no precision up to ``max_prec`` went further."""
+    if last.reason == TIME_OUT:
+        return (
+            f"{TIME_OUT} ({time_budget_s:g} s) at {last.prec} bits; the best attempt ({best_prec} bits) "
+            f"stopped: {best.reason}"
+            if best_prec != last.prec
+            else f"{TIME_OUT} ({time_budget_s:g} s) at {best_prec} bits"
+        )
+    return (
+        f"the precision limit ({max_prec} bits) is reached and {best.reason}"
+        if best.reason.startswith(WIDE)
+        else f"{best.reason} (at {best_prec} bits; the precision limit is {max_prec} bits)"
+    )
 
 
 def rows_of(events: list) -> dict:
