@@ -280,6 +280,82 @@ def _tangent(A: np.ndarray, prev: np.ndarray | None) -> np.ndarray:
     return t / np.linalg.norm(t)
 
 
+def _check_continuation(
+    params: Params,
+    name: str,
+    direction: int,
+    ds: float,
+    ds_max: float,
+    max_points: int,
+    mu_range: tuple[float, float] | None,
+) -> tuple[float, float]:
+    """Check the arguments of :func:`continue_orbit`; returns the bounds ``(lo, hi)`` of the continued
+    parameter (``mu_range``, or the whole line)."""
+    if direction not in (1, -1):
+        raise ValueError(f"direction={direction!r} is out of range: allowed +1 or -1")
+    if not (np.isfinite(ds) and 0 < ds <= ds_max):
+        raise ValueError(f"ds={ds!r} is out of range: allowed 0 < ds <= ds_max={ds_max!r}")
+    if int(max_points) < 2:
+        raise ValueError(f"max_points={max_points!r} is out of range: allowed max_points >= 2")
+    if mu_range is None:
+        return -np.inf, np.inf
+    mu0 = getattr(params, name)
+    lo, hi = (check_value(name, v) for v in mu_range)
+    if not lo < hi:
+        raise ValueError(f"mu_range={mu_range!r} is out of range: allowed lo < hi")
+    if not lo <= mu0 <= hi:
+        raise ValueError(f"{name}={mu0!r} is out of range: allowed inside mu_range={mu_range!r}")
+    return lo, hi
+
+
+def _correct(prob: _Problem, y: np.ndarray, yp: np.ndarray, t: np.ndarray, h: float) -> np.ndarray | None:
+    """The corrector of :func:`continue_orbit`: Newton on ``(G(z), t . (z - yp)) = 0`` from the predicted
+    point ``yp`` (at most 12 steps); the new point ``z``, or None where it does not converge or lands
+    farther than ``3 h`` from the last point ``y``."""
+    z = yp.copy()
+    conv = False
+    for _ in range(12):
+        G, M, ok = prob.eval(z)
+        if not ok:
+            break
+        F = np.array([G[0], G[1], float(t @ (z - yp))])
+        if np.max(np.abs(F)) < 1e-11:
+            conv = True
+            break
+        dG = prob.dG_dmu(z, G)
+        Jx = np.vstack([np.hstack([M - np.eye(2), dG[:, None]]), t[None, :]])
+        try:
+            z = z - np.linalg.solve(Jx, F)
+        except np.linalg.LinAlgError:
+            break
+    if not conv or np.linalg.norm(z - y) > 3 * h:
+        return None
+    return z
+
+
+def _locate_crossings(br: Branch, prev: OrbitPoint, cur: OrbitPoint, y: np.ndarray) -> None:
+    """Locate (:func:`locate`) a fold where ``prod(multipliers - 1)`` and a flip where
+    ``prod(multipliers + 1)`` changes sign between the branch points ``prev`` and ``cur`` (at ``y``), and
+    add them to ``br``."""
+    f0 = np.real(np.prod(prev.multipliers - 1.0))
+    f1 = np.real(np.prod(cur.multipliers - 1.0))
+    if np.sign(f0) != np.sign(f1):
+        br.folds.append(locate(br.params, br.param, "fold", y[0], y[1], y[2], br.impacts, br.turns))
+    g0 = np.real(np.prod(prev.multipliers + 1.0))
+    g1 = np.real(np.prod(cur.multipliers + 1.0))
+    if np.sign(g0) != np.sign(g1):
+        br.flips.append(locate(br.params, br.param, "flip", y[0], y[1], y[2], br.impacts, br.turns))
+
+
+def _range_stop(name: str, mu: float, lo: float, hi: float) -> str:
+    """Why the branch stops at ``mu``: it left ``[lo, hi]`` or ``r`` reached 1; "" where it goes on."""
+    if not (lo <= mu <= hi):
+        return f"{name} left [{lo}, {hi}]"
+    if name == "r" and mu >= 1.0:
+        return "r reached 1"
+    return ""
+
+
 def continue_orbit(
     params: Params,
     param: str,
@@ -305,21 +381,8 @@ def continue_orbit(
     """
     name = _check_mu_name(param)
     impacts, turns = _check_counts(impacts, turns)
-    if direction not in (1, -1):
-        raise ValueError(f"direction={direction!r} is out of range: allowed +1 or -1")
-    if not (np.isfinite(ds) and 0 < ds <= ds_max):
-        raise ValueError(f"ds={ds!r} is out of range: allowed 0 < ds <= ds_max={ds_max!r}")
-    if int(max_points) < 2:
-        raise ValueError(f"max_points={max_points!r} is out of range: allowed max_points >= 2")
+    lo, hi = _check_continuation(params, name, direction, ds, ds_max, max_points, mu_range)
     mu0 = getattr(params, name)
-    if mu_range is not None:
-        lo, hi = (check_value(name, v) for v in mu_range)
-        if not lo < hi:
-            raise ValueError(f"mu_range={mu_range!r} is out of range: allowed lo < hi")
-        if not lo <= mu0 <= hi:
-            raise ValueError(f"{name}={mu0!r} is out of range: allowed inside mu_range={mu_range!r}")
-    else:
-        lo, hi = -np.inf, np.inf
     orb = find_periodic(params, tau0, sdot0, impacts, turns)
     if not orb.converged:
         raise ValueError(
@@ -343,24 +406,8 @@ def continue_orbit(
     h = ds
     fails = 0
     while len(br.points) < max_points:
-        yp = y + h * t
-        z = yp.copy()
-        conv = False
-        for _ in range(12):
-            G, M, ok = prob.eval(z)
-            if not ok:
-                break
-            F = np.array([G[0], G[1], float(t @ (z - yp))])
-            if np.max(np.abs(F)) < 1e-11:
-                conv = True
-                break
-            dG = prob.dG_dmu(z, G)
-            Jx = np.vstack([np.hstack([M - np.eye(2), dG[:, None]]), t[None, :]])
-            try:
-                z = z - np.linalg.solve(Jx, F)
-            except np.linalg.LinAlgError:
-                break
-        if not conv or np.linalg.norm(z - y) > 3 * h:
+        z = _correct(prob, y, y + h * t, t, h)
+        if z is None:
             h *= 0.5
             fails += 1
             if h < 1e-9:
@@ -373,24 +420,13 @@ def continue_orbit(
         prev = br.points[-1]
         y = z
         record(y, M, float(np.max(np.abs(G))))
-        cur = br.points[-1]
         if locate_points:
-            f0 = np.real(np.prod(prev.multipliers - 1.0))
-            f1 = np.real(np.prod(cur.multipliers - 1.0))
-            if np.sign(f0) != np.sign(f1):
-                br.folds.append(locate(params, name, "fold", y[0], y[1], y[2], impacts, turns))
-            g0 = np.real(np.prod(prev.multipliers + 1.0))
-            g1 = np.real(np.prod(cur.multipliers + 1.0))
-            if np.sign(g0) != np.sign(g1):
-                br.flips.append(locate(params, name, "flip", y[0], y[1], y[2], impacts, turns))
+            _locate_crossings(br, prev, br.points[-1], y)
         t = t_new
         if progress is not None:
             progress(len(br.points), max_points)
-        if not (lo <= y[2] <= hi):
-            br.stop_reason = f"{name} left [{lo}, {hi}]"
-            break
-        if name == "r" and y[2] >= 1.0:
-            br.stop_reason = "r reached 1"
+        br.stop_reason = _range_stop(name, y[2], lo, hi)
+        if br.stop_reason:
             break
         h = min(ds_max, h * 1.3)
     else:

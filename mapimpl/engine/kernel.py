@@ -56,7 +56,7 @@ multiply-adds are fused, so float64 samples of chaotic orbits depend on them.
 from __future__ import annotations
 
 from functools import partial
-from typing import Any
+from typing import Any, NamedTuple
 
 from ...core import _jax  # noqa: F401
 import jax
@@ -411,26 +411,146 @@ def _observe(s: Lane, k: RunConsts, observers: tuple[Observer, ...], ev: Impact,
     return obs_new, arrive & stop
 
 
+def _stick_policy(s: Lane, k: RunConsts, th1, sn1, cs1, wall1, v1):
+    """The sticking policy (:func:`mapimpl.sticking.decide_stick_sc`, with the release constants of the
+    lane's parameters) for the step from the arrived state: ``(top1, rel_ph, stick, delay,
+    stuck_forever)`` (part of :func:`arrival`)."""
+    p, top_rel, bot_rel = s.par.params, s.par.top, s.par.bottom
+    top1 = wall1 == 0
+    rel_ph = jnp.where(top1, top_rel.phase, bot_rel.phase)
+    never = jnp.where(top1, top_rel.never, bot_rel.never)
+    stick, _, delay, _ = decide_stick_sc(
+        th1, sn1, cs1, wall1, v1, p.alpha, p.beta, p.gamma, p.r, k.stick_time, release=(rel_ph, never)
+    )
+    return top1, rel_ph, stick, delay, stick & ~jnp.isfinite(delay)
+
+
+def _orbit_end(k: RunConsts, arrive, stop, stick, stuck_forever, n1):
+    """Whether the arrived lane's orbit ends (observers' stop, the impact cap, sticking forever or, with
+    ``stop_at_stick``, at all) or goes on, and with a release: ``(capped, stick_stop, orbit_end, go_on,
+    go_stick)`` (part of :func:`arrival`)."""
+    capped = arrive & (n1 >= k.cap)
+    stick_stop = arrive & stick & ~stuck_forever & k.stop_at_stick
+    orbit_end = stop | capped | (arrive & stuck_forever) | stick_stop
+    go_on = arrive & ~orbit_end
+    return capped, stick_stop, orbit_end, go_on, go_on & stick
+
+
+class _FlightStart(NamedTuple):
+    """The start of the next flight computed by :func:`arrival` (behind one barrier): phase and its
+    sin/cos, velocity, release delay, whole periods, departure time, bound ``|b|`` and acceleration."""
+
+    theta0: Any
+    sin0: Any
+    cos0: Any
+    v0: Any
+    delay: Any
+    cycles0: Any
+    t_depart: Any
+    bound: Any
+    a0: Any
+
+
+def _next_flight(s: Lane, go_stick, top1, rel_ph, delay, th1, sn1, cs1, wall1, v1, cyc1):
+    """The start of the next flight: off the wall just hit with ``-r v1`` (Eq. 11), or from the release
+    state.  Returns ``(s0_new, _FlightStart)``, the wall position apart (part of :func:`arrival`)."""
+    p, top_rel, bot_rel = s.par.params, s.par.top, s.par.bottom
+    alpha, beta, gamma, r = p.alpha, p.beta, p.gamma, p.r
+    th0_new = jnp.where(go_stick, rel_ph, th1)
+    sn0_new = jnp.where(go_stick, jnp.where(top1, top_rel.sin, bot_rel.sin), sn1)
+    cs0_new = jnp.where(go_stick, jnp.where(top1, top_rel.cos, bot_rel.cos), cs1)
+    v0_new = jnp.where(go_stick, 0.0, -r * v1)
+    s0_new = wall1.astype(_F64)
+    delay_used = jnp.where(go_stick, delay, 0.0)
+    cyc0_new = cyc1 + jnp.where(go_stick, released_turns(th1, delay_used, rel_ph), 0)
+    tdep_new = departure_time_sc(sn0_new, cs0_new, s0_new, v0_new, alpha, beta, gamma)
+    bc_new = jnp.abs(beta * (v0_new - alpha * cs0_new) - gamma)
+    a0_new = forcing_sc(sn0_new, cs0_new, alpha, beta, gamma) - beta * v0_new
+    return s0_new, _FlightStart(th0_new, sn0_new, cs0_new, v0_new, delay_used, cyc0_new, tdep_new, bc_new, a0_new)
+
+
+def _first_safe_step(s: Lane, k: RunConsts, new: _FlightStart, s0_new):
+    """The new flight's first safe step (:func:`mapimpl.finder.safe_step`), from its state at ``t = 0``:
+    ``(ds, v, a) = (0, v0, a0)`` in closed form, behind a barrier (part of :func:`arrival`)."""
+    alpha, beta = s.par.params.alpha, s.par.params.beta
+    return _barrier(
+        safe_step(
+            0.0,
+            new.v0,
+            new.a0,
+            alpha + new.bound,
+            alpha + beta * new.bound,
+            0.0,
+            _H0,
+            0,
+            new.t_depart,
+            s0_new,
+            k.t_max,
+            k.max_steps,
+        ),
+        k.true,
+    )
+
+
+def _end_status(s: Lane, arrive, stop, stuck_forever, stick_stop, capped):
+    """The status of an orbit that ended at this arrival (stopped, stuck forever, stuck, capped), else
+    the lane's own (part of :func:`arrival`)."""
+    return jnp.where(
+        stop,
+        int(Status.STOPPED),
+        jnp.where(
+            arrive & stuck_forever,
+            int(Status.STUCK_FOREVER),
+            jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s.status)),
+        ),
+    )
+
+
+def _start_search(S: Search, go_on, A, new: _FlightStart) -> Search:
+    """The search of the new flight: mode ``A`` from its first safe step ``A``, or ``B`` (``t_a = 0``)
+    (part of :func:`arrival`)."""
+    return S._replace(
+        t=jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), S.t),
+        p1=jnp.where(go_on, 0.0, S.p1),
+        p2=jnp.where(go_on, A.h_near, S.p2),
+        window=jnp.where(go_on, A.H_new, S.window),
+        v_a=jnp.where(go_on, new.v0, S.v_a),
+        top=jnp.where(go_on, A.top_near, S.top),
+        a_a=jnp.where(go_on, new.a0, S.a_a),
+        b_a=jnp.where(go_on, new.bound, S.b_a),
+        steps=jnp.where(go_on, A.it, S.steps),
+    )
+
+
+def _start_flight(f: Flight, go_on, go_stick, s0_new, new: _FlightStart) -> Flight:
+    """The lane's flight: the new one (``new``, ``s0_new``, released where ``go_stick``) where the orbit
+    goes on, else ``f`` (part of :func:`arrival`)."""
+    return Flight(
+        theta0=jnp.where(go_on, new.theta0, f.theta0),
+        sin0=jnp.where(go_on, new.sin0, f.sin0),
+        cos0=jnp.where(go_on, new.cos0, f.cos0),
+        v0=jnp.where(go_on, new.v0, f.v0),
+        s0=jnp.where(go_on, s0_new, f.s0),
+        cycles0=jnp.where(go_on, new.cycles0, f.cycles0),
+        delay=jnp.where(go_on, new.delay, f.delay),
+        released=jnp.where(go_on, go_stick, f.released),
+        t_depart=jnp.where(go_on, new.t_depart, f.t_depart),
+        bound=jnp.where(go_on, new.bound, f.bound),
+    )
+
+
 def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
     """The arrival pass of one lane (scalar state ``s``; vmapped by the engine): a lane in mode ``H``
     (an impact found by :func:`search_step`) or ``L`` (a freshly loaded initial condition) arrives at a
     pre-impact state.  The observers see it, the sticking policy of :mod:`mapimpl.sticking` decides the
     next flight (Eq. 11 reset, or the release at the canonical release phase), and that flight's first
     safe step is taken from its closed-form state at ``t = 0`` (no evaluation); the lane goes on in
-    mode ``A`` or ``B``, or its orbit ends.  Lanes in other modes are left unchanged."""
+    mode ``A`` or ``B``, or its orbit ends.  Lanes in other modes are left unchanged.  The steps are
+    traced in this order (the helpers are plain functions: one XLA program, as if written inline)."""
     _decide_barriers()
-    p, top_rel, bot_rel, f, S = s.par.params, s.par.top, s.par.bottom, s.flight, s.search
-    alpha, beta, gamma, r = p.alpha, p.beta, p.gamma, p.r
     mode = s.mode
     inL, arrive, t_hit, (th1, cyc1, v1, wall1, sn1, cs1, dt1, n1) = _arrived_state(s, k)
-    # the sticking policy for the step from this impact (release constants of the lane's parameters)
-    top1 = wall1 == 0
-    rel_ph = jnp.where(top1, top_rel.phase, bot_rel.phase)
-    never = jnp.where(top1, top_rel.never, bot_rel.never)
-    stick, _, delay, _ = decide_stick_sc(
-        th1, sn1, cs1, wall1, v1, alpha, beta, gamma, r, k.stick_time, release=(rel_ph, never)
-    )
-    stuck_forever = stick & ~jnp.isfinite(delay)
+    top1, rel_ph, stick, delay, stuck_forever = _stick_policy(s, k, th1, sn1, cs1, wall1, v1)
     # the observers
     ev = Impact(
         n=n1,
@@ -445,100 +565,16 @@ def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
         jac_ok=~inL,
     )
     obs_new, stop = _observe(s, k, observers, ev, arrive)
-    capped = arrive & (n1 >= k.cap)
-    stick_stop = arrive & stick & ~stuck_forever & k.stop_at_stick
-    orbit_end = stop | capped | (arrive & stuck_forever) | stick_stop
-    go_on = arrive & ~orbit_end
-    go_stick = go_on & stick
-    # the next flight: off the wall just hit with -r v1 (Eq. 11), or from the release state
-    th0_new = jnp.where(go_stick, rel_ph, th1)
-    sn0_new = jnp.where(go_stick, jnp.where(top1, top_rel.sin, bot_rel.sin), sn1)
-    cs0_new = jnp.where(go_stick, jnp.where(top1, top_rel.cos, bot_rel.cos), cs1)
-    v0_new = jnp.where(go_stick, 0.0, -r * v1)
-    s0_new = wall1.astype(_F64)
-    delay_used = jnp.where(go_stick, delay, 0.0)
-    cyc0_new = cyc1 + jnp.where(go_stick, released_turns(th1, delay_used, rel_ph), 0)
-    tdep_new = departure_time_sc(sn0_new, cs0_new, s0_new, v0_new, alpha, beta, gamma)
-    bc_new = jnp.abs(beta * (v0_new - alpha * cs0_new) - gamma)
-    a0_new = forcing_sc(sn0_new, cs0_new, alpha, beta, gamma) - beta * v0_new
-    (
-        stop,
-        capped,
-        stick_stop,
-        orbit_end,
-        go_on,
-        go_stick,
-        th0_new,
-        sn0_new,
-        cs0_new,
-        v0_new,
-        delay_used,
-        cyc0_new,
-        tdep_new,
-        bc_new,
-        a0_new,
-    ) = _barrier(
-        (
-            stop,
-            capped,
-            stick_stop,
-            orbit_end,
-            go_on,
-            go_stick,
-            th0_new,
-            sn0_new,
-            cs0_new,
-            v0_new,
-            delay_used,
-            cyc0_new,
-            tdep_new,
-            bc_new,
-            a0_new,
-        ),
-        k.true,
+    capped, stick_stop, orbit_end, go_on, go_stick = _orbit_end(k, arrive, stop, stick, stuck_forever, n1)
+    s0_new, new = _next_flight(s, go_stick, top1, rel_ph, delay, th1, sn1, cs1, wall1, v1, cyc1)
+    (stop, capped, stick_stop, orbit_end, go_on, go_stick), new = _barrier(
+        ((stop, capped, stick_stop, orbit_end, go_on, go_stick), new), k.true
     )
-    # the new flight's first safe step, from its state at t = 0: (ds, v, a) = (0, v0, a0) in closed form
-    A = _barrier(
-        safe_step(
-            0.0,
-            v0_new,
-            a0_new,
-            alpha + bc_new,
-            alpha + beta * bc_new,
-            0.0,
-            _H0,
-            0,
-            tdep_new,
-            s0_new,
-            k.t_max,
-            k.max_steps,
-        ),
-        k.true,
-    )
+    A = _first_safe_step(s, k, new, s0_new)
     escaped = go_on & A.move & A.beyond
     failed = go_on & A.move & ~A.beyond & A.capped
-
-    status = jnp.where(
-        stop,
-        int(Status.STOPPED),
-        jnp.where(
-            arrive & stuck_forever,
-            int(Status.STUCK_FOREVER),
-            jnp.where(stick_stop, int(Status.STUCK), jnp.where(capped, int(Status.CAPPED), s.status)),
-        ),
-    )
-    # the search of the new flight: mode A from its first safe step, or B (t_a = 0)
-    search = S._replace(
-        t=jnp.where(go_on, jnp.where(A.move, A.t_next, A.t_b), S.t),
-        p1=jnp.where(go_on, 0.0, S.p1),
-        p2=jnp.where(go_on, A.h_near, S.p2),
-        window=jnp.where(go_on, A.H_new, S.window),
-        v_a=jnp.where(go_on, v0_new, S.v_a),
-        top=jnp.where(go_on, A.top_near, S.top),
-        a_a=jnp.where(go_on, a0_new, S.a_a),
-        b_a=jnp.where(go_on, bc_new, S.b_a),
-        steps=jnp.where(go_on, A.it, S.steps),
-    )
+    status = _end_status(s, arrive, stop, stuck_forever, stick_stop, capped)
+    search = _start_search(s.search, go_on, A, new)
     # arrival at a pre-impact state
     at = s.at._replace(
         theta=jnp.where(arrive, th1, s.at.theta),
@@ -546,19 +582,7 @@ def arrival(s: Lane, k: RunConsts, observers: tuple[Observer, ...]) -> Lane:
         wall=jnp.where(arrive, wall1, s.at.wall),
     )
     sticks = arrive & stick
-    # the new flight
-    flight = Flight(
-        theta0=jnp.where(go_on, th0_new, f.theta0),
-        sin0=jnp.where(go_on, sn0_new, f.sin0),
-        cos0=jnp.where(go_on, cs0_new, f.cos0),
-        v0=jnp.where(go_on, v0_new, f.v0),
-        s0=jnp.where(go_on, s0_new, f.s0),
-        cycles0=jnp.where(go_on, cyc0_new, f.cycles0),
-        delay=jnp.where(go_on, delay_used, f.delay),
-        released=jnp.where(go_on, go_stick, f.released),
-        t_depart=jnp.where(go_on, tdep_new, f.t_depart),
-        bound=jnp.where(go_on, bc_new, f.bound),
-    )
+    flight = _start_flight(s.flight, go_on, go_stick, s0_new, new)
     return s._replace(
         mode=jnp.where(
             arrive, jnp.where(orbit_end | escaped | failed, MODE_IDLE, jnp.where(A.move, MODE_A, MODE_B)), mode

@@ -13,11 +13,15 @@ import argparse
 import re
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..cliutil import CliError, CommandFailed, add_output_options, add_start_args, nonneg_int, positive_int, real
 
 #: Exit status of a lost Dask cluster: the scheduler does not answer or was lost, or no worker for --timeout.
 EXIT_CLUSTER_LOST = 3
+
+if TYPE_CHECKING:
+    from ..atlas.spec import AtlasSpec
 
 NAME = "atlas"
 HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
@@ -128,7 +132,9 @@ def _option_names(e: ValueError) -> ValueError:
     return ValueError(_FIELD.sub(lambda mt: "--" + mt.group(1).replace("_", "-") + "=", msg))
 
 
-def run(args: argparse.Namespace) -> int:
+def _spec(args: argparse.Namespace) -> AtlasSpec:
+    """The :class:`AtlasSpec` of the command line; a bad value is a
+    ValueError naming the option (``--alpha-lo``)."""
     from ..atlas.spec import AtlasSpec
 
     try:
@@ -150,14 +156,16 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as e:
         raise _option_names(e) from None
+    return spec
+
+
+def run(args: argparse.Namespace) -> int:
+    spec = _spec(args)
     from ..atlas.lock import StoreBusy, StoreLock
     from ..atlas.run import ClusterLost, check_scheduler, import_distributed, run_atlas
     from ..atlas.store import StoreWriteError
     from ..atlas.store import fit_tile, import_zarr, load_store
-    from ..atlas.summary import summarise
-    from ..cliutil import check_output_dir, check_outputs, print_result
-    from ..io import save_figure, write_json
-    from ..plots.atlas import atlas_figure
+    from ..cliutil import check_output_dir, check_outputs
 
     import_zarr()  # a missing extra: one line naming it, exit 2 (cli.main), before anything is written
     if args.scheduler != "serial":
@@ -215,6 +223,18 @@ def run(args: argparse.Namespace) -> int:
         data = st.read()
     finally:
         lock.release()
+    _write_results(args, spec, store, out, res, data)
+    return 0
+
+
+def _write_results(args: argparse.Namespace, spec: AtlasSpec, store: str, out: Path, res, data) -> None:
+    """Summarise the store's ``data`` and this run's record ``res``: write atlas_summary.json and
+    atlas.png to ``out`` and print the summary lines."""
+    from ..atlas.summary import summarise
+    from ..cliutil import print_result
+    from ..io import save_figure, write_json
+    from ..plots.atlas import atlas_figure
+
     summary = summarise(data, spec, res)
     summary.store = store
     assert summary.run is not None, "summarised with this run's record"
@@ -230,7 +250,6 @@ def run(args: argparse.Namespace) -> int:
         ],
         [out / "atlas_summary.json"],
     )
-    return 0
 
 
 def _run_line(spec, ru: dict, scheduler: str) -> str:
