@@ -218,13 +218,16 @@ RELEASE_LYAP_SIDE, RELEASE_LYAP_IMPACTS = 8, 1500
 
 
 def specs() -> list[Spec]:
-    """The cases, in order (ids are folder names)."""
-    graze_v = contacts.grazing_speed_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
-    miss_v = contacts.near_miss_offset_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
-    n_chaos, lam = chaos_horizon(FIG3)
-    from ...mapimpl.float64_release import stick_at_once_state
+    """The cases, in order (ids are folder names): 0001-0012 (:func:`flight_specs`, :func:`contact_specs`,
+    :func:`chatter_specs`, :func:`parameter_edge_specs`, :func:`release_spec`), then 0013-0025
+    (:func:`new_specs`)."""
+    return flight_specs() + contact_specs() + chatter_specs() + parameter_edge_specs() + [release_spec()] + new_specs()
 
-    rel_tau0, rel_sdot0 = stick_at_once_state(FIG11, 0, tau0=RELEASE_TAU0)
+
+def flight_specs() -> list[Spec]:
+    """Cases 0001-0003: the paper's regular (Fig. 2) and chaotic (Fig. 3) rattling, the chaotic case's
+    horizon found by :func:`chaos_horizon`, and a start in free flight."""
+    n_chaos, lam = chaos_horizon(FIG3)
     return [
         Spec(
             "0001-regular-fig2",
@@ -266,6 +269,15 @@ def specs() -> list[Spec]:
             tags=("regular", "free-flight"),
             catches=("free-flight-start",),
         ),
+    ]
+
+
+def contact_specs() -> list[Spec]:
+    """Cases 0004-0006 (Fig. 2 parameters): a grazing impact and a near miss, their initial velocities found
+    by bisection (:mod:`.contacts`), and a flight returning to the wall it left."""
+    graze_v = contacts.grazing_speed_sdot0(FIG2, 2.0, 0.40, 0.41, GRAZE_SPEED)
+    miss_v = contacts.near_miss_offset_sdot0(FIG2, 2.0, 0.40, 0.41, NEAR_MISS_OFFSET)
+    return [
         Spec(
             "0004-grazing-impact",
             f"Near-tangential impact: from the upper wall at tau0=2 the flight reaches the "
@@ -313,6 +325,12 @@ def specs() -> list[Spec]:
             tags=("return-to-start-wall",),
             catches=("return-to-start-wall",),
         ),
+    ]
+
+
+def chatter_specs() -> list[Spec]:
+    """Cases 0007-0008: chatter on the upper wall ending in sticking and release, and stuck forever."""
+    return [
         Spec(
             "0007-chatter-sticking",
             "Chatter to sticking: alpha=2, beta=0.1, gamma=1, r=0.5. Bounces on the upper "
@@ -338,6 +356,13 @@ def specs() -> list[Spec]:
             level=2,
             catches=("stuck-forever",),
         ),
+    ]
+
+
+def parameter_edge_specs() -> list[Spec]:
+    """Cases 0009-0011: very small damping beta (where the printed Eq. (7) cancels) and negative constant
+    torque gamma."""
+    return [
         Spec(
             "0009-small-beta",
             "Very small damping beta=1e-8 (alpha=1, gamma=0.1, r=0.9): the printed Eq. (7) "
@@ -372,30 +397,39 @@ def specs() -> list[Spec]:
             tags=("small-beta", "negative-gamma", "free-flight"),
             catches=("cancellation", "free-flight-start", "float64-drift"),
         ),
-        Spec(
-            "0012-release-orbit-fig11",
-            "Paper Figs. 9-11 setting (alpha=1.245, beta=gamma=0.1, r=0.9): a pre-impact "
-            "state in the Fig. 11 box that sticks at once to the upper wall; the tooth is released at the exact zero "
-            "of the contact force (the canonical release phase, a function of the parameters alone) and flies on the "
-            "post-release orbit that every sticking initial condition of the mesh shares. Short horizon set by the "
-            "Lyapunov exponent of the transient; the notes carry its certified post-release duration T_post.",
-            FIG11,
-            rel_tau0,
-            rel_sdot0,
-            0,
-            tolerances=tol(CHAOS_TOL),
-            tags=("chaotic", "paper", "sticking", "release"),
-            notes={
-                "sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
-                "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
-                "to 3 significant digits (mapimpl/float64_release.py: "
-                "stick_at_once_state)"
-            },
-            finish=finish_release_case,
-            level=2,
-            catches=("release-departure", "float64-drift"),
-        ),
-    ] + new_specs()
+    ]
+
+
+def release_spec() -> Spec:
+    """Case 0012: the release orbit of the paper's Figs. 9-11 setting, from a state that sticks at once
+    (:func:`mapimpl.float64_release.stick_at_once_state`); its horizon and notes are found by
+    :func:`finish_release_case` when the case is built."""
+    from ...mapimpl.float64_release import stick_at_once_state
+
+    rel_tau0, rel_sdot0 = stick_at_once_state(FIG11, 0, tau0=RELEASE_TAU0)
+    return Spec(
+        "0012-release-orbit-fig11",
+        "Paper Figs. 9-11 setting (alpha=1.245, beta=gamma=0.1, r=0.9): a pre-impact "
+        "state in the Fig. 11 box that sticks at once to the upper wall; the tooth is released at the exact zero "
+        "of the contact force (the canonical release phase, a function of the parameters alone) and flies on the "
+        "post-release orbit that every sticking initial condition of the mesh shares. Short horizon set by the "
+        "Lyapunov exponent of the transient; the notes carry its certified post-release duration T_post.",
+        FIG11,
+        rel_tau0,
+        rel_sdot0,
+        0,
+        tolerances=tol(CHAOS_TOL),
+        tags=("chaotic", "paper", "sticking", "release"),
+        notes={
+            "sdot0_rule": f"tau0={RELEASE_TAU0:g} (centre of the Fig. 11 box in tau); sdot0 = half the largest "
+            "pre-impact speed that sticks at once there, STICK_TIME (1 - r) f(tau0) / (4 r), "
+            "to 3 significant digits (mapimpl/float64_release.py: "
+            "stick_at_once_state)"
+        },
+        finish=finish_release_case,
+        level=2,
+        catches=("release-departure", "float64-drift"),
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -602,191 +636,207 @@ def graze_specs() -> list[Spec]:
 
 
 def new_specs() -> list[Spec]:
-    """Cases 0013-0025, each for a bug class that cases 0001-0012 let through (issue 21)."""
+    """Cases 0013-0025, each for a bug class that cases 0001-0012 let through (issue 21):
+    :func:`chatter_ending_specs`, :func:`sticking_policy_specs`, :func:`graze_specs`, :func:`near_miss_specs`."""
+    return chatter_ending_specs() + sticking_policy_specs() + graze_specs() + near_miss_specs()
+
+
+def chatter_ending_specs() -> list[Spec]:
+    """Cases 0013-0016: how a chatter ends: sticking on the lower wall, stuck forever there, a release flight
+    that never lands (ending ``no_impact``), and elastic impacts (r = 1) where nothing accumulates."""
+    return [
+        Spec(
+            "0013-lower-wall-sticking",
+            "Chatter to sticking on the lower wall s=-1: case 0007 mirrored (alpha=2, "
+            "beta=0.1, gamma=-1, r=0.5), start on the lower wall. The tooth sticks to s=-1 after impact 24, is "
+            "released where the contact force -f stops pressing (f rises through zero: phase phi + pi - "
+            "asin(gamma/R)), flies on, and chatters again; the case ends with impact 47, whose own sticking "
+            "(rows after the last counted impact) is not written.",
+            CHATTER_DOWN,
+            3.0,
+            -0.5,
+            47,
+            tags=("chatter", "sticking", "lower-wall"),
+            level=2,
+            catches=("lower-wall-sticking", "trailing-rows", "release-departure"),
+            notes={
+                "purpose": "catches no sticking on s=-1, the wrong pressing sign on s=-1 (f > 0 instead of "
+                "-f > 0), the wall-0 release branch used on s=-1, and stick/release rows written for "
+                "the impact after the last counted one (impact 47 sticks)"
+            },
+        ),
+        Spec(
+            "0014-lower-wall-stuck-forever",
+            "Chatter ending stuck forever on the lower wall: case 0008 mirrored "
+            "(alpha=0.5, beta=0.1, gamma=-0.9, r=0.5): gamma <= -R, the force -f presses into s=-1 for ever.",
+            Params(0.5, 0.1, -0.9, 0.5),
+            0.0,
+            -0.5,
+            40,
+            tags=("chatter", "sticking", "stuck-forever", "lower-wall"),
+            level=2,
+            catches=("stuck-forever", "lower-wall-sticking"),
+            notes={
+                "purpose": "catches the never-release test gamma >= R applied on s=-1 (the pressing side there "
+                "is gamma <= -R), and missing sticking on s=-1"
+            },
+        ),
+        Spec(
+            "0015-no-impact-after-release",
+            "An orbit that ends with no_impact: alpha=0.1, beta=0.3, gamma=0, "
+            "r=0.6. The tooth chatters on the upper wall, sticks after impact 29 and is released; the release flight "
+            "oscillates inside the backlash for ever (gamma=0: no drift; certified for all t > 0). The file ends "
+            "with the stick and release rows: no row for the flight that never lands.",
+            Params(0.1, 0.3, 0.0, 0.6),
+            4.5,
+            0.05,
+            40,
+            tags=("chatter", "sticking", "no-impact"),
+            level=3,
+            catches=("no-impact-ending",),
+            ending="no_impact",
+            notes={
+                "purpose": "catches an invented row after the last event (an impact at the search horizon "
+                "T_MAX, a NaN placeholder) and the stick/release rows of the last step dropped "
+                "because its flight never lands"
+            },
+        ),
+        Spec(
+            "0016-elastic-r1",
+            "Elastic impacts r=1 (Fig. 2 parameters otherwise): nothing accumulates, nothing "
+            "sticks, although most impacts happen while the forcing presses into the wall.",
+            Params(0.5, 0.1, 0.1, 1.0),
+            0.0,
+            0.5,
+            20,
+            tags=("regular", "elastic"),
+            catches=("elastic-r1",),
+            notes={
+                "purpose": "catches t_acc = 2 u / ((1 - r) f_in) evaluated with a 'safe' division that "
+                "returns 0 where (1 - r) f_in = 0 (every pressing impact would stick), or any "
+                "sticking at r = 1"
+            },
+        ),
+    ]
+
+
+def sticking_policy_specs() -> list[Spec]:
+    """Cases 0017-0019: the sticking policy's conditions at impact 0 (the release delay, and t_acc just below
+    and above STICK_TIME), the initial states found by :func:`release_lead_state` and
+    :func:`stick_ratio_sdot0`."""
+    lead_tau0, lead_v = release_lead_state(CHATTER_UP, 0, RELEASE_LEAD, RELEASE_DELAY_TACC)
     below_v = stick_ratio_sdot0(CHATTER_UP, 4.0, 0, STICK_RATIO_BELOW)
     above_v = stick_ratio_sdot0(CHATTER_DOWN, 1.0, -1, STICK_RATIO_ABOVE)
-    lead_tau0, lead_v = release_lead_state(CHATTER_UP, 0, RELEASE_LEAD, RELEASE_DELAY_TACC)
+    return [
+        Spec(
+            "0017-release-before-accumulation",
+            "A chatter impact that must not stick: case 0007's parameters, an "
+            f"impact {RELEASE_LEAD:g} before the contact force stops pressing, with t_acc = "
+            f"{RELEASE_DELAY_TACC:g} <= STICK_TIME but longer than the release delay: the tooth bounces, the "
+            "force turns before it can come back, and it flies to the lower wall.",
+            CHATTER_UP,
+            lead_tau0,
+            lead_v,
+            12,
+            tags=("chatter", "release-delay"),
+            level=2,
+            catches=("release-delay",),
+            extras=("policy",),
+            notes={
+                "sdot0_rule": f"tau0 = the float64 nearest to (certified release phase - {RELEASE_LEAD:g}); "
+                f"sdot0 = t_acc (1 - r) f(tau0) / (2 r) with t_acc = {RELEASE_DELAY_TACC:g}, "
+                "3 significant digits",
+                "purpose": "catches a policy that ignores the condition 'release delay > t_acc' (it would "
+                "stick at impact 0 and release before the stick row)",
+            },
+        ),
+        Spec(
+            "0018-stick-threshold-below",
+            f"Sticking with t_acc = {STICK_RATIO_BELOW:g} STICK_TIME (upper wall, "
+            "case 0007's parameters): the tooth sticks at impact 0, is released at the zero of the contact force "
+            "and flies on.",
+            CHATTER_UP,
+            4.0,
+            below_v,
+            10,
+            tags=("sticking", "threshold"),
+            level=2,
+            catches=("sticking-threshold",),
+            extras=("policy",),
+            notes={
+                "sdot0_rule": f"sdot0 = {STICK_RATIO_BELOW:g} STICK_TIME (1 - r) f(tau0) / (2 r), 6 significant digits",
+                "purpose": "catches a sticking threshold scaled by 0.99 or less (or t_acc overestimated by "
+                "0.5 % or more)",
+            },
+        ),
+        Spec(
+            "0019-stick-threshold-above-lower-wall",
+            f"No sticking with t_acc = {STICK_RATIO_ABOVE:g} STICK_TIME "
+            "on the lower wall (case 0013's parameters): impact 0 bounces, the tooth comes back after ~5e-7 and "
+            "sticks at impact 1, is released at the lower wall's release phase and flies on.",
+            CHATTER_DOWN,
+            1.0,
+            above_v,
+            10,
+            tags=("sticking", "threshold", "lower-wall"),
+            level=2,
+            catches=("sticking-threshold", "lower-wall-sticking"),
+            extras=("policy",),
+            notes={
+                "sdot0_rule": f"sdot0 = -{STICK_RATIO_ABOVE:g} STICK_TIME (1 - r) (-f(tau0)) / (2 r), 6 "
+                "significant digits",
+                "purpose": "catches a sticking threshold scaled by 1.01 .. 1.5 (or t_acc underestimated by "
+                "0.5 % or more), and sticking missing on s=-1",
+            },
+        ),
+    ]
+
+
+def near_miss_specs() -> list[Spec]:
+    """Cases 0024-0025: near misses at ~NEAR_MISS_1E9 (lower wall) and ~NEAR_MISS_1E11 (upper wall), their
+    initial velocities found by bisection (:func:`contacts.near_miss_sdot0`)."""
     miss9 = contacts.near_miss_sdot0(FIG2, 3.0, 0.93, 0.95, -1, NEAR_MISS_1E9)
     miss11 = contacts.near_miss_sdot0(FIG3, 6.0, -0.9, -1.0, 0, NEAR_MISS_1E11)
-    return (
-        [
-            Spec(
-                "0013-lower-wall-sticking",
-                "Chatter to sticking on the lower wall s=-1: case 0007 mirrored (alpha=2, "
-                "beta=0.1, gamma=-1, r=0.5), start on the lower wall. The tooth sticks to s=-1 after impact 24, is "
-                "released where the contact force -f stops pressing (f rises through zero: phase phi + pi - "
-                "asin(gamma/R)), flies on, and chatters again; the case ends with impact 47, whose own sticking "
-                "(rows after the last counted impact) is not written.",
-                CHATTER_DOWN,
-                3.0,
-                -0.5,
-                47,
-                tags=("chatter", "sticking", "lower-wall"),
-                level=2,
-                catches=("lower-wall-sticking", "trailing-rows", "release-departure"),
-                notes={
-                    "purpose": "catches no sticking on s=-1, the wrong pressing sign on s=-1 (f > 0 instead of "
-                    "-f > 0), the wall-0 release branch used on s=-1, and stick/release rows written for "
-                    "the impact after the last counted one (impact 47 sticks)"
-                },
-            ),
-            Spec(
-                "0014-lower-wall-stuck-forever",
-                "Chatter ending stuck forever on the lower wall: case 0008 mirrored "
-                "(alpha=0.5, beta=0.1, gamma=-0.9, r=0.5): gamma <= -R, the force -f presses into s=-1 for ever.",
-                Params(0.5, 0.1, -0.9, 0.5),
-                0.0,
-                -0.5,
-                40,
-                tags=("chatter", "sticking", "stuck-forever", "lower-wall"),
-                level=2,
-                catches=("stuck-forever", "lower-wall-sticking"),
-                notes={
-                    "purpose": "catches the never-release test gamma >= R applied on s=-1 (the pressing side there "
-                    "is gamma <= -R), and missing sticking on s=-1"
-                },
-            ),
-            Spec(
-                "0015-no-impact-after-release",
-                "An orbit that ends with no_impact: alpha=0.1, beta=0.3, gamma=0, "
-                "r=0.6. The tooth chatters on the upper wall, sticks after impact 29 and is released; the release flight "
-                "oscillates inside the backlash for ever (gamma=0: no drift; certified for all t > 0). The file ends "
-                "with the stick and release rows: no row for the flight that never lands.",
-                Params(0.1, 0.3, 0.0, 0.6),
-                4.5,
-                0.05,
-                40,
-                tags=("chatter", "sticking", "no-impact"),
-                level=3,
-                catches=("no-impact-ending",),
-                ending="no_impact",
-                notes={
-                    "purpose": "catches an invented row after the last event (an impact at the search horizon "
-                    "T_MAX, a NaN placeholder) and the stick/release rows of the last step dropped "
-                    "because its flight never lands"
-                },
-            ),
-            Spec(
-                "0016-elastic-r1",
-                "Elastic impacts r=1 (Fig. 2 parameters otherwise): nothing accumulates, nothing "
-                "sticks, although most impacts happen while the forcing presses into the wall.",
-                Params(0.5, 0.1, 0.1, 1.0),
-                0.0,
-                0.5,
-                20,
-                tags=("regular", "elastic"),
-                catches=("elastic-r1",),
-                notes={
-                    "purpose": "catches t_acc = 2 u / ((1 - r) f_in) evaluated with a 'safe' division that "
-                    "returns 0 where (1 - r) f_in = 0 (every pressing impact would stick), or any "
-                    "sticking at r = 1"
-                },
-            ),
-            Spec(
-                "0017-release-before-accumulation",
-                "A chatter impact that must not stick: case 0007's parameters, an "
-                f"impact {RELEASE_LEAD:g} before the contact force stops pressing, with t_acc = "
-                f"{RELEASE_DELAY_TACC:g} <= STICK_TIME but longer than the release delay: the tooth bounces, the "
-                "force turns before it can come back, and it flies to the lower wall.",
-                CHATTER_UP,
-                lead_tau0,
-                lead_v,
-                12,
-                tags=("chatter", "release-delay"),
-                level=2,
-                catches=("release-delay",),
-                extras=("policy",),
-                notes={
-                    "sdot0_rule": f"tau0 = the float64 nearest to (certified release phase - {RELEASE_LEAD:g}); "
-                    f"sdot0 = t_acc (1 - r) f(tau0) / (2 r) with t_acc = {RELEASE_DELAY_TACC:g}, "
-                    "3 significant digits",
-                    "purpose": "catches a policy that ignores the condition 'release delay > t_acc' (it would "
-                    "stick at impact 0 and release before the stick row)",
-                },
-            ),
-            Spec(
-                "0018-stick-threshold-below",
-                f"Sticking with t_acc = {STICK_RATIO_BELOW:g} STICK_TIME (upper wall, "
-                "case 0007's parameters): the tooth sticks at impact 0, is released at the zero of the contact force "
-                "and flies on.",
-                CHATTER_UP,
-                4.0,
-                below_v,
-                10,
-                tags=("sticking", "threshold"),
-                level=2,
-                catches=("sticking-threshold",),
-                extras=("policy",),
-                notes={
-                    "sdot0_rule": f"sdot0 = {STICK_RATIO_BELOW:g} STICK_TIME (1 - r) f(tau0) / (2 r), 6 significant "
-                    "digits",
-                    "purpose": "catches a sticking threshold scaled by 0.99 or less (or t_acc overestimated by "
-                    "0.5 % or more)",
-                },
-            ),
-            Spec(
-                "0019-stick-threshold-above-lower-wall",
-                f"No sticking with t_acc = {STICK_RATIO_ABOVE:g} STICK_TIME "
-                "on the lower wall (case 0013's parameters): impact 0 bounces, the tooth comes back after ~5e-7 and "
-                "sticks at impact 1, is released at the lower wall's release phase and flies on.",
-                CHATTER_DOWN,
-                1.0,
-                above_v,
-                10,
-                tags=("sticking", "threshold", "lower-wall"),
-                level=2,
-                catches=("sticking-threshold", "lower-wall-sticking"),
-                extras=("policy",),
-                notes={
-                    "sdot0_rule": f"sdot0 = -{STICK_RATIO_ABOVE:g} STICK_TIME (1 - r) (-f(tau0)) / (2 r), 6 "
-                    "significant digits",
-                    "purpose": "catches a sticking threshold scaled by 1.01 .. 1.5 (or t_acc underestimated by "
-                    "0.5 % or more), and sticking missing on s=-1",
-                },
-            ),
-        ]
-        + graze_specs()
-        + [
-            Spec(
-                "0024-near-miss-1e-9",
-                "Near miss at ~1e-9: Fig. 2 parameters, the flight from the upper wall at "
-                "tau0=3 turns back ~1e-9 above the lower wall and returns to the wall it left (impact 1 on s=0).",
-                FIG2,
-                3.0,
-                miss9,
-                10,
-                tags=("grazing", "return-to-start-wall", "near-miss"),
-                level=3,
-                catches=("contact-tolerance", "return-to-start-wall"),
-                notes={
-                    "sdot0_rule": f"the threshold sdot0 at which the first impact switches to the lower wall "
-                    f"(bisection in [0.93, 0.95]), moved to the missing side so that the closest "
-                    f"approach is ~{NEAR_MISS_1E9:g}, 15 significant digits",
-                    "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-9 or more "
-                    "(e.g. 1e-8)",
-                },
-            ),
-            Spec(
-                "0025-near-miss-1e-11-upper-wall",
-                "Near miss at ~1e-11 on the upper wall: Fig. 3 parameters, the "
-                "flight from the lower wall at tau0=6 turns back ~1e-11 below s=0 and returns to the lower wall.",
-                FIG3,
-                6.0,
-                miss11,
-                4,
-                tags=("grazing", "return-to-start-wall", "near-miss"),
-                level=3,
-                catches=("contact-tolerance", "return-to-start-wall"),
-                notes={
-                    "sdot0_rule": f"the threshold sdot0 at which the first impact switches to the upper wall "
-                    f"(bisection in [-1.0, -0.9]), moved to the missing side so that the closest "
-                    f"approach is ~{NEAR_MISS_1E11:g}, 15 significant digits",
-                    "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-11 or "
-                    "more (e.g. 1e-10)",
-                },
-            ),
-        ]
-    )
+    return [
+        Spec(
+            "0024-near-miss-1e-9",
+            "Near miss at ~1e-9: Fig. 2 parameters, the flight from the upper wall at "
+            "tau0=3 turns back ~1e-9 above the lower wall and returns to the wall it left (impact 1 on s=0).",
+            FIG2,
+            3.0,
+            miss9,
+            10,
+            tags=("grazing", "return-to-start-wall", "near-miss"),
+            level=3,
+            catches=("contact-tolerance", "return-to-start-wall"),
+            notes={
+                "sdot0_rule": f"the threshold sdot0 at which the first impact switches to the lower wall "
+                f"(bisection in [0.93, 0.95]), moved to the missing side so that the closest "
+                f"approach is ~{NEAR_MISS_1E9:g}, 15 significant digits",
+                "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-9 or more "
+                "(e.g. 1e-8)",
+            },
+        ),
+        Spec(
+            "0025-near-miss-1e-11-upper-wall",
+            "Near miss at ~1e-11 on the upper wall: Fig. 3 parameters, the "
+            "flight from the lower wall at tau0=6 turns back ~1e-11 below s=0 and returns to the lower wall.",
+            FIG3,
+            6.0,
+            miss11,
+            4,
+            tags=("grazing", "return-to-start-wall", "near-miss"),
+            level=3,
+            catches=("contact-tolerance", "return-to-start-wall"),
+            notes={
+                "sdot0_rule": f"the threshold sdot0 at which the first impact switches to the upper wall "
+                f"(bisection in [-1.0, -0.9]), moved to the missing side so that the closest "
+                f"approach is ~{NEAR_MISS_1E11:g}, 15 significant digits",
+                "purpose": "catches a contact accepted when the gap falls below a tolerance of 1e-11 or "
+                "more (e.g. 1e-10)",
+            },
+        ),
+    ]
 
 
 def spec_from_settings(settings: dict, prec: int = cert.PREC) -> Spec:
