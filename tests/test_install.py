@@ -40,9 +40,24 @@ def _core_modules() -> set[str]:
     return names
 
 
+def _type_checking_only(tree: ast.AST) -> set[int]:
+    """``id`` of every node under an ``if TYPE_CHECKING:`` block: imports there name types for the type
+    checker and never run."""
+    out: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and getattr(node.test, "id", getattr(node.test, "attr", None)) == "TYPE_CHECKING":
+            out |= {id(n) for b in node.body for n in ast.walk(b)}
+    return out
+
+
 def _imports(path: Path):
-    """Top-level names of every absolute import statement in ``path`` (module level or inside functions)."""
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    """Top-level names of every absolute import statement in ``path`` that runs (module level or inside
+    functions; not those under ``if TYPE_CHECKING:``)."""
+    tree = ast.parse(path.read_text(), str(path))
+    skip = _type_checking_only(tree)
+    for node in ast.walk(tree):
+        if id(node) in skip:
+            continue
         if isinstance(node, ast.Import):
             for a in node.names:
                 yield node.lineno, a.name.split(".")[0]
