@@ -121,7 +121,7 @@ def float64_seeds() -> dict:
     def point_seed(base, f, impacts, note):
         if not f.converged:
             raise RuntimeError(f"float64 seed did not converge: {note}")
-        th, sd = orbit_states(base.replace(**{f.param: f.mu}), f.tau, f.sdot, impacts)
+        th, sd = orbit_states(base.replace(**{f.param: f.mu}), f.theta, f.sdot, impacts)
         return (*canonical(th, sd), f.mu, note)
 
     th, sd = attractor_point(_FIG4)
