@@ -106,7 +106,7 @@ def canonical(tau, sdot, walls=None):
 def float64_seeds() -> dict:
     """The float64 guesses of every case, found as the paper's analyses find them (slow: engine runs
     to the attractors and the continuation of both branches; JAX compilation included, ~1-2 min):
-    ``{id: (tau, sdot, mu or None, note)}``."""
+    ``{id: (theta, sdot, mu or None, note)}`` (the phases and velocities of one period)."""
     from ...mapimpl.periodic import find_periodic
     from ...mapimpl.branches import attractor_point, four_impact_branch, orbit_on_branch, six_impact_branch
     from ...mapimpl.continuation import continue_orbit, orbit_states
@@ -164,18 +164,19 @@ def seeds_from_records(folder: str | Path = DEFAULT_ORBITS) -> dict:
     return seeds
 
 
-def certify_case(case: OrbitCase, tau, sdot, mu=None):
-    """The certified orbit or bifurcation point of ``case`` from the guess ``(tau, sdot[, mu])``."""
+def certify_case(case: OrbitCase, theta, sdot, mu=None):
+    """The certified orbit or bifurcation point of ``case`` from the guess ``(theta, sdot[, mu])`` (the
+    phases and velocities of one period)."""
     if case.kind == "periodic-orbit":
-        return certify_periodic_orbit(case.params, tau, sdot, case.turns)
+        return certify_periodic_orbit(case.params, theta, sdot, case.turns)
     assert case.parameter is not None, "a bifurcation case names its parameter (OrbitCase)"
-    return certify_bifurcation(case.kind, case.params, case.parameter, tau, sdot, mu, case.turns)
+    return certify_bifurcation(case.kind, case.params, case.parameter, theta, sdot, mu, case.turns)
 
 
 def build(case: OrbitCase, seed) -> str:
-    """The record text of ``case`` from ``seed`` ``(tau, sdot, mu, note)``, proven again from its text."""
-    tau, sdot, mu, note = seed
-    text = dumps(record(case, certify_case(case, tau, sdot, mu), note))
+    """The record text of ``case`` from ``seed`` ``(theta, sdot, mu, note)``, proven again from its text."""
+    theta, sdot, mu, note = seed
+    text = dumps(record(case, certify_case(case, theta, sdot, mu), note))
     verify_record(loads_exact(text))
     return text
 
