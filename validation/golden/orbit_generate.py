@@ -96,9 +96,10 @@ CASES = (
 CASE_IDS = tuple(c.id for c in CASES)
 
 
-def canonical(tau, sdot, walls=None):
-    """The points of one period rotated to start at the smallest phase (the records' convention)."""
-    th = [float(t) % (2 * math.pi) for t in tau]
+def canonical(theta, sdot, walls=None):
+    """The points of one period (phases ``theta``, or times: reduced mod 2 pi) rotated to start at the
+    smallest phase (the records' convention)."""
+    th = [float(t) % (2 * math.pi) for t in theta]
     k = min(range(len(th)), key=th.__getitem__)
     return th[k:] + th[:k], [float(v) for v in sdot[k:]] + [float(v) for v in sdot[:k]]
 
