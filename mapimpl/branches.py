@@ -65,14 +65,14 @@ def orbit_on_branch(branch: Branch, mu: float, part: str = "saddle") -> Periodic
         raise ValueError("the branch has fewer than 2 points")
     k = int(np.argmax(a["mu"])) if branch.param == "r" else int(np.argmin(a["mu"]))
     sl = slice(k, None) if part == "saddle" else slice(0, k + 1)
-    mus, taus, sds = a["mu"][sl], a["tau"][sl], a["sdot"][sl]
+    mus, thetas, sds = a["mu"][sl], a["tau"][sl], a["sdot"][sl]  # "tau": the arrays' key of the phases
     if not (mus.min() <= mu <= mus.max()):
         raise ValueError(
             f"{branch.param}={mu!r} is out of range: allowed [{mus.min()}, {mus.max()}] on the {part} branch"
         )
     j = int(np.argmin(np.abs(mus - mu)))
     params = branch.params.replace(**{branch.param: float(mu)})
-    o = find_periodic(params, taus[j], sds[j], branch.impacts, branch.turns)
+    o = find_periodic(params, thetas[j], sds[j], branch.impacts, branch.turns)
     if not o.converged:
         raise ValueError(f"Newton did not converge on the {part} branch at {branch.param}={mu!r}")
     return o

@@ -41,6 +41,7 @@ from .impact_map import step
 from ..core.state import make_state
 from ..core.params import ParamArrays, Params, check_value
 from ..core.checks import MAX_PERIOD, check_int
+from ..core.deprecation import renamed_attribute
 from .periodic import find_periodic, pfold
 from .newton import newton
 
@@ -125,14 +126,17 @@ class _Problem:
 
 @dataclass
 class OrbitPoint:
-    """One point of a branch: the pre-impact state ``(tau, sdot)`` (tau mod 2 pi), the parameter value
-    ``mu`` and the Floquet multipliers."""
+    """One point of a branch: the pre-impact state ``(theta, sdot)`` (the phase ``theta = tau mod 2 pi``),
+    the parameter value ``mu`` and the Floquet multipliers.  The old name ``tau`` of ``theta`` still
+    works, with a DeprecationWarning (:func:`~gear_rattle.core.deprecation.renamed_attribute`)."""
 
-    tau: float
+    theta: float
     sdot: float
     mu: float
     multipliers: np.ndarray
     residual: float
+
+    tau = renamed_attribute("tau", "theta")
 
     @property
     def stable(self) -> bool:
@@ -141,11 +145,14 @@ class OrbitPoint:
 
 @dataclass
 class BifurcationPoint:
-    """A fold (``kind = "fold"``, a multiplier +1) or flip (``"flip"``, a multiplier -1) point."""
+    """A fold (``kind = "fold"``, a multiplier +1) or flip (``"flip"``, a multiplier -1) point: the
+    parameter value ``mu``, the pre-impact state ``(theta, sdot)`` of the orbit there (the phase
+    ``theta = tau mod 2 pi``) and its multipliers.  The old name ``tau`` of ``theta`` still works, with a
+    DeprecationWarning."""
 
     kind: str
     mu: float
-    tau: float
+    theta: float
     sdot: float
     multipliers: np.ndarray
     residual: float
@@ -153,13 +160,15 @@ class BifurcationPoint:
     iterations: int
     param: str = "r"
 
+    tau = renamed_attribute("tau", "theta")
+
     def describe(self) -> str:
         m = ", ".join(
             f"{complex(z).real:+.10f}" if abs(complex(z).imag) < 1e-12 else f"{complex(z):.6f}"
             for z in self.multipliers
         )
         return (
-            f"{self.kind} at {self.param} = {self.mu:.12f} (tau = {self.tau:.10f}, sdot = {self.sdot:.10f}; "
+            f"{self.kind} at {self.param} = {self.mu:.12f} (theta = {self.theta:.10f}, sdot = {self.sdot:.10f}; "
             f"multipliers {m}; residual {self.residual:.1e}, {'converged' if self.converged else 'NOT converged'})"
         )
 
@@ -178,11 +187,12 @@ class Branch:
     stop_reason: str = ""
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """The branch as arrays: ``mu``, ``tau``, ``sdot``, ``mult_re``/``mult_im`` (n, 2), ``stable``."""
+        """The branch as arrays: ``mu``, ``tau`` (the phases ``theta`` of the points: the key is the file
+        format's, kept), ``sdot``, ``mult_re``/``mult_im`` (n, 2), ``stable``."""
         mult = np.array([np.sort_complex(np.asarray(p.multipliers, complex)) for p in self.points]).reshape(-1, 2)
         return {
             "mu": np.array([p.mu for p in self.points]),
-            "tau": np.array([p.tau for p in self.points]),
+            "tau": np.array([p.theta for p in self.points]),
             "sdot": np.array([p.sdot for p in self.points]),
             "mult_re": mult.real,
             "mult_im": mult.imag,
@@ -190,7 +200,8 @@ class Branch:
         }
 
     def table(self) -> tuple[list, list]:
-        """``(header, rows)``: one row per point (parameter, tau, sdot, the two multipliers, stable)."""
+        """``(header, rows)``: one row per point (parameter, the phase theta in the column ``tau``, sdot, the
+        two multipliers, stable)."""
         a = self.arrays()
         return [self.param, "tau", "sdot", "mult1_re", "mult1_im", "mult2_re", "mult2_im", "stable"], [
             [

@@ -193,6 +193,26 @@ def test_bad_inputs(call, match):
         call()
 
 
+def test_the_guess_is_named_theta_and_the_old_name_tau_warns():
+    """The guess is p pre-impact phases (issue 32: tau is absolute time, the phase is theta): the argument
+    is ``theta``; the old keyword ``tau=`` still works with a DeprecationWarning and proves the same orbit
+    (every enclosure equal); both at once, or neither, is a TypeError naming the argument."""
+    guess, sdot = [2.034, 4.110, 6.087], [-0.7343, 0.6229, 0.4421]
+    new = certify_periodic_orbit(FIG2, theta=guess, sdot=sdot)
+    with pytest.warns(DeprecationWarning, match="tau= is deprecated: use theta="):
+        old = certify_periodic_orbit(FIG2, tau=guess, sdot=sdot)
+    assert [b.mid().str(40) for b in old.tau + old.sdot] == [b.mid().str(40) for b in new.tau + new.sdot]
+    assert [b.rad() for b in old.tau + old.sdot] == [b.rad() for b in new.tau + new.sdot]
+    with pytest.raises(TypeError, match="not both"):
+        certify_periodic_orbit(FIG2, guess, sdot, tau=guess)
+    with pytest.raises(TypeError, match="theta is missing"):
+        certify_periodic_orbit(FIG2, sdot=sdot)
+    with pytest.warns(DeprecationWarning, match="tau= is deprecated"), pytest.raises(CertificationError):
+        certify_bifurcation("fold", FIG4, "r", tau=[5.0], sdot=[1.4], mu=0.82)  # the old name reaches the proof
+    with pytest.raises(TypeError, match="mu is missing"):
+        certify_bifurcation("fold", FIG4, "r", [5.0], [1.4])
+
+
 def test_a_guess_that_leads_nowhere_raises_certification_error():
     """A guess far from any orbit: Newton leaves the model's range or fails; never a wrong certificate."""
     with pytest.raises(CertificationError):

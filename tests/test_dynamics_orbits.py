@@ -5,7 +5,15 @@ import pytest
 
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.periodic import find_periodic
-from gear_rattle.mapimpl.continuation import closed_form_det, continue_orbit, locate, orbit_states
+from gear_rattle.mapimpl.continuation import (
+    BifurcationPoint,
+    Branch,
+    OrbitPoint,
+    closed_form_det,
+    continue_orbit,
+    locate,
+    orbit_states,
+)
 from gear_rattle.validation.dynamics.crises import attractor_point, goy_exponent, fit_crisis_fixed
 
 
@@ -63,6 +71,38 @@ def test_continuation_passes_fold_r2(orbit6):
     # locating again from a point further away gives the same r2
     g = locate(p, "r", "fold", o.theta[0], o.sdot[0], 0.82, 6)
     assert g.mu == pytest.approx(f.mu, abs=1e-14)
+    # the phase is theta (tau mod 2 pi) on the branch and at the fold; the old name tau warns, same value
+    assert 0 <= f.theta < 2 * np.pi and all(0 <= q.theta < 2 * np.pi for q in br.points)
+    assert np.array_equal(br.arrays()["tau"], [q.theta for q in br.points])  # the file format's key, kept
+    with pytest.warns(DeprecationWarning, match=r"BifurcationPoint\.tau is deprecated: use \.theta"):
+        assert f.tau == f.theta
+    with pytest.warns(DeprecationWarning, match=r"OrbitPoint\.tau is deprecated: use \.theta"):
+        assert br.points[-1].tau == br.points[-1].theta
+
+
+def test_branch_points_name_the_phase_theta():
+    """OrbitPoint.tau and BifurcationPoint.tau were the phase tau mod 2 pi, where ImpactSequence.tau is
+    absolute time (issue 32): the phase is ``theta``, the old name still works with a DeprecationWarning
+    and gives the same value, describe() names theta, and the branch's arrays keep the file format's
+    key ``tau`` (and its table the column)."""
+    pt = OrbitPoint(theta=1.25, sdot=0.5, mu=0.8, multipliers=np.array([0.5, -0.25]), residual=1e-14)
+    with pytest.warns(DeprecationWarning, match=r"OrbitPoint\.tau is deprecated: use \.theta \(same meaning\)"):
+        assert pt.tau == pt.theta == 1.25
+    fold = BifurcationPoint(
+        "fold",
+        0.82,
+        theta=2.5,
+        sdot=-0.75,
+        multipliers=np.array([1.0, 0.05]),
+        residual=0.0,
+        converged=True,
+        iterations=3,
+    )
+    with pytest.warns(DeprecationWarning, match=r"BifurcationPoint\.tau is deprecated: use \.theta"):
+        assert fold.tau == fold.theta == 2.5
+    assert "(theta = 2.5000000000, sdot = -0.7500000000;" in fold.describe()
+    br = Branch(Params(3, 0.1, 0.1, 0.8), "r", 6, 1, points=[pt])
+    assert br.arrays()["tau"].tolist() == [1.25] and br.table()[0][:3] == ["r", "tau", "sdot"]
 
 
 @pytest.mark.parametrize("name", ["r", "alpha"])

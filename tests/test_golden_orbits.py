@@ -295,7 +295,7 @@ def test_r2_decides_the_paper_bounds_by_proof():
 
     rec = json.loads(_text("fold-r2-6-impact-alpha3"))
     p0 = rec["points"][4]
-    fold = SimpleNamespace(tau=sum(p0["tau_mod_2pi"]) / 2, sdot=sum(p0["sdot"]) / 2, mu=sum(rec["value"]) / 2)
+    fold = SimpleNamespace(theta=sum(p0["tau_mod_2pi"]) / 2, sdot=sum(p0["sdot"]) / 2, mu=sum(rec["value"]) / 2)
     cr2 = certified_r2(fold)
     assert cr2.width < 1e-80 and cr2.lo <= cr2.mid <= cr2.hi and cr2.hi - cr2.lo <= 2.3e-16
     assert Fraction(cr2.decimal[0]) > Fraction("0.82144") and Fraction(cr2.decimal[1]) < Fraction("0.82145")

@@ -109,7 +109,7 @@ RANGE = {
 
 P = Params(3.0, 0.1, 0.1, 0.9)
 FIG2 = Params(0.5, 0.1, 0.1, 0.9)
-FOLD_TAU = [1.055, 2.017, 3.013, 4.172, 5.141, 6.102]
+FOLD_THETA = [1.055, 2.017, 3.013, 4.172, 5.141, 6.102]
 FOLD_SDOT = [-1.614, -1.343, -0.709, 1.734, 1.448, 0.829]
 
 
@@ -271,16 +271,16 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
         ),
     ),
     "gear_rattle.mapimpl.certified.periodic:certify_periodic_orbit": (
-        dict(params=FIG2, tau=[2.034, 4.110, 6.087], sdot=[-0.7343, 0.6229, 0.4421]),
-        dict(params="cparams", tau="array", sdot="array", turns="count", prec="prec"),
+        dict(params=FIG2, theta=[2.034, 4.110, 6.087], sdot=[-0.7343, 0.6229, 0.4421]),
+        dict(params="cparams", theta="array", sdot="array", turns="count", prec="prec"),
     ),
     "gear_rattle.mapimpl.certified.periodic:certify_bifurcation": (
-        dict(kind="fold", params=Params(3.0, 0.1, 0.1, 0.8), name="r", tau=FOLD_TAU, sdot=FOLD_SDOT, mu=0.8214),
+        dict(kind="fold", params=Params(3.0, 0.1, 0.1, 0.8), name="r", theta=FOLD_THETA, sdot=FOLD_SDOT, mu=0.8214),
         dict(
             kind="choice",
             params="cparams",
             name="choice",
-            tau="array",
+            theta="array",
             sdot="array",
             mu="real",
             turns="count",

@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 
 from flint import acb, arb
 
-from ...core.checks import MAX_PERIOD, TAU0_MAX, check_array, check_choice, check_int
+from ...core.checks import MAX_PERIOD, TAU0_MAX, InputTypeError, check_array, check_choice, check_int
+from ...core.deprecation import UNSET, renamed_argument
 from ...core.params import check_param, check_value
 from ..sticking import STICK_TIME
 from .balls import PREC, CertificationError, check_prec, mod_two_pi, precision
@@ -87,15 +88,16 @@ class CertifiedBifurcation:
     orbit: CertifiedPeriodicOrbit
 
 
-def unwrap(tau, turns: int = 1) -> list[float]:
-    """Unwrapped times from phases (each flight shorter than ``2 pi``); increasing input is kept."""
-    tau = [float(t) for t in tau]
+def unwrap(theta, turns: int = 1) -> list[float]:
+    """Unwrapped times from the phases ``theta`` (each flight shorter than ``2 pi``); increasing input is
+    kept."""
+    theta = [float(t) for t in theta]
     two_pi = 2 * math.pi
-    out = [tau[0]]
-    for t in tau[1:]:
+    out = [theta[0]]
+    for t in theta[1:]:
         out.append(t if t > out[-1] else out[-1] + ((t - out[-1]) % two_pi))
     if not out[-1] < out[0] + two_pi * turns:
-        raise ValueError(f"tau={tau!r}: the times do not fit in {turns} driving period(s) after tau[0]")
+        raise ValueError(f"theta={theta!r}: the times do not fit in {turns} driving period(s) after theta[0]")
     return out
 
 
@@ -156,25 +158,30 @@ def _orbit(model: Model, P: Numbers, shape: Shape, x: list, res: KrawczykResult,
     return CertifiedPeriodicOrbit(model, shape, tau, sdot, dur, M, floquet(M), res, flights)
 
 
-def _start(tau, sdot, turns: int, prec: int):
-    """The guess checked (:mod:`core.checks`: 1-D sequences of at most ``MAX_PERIOD`` phases
-    ``|tau| <= 1e6`` and velocities ``sdot != 0`` of equal length, ``1 <= turns <= MAX_PERIOD``, the
-    precision) as ``(shape, x0)``."""
-    tau = check_array("tau", tau, -TAU0_MAX, TAU0_MAX, max_size=MAX_PERIOD).tolist()
+def _start(theta, sdot, turns: int, prec: int):
+    """The guess checked (given: :data:`~gear_rattle.core.deprecation.UNSET` marks one missing;
+    :mod:`core.checks`: 1-D sequences of at most ``MAX_PERIOD`` phases ``|theta| <= 1e6`` and velocities
+    ``sdot != 0`` of equal length, ``1 <= turns <= MAX_PERIOD``, the precision) as ``(shape, x0)``."""
+    for name, value in (("theta", theta), ("sdot", sdot)):
+        if value is UNSET:
+            raise InputTypeError(f"{name} is missing: the guess is p pre-impact phases theta and velocities sdot")
+    theta = check_array("theta", theta, -TAU0_MAX, TAU0_MAX, max_size=MAX_PERIOD).tolist()
     sdot = check_array(
         "sdot", sdot, nonzero=True, max_size=MAX_PERIOD, allowed="finite, nonzero pre-impact velocities"
     ).tolist()
-    if len(tau) != len(sdot):
-        raise ValueError(f"tau and sdot must be non-empty and of equal length (got {len(tau)}, {len(sdot)})")
+    if len(theta) != len(sdot):
+        raise ValueError(f"theta and sdot must be non-empty and of equal length (got {len(theta)}, {len(sdot)})")
     check_prec(prec)
     shape = Shape(tuple(0 if float(v) > 0 else -1 for v in sdot), check_int("turns", turns, 1, MAX_PERIOD))
     x0 = []
-    for t, v in zip(unwrap(tau, shape.turns), sdot):
+    for t, v in zip(unwrap(theta, shape.turns), sdot):
         x0 += [t, float(v)]
     return shape, x0
 
 
-def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PREC) -> CertifiedPeriodicOrbit:
+def certify_periodic_orbit(
+    params, theta=UNSET, sdot=UNSET, turns: int = 1, *, prec: int = PREC, tau=UNSET
+) -> CertifiedPeriodicOrbit:
     """Prove the periodic orbit near the guess by the Krawczyk operator on the periodic-orbit equations,
     with every flight proven (no earlier wall contact).
 
@@ -182,13 +189,15 @@ def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PRE
     ----------
     params : Params or mapping
         A :class:`Params` or a mapping of decimal strings (see :class:`.model.Model`).
-    tau, sdot : sequence of float
-        The guess: the p pre-impact phases and velocities of one period (e.g. from the float64
-        :func:`mapimpl.periodic.find_periodic`); the signs of ``sdot`` give the walls.
+    theta, sdot : sequence of float
+        The guess (both required): the p pre-impact phases and velocities of one period (e.g. from the
+        float64 :func:`mapimpl.periodic.find_periodic`); the signs of ``sdot`` give the walls.
     turns : int, optional
         Driving periods per period, ``1 <= turns <= 100000``.
     prec : int, optional
         Working precision in bits, ``64 <= prec <= 65536``.
+    tau : sequence of float, optional
+        The old name of ``theta`` (a DeprecationWarning).
 
     Returns
     -------
@@ -212,7 +221,8 @@ def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PRE
     >>> all(abs(z) < 1 for z in o.multipliers)  # stable
     True
     """
-    shape, x0 = _start(tau, sdot, turns, prec)
+    theta = renamed_argument("tau", "theta", theta, tau, UNSET)
+    shape, x0 = _start(theta, sdot, turns, prec)
     with precision(prec):
         model = Model(params)
         P = Numbers(model)
@@ -221,7 +231,16 @@ def certify_periodic_orbit(params, tau, sdot, turns: int = 1, *, prec: int = PRE
 
 
 def certify_bifurcation(
-    kind: str, params, name: str, tau, sdot, mu: float, turns: int = 1, *, prec: int = PREC
+    kind: str,
+    params,
+    name: str,
+    theta=UNSET,
+    sdot=UNSET,
+    mu=UNSET,
+    turns: int = 1,
+    *,
+    prec: int = PREC,
+    tau=UNSET,
 ) -> CertifiedBifurcation:
     """Prove the fold (``kind="fold"``) or period doubling (``"period-doubling"``) near the guess, by the
     Krawczyk operator on the extended system (the orbit equations and ``det(M -/+ I) = 0``).
@@ -234,14 +253,16 @@ def certify_bifurcation(
         The other parameters (a :class:`Params` or a mapping of decimal strings).
     name : str
         The bifurcation parameter (:data:`MU_NAMES`).
-    tau, sdot : sequence of float
-        The guess of the orbit at the bifurcation (p pre-impact phases and velocities).
+    theta, sdot : sequence of float
+        The guess of the orbit at the bifurcation (p pre-impact phases and velocities; required).
     mu : float
-        The guess of the parameter's value.
+        The guess of the parameter's value (required).
     turns : int, optional
         Driving periods per period, ``1 <= turns <= 100000``.
     prec : int, optional
         Working precision in bits, ``64 <= prec <= 65536``.
+    tau : sequence of float, optional
+        The old name of ``theta`` (a DeprecationWarning).
 
     Returns
     -------
@@ -268,7 +289,10 @@ def certify_bifurcation(
     """
     check_choice("kind", kind, tuple(SIGMA))
     check_choice("name", name, MU_NAMES)
-    shape, x0 = _start(tau, sdot, turns, prec)
+    theta = renamed_argument("tau", "theta", theta, tau, UNSET)
+    shape, x0 = _start(theta, sdot, turns, prec)
+    if mu is UNSET:
+        raise InputTypeError(f"mu is missing: the guess of the bifurcation parameter {name}")
     try:
         mu = check_param(name, mu)
     except ValueError as e:  # InputTypeError too: named as the argument it is

@@ -44,7 +44,7 @@ def float64_values(rec: Record) -> tuple[dict, Values]:
         assert rec.value is not None, "a bifurcation record has its value (load_record)"
         mu0 = _guess(float(np.mean(rec.value)))
         f = locate(params.replace(**{name: mu0}), name, _LOCATE_KIND[rec.kind], tau0, sdot0, mu0, impacts, turns)
-        th, sd = orbit_states(params.replace(**{name: f.mu}), f.tau, f.sdot, impacts)
+        th, sd = orbit_states(params.replace(**{name: f.mu}), f.theta, f.sdot, impacts)
         walls = np.where(np.asarray(sd) > 0, 0, -1)
         mult = f.multipliers
         d["value"] = float(f.mu)

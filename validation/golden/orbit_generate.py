@@ -96,9 +96,10 @@ CASES = (
 CASE_IDS = tuple(c.id for c in CASES)
 
 
-def canonical(tau, sdot, walls=None):
-    """The points of one period rotated to start at the smallest phase (the records' convention)."""
-    th = [float(t) % (2 * math.pi) for t in tau]
+def canonical(theta, sdot, walls=None):
+    """The points of one period (phases ``theta``, or times: reduced mod 2 pi) rotated to start at the
+    smallest phase (the records' convention)."""
+    th = [float(t) % (2 * math.pi) for t in theta]
     k = min(range(len(th)), key=th.__getitem__)
     return th[k:] + th[:k], [float(v) for v in sdot[k:]] + [float(v) for v in sdot[:k]]
 
@@ -106,7 +107,7 @@ def canonical(tau, sdot, walls=None):
 def float64_seeds() -> dict:
     """The float64 guesses of every case, found as the paper's analyses find them (slow: engine runs
     to the attractors and the continuation of both branches; JAX compilation included, ~1-2 min):
-    ``{id: (tau, sdot, mu or None, note)}``."""
+    ``{id: (theta, sdot, mu or None, note)}`` (the phases and velocities of one period)."""
     from ...mapimpl.periodic import find_periodic
     from ...mapimpl.branches import attractor_point, four_impact_branch, orbit_on_branch, six_impact_branch
     from ...mapimpl.continuation import continue_orbit, orbit_states
@@ -121,7 +122,7 @@ def float64_seeds() -> dict:
     def point_seed(base, f, impacts, note):
         if not f.converged:
             raise RuntimeError(f"float64 seed did not converge: {note}")
-        th, sd = orbit_states(base.replace(**{f.param: f.mu}), f.tau, f.sdot, impacts)
+        th, sd = orbit_states(base.replace(**{f.param: f.mu}), f.theta, f.sdot, impacts)
         return (*canonical(th, sd), f.mu, note)
 
     th, sd = attractor_point(_FIG4)
@@ -164,18 +165,19 @@ def seeds_from_records(folder: str | Path = DEFAULT_ORBITS) -> dict:
     return seeds
 
 
-def certify_case(case: OrbitCase, tau, sdot, mu=None):
-    """The certified orbit or bifurcation point of ``case`` from the guess ``(tau, sdot[, mu])``."""
+def certify_case(case: OrbitCase, theta, sdot, mu=None):
+    """The certified orbit or bifurcation point of ``case`` from the guess ``(theta, sdot[, mu])`` (the
+    phases and velocities of one period)."""
     if case.kind == "periodic-orbit":
-        return certify_periodic_orbit(case.params, tau, sdot, case.turns)
+        return certify_periodic_orbit(case.params, theta, sdot, case.turns)
     assert case.parameter is not None, "a bifurcation case names its parameter (OrbitCase)"
-    return certify_bifurcation(case.kind, case.params, case.parameter, tau, sdot, mu, case.turns)
+    return certify_bifurcation(case.kind, case.params, case.parameter, theta, sdot, mu, case.turns)
 
 
 def build(case: OrbitCase, seed) -> str:
-    """The record text of ``case`` from ``seed`` ``(tau, sdot, mu, note)``, proven again from its text."""
-    tau, sdot, mu, note = seed
-    text = dumps(record(case, certify_case(case, tau, sdot, mu), note))
+    """The record text of ``case`` from ``seed`` ``(theta, sdot, mu, note)``, proven again from its text."""
+    theta, sdot, mu, note = seed
+    text = dumps(record(case, certify_case(case, theta, sdot, mu), note))
     verify_record(loads_exact(text))
     return text
 

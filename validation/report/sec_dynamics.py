@@ -136,7 +136,7 @@ def build(ctx) -> Section:
     )
     A3, R9 = SCANS["Fig. 4"][3], SCANS["Fig. 8"][3]
     f, ls = r2.fold, r2.laminar
-    fold_th, fold_sd = orbit_states(A3.replace(r=f.mu), f.tau, f.sdot, 6)
+    fold_th, fold_sd = orbit_states(A3.replace(r=f.mu), f.theta, f.sdot, 6)
     # what happens at the paper's r of Fig. 5 (or, if that is above our r2, just below our r2)
     r_settle = float(PAPER["r2"].value) if float(PAPER["r2"].value) < r2.r2 else r2.r2 - 1e-6
     ctx.say(f"r = {r_settle:.8g}: settling on the 6-impact orbit ({st['settle_ics']} orbits)")
@@ -238,7 +238,7 @@ def _table(sec: Section, branch, r2, r1, a1, a_f9: float) -> None:
         [
             [f"r2: fold (multiplier +1) of the {branch.impacts}-impact period-1 orbit", f"{r2.r2:.12f}"],
             ["fold: Newton residual on the extended system", f"{f.residual:.1e}"],
-            ["fold orbit (tau, sdot)", f"({f.tau:.10f}, {f.sdot:.10f})"],
+            ["fold orbit (theta, sdot)", f"({f.theta:.10f}, {f.sdot:.10f})"],
             [
                 f"type-I intermittency: slope of mean laminar length vs r - r2 (theory {theory:g})",
                 f"{r2.slope:.3f} +- {r2.slope_err:.3f}",

@@ -55,7 +55,7 @@ def laminar_statistics(
     :class:`~..continuation.BifurcationPoint`): ``orbits`` box orbits per value, ``cap`` impacts each,
     counted from ``n_start`` (one engine run)."""
     r_values = np.atleast_1d(np.asarray(r_values, float))
-    oth, osd = orbit_states(base.replace(r=fold.mu), fold.tau, fold.sdot, 6)
+    oth, osd = orbit_states(base.replace(r=fold.mu), fold.theta, fold.sdot, 6)
     th, sd, w = box_ics(orbits * r_values.size, seed)
     obs = Laminar(oth, osd, eps=eps, min_length=min_length, n_start=n_start)
     res = engine_run(
@@ -179,7 +179,7 @@ def certified_r2(fold) -> CertifiedR2:
     from ....mapimpl.certified.balls import decimal_interval, precision
     from ....mapimpl.certified.periodic import certify_bifurcation
 
-    th, sd = orbit_states(R2_START.replace(r=fold.mu), fold.tau, fold.sdot, 6)
+    th, sd = orbit_states(R2_START.replace(r=fold.mu), fold.theta, fold.sdot, 6)
     b = certify_bifurcation("fold", PAPER_FIG3_DECIMAL, "r", th, sd, fold.mu)
     with precision(320):
         lo, hi = b.value.lower(), b.value.upper()
