@@ -1,7 +1,7 @@
 """``python -m gear_rattle.validation.commands.release``: the certified post-release duration
 ``T_post`` of the canonical release orbit from the command line (docs/release.md).
 
-Not a ``gear-rattle`` subcommand (it is not in :data:`validation.cli.COMMAND_MODULES`): a
+Not a ``gear-rattle`` subcommand (it is not in :func:`validation.cli.command_modules`): a
 ``python -m`` entry of its own with its own options, printing one summary line per wall and
 parameter rounding and, with ``--json``, the full results.
 """
