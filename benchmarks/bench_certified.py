@@ -28,7 +28,7 @@ import numpy as np
 import gear_rattle as gr
 from gear_rattle.core.paper import DELTA, PAPER_PARAMS
 from gear_rattle.core.params import Params
-from gear_rattle.mapimpl.certified.capture import float64_target
+from gear_rattle.mapimpl.engine.t_post import float64_target
 from gear_rattle.mapimpl.certified.track import certified_orbit
 
 

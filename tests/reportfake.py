@@ -9,7 +9,6 @@ computed), texts as long as the real ones, a wide table and a wide figure (a rea
 from __future__ import annotations
 
 import struct
-import sys
 import types
 import zlib
 from pathlib import Path
@@ -106,8 +105,7 @@ def build_fake_report(out: Path, monkeypatch) -> Path:
     """Build the report with :func:`fake_section` as its only section into ``out``; return ``out``."""
     mod = types.ModuleType("gear_rattle_test_fake_section")
     mod.KEY, mod.TITLE, mod.build = "fake", "Fake section (test)", fake_section
-    monkeypatch.setitem(sys.modules, mod.__name__, mod)
-    monkeypatch.setattr(builder, "SECTIONS", [mod.__name__])
+    monkeypatch.setattr(builder, "section_modules", lambda: [mod])
     monkeypatch.setattr(builder, "environment", lambda: {"python": "test"})
     _, ok = builder.build_report("quick", out, progress=False, argv=["gear-rattle", "report"])
     assert ok

@@ -73,13 +73,18 @@ def test_the_contract_catches_a_library_module_importing_validation(tmp_path):
 
 def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions(tmp_path):
     """Issue 32 item 3: siblings joined by ``|`` may not import each other (io and plots; the analyses and
-    the suite), an import inside a function counts, and so does an indirect one (no contract allows it)."""
+    the suite), an import inside a function counts, and so does an indirect one (no contract allows it);
+    the certified track may not reach the engine, not even for the capture target (no ignored edge)."""
     src = tmp_path / "src"
     _installed_layout(src)
     pkg = src / "gear_rattle" / "validation"
     for rel, line in (
         ("golden/suite.py", "\ndef _f():\n    from ..transient import experiments  # noqa\n"),
         ("io/transients.py", "\nfrom ..plots import base  # noqa\n"),
+        (
+            "../mapimpl/certified/capture.py",
+            "\ndef _g():\n    from ..engine.transients import periodic_target  # noqa\n",
+        ),
     ):
         f = pkg / rel
         f.write_text(f.read_text() + line)
@@ -97,6 +102,19 @@ def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions
     assert r.returncode != 0 and "BROKEN" in out, out[-3000:]
     assert "gear_rattle.validation.golden is not allowed to import gear_rattle.validation.transient" in out
     assert "gear_rattle.validation.io is not allowed to import gear_rattle.validation.plots" in out
+    assert "gear_rattle.mapimpl.certified.capture -> gear_rattle.mapimpl.engine.transients" in out
+
+
+def test_no_contract_allows_an_exception():
+    """Issue 32 item 3: the contracts hold with no ignored import edge and no indirect-import allowance
+    (the certified track's capture target is passed in by the engine's caller, not imported)."""
+    import tomllib
+
+    contracts = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["importlinter"]["contracts"]
+    assert len(contracts) == 3
+    for c in contracts:
+        assert not c.get("ignore_imports"), (c["name"], c["ignore_imports"])
+        assert not c.get("allow_indirect_imports", False), c["name"]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -414,6 +414,9 @@ EXTRA = [
     ("gear_rattle.mapimpl.certified.duration:certified_release_duration", dict(precisions="256"), T, "precisions"),
     ("gear_rattle.mapimpl.certified.duration:certified_release_duration", dict(confirm="yes"), T, "confirm"),
     ("gear_rattle.mapimpl.certified.duration:certified_release_duration", dict(target=3), T, "target"),
+    # the certified track computes no float64 orbit: the caller passes the target (issue 32 item 3)
+    ("gear_rattle.mapimpl.certified.duration:certified_release_duration", dict(target=None), T, "target"),
+    ("gear_rattle.mapimpl.certified.duration:certified_release_durations", dict(target=None), T, "target"),
     (
         "gear_rattle.mapimpl.certified.periodic:certify_periodic_orbit",
         dict(sdot=[-0.7343, 0.6229]),

@@ -25,7 +25,6 @@ from flint import arb  # noqa: E402
 
 from gear_rattle.core.paper import DELTA, PAPER_DECIMAL  # noqa: E402
 from gear_rattle.mapimpl import certified as C  # noqa: E402
-from gear_rattle.mapimpl.certified import duration as D  # noqa: E402
 from gear_rattle.validation.commands import release as CLI  # noqa: E402
 from gear_rattle.mapimpl import float64_release as F  # noqa: E402
 
@@ -286,7 +285,7 @@ def test_bad_arguments_raise_value_errors(target):
 
 
 def test_cli_prints_results_and_rejects_bad_input(tmp_path, capsys, monkeypatch, target):
-    monkeypatch.setattr(D, "float64_target", lambda params: target)  # skip the 4-cycle search
+    monkeypatch.setattr(CLI, "float64_target", lambda params: target)  # skip the 4-cycle search
     out = tmp_path / "r.json"
     assert (
         CLI.main(
@@ -370,7 +369,9 @@ def test_full_certified_release_duration_matches_the_golden_notes(rounding):
     value the golden case carries."""
     all_notes = load_case(DEFAULT_SUITE / CASE).settings["notes"]
     notes = all_notes["T_post_certified"][rounding]
-    res = C.certified_release_duration(PAPER_DECIMAL, 0, rounding=rounding)
+    from gear_rattle.mapimpl.engine.t_post import float64_target
+
+    res = C.certified_release_duration(PAPER_DECIMAL, 0, rounding=rounding, target=float64_target(FIG11))
     assert res.status == "captured" and res.confirmed
     assert res.value == notes["T_post"] and res.precision == notes["precision_bits"]
     # the recorded target is the engine's float64 4-impact orbit: its Newton solution is determined to

@@ -489,8 +489,9 @@ def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeyp
     is first_stick + the certified T_post."""
     import numpy as np
 
-    from gear_rattle.core.paper import PAPER_DECIMAL
+    from gear_rattle.core.paper import PAPER_DECIMAL, PAPER_PARAMS
     from gear_rattle.mapimpl.certified import certified_release_duration
+    from gear_rattle.mapimpl.engine.t_post import float64_target
     from gear_rattle.validation.report import sec_transients
     from gear_rattle.validation.transient import experiments as E
 
@@ -508,8 +509,9 @@ def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeyp
     sec = sec_transients.build(ctx)
     nums = {n.key: n for n in sec.numbers}
     assert {"mean_n", "kappa", "decay_time", "release_T_post"} <= set(nums)
-    dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
-    f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False)
+    tg = float64_target(PAPER_PARAMS)
+    dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False, target=tg)
+    f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False, target=tg)
     r = nums["release_T_post"]
     assert r.value == dec.value and r.error == 0 and r.verdict == NOT_COMPARED
     assert "certified" in r.explanation and "ball arithmetic" in r.explanation

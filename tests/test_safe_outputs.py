@@ -364,8 +364,7 @@ def test_report_on_a_full_disk_is_one_line_and_leaves_out_as_it_was(full_disk, m
     (full_disk / "filler").write_bytes(b"x" * 40_000)
     mod = reportfake.types.ModuleType("gear_rattle_test_fake_section")
     mod.KEY, mod.TITLE, mod.build = "fake", "Fake section (test)", reportfake.fake_section
-    monkeypatch.setitem(sys.modules, mod.__name__, mod)
-    monkeypatch.setattr(builder, "SECTIONS", [mod.__name__])
+    monkeypatch.setattr(builder, "section_modules", lambda: [mod])
     monkeypatch.setattr(builder, "environment", lambda: {"python": "test"})
     rc, _, err = run_cli(["report", "--out", str(out), "--quiet"], capsys)
     _one_line_error(rc, err, 1)
@@ -582,8 +581,7 @@ def section(ctx):
 
 mod = types.ModuleType("fake_section_module")
 mod.KEY, mod.TITLE, mod.build = "fake", "Fake section (test)", section
-sys.modules[mod.__name__] = mod
-builder.SECTIONS = [mod.__name__]
+builder.section_modules = lambda: [mod]
 builder.environment = lambda: {"python": "test"}
 sys.argv = ["gear-rattle", "report", "--quiet", "--out", sys.argv[1]]
 from gear_rattle.validation.cli import main

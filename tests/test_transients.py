@@ -79,8 +79,9 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     in ball arithmetic for the decimal parameters (certified_release_duration), the float64 roundings'
     certified value and the engine's float64 sample are kept beside; orbits that never stick keep the
     engine's duration."""
-    from gear_rattle.core.paper import PAPER_DECIMAL
+    from gear_rattle.core.paper import PAPER_DECIMAL, PAPER_PARAMS
     from gear_rattle.mapimpl.certified import certified_release_duration
+    from gear_rattle.mapimpl.engine.t_post import float64_target
     from gear_rattle.validation.io.transients import write_survival
     from gear_rattle.validation.transient.experiments import transients
 
@@ -89,8 +90,9 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     )
     write_survival(tmp_path, res)
     s = json.loads((tmp_path / "transients.json").read_text())
-    dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False)
-    f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False)
+    tg = float64_target(PAPER_PARAMS)
+    dec = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, confirm=False, target=tg)
+    f64 = certified_release_duration(PAPER_DECIMAL, 0, 1e-3, rounding="float64", confirm=False, target=tg)
     assert dec.status == "captured" and f64.status == "captured"
     e = s["release"]["0.001"]["0"]
     assert e["certified"]["value"] == dec.value and e["used"] == dec.value and e["source"] == "certified"

@@ -41,7 +41,7 @@ from .balls import (
     span,
     upper_float,
 )
-from .capture import Target, capture_decision, certified_distance, float64_target
+from .capture import Target, capture_decision, certified_distance
 from .contact import MAX_EVALS, T_MAX, FlightCertificate, NoContactError, certified_flight, mean_value_impact
 from .duration import (
     PRECISIONS,
@@ -84,7 +84,6 @@ __all__ = [
     "Target",
     "capture_decision",
     "certified_distance",
-    "float64_target",
     "MAX_EVALS",
     "T_MAX",
     "FlightCertificate",

@@ -4,9 +4,11 @@ An orbit is *captured* at the first pre-impact state within ``delta`` of the sta
 period-1 orbit of the Figs. 9-11 setting: sup norm of ``(wrapped phase difference, sdot
 difference)`` to the nearest target point on the same wall (the engine's rule,
 :func:`mapimpl.engine.observers.orbit_distance`).  Here the distance is a ball and the decision is
-certified (:func:`capture_decision`).  The target is the float64 4-cycle of
-:func:`mapimpl.engine.transients.periodic_target` taken as exact numbers (a certified distance to
-those points, not to the true periodic orbit, which lies within ~1e-15 of them).
+certified (:func:`capture_decision`).  The target is given by the caller as points taken as exact
+numbers: for a certified ``T_post``, the float64 4-cycle of the engine
+(:func:`mapimpl.engine.t_post.float64_target`; a certified distance to those points, not to the true
+periodic orbit, which lies within ~1e-15 of them).  The certified track does not compute it: it
+imports nothing of the float64 kernels (the import contract of pyproject.toml).
 """
 
 from __future__ import annotations
@@ -15,7 +17,6 @@ from dataclasses import dataclass
 
 from flint import arb
 
-from ...core.params import Params
 from .balls import CertificationError, exact
 
 
@@ -33,14 +34,6 @@ class Target:
             "sdot": [repr(float(x)) for x in self.sdot],
             "wall": [int(w) for w in self.wall],
         }
-
-
-def float64_target(params: Params) -> Target:
-    """The float64 4-impact period-1 orbit of the engine (:func:`periodic_target`), as exact points."""
-    from ..engine.transients import periodic_target
-
-    t = periodic_target(params)
-    return Target(tuple(float(x) for x in t.theta), tuple(float(x) for x in t.sdot), tuple(int(w) for w in t.wall))
 
 
 def certified_distance(theta: arb, sdot: arb, wall: int, target: Target) -> arb | None:

@@ -26,7 +26,7 @@ from ...core.paper import DELTA, MAX_DELTA, PAPER_DECIMAL
 from ...core.params import Params
 from ..sticking import MAX_STICK_TIME, STICK_TIME
 from .balls import MAX_PREC, CertificationError, check_prec, precision
-from .capture import Target, float64_target
+from .capture import Target
 from .model import PARAM_NAMES, Model
 from .release import MAX_IMPACTS, RADIUS_LIMIT, Attempt, check_deltas, certify_post_release_deltas
 from .sticking import release_phase
@@ -135,8 +135,9 @@ def certified_release_duration(
         Working precisions tried in turn until one decides (:data:`PRECISIONS`).
     confirm : bool, optional
         Rerun at the next precision and require the same outcome.
-    target : Target, optional
-        The capturing orbit (default: the stable 4-impact orbit, certified).
+    target : Target
+        The capturing orbit's points, taken as exact (required: :func:`mapimpl.engine.t_post.float64_target`
+        gives the engine's stable 4-impact orbit; the certified track does not compute a float64 orbit).
     stick_time, radius_limit, time_budget_s, progress : optional
         The sticking threshold, the largest radius accepted, a time budget and a progress callback.
 
@@ -151,8 +152,11 @@ def certified_release_duration(
     The upper wall's release orbit at the paper's printed parameters is captured by the stable 4-impact
     orbit at post-release impact 824 (``delta = 1e-3``; docs/release.md):
 
+    >>> from gear_rattle.core.paper import PAPER_PARAMS
     >>> from gear_rattle.mapimpl.certified.duration import certified_release_duration
-    >>> d = certified_release_duration(wall=0, delta=1e-3, max_impacts=2000)
+    >>> from gear_rattle.mapimpl.engine.t_post import float64_target
+    >>> target = float64_target(PAPER_PARAMS)
+    >>> d = certified_release_duration(wall=0, delta=1e-3, max_impacts=2000, target=target)
     >>> d.status, d.value, d.confirmed
     ('captured', 824, True)
     """
@@ -199,7 +203,8 @@ def certified_release_durations(
     precision and confirmation that a schedule for it alone would give; their runs are shared
     (``seconds``: the whole schedule).  ``params_decimal``: decimal strings ``{"alpha": "1.245", ...}``;
     ``rounding``: ``"decimal"`` (exact decimals, balls) or ``"float64"`` (their float64 roundings, exact).
-    ``target``: the capture target (default: :func:`float64_target` of the float64 parameters).
+    ``target``: the capture target, required (the engine's float64 4-impact orbit:
+    :func:`mapimpl.engine.t_post.float64_target` of the float64 parameters; ``None`` is refused, naming it).
     ``time_budget_s``: wall-time budget of the whole schedule (an attempt past it fails, later ones are
     skipped).  ``progress(prec, n, radius)``: see :func:`.release.certify_post_release`.
     """
@@ -210,7 +215,6 @@ def certified_release_durations(
             "gamma, r to decimal strings"
         )
     pm = model_params(params_decimal, rounding)
-    p64 = model_params(params_decimal, "float64")
     wall = check_wall("wall", wall)
     ds = check_deltas(deltas)
     max_impacts = check_int("max_impacts", max_impacts, 1, MAX_ORBIT_IMPACTS)
@@ -224,7 +228,10 @@ def certified_release_durations(
     if time_budget_s is not None:
         time_budget_s = check_real("time_budget_s", time_budget_s, 0.0, lo_open=True)
     if target is None:
-        target = float64_target(p64)
+        raise InputTypeError(
+            "target=None: allowed a certified capture Target (the certified track computes no float64 orbit: "
+            "pass mapimpl.engine.t_post.float64_target(params), the engine's 4-impact periodic orbit)"
+        )
     t0 = time.monotonic()
     deadline = None if time_budget_s is None else t0 + float(time_budget_s)
     with precision(128):

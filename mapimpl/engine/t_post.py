@@ -1,6 +1,8 @@
 """The post-release duration ``T_post`` from the source asked for: the float64 engine's own
 post-release orbit (a sample) or certified in ball arithmetic (:mod:`mapimpl.certified`, docs/release.md).
 
+:func:`float64_target` is the capture target the certified runs are given: the engine's float64
+periodic orbit (the certified track itself imports nothing of the float64 kernels).
 :func:`release_for` gives the :class:`~.release.Release` of a transient run at one capture distance
 from a :class:`~.release.ReleaseSource`; :func:`certified_t_post` runs (once per setting in a process)
 the schedule of certified runs that decides ``T_post`` of one wall at every capture distance asked for.
@@ -16,7 +18,8 @@ from types import MappingProxyType
 from ...core.paper import DELTA
 from ...core.params import Params
 from ...core.progress import Bar, wanted
-from ..certified.duration import ReleaseDuration, certified_release_durations
+from ..certified.capture import Target
+from ..certified.duration import ReleaseDuration, certified_release_durations, model_params
 from ..sticking import STICK_TIME
 from .release import Release, ReleaseSource, WallTPost, float64_release
 
@@ -28,6 +31,18 @@ def decimal_params(params: Params) -> dict:
     """The parameters as printed: the shortest decimal of each float64 (``repr``), e.g. ``"1.245"``;
     the certified ``T_post`` is computed for these exact decimals."""
     return {k: repr(float(v)) for k, v in params.as_dict().items()}
+
+
+def float64_target(params: Params) -> Target:
+    """The capture target of a certified ``T_post``: the engine's float64 4-impact period-1 orbit
+    (:func:`.transients.periodic_target` of ``params``), its pre-impact points taken as exact numbers
+    (a :class:`mapimpl.certified.capture.Target`, the ``target`` of
+    :func:`mapimpl.certified.certified_release_durations`).  (The engine is imported on first use: this
+    module's readers -- plots, results -- need no JAX.)"""
+    from .transients import periodic_target
+
+    t = periodic_target(params)
+    return Target(tuple(float(x) for x in t.theta), tuple(float(x) for x in t.sdot), tuple(int(w) for w in t.wall))
 
 
 @dataclass(frozen=True)
@@ -85,12 +100,14 @@ def _certify(key: CertifiedKey, progress) -> Mapping[float, ReleaseDuration]:
             bar.postfix(f"{prec} bits, radius {radius}")
             bar.update(n)
 
+        params_decimal = dict(key.params_decimal)
         out = certified_release_durations(
-            dict(key.params_decimal),
+            params_decimal,
             key.wall,
             key.deltas,
             rounding=key.rounding,
             confirm=key.confirm,
+            target=float64_target(model_params(params_decimal, "float64")),
             stick_time=key.stick_time,
             progress=prog,
         )

@@ -1,7 +1,7 @@
 """``python -m gear_rattle.validation.commands.release``: the certified post-release duration
 ``T_post`` of the canonical release orbit from the command line (docs/release.md).
 
-Not a ``gear-rattle`` subcommand (it is not in :data:`validation.cli.COMMAND_MODULES`): a
+Not a ``gear-rattle`` subcommand (it is not in :func:`validation.cli.command_modules`): a
 ``python -m`` entry of its own with its own options, printing one summary line per wall and
 parameter rounding and, with ``--json``, the full results.
 """
@@ -17,6 +17,7 @@ from ...core.paper import DELTA, PAPER_DECIMAL
 from ...mapimpl.certified.duration import PRECISIONS, ROUNDINGS, certified_release_duration, model_params
 from ...mapimpl.certified.model import PARAM_NAMES, parameter_ball
 from ...mapimpl.certified.release import MAX_IMPACTS
+from ...mapimpl.engine.t_post import float64_target
 from ...mapimpl.float64_release import float64_release_duration
 
 
@@ -57,7 +58,8 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def main(argv: list[str] | None = None) -> int:
+def _parser() -> _Parser:
+    """The command's argument parser."""
     ap = _Parser(
         prog="python -m gear_rattle.validation.commands.release",
         description="Certified post-release duration T_post of the canonical release orbit "
@@ -91,6 +93,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--float64", action="store_true", help="also run the float64 engine's own T_post")
     ap.add_argument("--json", default=None, help="write the results as JSON to this file")
     ap.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command on ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    ap = _parser()
     args = ap.parse_args(argv)
     params = {k: getattr(args, k) for k in PARAM_NAMES}
     try:
@@ -113,6 +121,8 @@ def main(argv: list[str] | None = None) -> int:
         "float64_engine": float64_engine,
     }
     try:
+        # the capture target: the engine's float64 4-impact orbit (the certified track computes none)
+        target = float64_target(model_params(params, "float64"))
         for wall in walls:
             for rounding in roundings:
                 with Bar(f"T_post (wall {wall}, {rounding})", enabled=not args.quiet) as bar:
@@ -129,6 +139,7 @@ def main(argv: list[str] | None = None) -> int:
                         max_impacts=args.max_impacts,
                         precisions=args.precisions,
                         confirm=not args.no_confirm,
+                        target=target,
                         time_budget_s=args.time_budget,
                         progress=prog,
                     )

@@ -155,6 +155,7 @@ def finish_release_case(spec: Spec) -> Spec:
     from ...core.paper import DELTA, PAPER_DECIMAL
     from ...mapimpl import certified as rel
     from ...mapimpl import float64_release as fl64
+    from ...mapimpl.engine.t_post import float64_target
 
     ly = fl64.transient_lyapunov(spec.params, n_side=RELEASE_LYAP_SIDE, impacts=RELEASE_LYAP_IMPACTS)
     lam = round(ly["lambda1"], 3)
@@ -162,8 +163,9 @@ def finish_release_case(spec: Spec) -> Spec:
         raise RuntimeError(f"transient lambda1={lam} is not positive")
     n = horizon(lam)
     cert_notes = {}
+    target = float64_target(spec.params)
     for rounding in rel.ROUNDINGS:
-        d = rel.certified_release_duration(PAPER_DECIMAL, 0, rounding=rounding)
+        d = rel.certified_release_duration(PAPER_DECIMAL, 0, rounding=rounding, target=target)
         if d.status != "captured" or not d.confirmed:
             raise cert.CertificationError(f"release case: T_post ({rounding}) not certified: {d.summary()}")
         cert_notes[rounding] = {
@@ -177,7 +179,6 @@ def finish_release_case(spec: Spec) -> Spec:
             "release_phase": d.release_phase,
         }
     f64 = fl64.float64_release_duration(spec.params, 0)
-    target = rel.float64_target(spec.params)
     notes = dict(spec.notes)
     notes.update(
         {
