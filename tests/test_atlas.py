@@ -243,6 +243,28 @@ def test_spec_mismatch_refused(tmp_path):
     assert (tmp_path / "junk" / "keep.txt").exists()
 
 
+def test_the_papers_scans_only_in_the_papers_plane():
+    """Issue 32 item 5: an atlas at beta = 0.2 drew and profiled "the paper's Fig. 4 scan" although the
+    paper's scans are at beta = gamma = 0.1.  Away from that plane the summary says that no comparison is
+    made and the figure draws no paper line; in it, both stay."""
+    from gear_rattle.validation.atlas.summary import summarise
+    from gear_rattle.validation.plots.atlas import atlas_figure
+
+    z = np.zeros((3, 3))
+    ints = z.astype(np.int64)
+    data = dict(alpha=np.linspace(2.9, 3.1, 3), r=np.linspace(0.85, 0.95, 3), lambda1=z + 0.1, status=ints)
+    data.update(period_p=ints, period_m=ints, done=np.ones((1, 1), bool))
+    for beta, paper in ((0.1, True), (0.2, False)):
+        spec = AtlasSpec(alpha_lo=2.9, alpha_hi=3.1, n_alpha=3, r_lo=0.85, r_hi=0.95, n_r=3, beta=beta)
+        lines = json.loads(json.dumps(summarise(data, spec).as_dict()))["paper lines"]
+        drawn = [x.get_label() for ax in atlas_figure(data, spec).axes for x in ax.get_lines()]
+        if paper:
+            assert lines["Fig. 4 (alpha = 3)"]["points"] == 3 and "the paper's Fig. 4 (alpha = 3) scan" in drawn
+        else:
+            assert isinstance(lines, str) and lines.startswith("no comparison with the paper") and "beta=0.2" in lines
+            assert not any("paper" in x for x in drawn)
+
+
 # --- command line -------------------------------------------------------------------------------------
 
 

@@ -140,6 +140,37 @@ def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_on
     assert "alpha = 1.25" in title and "r = 0.9" in title and "2272" not in title and "no comparison" in title
 
 
+def test_figs9_10_away_from_the_papers_parameters_compare_nothing():
+    """Issue 32 item 5: ``basins`` and ``uncertainty --alpha 1.25`` wrote and printed the paper's
+    alpha = 1.245 exponents (phi = 0.010, 0.003) beside their own and their titles did not say that no
+    comparison is made.  Away from the paper's parameters the JSON, the terminal lines and the titles
+    (which name alpha, beta, gamma, r) say so, by the one rule of the Fig. 11 result (``paper_setting``);
+    at the paper's parameters the paper's exponents stay."""
+    from gear_rattle.core.params import Params
+    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.plots.transients import basins_figure, uncertainty_figure
+    from gear_rattle.validation.transient.experiments import basins, uncertainty
+
+    p = Params(alpha=1.25, beta=0.1, gamma=0.1, r=0.9)
+    kw = dict(progress=False, lanes=LANES)
+    b = basins(nx=6, ny=6, window=(3.0, 3.5, 0.0, 0.1), ns=(90,), params=p, **kw)
+    u = uncertainty(n_points=10, eps=[1e-9, 1e-6, 1e-3], ns=(90,), params=p, n_boot=0, **kw)
+    for res, fig in ((b, basins_figure(b)), (u, uncertainty_figure(u))):
+        s = json.loads(json.dumps(res.summary()))
+        assert isinstance(s.get("paper"), str) and s["paper"].startswith("no comparison with the paper")
+        assert not res.paper_setting
+        assert "alpha=1.25" in s["paper"] and "alpha=1.245" in s["paper"]
+        lines = human_lines(s)
+        assert "no comparison with the paper" in lines[-1] and not any("(paper" in x for x in lines)
+        title = fig._suptitle.get_text() if fig._suptitle is not None else fig.axes[0].get_title()
+        assert all(f"{k}=" in title for k in ("alpha", "beta", "gamma", "r")) and "no comparison" in title
+    summary = dict(u.summary(), fits={"500": {"phi": 0.02, "phi_se_boot": 0.01}})
+    assert not any("paper 0.01" in x for x in human_lines(summary))
+    at_paper = uncertainty(n_points=10, eps=[1e-9, 1e-6, 1e-3], ns=(90,), n_boot=0, **kw)
+    assert at_paper.summary()["paper"] == {"500": [0.01, 0.001], "1000": [0.003, 0.002]}
+    assert "no comparison" not in uncertainty_figure(at_paper).axes[0].get_title()
+
+
 def test_old_spellings_of_the_release_warn_and_still_work(target):
     """Issue 32 item 1: ``release=`` means the source of T_post everywhere; the engine's own mode of
     handling orbits that stick is ``sticking=``.  The old spellings -- ``transient_times(release=)``,

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..paper import PAPER_SCANS
 from .run import AtlasRun
 from .spec import PAPER_LINES, AtlasSpec
 
@@ -22,10 +23,29 @@ def period_classes(p: np.ndarray, m: np.ndarray, max_classes: int = MAX_CLASSES)
     return [(pp, mm, n) for (pp, mm), n in sorted(c.items(), key=lambda t: (-t[1], t[0]))][:max_classes]
 
 
+def paper_plane(spec: AtlasSpec) -> bool:
+    """Whether the atlas's plane is the one of the paper's scans (their beta and gamma,
+    :data:`validation.paper.PAPER_SCANS`): only there are the paper's scans drawn and profiled."""
+    return all((spec.beta, spec.gamma) == (s.fixed[1], s.fixed[2]) for s in PAPER_SCANS.values())
+
+
+def no_paper_lines(spec: AtlasSpec) -> str:
+    """The line ``atlas_summary.json`` carries instead of the profiles along the paper's scans where the
+    plane is not the paper's."""
+    planes = sorted({(s.fixed[1], s.fixed[2]) for s in PAPER_SCANS.values()})
+    theirs = " or ".join(f"beta={b!r}, gamma={g!r}" for b, g in planes)
+    return (
+        f"no comparison with the paper: the plane (beta={spec.beta!r}, gamma={spec.gamma!r}) is not the one of "
+        f"the paper's scans ({theirs})"
+    )
+
+
 def paper_lines(spec: AtlasSpec):
     """The paper's scans clipped to the atlas: ``(label, (x0, x1), (y0, y1))`` in (alpha, r) coordinates,
-    only those that cross the atlas."""
-    out = []
+    only those that cross the atlas, and none where the plane is not the paper's (:func:`paper_plane`)."""
+    out: list = []
+    if not paper_plane(spec):
+        return out
     for label, fixed, value, _varied, lo, hi in PAPER_LINES:
         if fixed == "alpha":
             if not spec.alpha_lo <= value <= spec.alpha_hi:
@@ -74,7 +94,8 @@ class AtlasSummary:
     ``periodic`` (a period found), ``sticking`` (lambda1 = -inf), ``ended`` (status != 0),
     ``periodic_chaotic`` (a period found but lambda1 > 0: a chaotic transient that ended during the
     measurement); ``period_classes``: the most frequent ``(p, m, count)``; ``paper_lines``: the atlas
-    along the paper's scans (per label, ``_line_profile``); ``run``: timing and throughput of the run
+    along the paper's scans (per label, ``_line_profile``; none, and in the JSON the line of
+    :func:`no_paper_lines`, where the plane is not the paper's); ``run``: timing and throughput of the run
     (None without one); ``store``: where the atlas is (set by the caller).  :meth:`as_dict` is the
     content of ``atlas_summary.json``."""
 
@@ -106,7 +127,7 @@ class AtlasSummary:
             "ended (status != 0)": self.ended,
             "period found but lambda1 > 0 (transient ended during the measurement)": self.periodic_chaotic,
             "period classes": [{"p": a, "m": b, "count": n} for a, b, n in self.period_classes],
-            "paper lines": self.paper_lines,
+            "paper lines": self.paper_lines if paper_plane(self.spec) else no_paper_lines(self.spec),
         }
         if self.run is not None:
             out["run"] = self.run

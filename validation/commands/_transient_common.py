@@ -46,19 +46,30 @@ def _fmt(x, spec: str = ".4g") -> str:
     return "n/a" if x is None else format(x, spec)
 
 
+def _no_comparison(summary: dict) -> list[str]:
+    """The line saying that no comparison with the paper is made, where the summary's ``paper`` is that line
+    (:func:`~gear_rattle.validation.transient.results.paper_comparison`)."""
+    p = summary.get("paper")
+    return [f"  {p}"] if isinstance(p, str) else []
+
+
 def human_lines(summary: dict) -> list[str]:
-    """A few lines for a person at a terminal: the figure's headline numbers (the JSON has all)."""
+    """A few lines for a person at a terminal: the figure's headline numbers (the JSON has all), the paper's
+    values beside them only at the paper's parameters."""
     fig = summary.get("figure")
     if fig == "9":
         fr = ", ".join(f"n = {n}: {f:.3f}" for n, f in summary["short_fraction"].items())
-        return [f"Fig. 9 basins, {summary['nx']} x {summary['ny']} mesh: fraction of transients shorter than {fr}"]
+        head = f"Fig. 9 basins, {summary['nx']} x {summary['ny']} mesh: fraction of transients shorter than {fr}"
+        return [head, *_no_comparison(summary)]
     if fig == "10":
         lines = [f"Fig. 10 uncertainty, {summary['n_points']} points:"]
+        papers = summary.get("paper")
+        papers = papers if isinstance(papers, dict) else {}  # else: not the paper's parameters
         for n, f in summary["fits"].items():
-            paper = summary.get("paper", {}).get(n)
+            paper = papers.get(n)
             ours = "no fit" if f is None else f"phi = {_fmt(f['phi'])} +- {_fmt(f['phi_se_boot'], '.2g')}"
             lines.append(f"  n = {n}: {ours}" + (f" (paper {paper[0]} +- {paper[1]})" if paper else ""))
-        return lines
+        return lines + _no_comparison(summary)
     d = str(summary["delta"])
     f = summary["fits"].get(d) or next(iter(summary["fits"].values()), None)
     head = f"Fig. 11 survival, {summary['nx']} x {summary['ny']} mesh, cap {summary['cap']}:"
@@ -66,8 +77,8 @@ def human_lines(summary: dict) -> list[str]:
         return [head, "  no Eq. (14) fit (see the notes above)"]
     p = summary.get("paper", {})
     ours = f"  delta = {d}: kappa = {_fmt(f['kappa'])} +- {_fmt(f['kappa_se_boot'], '.2g')}"
-    if not isinstance(p, dict):  # not the paper's parameters: the line saying so
-        return [head, f"{ours}, <n> = {_fmt(f['mean_n'], '.1f')}", f"  {p}"]
+    if _no_comparison(summary):  # not the paper's parameters: the line saying so
+        return [head, f"{ours}, <n> = {_fmt(f['mean_n'], '.1f')}", *_no_comparison(summary)]
     return [
         head,
         f"{ours} (paper {p.get('kappa', ['?'])[0]}), <n> = {_fmt(f['mean_n'], '.1f')} (paper {p.get('mean_n', '?')})",

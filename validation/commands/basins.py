@@ -2,7 +2,8 @@
 
 Durations are computed once on a mesh over --window (default 0 < tau0 < 2 pi, 0 < sdot0 < 0.5,
 which contains the box of Figs. 10-11) and thresholded four times: black = duration < n.
-Writes basins.npz, basins.json and fig9_basins.png.
+Writes basins.npz, basins.json and fig9_basins.png.  The paper prints no number for Fig. 9; away from
+the paper's parameters basins.json, the terminal and the title say that no comparison is made.
 """
 
 from __future__ import annotations

@@ -4,7 +4,9 @@ exponent, for transient durations n = 500 and 1000 (alpha = 1.245).
 Random points A in 3.0 < tau0 < 3.5, 0 < sdot0 < 0.5 (--seed); A is eps-uncertain when
 B = (tau0 + eps, sdot0) or C = (tau0 - eps, sdot0) lies in the other transient basin
 (duration < n vs >= n).  Fits f ~ eps^phi with least-squares and bootstrap errors.
-Writes uncertainty.npz, uncertainty.csv, uncertainty.json and fig10_uncertainty.png.
+Writes uncertainty.npz, uncertainty.csv, uncertainty.json and fig10_uncertainty.png.  The paper's
+exponents are shown beside ours only at the paper's parameters (elsewhere the output says that no
+comparison is made).
 """
 
 from __future__ import annotations

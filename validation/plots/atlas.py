@@ -22,7 +22,7 @@ def _edges(v: np.ndarray) -> np.ndarray:
 def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None = None):
     """Two panels over (alpha, r): lambda1 (diverging colours around 0; black: a sticking step, J = 0,
     lambda1 = -inf; grey: orbit ended or not computed) and the period class ``p in m`` (p impacts in m
-    driving periods; white: no period found), with the paper's scans as lines."""
+    driving periods; white: no period found), with the paper's scans as lines where the plane is the paper's."""
     from matplotlib import colormaps, patheffects
     from matplotlib.colors import ListedColormap, TwoSlopeNorm
     from matplotlib.patches import Patch
@@ -84,7 +84,8 @@ def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None
         ax.set_xlabel(r"$\alpha$ (driving amplitude)")
         ax.set_ylabel(r"$r$ (restitution)")
     # the scans' names in a legend below the panels: a label inside covered cells
-    fig.legend(handles=lines[: len(lines) // 2], loc="lower center", ncol=2, fontsize=8, frameon=False)
+    if lines:  # none where the plane is not the paper's (atlas.summary.paper_plane)
+        fig.legend(handles=lines[: len(lines) // 2], loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.suptitle(
         title
         or (

@@ -10,7 +10,20 @@ from matplotlib.patches import Rectangle
 from ...core.paper import PAPER_BOX
 from ...mapimpl.engine.t_post import decimal_params
 from ..paper import PAPER
+from ..transient.results import paper_setting
 from .base import params_text, subplots
+
+
+#: The title's line where the parameters are not the paper's (Figs. 9-11).
+NO_COMPARISON = "not the paper's parameters: no comparison with the paper"
+
+
+def _paper_line(res, paper: str | None = None) -> str:
+    """The title's line about the paper: ``paper`` (the paper's values as text; None: nothing to show) where
+    ``res.params`` are the paper's (:func:`~gear_rattle.validation.transient.results.paper_setting`), else
+    :data:`NO_COMPARISON`, in parentheses on a line of its own."""
+    text = paper if paper_setting(res.params) else NO_COMPARISON
+    return f"\n({text})" if text else ""
 
 
 def basins_figure(res):
@@ -45,7 +58,7 @@ def basins_figure(res):
         ax.set_ylabel(r"$\dot s_0$")
     fig.suptitle(
         f"Fig. 9: transient basins, {params_text(res.params)}, {res.nx}x{res.ny}, delta={res.delta:g}, "
-        f"IC {res.ic_mode}",
+        f"IC {res.ic_mode}{_paper_line(res)}",
         fontsize=10,
     )
     fig.tight_layout()
@@ -89,7 +102,8 @@ def uncertainty_figure(res):
     ax.set_xlabel(r"$\epsilon$")
     ax.set_ylabel(r"$f(\epsilon)$")
     ax.set_title(
-        f"Fig. 10: uncertain fraction, {params_text(res.params)},\n{res.n_points} points in the paper's box",
+        f"Fig. 10: uncertain fraction, {params_text(res.params)},\n{res.n_points} points in the paper's box"
+        f"{_paper_line(res)}",
         fontsize=10,
     )
     if ax.get_legend_handles_labels()[0]:
@@ -117,14 +131,9 @@ def survival_figure(res):
     ax.set_xlabel("n")
     ax.set_ylabel("N(n): orbits still transient")
     named = ", ".join(f"{k} = {v}" for k, v in decimal_params(res.params).items())
-    paper = (
-        f"paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed}"
-        if res.paper_setting
-        else "not the paper's parameters: no comparison with the paper"
-    )
+    paper = _paper_line(res, f"paper: <n> = {PAPER['mean_n'].printed}, kappa = {PAPER['kappa'].printed}")
     ax.set_title(
-        f"Fig. 11: {named}\n{res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, "
-        f"T_post {res.release.value}\n({paper})",
+        f"Fig. 11: {named}\n{res.nx}x{res.ny} mesh, cap {res.cap}, IC {res.ic_mode}, T_post {res.release.value}{paper}",
         fontsize=9,
     )
     ax.legend(fontsize=8, loc="upper right")  # N(n) falls from the upper left: the upper right is empty

@@ -28,8 +28,24 @@ def stick_counts(res: TransientResult, delta: float | None = None) -> dict:
     return {str(w): int(np.sum(m & (res.stick_wall == w))) for w in WALLS}
 
 
+class ComparedWithPaper:
+    """What the Figs. 9-11 results share about the paper: ``paper_setting`` (:func:`paper_setting` of their
+    ``params``) and ``paper_entry`` (the ``paper`` entry of their JSON, :func:`paper_comparison`)."""
+
+    params: Params
+
+    @property
+    def paper_setting(self) -> bool:
+        """Whether the parameters are the paper's Figs. 9-11 ones: only then is anything compared with the paper."""
+        return paper_setting(self.params)
+
+    def paper_entry(self, values):
+        """``values`` (the paper's numbers) at the paper's parameters, else the line saying no comparison is made."""
+        return paper_comparison(self.params, values)
+
+
 @dataclass
-class BasinsResult:
+class BasinsResult(ComparedWithPaper):
     """Fig. 9: durations on an ``nx`` x ``ny`` mesh of ``window`` (arrays of shape ``(ny, nx)``),
     thresholded at each ``n`` of ``ns``: ``short_fraction[n]`` = fraction with duration < n."""
 
@@ -64,7 +80,8 @@ class BasinsResult:
         )
 
     def summary(self) -> dict:
-        """The numbers of ``basins.json``."""
+        """The numbers of ``basins.json``; ``paper`` (only away from the paper's parameters: the paper prints
+        no number for Fig. 9): the line saying that no comparison is made."""
         return {
             "figure": "9",
             "nx": self.nx,
@@ -76,12 +93,13 @@ class BasinsResult:
             "orbits_with_sticking": self.engine.n_stuck_orbits,
             "stick_counts": self.stick_counts,
             "release": self.release,
+            **({} if self.paper_setting else {"paper": self.paper_entry(None)}),
             "engine": self.engine.summary(),
         }
 
 
 @dataclass
-class UncertaintyResult:
+class UncertaintyResult(ComparedWithPaper):
     """Fig. 10: durations ``dA`` of ``n_points`` random points of ``box`` and ``dB``, ``dC`` (shape
     ``(n_points, len(eps))``) at ``tau0 +- eps``; ``fits[n]``: the exponent fit at threshold ``n``
     (None if it failed; the reason in ``notes``)."""
@@ -125,8 +143,9 @@ class UncertaintyResult:
         return ["eps"] + [f"f_n{n}" for n in self.ns], [[e] + [f[i] for f in fs] for i, e in enumerate(self.eps)]
 
     def summary(self) -> dict:
-        """The numbers of ``uncertainty.json``."""
-        paper = {str(n): [PAPER[f"phi_{n}"].value, PAPER[f"phi_{n}"].error] for n in (500, 1000)}
+        """The numbers of ``uncertainty.json``; ``paper``: the paper's exponents where the parameters are the
+        paper's, else a line saying that no comparison is made."""
+        paper = self.paper_entry({str(n): [PAPER[f"phi_{n}"].value, PAPER[f"phi_{n}"].error] for n in (500, 1000)})
         return {
             "figure": "10",
             "n_points": self.n_points,
@@ -141,7 +160,7 @@ class UncertaintyResult:
 
 
 @dataclass
-class SurvivalResult(Outcome):
+class SurvivalResult(ComparedWithPaper, Outcome):
     """Fig. 11: the transient durations on an ``nx`` x ``ny`` mesh of ``box`` (``tau0``, ``sdot0`` of
     shape ``(ny, nx)``); ``hit[:, j]``: the duration within ``engine.deltas[j]`` (-1: censored at
     ``cap``), the orbits that stick composed with the post-release duration from ``release`` (the
@@ -212,11 +231,6 @@ class SurvivalResult(Outcome):
         """The Eq. (14) fit at the main ``delta``."""
         return self.fits.get(float(self.delta))
 
-    @property
-    def paper_setting(self) -> bool:
-        """Whether the parameters are the paper's Fig. 11 ones: only then is anything compared with the paper."""
-        return paper_setting(self.params)
-
     def durations(self, delta: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``(durations, censored)`` at ``delta`` (default the main one), censored set to ``cap``."""
         h = self.hit[:, self.engine.column(delta)]
@@ -284,10 +298,8 @@ class SurvivalResult(Outcome):
             "stick_counts": self.stick_counts,
             "n_composed": int(self.composed.sum()),
             "release": self.release_info(),
-            "paper": (
+            "paper": self.paper_entry(
                 {"mean_n": int(PAPER["mean_n"].value), "kappa": [PAPER["kappa"].value, PAPER["kappa"].error]}
-                if self.paper_setting
-                else no_comparison(self.params)
             ),
             "engine": self.engine.summary(),
         }
@@ -302,7 +314,13 @@ def no_comparison(params: Params) -> str:
     """The line a result carries instead of the paper's values when its parameters are not the paper's."""
     mine = ", ".join(f"{k}={v}" for k, v in decimal_params(params).items())
     paper = ", ".join(f"{k}={v}" for k, v in decimal_params(PAPER_PARAMS).items())
-    return f"no comparison with the paper: the parameters ({mine}) are not the paper's Fig. 11 setting ({paper})"
+    return f"no comparison with the paper: the parameters ({mine}) are not the paper's Figs. 9-11 setting ({paper})"
+
+
+def paper_comparison(params: Params, values):
+    """What a result shows of the paper: ``values`` (the paper's numbers) where ``params`` are the paper's
+    (:func:`paper_setting`), else the line of :func:`no_comparison`."""
+    return values if paper_setting(params) else no_comparison(params)
 
 
 @dataclass
