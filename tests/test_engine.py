@@ -176,21 +176,22 @@ def test_compact_keeps_busy_lanes_in_order():
 
 
 def test_per_orbit_parameters_equal_separate_runs():
-    """Lanes carry their own parameters: one run over two parameter sets equals two runs."""
+    """Lanes carry their own parameters: one run over two parameter sets equals two runs.  Sample(keep=41)
+    and cap=40 as in test_engine_states_and_turns_equal_the_map_orbit: the separate runs reuse its kernel."""
     pa = Params(3.0, 0.1, 0.1, 0.8)
     both = run(
         [3.2, 3.2],
         [0.3, 0.3],
         [0, 0],
         ParamArrays(alpha=[3.0, 1.245], beta=0.1, gamma=0.1, r=[0.8, 0.9]),
-        Sample(keep=30),
-        cap=29,
+        Sample(keep=41),
+        cap=40,
         lanes=8,
         devices=1,
         progress=False,
     )
     for i, p in enumerate((pa, P)):
-        one = run([3.2], [0.3], [0], p, Sample(keep=30), cap=29, lanes=8, devices=1, progress=False)
+        one = run([3.2], [0.3], [0], p, Sample(keep=41), cap=40, lanes=8, devices=1, progress=False)
         assert np.array_equal(both.obs[0]["theta"][i], one.obs[0]["theta"][0])
 
 
