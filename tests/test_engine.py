@@ -176,21 +176,22 @@ def test_compact_keeps_busy_lanes_in_order():
 
 
 def test_per_orbit_parameters_equal_separate_runs():
-    """Lanes carry their own parameters: one run over two parameter sets equals two runs."""
+    """Lanes carry their own parameters: one run over two parameter sets equals two runs.  Sample(keep=41)
+    and cap=40 as in test_engine_states_and_turns_equal_the_map_orbit: the separate runs reuse its kernel."""
     pa = Params(3.0, 0.1, 0.1, 0.8)
     both = run(
         [3.2, 3.2],
         [0.3, 0.3],
         [0, 0],
         ParamArrays(alpha=[3.0, 1.245], beta=0.1, gamma=0.1, r=[0.8, 0.9]),
-        Sample(keep=30),
-        cap=29,
+        Sample(keep=41),
+        cap=40,
         lanes=8,
         devices=1,
         progress=False,
     )
     for i, p in enumerate((pa, P)):
-        one = run([3.2], [0.3], [0], p, Sample(keep=30), cap=29, lanes=8, devices=1, progress=False)
+        one = run([3.2], [0.3], [0], p, Sample(keep=41), cap=40, lanes=8, devices=1, progress=False)
         assert np.array_equal(both.obs[0]["theta"][i], one.obs[0]["theta"][0])
 
 
@@ -422,7 +423,8 @@ def test_durations_without_the_xla_options_agree(target):
     default CPU emitters, the kernel's materialising barriers, 512-lane blocks) gives the same durations
     as this process: identical for the transients shorter than 40 impacts (no chaotic amplification of
     the ulp-level differences of fused multiply-adds) on random ICs of the Fig. 9 window, where the
-    tongues of short transients are."""
+    tongues of short transients are.  Both sides capture on this module's periodic target (sent to the
+    command exactly: JSON floats round-trip), so the fresh process does not spend its time finding it."""
     import json
     import os
     import subprocess
@@ -435,16 +437,21 @@ def test_durations_without_the_xla_options_agree(target):
     code = (
         "import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
         "from gear_rattle.core._jax import xla_tuning_active; "
-        "from gear_rattle.mapimpl.engine.transients import transient_times; "
-        "t, s = (np.array(x) for x in json.loads(sys.stdin.read())); "
-        "r = transient_times(None, t, s, cap=200, progress=False); "
+        "from gear_rattle.mapimpl.engine.transients import PeriodicTarget, transient_times; "
+        "t, s, th, sd, w, mr, mi, res = (np.array(x) for x in json.loads(sys.stdin.read())); "
+        "tg = PeriodicTarget(th, sd, w.astype(np.int32), mr + 1j * mi, float(res)); "
+        "r = transient_times(None, t, s, cap=200, progress=False, target=tg); "
         "print(json.dumps([xla_tuning_active(), r.duration()[0].tolist()]))"
     )
     env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
     env["GEAR_RATTLE_XLA_TUNING"] = "0"
     proc = subprocess.run(
         [sys.executable, "-c", code],
-        input=json.dumps([tau0.tolist(), sdot0.tolist()]),
+        input=json.dumps(
+            [tau0.tolist(), sdot0.tolist()]
+            + [np.asarray(x).tolist() for x in (target.theta, target.sdot, target.wall)]
+            + [target.multipliers.real.tolist(), target.multipliers.imag.tolist(), target.residual]
+        ),
         capture_output=True,
         text=True,
         env=env,
