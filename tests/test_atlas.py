@@ -430,6 +430,28 @@ def test_cli_failures_leave_nothing_behind(args, what, status, tmp_path, capsys)
     assert list(tmp_path.iterdir()) == []
 
 
+def _wait_until_workers_busy(pid: int, workers: int, cpu_s: float, at_most_s: float) -> None:
+    """Return once ``workers`` worker processes under ``pid`` (the resource tracker aside) have each used
+    ``cpu_s`` CPU seconds -- past the cluster's start (~1 CPU second each), in their tasks -- or after
+    ``at_most_s`` seconds (the fixed wait this replaces) whatever they did."""
+    import time
+
+    import psutil
+
+    root, t_end = psutil.Process(pid), time.monotonic() + at_most_s
+    while time.monotonic() < t_end:
+        busy = 0
+        for c in root.children(recursive=True):
+            try:
+                if "resource_tracker" not in " ".join(c.cmdline()) and sum(c.cpu_times()[:2]) >= cpu_s:
+                    busy += 1
+            except psutil.Error:  # a process that ended meanwhile
+                continue
+        if busy >= workers:
+            return
+        time.sleep(0.1)
+
+
 def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
     """Issue 23 item 4: Ctrl-C (SIGINT to the whole process group, as a terminal sends it) on an atlas on
     the default LocalCluster printed ~64 lines of worker tracebacks.  Now the workers start with SIGINT
@@ -460,7 +482,7 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
         start_new_session=True,
         cwd=tmp_path,
     )
-    time.sleep(12)  # the cluster is up and computing
+    _wait_until_workers_busy(p.pid, workers=2, cpu_s=3.0, at_most_s=12.0)  # the cluster is up and computing
     os.killpg(p.pid, signal.SIGINT)
     t0 = time.perf_counter()
     try:

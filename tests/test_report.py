@@ -495,10 +495,13 @@ def test_transient_section_release_row_is_the_certified_T_post(tmp_path, monkeyp
     from gear_rattle.validation.report import sec_transients
     from gear_rattle.validation.transient import experiments as E
 
+    # 32 x 8 basin points, 36 x (1 + 2 x 3) uncertainty orbits and a 16 x 16 transient mesh: 256 lanes,
+    # a queue of 256 each, so one engine kernel compiled for the basins serves all three (the 128, 140
+    # and 324 orbits of 16 x 8, 20 and 18 x 18 compiled it three times)
     small = {
-        "basins": dict(nx=16, ny=8, ns=(90, 500)),
-        "uncertainty": dict(n_points=20, eps=[1e-6, 1e-5, 1e-4], ns=(100, 500)),
-        "transients": dict(nx=18, deltas=(1e-3,), n_boot=5),
+        "basins": dict(nx=32, ny=8, ns=(90, 500)),
+        "uncertainty": dict(n_points=36, eps=[1e-6, 1e-5, 1e-4], ns=(100, 500)),
+        "transients": dict(nx=16, deltas=(1e-3,), n_boot=5),
         "stick_time_sensitivity": dict(stick_times=(1e-5,), n_boot=5),
         "float64_horizon": dict(n_side=3, impacts=400),
     }
