@@ -24,37 +24,10 @@ from gear_rattle.validation.atlas import FIELDS, AtlasSpec, compute_tile
 from gear_rattle.validation.atlas.run import run_atlas
 from gear_rattle.validation.atlas.store import load_store, open_store
 from gear_rattle.validation.cli import main
+from atlasgrid import CLI_SMALL, SMALL  # the grid shared by the atlas tests
 
 # the killer task below runs on Dask workers, which cannot import this test module: ship it by value
 cloudpickle.register_pickle_by_value(sys.modules[__name__])
-
-# 4 x 3 grid through the paper's Fig. 4 scan: alpha = 2, 2.33, 2.67, 3 and r = 0.8, 0.85, 0.9
-SMALL = AtlasSpec(
-    alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500, period_max=16
-)
-CLI_SMALL = [
-    "atlas",
-    "--alpha-lo",
-    "2",
-    "--alpha-hi",
-    "3",
-    "--n-alpha",
-    "4",
-    "--r-lo",
-    "0.8",
-    "--r-hi",
-    "0.9",
-    "--n-r",
-    "3",
-    "--transient",
-    "300",
-    "--impacts",
-    "500",
-    "--period-max",
-    "16",
-    "--tile",
-    "2",
-]
 
 
 @pytest.fixture(scope="module", autouse=True)

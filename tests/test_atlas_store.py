@@ -28,35 +28,10 @@ from gear_rattle.validation.atlas.lock import StoreBusy, StoreLock, lock_path
 from gear_rattle.validation.atlas.run import ClusterLost, run_atlas
 from gear_rattle.validation.atlas.store import StoreWriteError, load_store
 from gear_rattle.validation.cli import main
+from atlasgrid import CLI_SMALL, SMALL  # the grid shared by the atlas tests
 
 cloudpickle.register_pickle_by_value(sys.modules[__name__])  # fake() runs on Dask workers
 
-SMALL = AtlasSpec(
-    alpha_lo=2.0, alpha_hi=3.0, n_alpha=4, r_lo=0.8, r_hi=0.9, n_r=3, transient=300, impacts=500, period_max=16
-)
-CLI_SMALL = [
-    "atlas",
-    "--alpha-lo",
-    "2",
-    "--alpha-hi",
-    "3",
-    "--n-alpha",
-    "4",
-    "--r-lo",
-    "0.8",
-    "--r-hi",
-    "0.9",
-    "--n-r",
-    "3",
-    "--transient",
-    "300",
-    "--impacts",
-    "500",
-    "--period-max",
-    "16",
-    "--tile",
-    "2",
-]
 TILES = [(0, 0), (0, 1), (1, 0), (1, 1)]  # SMALL in 2 x 2 tiles; tile (0, 1) is alpha 2.67, 3 at r 0.8, 0.85
 
 
