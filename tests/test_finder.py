@@ -18,14 +18,6 @@ A, B, G = 3.0, 0.1, 0.1
 fi = jax.jit(first_impact)
 
 
-@pytest.fixture(autouse=True)
-def _fifty_digits():
-    """The 50-digit reference (tests/mpref.py) at 50 digits whatever an earlier test left in the global
-    mpmath context (tests/test_cli_check.py sets 400 digits: ~10x the cost of every mpmath call here)."""
-    with mp.workdps(50):
-        yield
-
-
 def backward_state(tau_star, s_star, v_star, T, a=A, b=B, g=G):
     """State at tau* - T of the flight through (tau*, s*, v*) (Eqs. 7-8 hold for negative t)."""
     s, v = s_and_v(-T, tau_star, s_star, v_star, a, b, g)
