@@ -29,28 +29,12 @@ def _finite(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else float(x)
 
 
-def _case_worst_over_tolerance(score, tolerances: dict) -> float | None:
-    """The largest ``|error| / tolerance`` over the tolerance columns; None where not comparable (a wrong
-    number of events).  From a column's own field where the scorer gives it, else from its largest
-    error (exact where the tolerance is absolute only, as in every case of the suite)."""
+def _case_worst_over_tolerance(score) -> float | None:
+    """The largest ``|error| / tolerance`` over the tolerance columns (each row against its own
+    tolerance); None where not comparable (a wrong number of events)."""
     if not score.columns:
         return None
-    worst = 0.0
-    for c in CASE_COLUMNS:
-        col = score.columns.get(c)
-        if col is None:
-            continue
-        given = getattr(col, "worst_over_tolerance", None)
-        if given is not None:
-            ratio = given
-        elif not col.passed:
-            ratio = col.worst_ratio
-        elif tolerances[c].get("rel", 0) == 0:
-            ratio = col.max_error / max(tolerances[c]["abs"], 1e-300)
-        else:  # a relative tolerance: the ratio of a passing column is below 1, not known here
-            return None
-        worst = max(worst, ratio)
-    return worst
+    return max((score.columns[c].worst_ratio for c in CASE_COLUMNS if c in score.columns), default=0.0)
 
 
 def case_result(case, score) -> dict:
@@ -63,7 +47,7 @@ def case_result(case, score) -> dict:
         "passed": bool(score.passed),
         "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in CASE_COLUMNS},
         "exact_columns_match": bool(cols) and all(c in cols and cols[c].passed for c in EXACT_COLUMNS),
-        "worst_over_tolerance": _finite(_case_worst_over_tolerance(score, case.tolerances)),
+        "worst_over_tolerance": _finite(_case_worst_over_tolerance(score)),
         "first_failing": None if score.passed else score.first_failing,
         "note": score.message,
     }

@@ -75,7 +75,15 @@ class Case:
 
     @property
     def tolerances(self) -> dict:
+        """``settings.json``'s ``tolerances``: per column ``{"abs": a, "rel": q}`` (the case's loosest row)."""
         return self.settings["tolerances"]
+
+    def row_tolerances(self, column: str) -> tuple[np.ndarray, float]:
+        """``(abs, rel)`` of a tolerance column: the absolute tolerance of every row (an array of the
+        expected rows' length) and the relative one; a value ``x`` of row ``i`` passes when
+        ``|x - golden_i| <= abs[i] + rel |golden_i|``."""
+        tol = self.tolerances[column]
+        return np.full(len(self.expected), float(tol["abs"])), float(tol["rel"])
 
     @property
     def level(self) -> int | None:
@@ -247,7 +255,7 @@ class ColumnScore:
     column: str
     passed: bool
     max_error: float  # largest |x - e| (circular_distance for tau_mod_2pi; mismatch count for exact columns)
-    worst_row: int  # 0-based data row of the largest violation ratio (or first mismatch), -1 if none
+    worst_row: int  # 0-based data row of the largest |error| / tolerance (exact columns: first mismatch), -1 if none
     digits: float  # min over rows of -log10(relative error), capped at DIGITS_CAP
     first_row: int = -1  # 0-based data row of the first failure, -1 if none
     worst_ratio: float = 0.0  # |error| / tolerance on worst_row (inf for a missing value, 0 for exact columns)
@@ -346,15 +354,15 @@ def _circular_distance_1(x: float, g: float) -> float:
     return float(circular_distance_exact(Fraction(x) - Fraction(g)))  # x - g: exact, a dyadic rational
 
 
-def outside_tolerance(x: float, golden: float, tol: dict, circular: bool = False) -> bool:
-    """``|x - golden| > abs + rel |golden|`` decided **exactly** on the float64 numbers (rationals; the
-    circular distance for a phase): no rounding can pass a value outside its tolerance.  A NaN or
+def outside_tolerance(x: float, golden: float, abs_tol: float, rel_tol: float, circular: bool = False) -> bool:
+    """``|x - golden| > abs_tol + rel_tol |golden|`` decided **exactly** on the float64 numbers (rationals;
+    the circular distance for a phase): no rounding can pass a value outside its tolerance.  A NaN or
     infinite ``x`` is outside."""
     if not math.isfinite(x):
         return True
     d = Fraction(x) - Fraction(golden)
     err = circular_distance_exact(d) if circular else abs(d)
-    return err > Fraction(tol["abs"]) + Fraction(tol["rel"]) * abs(Fraction(golden))
+    return err > Fraction(abs_tol) + Fraction(rel_tol) * abs(Fraction(golden))
 
 
 def circular_distance(a, b) -> np.ndarray:
@@ -400,7 +408,7 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
         first = int(bad[0]) if bad.size else -1
         cols[c] = ColumnScore(c, bad.size == 0, float(bad.size), first, DIGITS_CAP if bad.size == 0 else 0.0, first)
     for c in TOLERANCE_COLUMNS:
-        cols[c] = _score_column(c, case.tolerances[c], getattr(got, c), getattr(exp, c))
+        cols[c] = _score_column(c, *case.row_tolerances(c), getattr(got, c), getattr(exp, c))
     passed = all(s.passed for s in cols.values())
     if passed:
         return CaseScore(case.id, True, cols, "", case.level, -1)
@@ -409,7 +417,7 @@ def score_sequence(case: Case, got: Sequence) -> CaseScore:
         case.id,
         False,
         cols,
-        _failure_note(cols, got, exp, case.tolerances),
+        _failure_note(cols, got, exp, case),
         case.level,
         failing.first_row,
         first_failing={"line": got.line(failing.first_row), "column": failing.column},
@@ -421,8 +429,9 @@ def _first_failing(cols: dict) -> ColumnScore:
     return min((s for s in cols.values() if not s.passed), key=lambda s: (s.first_row, COLUMNS.index(s.column)))
 
 
-def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScore:
-    """One tolerance column: pass/fail, largest error, first and worst failing rows, digits."""
+def _score_column(c: str, abs_tol: np.ndarray, rel_tol: float, a: np.ndarray, e: np.ndarray) -> ColumnScore:
+    """One tolerance column (``abs_tol``: the absolute tolerance of each row, ``rel_tol`` the relative one):
+    pass/fail, largest error, first and worst failing rows, digits."""
     if c == "sdot":
         mask = ~np.isnan(e)  # stick/release rows have no velocity
         missing = np.nonzero(mask & np.isnan(a))[0]  # (files cannot have one: the parser refuses NaN on impacts)
@@ -432,17 +441,22 @@ def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScor
     diff = circular_distance(a, e) if c == "tau_mod_2pi" else np.abs(a - e)
     diff = np.where(mask, diff, 0.0)
     diff = np.where(np.isnan(diff), np.inf, diff)
-    allowed = tol["abs"] + tol["rel"] * np.abs(np.where(mask, e, 0.0))
+    allowed = abs_tol + rel_tol * np.abs(np.where(mask, e, 0.0))
     ratio = np.where(mask, diff / np.maximum(allowed, 1e-300), 0.0)
     # pass/fail exactly (rationals), not by the rounded float64 differences above; those decide only
     # rows certainly inside (1e-9 below the tolerance: the roundings are ~1e-16 relative)
     near = mask & ~((diff < allowed * (1.0 - 1e-9)) & (allowed > 1e-280))
     failing = np.array(
-        [i for i in np.nonzero(near)[0] if outside_tolerance(float(a[i]), float(e[i]), tol, c == "tau_mod_2pi")],
+        [
+            i
+            for i in np.nonzero(near)[0]
+            if outside_tolerance(float(a[i]), float(e[i]), float(abs_tol[i]), rel_tol, c == "tau_mod_2pi")
+        ],
         dtype=np.int64,
     )
     ok = failing.size == 0
-    worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if not ok else -1)
+    # the largest |error| / tolerance, passing or not (each row against its own tolerance)
+    worst = int(missing[0]) if missing.size else (int(np.argmax(ratio)) if mask.any() else -1)
     # relative error; the scale is 2 pi for the phase and at least 1 for the elapsed time
     scale = np.full(e.shape, TWO_PI) if c == "tau_mod_2pi" else (np.maximum(np.abs(e), 1.0) if c == "tau" else e)
     return ColumnScore(
@@ -456,28 +470,28 @@ def _score_column(c: str, tol: dict, a: np.ndarray, e: np.ndarray) -> ColumnScor
     )
 
 
-def _row_note(column: str, row: int, got: Sequence, exp: Sequence, tolerances: dict) -> str:
+def _row_note(column: str, row: int, got: Sequence, exp: Sequence, case: Case) -> str:
     """``column at line L (what is wrong there)``."""
     line = got.line(row)
     a, e = getattr(got, column)[row], getattr(exp, column)[row]
     if column in EXACT_COLUMNS:
         return f"{column} at line {line} ({a} instead of {e})"
     err = float(circular_distance(a, e)) if column == "tau_mod_2pi" else abs(float(a) - float(e))
-    tol = tolerances[column]
-    allowed = tol["abs"] + tol["rel"] * abs(float(e))
+    abs_tol, rel_tol = case.row_tolerances(column)
+    allowed = float(abs_tol[row]) + rel_tol * abs(float(e))
     return f"{column} at line {line} (|error| {err:.3g}, {err / max(allowed, 1e-300):.3g} x tolerance)"
 
 
-def _failure_note(cols: dict, got: Sequence, exp: Sequence, tolerances: dict) -> str:
+def _failure_note(cols: dict, got: Sequence, exp: Sequence, case: Case) -> str:
     """The first failing row (smallest line, first column in file order) and the worst one (largest
     |error| / tolerance; an exact-column mismatch if no tolerance column fails)."""
     bad = [s for s in cols.values() if not s.passed]
     first = _first_failing(cols)
     tol_bad = [s for s in bad if s.column in TOLERANCE_COLUMNS]
     worst = max(tol_bad, key=lambda s: s.worst_ratio) if tol_bad else first
-    note = f"first failing: {_row_note(first.column, first.first_row, got, exp, tolerances)}"
+    note = f"first failing: {_row_note(first.column, first.first_row, got, exp, case)}"
     if (worst.column, worst.worst_row) != (first.column, first.first_row):
-        note += f"; worst: {_row_note(worst.column, worst.worst_row, got, exp, tolerances)}"
+        note += f"; worst: {_row_note(worst.column, worst.worst_row, got, exp, case)}"
     return f"{note} of {got.path}"
 
 
