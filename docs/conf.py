@@ -197,6 +197,48 @@ def _factory_defaults(app, what, name, obj, options, signature, return_annotatio
     return None
 
 
+#: The command-line reference generated from the parsers at every build (not committed: .gitignore)
+COMMANDS_PAGE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "reference", "commands.md")
+
+
+def command_reference() -> str:
+    """The page of every command's ``--help``, as ``gear-rattle COMMAND --help`` prints it (at 100
+    columns), from the command line's own parser (:func:`gear_rattle.validation.cli.build_parser`)."""
+    import argparse
+
+    from gear_rattle.validation.cli import build_parser
+
+    columns = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = "100"
+    try:
+        parser = build_parser()
+        subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        parts = [
+            "# Every command's help\n",
+            "Generated from the command line's parsers when this site is built: what `gear-rattle --help` and "
+            "`gear-rattle COMMAND --help` print.  The conventions they share -- the options, the output streams, "
+            "the exit status: [the command line](cli.md).\n",
+            "## `gear-rattle`\n",
+            "```text\n" + parser.format_help() + "```\n",
+        ]
+        for name, sub in subs.choices.items():
+            parts += [f"## `gear-rattle {name}`\n", "```text\n" + sub.format_help() + "```\n"]
+        return "\n".join(parts)
+    finally:
+        if columns is None:
+            os.environ.pop("COLUMNS", None)
+        else:
+            os.environ["COLUMNS"] = columns
+
+
+def _write_command_reference(app):
+    text = command_reference()
+    old = open(COMMANDS_PAGE, encoding="utf-8").read() if os.path.exists(COMMANDS_PAGE) else None
+    if text != old:  # unchanged: Sphinx keeps the page it has read
+        with open(COMMANDS_PAGE, "w", encoding="utf-8") as f:
+            f.write(text)
+
+
 def _copy_report(app, exception):
     """The published report (docs/report/: report.html, its figures and data) as it is, under report/."""
     if exception is None and app.builder.format == "html":
@@ -209,4 +251,5 @@ def setup(app):
     app.connect("doctree-read", _summaries_in_their_context)
     app.connect("autodoc-process-signature", _factory_defaults)
     app.connect("missing-reference", _resolve)
+    app.connect("builder-inited", _write_command_reference)
     app.connect("build-finished", _copy_report)
