@@ -195,3 +195,42 @@ def test_an_orbit_record_value_expected_against_got(tmp_path, capsys):
     assert ff["expected"] == [pytest.approx(lo), pytest.approx(hi)] and ff["actual"] == pts[1]["sdot"]
     assert ff["error"] == pytest.approx(1e-6, rel=1e-3) and ff["line"] == line  # that of points[1].sdot
     assert "sdot: expected [" in out
+
+
+def test_an_empty_output_and_a_value_before_the_events_part(tmp_path, capsys):
+    """A file with its header only: every golden row missing (counted, not cut at the window); a value
+    failing before the sequences part: both reported, the value first."""
+    cid = "0007-chatter-sticking"
+    res, out, _ = _check(tmp_path, capsys, cid, [])
+    ff = res["first_failing"]
+    assert (ff["kind"], ff["count"], ff["golden_line"], ff["line"], ff["row"]) == ("missing-rows", 43, 2, None, None)
+    assert res["digits"] == {"tau": None, "tau_mod_2pi": None, "sdot": None} and res["compared_rows"] == 0
+    assert "more golden rows missing (not shown)" in out
+    cid = "0013-lower-wall-sticking"
+    rows = _rows(cid)
+    rows[3][1] = repr(float(rows[3][1]) + 1e-6)
+    k = next(i for i, r in enumerate(rows) if r[5] == "stick")
+    del rows[k : k + 2]
+    res, out, _ = _check(tmp_path, capsys, cid, rows)
+    ff, ev = res["first_failing"], res["event_difference"]
+    assert (ff["kind"], ff["line"]) == ("value", 5)
+    assert (ev["kind"], ev["count"], ev["golden_line"]) == ("missing-rows", 2, k + 2)
+    assert res["compared_rows"] == k and "then the event sequences part: 2 golden rows missing" in out
+
+
+def test_our_track_raising_on_a_case_is_an_error_of_that_case(tmp_path, capsys, monkeypatch):
+    """check --self: a track that raises on one case (a crash) is an error of that case; the run goes on."""
+    import gear_rattle.mapimpl.tracks as tracks
+    import gear_rattle.validation.golden.suite as suite
+
+    def boom(case, track="map"):
+        raise FloatingPointError(f"boom on {case.id}")
+
+    monkeypatch.setattr(suite, "run_case", boom)
+    monkeypatch.setattr(tracks, "get", lambda name: None)
+    js = tmp_path / "s.json"
+    cid = "0001-regular-fig2"
+    assert main(["check", "--self", "--cases", cid, "--json", str(js)]) == 1
+    res = {r["id"]: r for r in json.loads(js.read_text())["results"]}[cid]
+    assert res["verdict"] == "error" and res["first_failing"]["kind"] == "crash"
+    assert res["note"] == f"our map track raised FloatingPointError: boom on {cid}"

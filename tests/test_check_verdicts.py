@@ -226,6 +226,8 @@ def test_export_suite_copies_the_suite_with_its_format(tmp_path, capsys):
     capsys.readouterr()
     assert main(["check", "--export-suite", str(dest)]) == 2
     _one_error(capsys, "--export-suite", "is not empty")
+    assert main(["check", str(out), "--export-suite", str(tmp_path / "other")]) == 2
+    _one_error(capsys, "--export-suite exports the installed suite and exits: no PATH")
 
 
 def test_the_format_description_is_the_docs_sections():

@@ -63,8 +63,8 @@ def export_suite(args: argparse.Namespace, header) -> int:
     check_output_dir(args.export_suite, "--export-suite")
     if dest.is_dir() and any(dest.iterdir()):
         raise CliError(f"--export-suite={args.export_suite!r} is not empty: allowed a new or empty directory")
-    if args.suite is not None:
-        raise CliError("--export-suite exports the installed suite: --suite is not allowed with it")
+    if args.suite is not None or args.path is not None or args.self_check:
+        raise CliError("--export-suite exports the installed suite and exits: no PATH, --self or --suite with it")
     parts = _parts(args)
     infos = {part: header(args, folder, part) for part, folder in parts.items()}
     files = export_files(parts["cases"], parts["orbits"])

@@ -54,22 +54,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help=f"suite directory (default: the copy installed with this package, {DEFAULT_SUITE}; "
         f"with --orbits {DEFAULT_ORBITS})",
     )
-    p.add_argument(
-        "--cases",
-        nargs="+",
-        action="extend",
-        default=None,
-        metavar="ID",
-        help="only these case (or orbit record) ids, the others skipped; repeated, the lists add up (default: all)",
-    )
-    p.add_argument(
-        "--exclude",
-        nargs="+",
-        action="extend",
-        default=None,
-        metavar="ID",
-        help="leave these case (or orbit record) ids out: skipped, reported as such (default: none)",
-    )
+    for option, text in (
+        (
+            "--cases",
+            "only these case (or orbit record) ids, the others skipped; repeated, the lists add up (default: all)",
+        ),
+        ("--exclude", "leave these case (or orbit record) ids out: skipped, reported as such (default: none)"),
+    ):
+        p.add_argument(option, nargs="+", action="extend", default=None, metavar="ID", help=text)
     p.add_argument(
         "--known-failures",
         default=None,

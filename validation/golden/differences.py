@@ -276,6 +276,13 @@ def _span(lines: list[int]) -> str:
     return f"line {lines[0]}" if len(lines) == 1 else f"lines {lines[0]}-{lines[-1]}"
 
 
+def _next_row(ops: list, first: int, side: int) -> int:
+    """The row of one side (1: golden, 2: output) that comes next at ``ops[first]`` (the ops start on
+    the diagonal: their first golden row and output row are the same row)."""
+    prev = [o[side] for o in ops[:first] if o[side] is not None]
+    return prev[-1] + 1 if prev else (ops[0][1] if ops[0][1] is not None else ops[0][2])
+
+
 def _event_difference(cmp: Comparison, ops: list, first: int) -> Difference:
     """The :class:`Difference` of the first edit ``ops[first]``: a wrong wall or kind, or a run of
     missing or extra rows."""
@@ -298,8 +305,10 @@ def _event_difference(cmp: Comparison, ops: list, first: int) -> Difference:
         )  # fmt: skip
     if op == "-":
         rows_i = [o[1] for o in run]
-        after = next((o[2] for o in ops[first:] if o[2] is not None), None)  # the output row after the gap
-        at_end = after is None
+        after = _next_row(ops, first, 2)  # the output row after the gap
+        at_end = after >= n_got  # the output has ended: every golden row from there on is missing
+        if at_end:
+            rows_i = list(range(rows_i[0], n_exp))
         where = "at the end of the file" if at_end else f"before line {cmp.got.line(after)}"
         shown = [cmp.row(cmp.exp, r) for r in rows_i]
         msg = (
@@ -308,13 +317,15 @@ def _event_difference(cmp: Comparison, ops: list, first: int) -> Difference:
             f"{', ...' if len(shown) > 3 else ''})"
         )
         return Difference(
-            "missing-rows", msg, line=None if at_end else cmp.got.line(after), row=after,
+            "missing-rows", msg, line=None if at_end else cmp.got.line(after), row=None if at_end else after,
             golden_line=cmp.exp.line(rows_i[0]), golden_row=rows_i[0], expected=shown[0], count=len(rows_i),
             expected_status=cmp.expected_status if at_end else None, context=context, **common,
         )  # fmt: skip
     rows_j = [o[2] for o in run]
-    nxt = next((o[1] for o in ops[first:] if o[1] is not None), None)  # the golden row after the extra rows
-    past_end = nxt is None
+    nxt = _next_row(ops, first, 1)  # the golden row after the extra rows
+    past_end = nxt >= n_exp  # the golden sequence has ended: every output row from there on is extra
+    if past_end:
+        rows_j = list(range(rows_j[0], n_got))
     shown = [cmp.row(cmp.got, r) for r in rows_j]
     msg = (
         f"{len(rows_j)} extra row{'s' if len(rows_j) > 1 else ''} at {_span([cmp.got.line(r) for r in rows_j])} "

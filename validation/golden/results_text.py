@@ -137,6 +137,16 @@ def context_lines(context: list[dict]) -> list[str]:
     return ["    " + line for line in aligned(rows, right={1, 2, 3, 6})]
 
 
+def _diff_lines(d: dict) -> list[str]:
+    """The context of a difference, and how many of its missing or extra rows it does not show."""
+    context = d.get("context") or []
+    out = context_lines(context)
+    op = {"missing-rows": "-", "extra-rows": "+"}.get(d.get("kind") or "")
+    hidden = (d.get("count") or 0) - sum(c["op"] == op for c in context) if op else 0
+    what = "golden rows missing" if op == "-" else "extra rows"
+    return out + ([f"    ... {hidden} more {what} (not shown)"] if hidden > 0 else [])
+
+
 def details(r: dict) -> list[str]:
     """The details of a result that fails the run (or is a known failure): the first failure, expected
     against got, the rows around it, and where other than there the event sequences part and the worst
@@ -148,11 +158,11 @@ def details(r: dict) -> list[str]:
     if first.get("golden_file"):
         out.append(f"  golden: {first['golden_file']}")
     out += _expected_got(first)
-    out += context_lines(first.get("context") or [])
+    out += _diff_lines(first)
     event = r.get("event_difference")
     if event and event.get("message") != first.get("message"):
         out.append(f"  then the event sequences part: {event['message']}")
-        out += context_lines(event.get("context") or [])
+        out += _diff_lines(event)
     worst = r.get("worst")
     if worst:
         out.append(f"  worst: {worst['message']}")
