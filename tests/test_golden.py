@@ -277,8 +277,8 @@ def test_check_usage_errors(tmp_path, capsys):
     assert main(["check", str(tmp_path / "nope"), "--summary"]) == 1
     _one_line_error(capsys, "PATH=", "not found", 'every case scored "no output"')
     (tmp_path / "afile").write_text("")
-    assert main(["check", str(tmp_path / "afile"), "--summary"]) == 1
-    _one_line_error(capsys, "PATH=", "not a directory")
+    assert main(["check", str(tmp_path / "afile")]) == 2
+    _one_line_error(capsys, "PATH=", "is not a directory")
     assert main(["check", "--self", "--suite", str(tmp_path / "nosuite")]) == 2
     _one_line_error(capsys, "nosuite")
     assert main(["check", "--self", "--cases", "9999-nothing"]) == 2

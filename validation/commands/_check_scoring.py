@@ -107,15 +107,14 @@ def known_failures(args: argparse.Namespace, items, what: str) -> dict:
 def read_outputs(args: argparse.Namespace, items, scorer: Scorer) -> dict:
     """``{id: output or Ready(score)}``: each file of PATH read on its own.  A missing file is "no
     output"; a malformed one an error of its item alone, named on stderr (one line per file).  A PATH
-    that is not a directory: every item "no output", one line on stderr."""
+    that does not exist: every item "no output", one line on stderr."""
     from ..golden.suite import MalformedFile, MissingFile
 
     root = Path(args.path)
     out: dict = {}
     if not root.is_dir():
-        what = "not found" if not root.exists() else "not a directory"
         each = "every record" if scorer.orbits else "every case"
-        print(f'gear-rattle check: error: PATH={args.path!r} {what}: {each} scored "no output"', file=sys.stderr)
+        print(f'gear-rattle check: error: PATH={args.path!r} not found: {each} scored "no output"', file=sys.stderr)
         return {i.id: Ready(scorer.no_output(i, root / f"{i.id}{scorer.suffix}")) for i in items}
     for item in items:
         path = root / f"{item.id}{scorer.suffix}"

@@ -137,7 +137,8 @@ def _add_report_arguments(p: argparse.ArgumentParser) -> None:
         default=None,
         metavar="DIR",
         help="copy the installed suite (cases/, orbits/, its format description FORMAT.md and suite.json) "
-        "into DIR, a new or empty directory, for an implementation that cannot import Python; then exit",
+        "into DIR, a new or empty directory, for an implementation that cannot import Python; then exit "
+        "(default: none)",
     )
     p.add_argument(
         "--require-suite",
@@ -225,6 +226,17 @@ def _run_options(args: argparse.Namespace) -> None:
         check_output_dir(args.out, "--out")
     if args.known_failures is not None:
         check_input_path(args.known_failures, "--known-failures", directory=False)
+    if args.path is not None and (not args.path.strip() or _exists(args.path)):
+        # an empty name, a file, an unreadable folder: usage errors; a folder that is not there is scored
+        # ("no output" for every case, the reports written)
+        check_input_path(args.path, "PATH", directory=True)
+
+
+def _exists(path: str) -> bool:
+    try:
+        return Path(path).exists()
+    except OSError:  # a name the system refuses (too long): check_input_path says so
+        return True
 
 
 def run(args: argparse.Namespace) -> int:
