@@ -64,7 +64,7 @@ def test_a_duplicate_column_name_is_malformed(tmp_path, capsys, column, pos):
             f[pos] = str(int(f[pos]) + 7)
         out.append(",".join(f) + f",{right}")
     d = _write(tmp_path, "\n".join(out) + "\n")
-    assert _check(d, "--cases", CID) == 2
+    assert _check(d, "--cases", CID) == 1  # malformed: an error of its case, exit 1
     _one_error(capsys, f"{CID}.csv", "line 1, column", f"duplicate column name {column!r}")
 
 
@@ -80,7 +80,7 @@ def test_a_duplicate_json_key_is_malformed(tmp_path, capsys):
     d.mkdir()
     text = '{"points": %s, "multipliers": %s,\n "points": %s}' % (json.dumps(wrong), json.dumps(mult), json.dumps(pts))
     (d / f"{RID}.json").write_text(text)
-    assert main(["check", "--orbits", str(d), "--cases", RID]) == 2
+    assert main(["check", "--orbits", str(d), "--cases", RID]) == 1  # malformed: an error of its case, exit 1
     _one_error(capsys, f"{RID}.json", "line 2, column 2", "duplicate key 'points'")
 
 
@@ -91,7 +91,7 @@ def test_characters_the_format_does_not_allow(tmp_path, capsys, char):
     lines = _expected_lines()
     lines[4] = lines[4] + char  # inside the last (extra) field of line 5
     d = _write(tmp_path, "\n".join(lines) + "\n")
-    assert _check(d, "--cases", CID) == 2
+    assert _check(d, "--cases", CID) == 1  # malformed: an error of its case, exit 1
     _one_error(capsys, "line 5, column", f"U+{ord(char):04X}")
 
 
@@ -99,7 +99,7 @@ def test_unicode_line_break_inside_a_json_string_is_malformed(tmp_path, capsys):
     d = tmp_path / "out"
     d.mkdir()
     (d / f"{RID}.json").write_text('{"points\u2028": 1, "value": 2}')
-    assert main(["check", "--orbits", str(d), "--cases", RID]) == 2
+    assert main(["check", "--orbits", str(d), "--cases", RID]) == 1  # malformed: an error of its case, exit 1
     _one_error(capsys, "line 1, column 9", "U+2028")
 
 
@@ -108,7 +108,7 @@ def test_a_lone_carriage_return_is_malformed_and_crlf_is_accepted(tmp_path, caps
     d = _write(tmp_path, "\r\n".join(lines) + "\r\n")
     assert _check(d, "--cases", CID) == 0, capsys.readouterr()
     d = _write(tmp_path, "\n".join(lines[:3]) + "\r" + "\n".join(lines[3:]) + "\n")
-    assert _check(d, "--cases", CID) == 2
+    assert _check(d, "--cases", CID) == 1  # malformed: an error of its case, exit 1
     _one_error(capsys, "line 3, column", "carriage return")
 
 
@@ -133,7 +133,8 @@ def test_blank_lines_are_skipped_before_the_header_too(tmp_path, capsys):
 )
 def test_inputs_that_gave_tracebacks(tmp_path, capsys, what):
     """A CSV field over 131072 characters (csv.Error), JSON nested 1000 deep (RecursionError) and a
-    310-digit JSON integer (OverflowError) were tracebacks with exit status 1: now exit 2, one line."""
+    310-digit JSON integer (OverflowError) were tracebacks with exit status 1: now one line on stderr,
+    and an error of that case alone (exit 1: a malformed output is an error of its case)."""
     if what.startswith("csv"):
         lines = _expected_lines()
         if what == "csv-columns-101":
@@ -146,7 +147,7 @@ def test_inputs_that_gave_tracebacks(tmp_path, capsys, what):
             lines = [lines[0] + ",note"] + [r + ",x" if k != 2 else r for k, r in enumerate(lines[1:])]
             needle = "longer than 1000 characters"
         d = _write(tmp_path, "\n".join(lines) + "\n")
-        assert _check(d, "--cases", CID) == 2
+        assert _check(d, "--cases", CID) == 1  # malformed: an error of its case, exit 1
         _one_error(capsys, needle)
         return
     d = tmp_path / "out"
@@ -155,7 +156,7 @@ def test_inputs_that_gave_tracebacks(tmp_path, capsys, what):
         what
     ]
     (d / f"{RID}.json").write_text('{"value": %s, "points": [], "multipliers": []}' % body)
-    assert main(["check", "--orbits", str(d), "--cases", RID]) == 2
+    assert main(["check", "--orbits", str(d), "--cases", RID]) == 1  # malformed: an error of its case, exit 1
     _one_error(capsys, f"{RID}.json", "line 1, column", "limit" if "1e400" not in what else "not a finite number")
 
 
@@ -165,12 +166,12 @@ def test_a_huge_file_is_refused_in_bounded_time(tmp_path, capsys):
     lines = _expected_lines()
     d = _write(tmp_path, "\n".join(lines) + ("\n" + lines[-1]) * 1_000_000 + "\n")
     t = time.perf_counter()
-    assert _check(d, "--cases", CID) == 2
+    assert _check(d, "--cases", CID) == 1  # malformed: an error of its case, exit 1
     assert time.perf_counter() - t < 3.0
     _one_error(capsys, "larger than 2097152 bytes")
     d = _write(tmp_path, "\n".join(lines) + "\n0,0,0,0,1,impact,0,0,0" * 30_000 + "\n")
     t = time.perf_counter()
-    assert _check(d, "--cases", CID) == 2
+    assert _check(d, "--cases", CID) == 1  # malformed: an error of its case, exit 1
     assert time.perf_counter() - t < 3.0
     _one_error(capsys, "line 20001, column 1: more than 20000 lines")
 

@@ -8,8 +8,9 @@ line ends, blank lines, quotes, duplicate keys, deep nesting, huge fields and fi
 is scored twice: by the real command line (`main(["check", ...])`) and by an independent reading of
 docs/golden.md written here (its own CSV tokenizer, its own decimal reader with exact rationals,
 Python's json module with hooks for the JSON limits, 2 pi from mpmath; nothing of the checker's
-parsers is imported).  The verdicts must agree: malformed -> exit 2 with one line on stderr naming a
-line and column, outside a tolerance or a different event sequence -> exit 1, right -> exit 0.  So no
+parsers is imported).  The verdicts must agree: malformed -> exit 1 with one line on stderr naming a
+line and column (an error of its case), outside a tolerance or a different event sequence -> exit 1 and
+nothing on stderr, right -> exit 0.  So no
 mutant that is wrong or malformed passes, and the checker never crashes.
 
 Default: 15 mutants per case and orbit record, a fixed seed per case (495 per run: 34 s on the shared
@@ -407,16 +408,16 @@ def run_check(folder: Path, cid: str, orbits: bool) -> tuple[int, list[str]]:
     return rc, err.getvalue().splitlines()
 
 
-EXIT = {"right": 0, "wrong": 1, "malformed": 2}
+EXIT = {"right": 0, "wrong": 1, "malformed": 1}  # a malformed output is an error of its case: exit 1
 
 
 def _agree(verdict: str, rc: int, err: list[str], data: bytes) -> None:
-    assert rc in (0, 1, 2)
+    assert rc in (0, 1)
     assert rc == EXIT[verdict], (verdict, rc, err, data[:300])
-    if rc == 2:
+    if verdict == "malformed":  # told apart from a wrong answer by its one line on stderr
         assert len(err) == 1 and "line " in err[0] and ", column " in err[0], err
     else:
-        assert err == []
+        assert err == [], (verdict, err, data[:300])
 
 
 # ------------------------------------------------------------------------------------------------

@@ -215,7 +215,7 @@ def test_corrupted_output_fails(map_outputs, tmp_path, capsys):
     assert main(["check", str(bad)]) == 1
     o = capsys.readouterr().out
     assert "0001-regular-fig2" in o and "FAIL" in o and "line 6" in o
-    assert o.count("FAIL") == 1
+    assert o.splitlines()[-1].endswith("; failing: 0001-regular-fig2")
     # a wrong event kind fails the exact columns (a well-formed stick row: sdot empty)
     g = bad / "0002-chaotic-fig3.csv"
     lines = g.read_text().splitlines()
@@ -236,7 +236,7 @@ def _one_line_error(capsys, *needles):
 
 
 @pytest.mark.parametrize("kind", ["missing_column", "wrong_header", "non_numeric", "bad_kind", "empty_sdot_on_impact"])
-def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kind):
+def test_malformed_files_exit_1_with_one_line(map_outputs, tmp_path, capsys, kind):
     _, out = map_outputs
     cid = "0003-free-flight-start"
     d = tmp_path / kind
@@ -264,7 +264,7 @@ def test_malformed_files_exit_2_with_one_line(map_outputs, tmp_path, capsys, kin
         needles += ["line 3", "sdot"]
     f.write_text("\n".join(lines) + "\n")
     capsys.readouterr()
-    assert main(["check", str(d), "--cases", cid]) == 2
+    assert main(["check", str(d), "--cases", cid]) == 1  # malformed: an error of its case
     _one_line_error(capsys, *needles)
 
 
@@ -273,8 +273,9 @@ def test_check_usage_errors(tmp_path, capsys):
     _one_line_error(capsys, "PATH")
     assert main(["check", str(tmp_path), "--self"]) == 2
     _one_line_error(capsys, "not both")
-    assert main(["check", str(tmp_path / "nope")]) == 2
-    _one_line_error(capsys, "PATH=", "not found: allowed a directory")
+    # an output folder that is not there: every case "no output" (exit 1, the reports written), one line
+    assert main(["check", str(tmp_path / "nope"), "--summary"]) == 1
+    _one_line_error(capsys, "PATH=", "not found", 'every case scored "no output"')
     (tmp_path / "afile").write_text("")
     assert main(["check", str(tmp_path / "afile")]) == 2
     _one_line_error(capsys, "PATH=", "is not a directory")

@@ -47,7 +47,7 @@ def _check(m: Mutant, cases: list[str], out, capsys) -> dict[str, bool]:
         write_csv(run(_settings(cid), m), out / f"{cid}.csv", m)
     capsys.readouterr()
     rc = main(["check", str(out), "--cases", *cases])
-    table = capsys.readouterr().out.splitlines()[3:-1]  # after the suite line, the header and the rule
+    table = capsys.readouterr().out.splitlines()[3 : 3 + len(cases)]  # after the suite line, header, rule
     verdict = {line.split()[0]: line.split()[1] == "PASS" for line in table}
     assert sorted(verdict) == sorted(cases)
     assert rc == (0 if all(verdict.values()) else 1)

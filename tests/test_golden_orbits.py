@@ -193,12 +193,12 @@ def test_check_orbits_fails_wrong_walls_and_a_wrong_count(tmp_path, capsys):
         ),
     ],
 )
-def test_check_orbits_malformed_input_is_one_line_exit_2(tmp_path, capsys, content, needle):
+def test_check_orbits_malformed_input_is_one_line_exit_1(tmp_path, capsys, content, needle):
     rid = "orbit-3-impact-fig2-alpha0.5-r0.9"
     d = tmp_path / "out"
     d.mkdir()
     (d / f"{rid}.json").write_text(content)
-    assert main(["check", "--orbits", str(d), "--cases", rid]) == 2
+    assert main(["check", "--orbits", str(d), "--cases", rid]) == 1  # malformed: an error of its record
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and needle in err[0] and rid in err[0]
 

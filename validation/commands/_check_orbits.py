@@ -3,8 +3,9 @@ records of ``validation/golden/orbits`` (docs/golden.md, "Periodic orbits and bi
 
 PATH holds one ``<id>.json`` per record (:mod:`validation.golden.orbit_suite` gives the layout);
 with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scored instead, and
-``--out DIR`` keeps their files (an example of the layout).  Exit status as for the impact cases:
-0 all pass, 1 some fail, 2 usage error or malformed input (one line per file on stderr)."""
+``--out DIR`` keeps their files (an example of the layout).  Selection, known failures, reports and
+exit status as for the impact cases (:mod:`._check_scoring`): 0 every record scored passes, 1 some
+fails, has no output or a malformed file (one line per file on stderr), 2 usage error."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
-from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
+from ._check_scoring import Scorer, check_items, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -34,9 +35,9 @@ def run_orbits(args: argparse.Namespace) -> int:
     from ..golden.orbit_suite import (
         DEFAULT_ORBITS,
         MalformedFile,
-        MissingFile,
         load_records,
         no_output_score,
+        problem_score,
         read_values,
         score,
     )
@@ -47,29 +48,16 @@ def run_orbits(args: argparse.Namespace) -> int:
     folder = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_ORBITS
     info = suite_header(args, folder, "orbits")
     try:
-        records = load_records(folder, args.cases, args.level)
+        records = load_records(folder)
     except MalformedFile as e:
         raise CliError(f"orbit suite: {e}") from None
-    if not records:
-        raise no_selection("orbit suite", args, folder)
-    if args.self_check:
-        values = _self_values(records, args.out)
-    else:
-        root = check_input_path(args.path, "PATH", directory=True)
-        values, errors = read_outputs(
-            {rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records}, MalformedFile, MissingFile
-        )
-        if errors:
-            return report_malformed(args, records, errors, info, orbits=True)
-    return score_and_report(
-        args,
-        records,
-        values,
-        info,
+    scorer = Scorer(
         orbits=True,
-        root=None if args.self_check else root,
         suffix=".json",
+        read=read_values,
         score=score,
         no_output=no_output_score,
+        problem=problem_score,
         result=orbit_result,
     )
+    return check_items(args, info, records, scorer, folder, partial(_self_values, write=args.out))

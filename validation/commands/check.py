@@ -3,9 +3,14 @@
 PATH is a directory holding one <case-id>.csv per case, in the impact-sequence layout
 (header n,tau,tau_mod_2pi,wall,sdot,kind; extra trailing columns are ignored). Each case passes when
 every row matches: n, wall and kind exactly, tau, tau_mod_2pi (circular) and sdot within the case's
-absolute/relative tolerances; a missing file fails its case ("no output"). --cases and --level select
-cases (repeated, they add up). Exit status: 0 all pass, 1 some case fails, 2 usage error or malformed
-input (missing column, wrong header, a field or file outside the format; one line per file).
+absolute/relative tolerances. Each file is scored on its own: a missing one fails its case ("no
+output"), a malformed one is an error of its case (one line on stderr naming file, line and column).
+--cases and --level select cases (repeated, they add up), --exclude leaves some out: the others are
+skipped (reported as such). --known-failures FILE lists cases expected to fail, with a reason.
+A failing case is shown expected against got (the golden and the output rows around the first
+difference). Exit status: 0 every case scored passes (known failures allowed), 1 some case fails,
+is malformed or has no output, or a known failure passes; 2 usage error (or a malformed suite,
+--known-failures file, or --require-suite mismatch).
 
 With --self, our own track (--track map|scipy|diffrax) is run on every case and scored instead.
 
@@ -14,10 +19,12 @@ validation/golden/orbits (points, multipliers, value; docs/golden.md), scored ag
 enclosures; --orbits --self scores our float64 Newton solvers.
 
 For CI (docs/golden.md, "Using the suite in CI"): --junit-xml FILE (one testcase per case or record)
-and --json FILE (strict JSON) besides the table; the header names the suite's version and digest;
---suite-version prints them (exit 1 if the suite's files differ from the recorded version's) and
---require-suite VERSION refuses to score (exit 2) any other version or modified files.  Scoring
-files needs numpy alone (pip install --no-deps gear-rattle numpy); --self needs the full install."""
+and --json FILE (strict JSON) besides the table, written whatever the outcome; the header names the
+suite's version and digest; --suite-version prints them (--json FILE: the folders, index and ids as
+JSON; exit 1 if the suite's files differ from the recorded version's), --export-suite DIR copies the
+suite with its format description, and --require-suite SPEC (1, 1.0, ~=1.0, 1.0.0) refuses to score
+(exit 2) another version or modified files.  Scoring files needs numpy alone (pip install --no-deps
+gear-rattle numpy); --self needs the full install."""
 
 from __future__ import annotations
 
@@ -25,8 +32,8 @@ import argparse
 from functools import partial
 from pathlib import Path
 
-from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir, to_stdout
-from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
+from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir
+from ._check_scoring import Ready, Scorer, check_items, suite_header, write_output
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -47,13 +54,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help=f"suite directory (default: the copy installed with this package, {DEFAULT_SUITE}; "
         f"with --orbits {DEFAULT_ORBITS})",
     )
+    for option, text in (
+        (
+            "--cases",
+            "only these case (or orbit record) ids, the others skipped; repeated, the lists add up (default: all)",
+        ),
+        ("--exclude", "leave these case (or orbit record) ids out: skipped, reported as such (default: none)"),
+    ):
+        p.add_argument(option, nargs="+", action="extend", default=None, metavar="ID", help=text)
     p.add_argument(
-        "--cases",
-        nargs="+",
-        action="extend",
+        "--known-failures",
         default=None,
-        metavar="ID",
-        help="only these case (or orbit record) ids; repeated, the lists add up (default: all)",
+        metavar="FILE",
+        help="cases (or records) expected to fail: one 'ID reason' per line, '#' comments (docs/golden.md, "
+        "Known failures); they are reported as expected failures, and one that passes fails the run "
+        "(default: none)",
     )
     p.add_argument(
         "--level",
@@ -61,8 +76,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         type=_levels,
         default=None,
         metavar="L[,L...]",
-        help="only the cases of these levels, e.g. 1,2 (1, 2 or 3; repeated, they add up; orbit records "
-        "are level 2; with --cases: the cases in both; default: all)",
+        help="only the cases of these levels, e.g. 1,2, the others skipped (1, 2 or 3; repeated, they add "
+        "up; orbit records are level 2; with --cases: the cases in both; default: all)",
     )
     p.add_argument(
         "--self", dest="self_check", action="store_true", help="run our own track on every case and score it"
@@ -84,6 +99,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="score periodic orbits and bifurcation points (one <id>.json per record of "
         "validation/golden/orbits, or --self) instead of impact sequences",
     )
+    _add_report_arguments(p)
+
+
+def _add_report_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of the output and of the suite: --summary, --json, --junit-xml, --suite-version,
+    --export-suite, --require-suite, --quiet."""
     p.add_argument(
         "--summary", action="store_true", help="print only the summary line of the table (it names the failing cases)"
     )
@@ -92,28 +113,40 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default=None,
         metavar="FILE",
         help="also write the results as strict JSON to FILE ('-': stdout, instead of the table): "
-        "the suite's version and digest, per case id, level, passed, digits per column, worst "
-        "|error| / tolerance, first failing row (default: none)",
+        "the suite's version and digest, the counts, per case id, level, verdict, digits per column, "
+        "worst |error| / tolerance, the first failure (file, line, column, expected and actual rows, "
+        "error, tolerance); with --suite-version the suite's folders, index and ids (default: none)",
     )
     p.add_argument(
         "--junit-xml",
         default=None,
         metavar="FILE",
         help="also write a JUnit XML report to FILE (one testcase per case or orbit record, a failure "
-        "with the note and the digits for each failing one; the suite's version and digest as "
-        "properties; default: none)",
+        "with expected against got for each failing one, skipped ones and known failures as skipped; "
+        "the suite's version and digest as properties; default: none)",
     )
     p.add_argument(
         "--suite-version",
         action="store_true",
         help="print the suite's version and the digests of its files (with --suite DIR: of DIR, and "
-        "whether they match the recorded version's; exit 1 if not), then exit; PATH not needed",
+        "whether they match the recorded version's; exit 1 if not), then exit; PATH not needed; with "
+        "--json FILE also the folders of the cases and records, the index and the ids, as JSON",
+    )
+    p.add_argument(
+        "--export-suite",
+        default=None,
+        metavar="DIR",
+        help="copy the installed suite (cases/, orbits/, its format description FORMAT.md and suite.json) "
+        "into DIR, a new or empty directory, for an implementation that cannot import Python; then exit "
+        "(default: none)",
     )
     p.add_argument(
         "--require-suite",
         default=None,
-        metavar="VERSION",
-        help="refuse to score (exit 2) unless the suite is VERSION with its files unmodified "
+        type=_requirement,
+        metavar="SPEC",
+        help="refuse to score (exit 2) unless the suite's version meets SPEC with its files unmodified: "
+        "1 (any 1.x.y), 1.0 (any 1.0.y), ~=1.0 (1.0 or later, before 2), 1.0.0 (exactly) "
         "(pinning a suite version in CI; default: any)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bars (notes and errors still go to stderr)")
@@ -124,21 +157,15 @@ def needs_jax(args: argparse.Namespace) -> bool:
     return bool(args.self_check) and not args.suite_version
 
 
-def suite_version(args: argparse.Namespace) -> int:
-    """``--suite-version``: the version and digests of the suite (or of ``--suite DIR``); exit 1 where
-    the files differ from the recorded version's."""
-    from ..golden.version import PARTS, recorded
+def _requirement(text: str) -> str:
+    """``--require-suite SPEC`` (argparse type): one of the forms of :func:`golden.version.satisfies`."""
+    from ..golden.version import parse_requirement
 
-    if args.suite is not None:
-        part = "orbits" if args.orbits else "cases"
-        infos = [suite_header(args, check_input_path(args.suite, "--suite", directory=True), part)]
-    else:
-        infos = [suite_header(args, folder, part) for part, folder in PARTS.items()]
-    lines = [info.line() for info in infos]
-    if args.suite is None:
-        lines.append(f"suite digest {recorded().get('digest')}")
-    to_stdout("\n".join(lines) + "\n")
-    return 0 if all(i.matches for i in infos) else 1
+    try:
+        parse_requirement(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+    return text
 
 
 def _levels(text: str) -> list[int]:
@@ -156,7 +183,7 @@ def _levels(text: str) -> list[int]:
 
 
 def _self_outputs(cases, track: str, write: str | None):
-    from ..golden.suite import run_case, sequence_from_impacts
+    from ..golden.suite import problem_score, run_case, sequence_from_impacts
     from ..io import write_csv
 
     from ...mapimpl.tracks import get
@@ -165,31 +192,25 @@ def _self_outputs(cases, track: str, write: str | None):
         get(track)  # loads a numerical track: its integrator must be installed
     except ImportError as e:
         raise CliError(f"track {track!r} is not available: {e}") from None
-    out = {}
+    out: dict = {}
     for case in cases:
-        seq = run_case(case, track)
         label = f"<{track} track, case {case.id}>"
+        try:
+            seq = run_case(case, track)
+        except Exception as e:  # noqa: BLE001 - a crash on one case is an error of that case alone
+            msg = " ".join(f"our {track} track raised {type(e).__name__}: {e}".split())[:500]
+            out[case.id] = Ready(problem_score(case, "crash", msg, label))
+            continue
         if write:
             label = write_output(Path(write) / f"{case.id}.csv", write_csv, *seq.table())
         out[case.id] = sequence_from_impacts(seq, label)
     return out
 
 
-def run(args: argparse.Namespace) -> int:
+def _run_options(args: argparse.Namespace) -> None:
+    """The options' combinations (one-line usage errors)."""
     from ..cliutil import check_distinct, check_output_file
-    from ..golden.results import case_result
-    from ..golden.suite import (
-        DEFAULT_SUITE,
-        MalformedFile,
-        MissingFile,
-        load_suite,
-        no_output_score,
-        read_sequence,
-        score_sequence,
-    )
 
-    if args.suite_version:
-        return suite_version(args)
     for option in ("--json", "--junit-xml"):
         check_output_file(getattr(args, option[2:].replace("-", "_")), option)
     check_distinct(**{"--json": args.json, "--junit-xml": args.junit_xml})
@@ -203,6 +224,39 @@ def run(args: argparse.Namespace) -> int:
         raise CliError("--out needs --self (it keeps the files of our own track)")
     if args.out is not None:
         check_output_dir(args.out, "--out")
+    if args.known_failures is not None:
+        check_input_path(args.known_failures, "--known-failures", directory=False)
+    if args.path is not None and (not args.path.strip() or _exists(args.path)):
+        # an empty name, a file, an unreadable folder: usage errors; a folder that is not there is scored
+        # ("no output" for every case, the reports written)
+        check_input_path(args.path, "PATH", directory=True)
+
+
+def _exists(path: str) -> bool:
+    try:
+        return Path(path).exists()
+    except OSError:  # a name the system refuses (too long): check_input_path says so
+        return True
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..golden.results import case_result
+    from ..golden.suite import (
+        DEFAULT_SUITE,
+        MalformedFile,
+        load_suite,
+        no_output_score,
+        problem_score,
+        read_sequence,
+        score_sequence,
+    )
+    from ._check_suite import export_suite, suite_version
+
+    if args.suite_version:
+        return suite_version(args, suite_header)
+    if args.export_suite is not None:
+        return export_suite(args, suite_header)
+    _run_options(args)
     if args.orbits:
         from ._check_orbits import run_orbits
 
@@ -210,29 +264,16 @@ def run(args: argparse.Namespace) -> int:
     suite = check_input_path(args.suite, "--suite", directory=True) if args.suite is not None else DEFAULT_SUITE
     info = suite_header(args, suite, "cases")
     try:
-        cases = load_suite(suite, args.cases, args.level)
+        cases = load_suite(suite)
     except MalformedFile as e:
         raise CliError(f"suite: {e}") from None
-    if not cases:
-        raise no_selection("suite", args, suite)
-    if args.self_check:
-        outputs = _self_outputs(cases, args.track, args.out)
-    else:
-        root = check_input_path(args.path, "PATH", directory=True)
-        outputs, errors = read_outputs(
-            {case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases}, MalformedFile, MissingFile
-        )
-        if errors:
-            return report_malformed(args, cases, errors, info, orbits=False)
-    return score_and_report(
-        args,
-        cases,
-        outputs,
-        info,
+    scorer = Scorer(
         orbits=False,
-        root=None if args.self_check else root,
         suffix=".csv",
+        read=lambda path, case: read_sequence(path),
         score=score_sequence,
         no_output=no_output_score,
+        problem=problem_score,
         result=case_result,
     )
+    return check_items(args, info, cases, scorer, suite, partial(_self_outputs, track=args.track, write=args.out))

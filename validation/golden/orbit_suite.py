@@ -26,7 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .differences import Difference, problem
 from .jsonformat import JsonDoc, read_json
+from .textformat import position
 from .paths import DEFAULT_ORBITS
 from .suite import DIGITS_CAP, MalformedFile, MissingFile, circular_distance_exact, read_suite_json, select_ids
 
@@ -51,6 +53,11 @@ class Record:
     multipliers: np.ndarray
     value: tuple[float, float] | None
     tolerances: dict
+
+    @property
+    def level(self) -> int:
+        """Every record is level 2 (:data:`LEVEL`)."""
+        return LEVEL
 
 
 def _show(x) -> str:
@@ -165,12 +172,21 @@ class Values:
     walls: np.ndarray | None = None
     multipliers: np.ndarray | None = None
     value: float | None = None
+    doc: JsonDoc | None = None
+
+    def line(self, where: tuple) -> int | None:
+        """The file line of the value at ``where`` (a JSON path), or of its nearest enclosing value."""
+        if self.doc is None or not self.doc.text:
+            return None
+        while where not in self.doc.offsets and where:
+            where = where[:-1]
+        return position(self.doc.text, self.doc.offsets.get(where, 0))[0]
 
 
 def values_from_doc(doc: JsonDoc) -> Values:
     """Validate an implementation's values (the layout of the module docstring)."""
     d = doc.value
-    out = Values(doc.path)
+    out = Values(doc.path, doc=doc)
     if "points" in d:
         rows, walls = [], []
         for i, p in enumerate(_objects(doc, "points", "tau_mod_2pi, sdot, wall")):
@@ -230,6 +246,10 @@ class Column:
     error: float  # largest distance to the record's interval
     tolerance: float
     digits: float  # -log10(largest error / scale), capped at DIGITS_CAP
+    index: int = -1  # the record's point or multiplier (0 for value) with the largest error
+    expected: object = None  # its interval: [lo, hi], or {"re": [lo, hi], "im": [lo, hi]} for a multiplier
+    actual: object = None  # the value given for it (a multiplier: {"re", "im"})
+    where: tuple = ()  # its place in the output file (a JSON path)
 
 
 @dataclass
@@ -242,6 +262,8 @@ class OrbitScore:
     message: str = ""
     level: int = LEVEL
     no_output: bool = False
+    #: The first failure, placed and structured (:class:`.differences.Difference`), None when it passes.
+    first_failing: Difference | None = None
 
     @property
     def column_digits(self) -> dict:
@@ -260,7 +282,14 @@ class OrbitScore:
 
 def no_output_score(rec: Record, path) -> OrbitScore:
     """The score of a record whose output file is missing: it fails ("no output"), the run goes on."""
-    return OrbitScore(rec.id, False, {}, f"no output ({path} missing)", LEVEL, True)
+    msg = f"no output ({path} missing)"
+    return OrbitScore(rec.id, False, {}, msg, LEVEL, True, problem("no-output", msg, str(path)))
+
+
+def problem_score(rec: Record, kind: str, message: str, path=None, line=None, column=None) -> OrbitScore:
+    """The score of a record whose output could not be scored (``malformed``: an error of this record)."""
+    diff = problem(kind, message, None if path is None else str(path), line, column)
+    return OrbitScore(rec.id, False, {}, message, LEVEL, False, diff)
 
 
 def _dist(x, lo, hi, circular=False) -> list:
@@ -281,10 +310,16 @@ def _digits(err: list, scale: float) -> float:
     return DIGITS_CAP if worst <= 0 else float(min(DIGITS_CAP, -math.log10(worst)))
 
 
-def _column(name: str, err: list, tol: float, scale: float) -> Column:
-    """Passes when the largest error is at most the tolerance, decided exactly."""
+def _column(name: str, err: list, tol: float, scale: float, expected=(), actual=(), where=()) -> Column:
+    """Passes when the largest error is at most the tolerance, decided exactly; ``expected``, ``actual``
+    and ``where`` (per item: the record's interval, the value given, its JSON path) name the worst item."""
     e = max(err) if err else Fraction(0)
-    return Column(name, bool(e <= Fraction(tol)), float(e), tol, _digits(err, scale))
+    k = err.index(e) if err else -1
+    pick = lambda xs: xs[k] if 0 <= k < len(xs) else None  # noqa: E731
+    return Column(
+        name, bool(e <= Fraction(tol)), float(e), tol, _digits(err, scale), k, pick(expected), pick(actual),
+        pick(where) or (),
+    )  # fmt: skip
 
 
 def _score_points(rec: Record, got: Values, cols: dict) -> str:
@@ -301,11 +336,17 @@ def _score_points(rec: Record, got: Values, cols: dict) -> str:
         et = _dist(points[idx, 0], rec.points[:, 0], rec.points[:, 1], circular=True)
         es = _dist(points[idx, 1], rec.points[:, 2], rec.points[:, 3])
         if best is None or max(et + es) < max(best[0] + best[1]):
-            best = (et, es)
+            best = (et, es, idx)
     if best is None:
         return "the walls of the points match no rotation of the record's walls"
-    cols["tau_mod_2pi"] = _column("tau_mod_2pi", best[0], rec.tolerances["tau_mod_2pi"], TWO_PI)
-    cols["sdot"] = _column("sdot", best[1], rec.tolerances["sdot"], float(np.abs(rec.points[:, 2:]).max()))
+    et, es, idx = best
+    for c, err, scale, k in (
+        ("tau_mod_2pi", et, TWO_PI, 0),
+        ("sdot", es, float(np.abs(rec.points[:, 2:]).max()), 1),
+    ):
+        exp = [[float(rec.points[i, 2 * k]), float(rec.points[i, 2 * k + 1])] for i in range(n)]
+        act = [float(points[idx[i], k]) for i in range(n)]
+        cols[c] = _column(c, err, rec.tolerances[c], scale, exp, act, [("points", int(idx[i]), c) for i in range(n)])
     return ""
 
 
@@ -314,14 +355,19 @@ def _score_multipliers(rec: Record, got: Values, cols: dict) -> str:
     assert got_m is not None, "scored where given"
     if got_m.size != m.shape[0]:
         return f"{got_m.size} multipliers, expected {m.shape[0]}"
-    best: list | None = None
+    best: tuple | None = None
     for perm in ([0, 1], [1, 0]) if m.shape[0] == 2 else [list(range(m.shape[0]))]:
         z = got_m[perm]
         e = [max(u, v) for u, v in zip(_dist(z.real, m[:, 0], m[:, 1]), _dist(z.imag, m[:, 2], m[:, 3]))]
-        if best is None or max(e) < max(best):
-            best = e
+        if best is None or max(e) < max(best[0]):
+            best = (e, perm)
     assert best is not None, "one permutation at least"
-    cols["multipliers"] = _column("multipliers", best, rec.tolerances["multipliers"], max(1.0, float(np.abs(m).max())))
+    err, perm = best
+    exp = [{"re": [float(r[0]), float(r[1])], "im": [float(r[2]), float(r[3])]} for r in m]
+    act = [{"re": float(got_m[k].real), "im": float(got_m[k].imag)} for k in perm]
+    where = [("multipliers", int(k)) for k in perm]
+    scale = max(1.0, float(np.abs(m).max()))
+    cols["multipliers"] = _column("multipliers", err, rec.tolerances["multipliers"], scale, exp, act, where)
     return ""
 
 
@@ -331,17 +377,36 @@ def score(rec: Record, got: Values) -> OrbitScore:
     orbit = rec.kind == "periodic-orbit"
     missing = [k for k in required(rec) if getattr(got, k) is None]
     if missing:
-        return OrbitScore(rec.id, False, cols, f"missing {', '.join(missing)} in {got.path}")
-    msgs = []
+        msg = f"missing {', '.join(missing)} in {got.path}"
+        return OrbitScore(
+            rec.id, False, cols, msg, first_failing=problem("missing-key", msg, got.path, column=missing[0])
+        )
+    found = []
     if got.points is not None:
-        msgs.append(_score_points(rec, got, cols))
+        found.append(("points", _score_points(rec, got, cols)))
     if got.multipliers is not None:
-        msgs.append(_score_multipliers(rec, got, cols))
+        found.append(("multipliers", _score_multipliers(rec, got, cols)))
     if not orbit:
         assert rec.value is not None, "a bifurcation record has its value (load_record)"
         lo, hi = rec.value
-        cols["value"] = _column("value", _dist([got.value], [lo], [hi]), rec.tolerances["value"], max(1.0, abs(hi)))
-    msgs = [m for m in msgs if m]
-    bad = [c for c in cols.values() if not c.passed]
-    msgs += [f"{c.column}: error {c.error:.3g} > tolerance {c.tolerance:g}" for c in bad]
-    return OrbitScore(rec.id, not msgs, cols, "; ".join(msgs))
+        cols["value"] = _column(
+            "value", _dist([got.value], [lo], [hi]), rec.tolerances["value"], max(1.0, abs(hi)), [[lo, hi]],
+            [got.value], [("value",)],
+        )  # fmt: skip
+    diffs = [Difference(kind, msg, file=got.path, line=got.line((kind,)), column=kind) for kind, msg in found if msg]
+    diffs += [_value_difference(got, cols[c]) for c in COLUMNS if c in cols and not cols[c].passed]
+    return OrbitScore(
+        rec.id, not diffs, cols, "; ".join(d.message for d in diffs), first_failing=next(iter(diffs), None)
+    )
+
+
+def _value_difference(got: Values, c: Column) -> Difference:
+    """The :class:`.differences.Difference` of a column beyond its tolerance (its worst item)."""
+    item = {"tau_mod_2pi": "point", "sdot": "point", "multipliers": "multiplier"}.get(c.column)
+    where = f" ({item} {c.where[1]})" if item and len(c.where) > 1 else ""
+    ratio = c.error / c.tolerance if c.tolerance > 0 else math.inf
+    return Difference(
+        "value", f"{c.column}: error {c.error:.3g} > tolerance {c.tolerance:g}{where}", file=got.path,
+        line=got.line(c.where), column=c.column, expected=c.expected, actual=c.actual, error=c.error,
+        tolerance=c.tolerance, over_tolerance=ratio, index=c.where[1] if len(c.where) > 1 else None,
+    )  # fmt: skip

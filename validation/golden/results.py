@@ -1,13 +1,16 @@
-"""What ``gear-rattle check`` reports: the aligned text table, the summary line, the JSON document and
-the JUnit XML file (docs/golden.md, "Using the suite in CI").
+"""What ``gear-rattle check`` reports, as data: one result per case or orbit record, its verdict, the
+counts, the JSON document and the JUnit XML file (docs/golden.md, "Using the suite in CI").  The table,
+the summary line and the details of each failure on the terminal are :mod:`.results_text`'s.
 
-Each scored case or orbit record becomes one plain result (:func:`case_result`, :func:`orbit_result`):
-``id``, ``level``, ``passed``, ``digits`` per column, ``worst_over_tolerance`` (the largest
-``|error| / tolerance`` over the scored values: < 1 passes) and ``first_failing`` (where the first
-failure is: a file line and column for a case, a column for an orbit record), with the ``note`` of
-the table.  The reports are built from those results only, so the impact cases and the orbit
-records share them (the scores, columns and levels come from :mod:`.suite` and :mod:`.orbit_suite`;
-numpy and the standard library only, as the light install has).
+Each case or orbit record of the suite becomes one plain result (:func:`case_result`,
+:func:`orbit_result`, :func:`skipped_result`): ``id``, ``level``, ``verdict`` (:data:`VERDICTS`),
+``passed`` (whether its output passed the scoring; None when not scored), ``digits`` per column,
+``worst_over_tolerance`` (the largest ``|error| / tolerance`` over the scored values: < 1 passes),
+``first_failing`` (the first failure, structured: :class:`.differences.Difference` as a dict: file,
+line, column, expected and actual rows or values, error, tolerance, context rows), ``note`` (one line)
+and ``reason`` (why it was skipped or is a known failure).  The reports are built from those results
+only, so the impact cases and the orbit records share them (the scores, columns and levels come from
+:mod:`.suite` and :mod:`.orbit_suite`; numpy and the standard library only, as the light install has).
 """
 
 from __future__ import annotations
@@ -15,152 +18,142 @@ from __future__ import annotations
 import math
 import re
 import xml.etree.ElementTree as ET
+from typing import Any
 
 # The columns and levels are the scorers' own (one definition each): the tolerance columns, the exact
 # columns of a case; the columns and the level of an orbit record.
 from .orbit_suite import COLUMNS as ORBIT_COLUMNS, LEVEL as ORBIT_LEVEL
 from .suite import EXACT_COLUMNS, TOLERANCE_COLUMNS as CASE_COLUMNS
 
-#: The JSON document's format name.
-FORMAT = "gear-rattle check results, version 1"
+#: The JSON document's format name (version 2: verdicts, skipped cases, known failures, structured
+#: differences; version 1 had ``first_failing`` as ``{"line", "column"}`` and no verdicts).
+FORMAT = "gear-rattle check results, version 2"
+#: Verdicts: what each means, and its count's name in the JSON document.
+VERDICTS = {
+    "pass": ("its output passes", "passed"),
+    "fail": ("its output fails: a value beyond its tolerance, another event sequence, or no output", "failed"),
+    "error": ("its output could not be scored: a malformed file (or, with --self, our track raised)", "errors"),
+    "skipped": ("not selected (--cases, --level, --exclude): not scored", "skipped"),
+    "xfail": ("a known failure (--known-failures) that fails, as expected", "xfailed"),
+    "xpass": ("a known failure that now passes: the run fails until it is removed from the file", "xpassed"),
+}
+#: Verdicts that fail the run (exit status 1).
+FAILING = ("fail", "error", "xpass")
+#: Kinds of difference that are errors (the output was not scored), not failures.
+ERROR_KINDS = ("malformed", "crash")
 
 
 def _finite(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else float(x)
 
 
-def _case_worst_over_tolerance(score) -> float | None:
-    """The largest ``|error| / tolerance`` over the tolerance columns (each row against its own
-    tolerance); None where not comparable (a wrong number of events)."""
-    if not score.columns:
-        return None
-    return max((score.columns[c].worst_ratio for c in CASE_COLUMNS if c in score.columns), default=0.0)
+def _as_dict(diff) -> dict | None:
+    return None if diff is None else diff.as_dict()
+
+
+def _verdict(score) -> str:
+    if score.passed:
+        return "pass"
+    first = score.first_failing
+    return "error" if first is not None and first.kind in ERROR_KINDS else "fail"
 
 
 def case_result(case, score) -> dict:
     """The result of one impact case (``case``: :class:`suite.Case`, ``score``: :class:`suite.CaseScore`)."""
     level = getattr(score, "level", None) or case.settings.get("level")
-    cols = score.columns
+    cols = score.columns if score.compared_rows else {}
+    verdict = _verdict(score)
     return {
         "id": score.case,
         "level": level,
-        "passed": bool(score.passed),
+        "verdict": verdict,
+        "passed": verdict != "error" and bool(score.passed),
         "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in CASE_COLUMNS},
-        "exact_columns_match": bool(cols) and all(c in cols and cols[c].passed for c in EXACT_COLUMNS),
-        "worst_over_tolerance": _finite(_case_worst_over_tolerance(score)),
-        "first_failing": None if score.passed else score.first_failing,
+        "exact_columns_match": bool(cols)
+        and score.event_difference is None
+        and all(c in cols and cols[c].passed for c in EXACT_COLUMNS),
+        "worst_over_tolerance": _finite(score.worst_ratio),
+        "compared_rows": score.compared_rows,
+        "first_failing": _as_dict(score.first_failing),
+        "event_difference": _as_dict(score.event_difference),
+        "worst": _as_dict(score.worst),
         "note": score.message,
+        "reason": None,
     }
 
 
 def orbit_result(record, score) -> dict:
     """The result of one orbit record (:class:`orbit_suite.Record`, :class:`orbit_suite.OrbitScore`)."""
     cols = score.columns
-    ratios = [c.error / max(c.tolerance, 1e-300) for c in cols.values()]
-    bad = [c for c in ORBIT_COLUMNS if c in cols and not cols[c].passed]
+    verdict = _verdict(score)
     return {
         "id": score.id,
         "level": getattr(score, "level", None) or ORBIT_LEVEL,
-        "passed": bool(score.passed),
+        "verdict": verdict,
+        "passed": verdict != "error" and bool(score.passed),
         "digits": {c: (_finite(cols[c].digits) if c in cols else None) for c in ORBIT_COLUMNS},
-        "worst_over_tolerance": _finite(max(ratios)) if ratios else None,
-        "first_failing": None if score.passed else ({"column": bad[0]} if bad else None),
+        "worst_over_tolerance": _finite(score.worst_ratio),
+        "first_failing": _as_dict(score.first_failing),
         "note": score.message,
+        "reason": None,
     }
 
 
-def malformed_result(id_: str, level: int | None, problem: str | None, orbits: bool = False) -> dict:
-    """The result of a case or record when output files are malformed (exit status 2): its own file's
-    problem (``problem``, one line naming file, line and column) is an error; where its file was read
-    but another was malformed (``problem`` None) it is not scored."""
-    cols = ORBIT_COLUMNS if orbits else CASE_COLUMNS
-    out = {
-        "id": id_,
-        "level": level or (ORBIT_LEVEL if orbits else None),
-        "passed": False,
-        "digits": {c: None for c in cols},
-    }
+def skipped_result(id_: str, level: int | None, reason: str, orbits: bool = False) -> dict:
+    """The result of a case or record that was not selected: not scored, ``reason`` says why."""
+    out: dict[str, Any] = {"id": id_, "level": level, "verdict": "skipped", "passed": None}
+    out["digits"] = {c: None for c in (ORBIT_COLUMNS if orbits else CASE_COLUMNS)}
     if not orbits:
-        out["exact_columns_match"] = False
-    out.update(
-        {
-            "worst_over_tolerance": None,
-            "first_failing": None,
-            "malformed": problem is not None,
-            "note": problem if problem is not None else "not scored: other output files are malformed",
-        }
-    )
+        out.update(exact_columns_match=False, worst_over_tolerance=None, compared_rows=0)
+        out.update(first_failing=None, event_difference=None, worst=None)
+    else:
+        out.update(worst_over_tolerance=None, first_failing=None)
+    out.update(note=f"skipped: {reason}", reason=reason)
     return out
 
 
-# ------------------------------------------------------------------------------------------ text
-
-
-def aligned(rows: list[list[str]], right: set[int]) -> list[str]:
-    """Lines of ``rows`` (the first is the header) in columns as wide as their widest cell, two spaces
-    apart (columns in ``right`` right-aligned; the last column is not padded)."""
-    widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
-    out = []
-    for r in rows:
-        cells = [
-            c.rjust(w) if k in right else (c if k == len(r) - 1 else c.ljust(w))
-            for k, (c, w) in enumerate(zip(r, widths))
-        ]
-        out.append("  ".join(cells).rstrip())
+def known_failure(result: dict, reason: str, source: str) -> dict:
+    """``result`` as a known failure (``reason``, from the file ``source``): a failing or erring one is an
+    expected failure (``xfail``), a passing one an unexpected pass (``xpass``, which fails the run, as
+    pytest's strict xfail)."""
+    out = dict(result, reason=reason)
+    if result["verdict"] == "pass":
+        out["verdict"] = "xpass"
+        out["note"] = f"known failure now passes: remove it from {source} (its reason: {reason})"
+    elif result["verdict"] in ("fail", "error"):
+        out["verdict"] = "xfail"
+        out["note"] = f"known failure ({reason}): {result['note']}"
     return out
 
 
-def _digits_cell(d: float | None) -> str:
-    return "-" if d is None else f"{d:.1f}"
+def counts(results: list[dict]) -> dict:
+    """``{"tests": N, "passed": .., "failed": .., "errors": .., "skipped": .., "xfailed": .., "xpassed": ..}``
+    (each result in exactly one count)."""
+    out = {"tests": len(results)}
+    for verdict, (_, name) in VERDICTS.items():
+        out[name] = sum(r["verdict"] == verdict for r in results)
+    return out
 
 
-def table(results: list[dict], orbits: bool = False) -> list[str]:
-    """The table's lines: header, rule, one line per result (columns aligned for any id length)."""
-    cols = ORBIT_COLUMNS if orbits else CASE_COLUMNS
-    names = {"tau_mod_2pi": "tau%2pi", "multipliers": "mult"}
-    head = ["orbit / bifurcation point" if orbits else "case", "result", *(names.get(c, c) for c in cols)]
-    head += ["note"] if orbits else ["n/wall/kind", "note"]
-    rows = [head]
-    for r in results:
-        row = [r["id"], "PASS" if r["passed"] else "FAIL", *(_digits_cell(r["digits"][c]) for c in cols)]
-        if not orbits:
-            row.append("ok" if r["exact_columns_match"] else "MISMATCH")
-        rows.append(row + [r["note"]])
-    lines = aligned(rows, right=set(range(2, 2 + len(cols))))
-    return [lines[0], "-" * len(lines[0])] + lines[1:]
-
-
-def summary_line(results: list[dict], orbits: bool = False, suite: str = "") -> str:
-    """``N/M cases pass (suite ...; digits ...)``, and the failing ids: ``; failing: a, b`` (``suite``:
-    the suite's version label, so that ``--summary`` alone says what was scored against)."""
-    n_pass = sum(r["passed"] for r in results)
-    what = "orbits and bifurcation points" if orbits else "cases"
-    scale = (
-        "min over values of -log10 of the error relative to the scale"
-        if orbits
-        else "min over rows of -log10 relative error"
-    )
-    line = f"{n_pass}/{len(results)} {what} pass ({f'golden suite {suite}; ' if suite else ''}digits: {scale}, capped at 17)"
-    failing = [r["id"] for r in results if not r["passed"]]
-    return line + (f"; failing: {', '.join(failing)}" if failing else "")
+def exit_status(results: list[dict]) -> int:
+    """0 when no result fails the run (passes, skipped cases and expected failures only), else 1."""
+    return 1 if any(r["verdict"] in FAILING for r in results) else 0
 
 
 # ------------------------------------------------------------------------------------------ files
 
 
-def document(results: list[dict], suite: dict, *, orbits: bool, source: str) -> dict:
+def document(results: list[dict], suite: dict, *, orbits: bool, source: str, selection: dict | None = None) -> dict:
     """The JSON document of ``--json``: the format, the suite (name, version, digests), what was
-    scored (``source``: the output directory or our own track), the counts and the results."""
-    errors = sum(bool(r.get("malformed")) for r in results)
+    scored (``source``: the output directory or our own track), how cases were selected
+    (``selection``), the counts and the results."""
     return {
         "format": FORMAT,
         "suite": suite,
         "scored": "orbits" if orbits else "cases",
         "source": source,
-        "tests": len(results),
-        "passed": sum(r["passed"] for r in results),
-        "failed": sum(not r["passed"] for r in results) - errors,
-        "errors": errors,
+        "selection": selection or {},
+        **counts(results),
         "results": results,
     }
 
@@ -173,49 +166,74 @@ def _x(text: str) -> str:
     return _NOT_XML.sub("\ufffd", text)
 
 
-def _failure_text(r: dict) -> str:
-    digits = ", ".join(f"{c} {_digits_cell(d)}" for c, d in r["digits"].items())
-    lines = [r["note"], f"digits: {digits}"]
-    if r["worst_over_tolerance"] is not None:
-        lines.append(f"worst |error| / tolerance: {r['worst_over_tolerance']:.3g}")
-    if r["first_failing"]:
-        lines.append("first failing: " + ", ".join(f"{k} {v}" for k, v in r["first_failing"].items()))
-    return "\n".join(lines)
+def _property(value) -> str:
+    """A property's value: booleans ``true``/``false`` (as XML Schema writes them), nothing for None."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return ""
+    if isinstance(value, (list, tuple)):
+        return ",".join(map(str, value))
+    return str(value)
 
 
-def junit_xml(doc: dict, times: dict | None = None) -> str:
+def _testcase(ts: ET.Element, r: dict, classname: str, time: float, details) -> None:
+    """One ``<testcase>``: a failing one holds ``<failure>`` (its message the note, its text the
+    details), an erring one ``<error>``, a skipped one or a known failure ``<skipped>``; ``file`` and
+    ``line`` name the output file and line of the first failure, where there is one."""
+    attrs = {"classname": classname, "name": _x(r["id"]), "time": f"{time:.6f}"}
+    first = r.get("first_failing") or {}
+    if r["verdict"] in ("fail", "error", "xfail") and first.get("file"):
+        attrs["file"] = _x(first["file"])
+        if first.get("line") is not None:
+            attrs["line"] = str(first["line"])
+    tc = ET.SubElement(ts, "testcase", attrs)
+    v = r["verdict"]
+    note = _x(r["note"] or v)
+    if v in ("fail", "xpass"):
+        kind = "xpass" if v == "xpass" else (first.get("kind") or "mismatch")
+        el = ET.SubElement(tc, "failure", {"message": note, "type": f"golden.{kind}"})
+        el.text = _x("\n".join(details(r)))
+    elif v == "error":
+        el = ET.SubElement(tc, "error", {"message": note, "type": f"golden.{first.get('kind') or 'malformed'}"})
+        el.text = _x("\n".join(details(r)))
+    elif v in ("skipped", "xfail"):
+        el = ET.SubElement(tc, "skipped", {"message": note, "type": f"golden.{v}"})
+        if v == "xfail":
+            el.text = _x("\n".join(details(r)))
+
+
+def junit_xml(doc: dict, times: dict | None = None, details=None) -> str:
     """The JUnit XML text of ``--junit-xml`` for a :func:`document`: ``<testsuites>`` holding one
-    ``<testsuite>`` (the suite's name, version and digests as ``<properties>``) with one ``<testcase>``
-    per case or record (``classname`` the suite and the kind, ``name`` the id, ``time`` seconds spent
-    scoring it, from ``times``) and a ``<failure message type>`` holding the note and the digits for
-    each failing one -- the layout of the JUnit schema that Jenkins, GitLab and the GitHub test
-    reporters read."""
+    ``<testsuite>`` (the suite's name, version and digests, and the selection, as ``<properties>``) with
+    one ``<testcase>`` per case or record of the suite (``classname`` the suite and the kind, ``name``
+    the id, ``time`` seconds spent scoring it, from ``times``; ``file`` and ``line`` of the first
+    failure): a ``<failure>`` for a failing one and for a known failure that now passes, an ``<error>``
+    for a malformed output, ``<skipped>`` for one not selected and for an expected failure (as pytest
+    writes an xfail) -- the layout of the JUnit schema that Jenkins, GitLab and the GitHub test
+    reporters read.  ``details(result)``: the lines of a failure's text (:func:`.results_text.details`)."""
     suite = doc["suite"]
     times = times or {}
+    details = details or (lambda r: [r["note"]])
     name = _x(f"{suite['name']} {suite['label']} ({doc['scored']})")
     total = sum(times.values())
     attrs = {
         "tests": str(doc["tests"]),
-        "failures": str(doc["failed"]),
-        "errors": str(doc.get("errors", 0)),
+        "failures": str(doc["failed"] + doc["xpassed"]),
+        "errors": str(doc["errors"]),
         "time": f"{total:.6f}",
     }
     root = ET.Element("testsuites", {"name": "gear-rattle check", **attrs})
-    ts = ET.SubElement(root, "testsuite", {"name": name, **attrs, "skipped": "0"})
+    skipped = str(doc["skipped"] + doc["xfailed"])
+    ts = ET.SubElement(root, "testsuite", {"name": name, **attrs, "skipped": skipped})
     props = ET.SubElement(ts, "properties")
     for key in ("name", "version", "label", "part", "digest", "recorded_digest", "digest_matches", "folder"):
-        ET.SubElement(props, "property", {"name": f"suite.{key}", "value": _x(str(suite.get(key)))})
+        ET.SubElement(props, "property", {"name": f"suite.{key}", "value": _x(_property(suite.get(key)))})
     ET.SubElement(props, "property", {"name": "source", "value": _x(doc["source"])})
+    for key, value in doc.get("selection", {}).items():
+        ET.SubElement(props, "property", {"name": f"selection.{key}", "value": _x(_property(value))})
     classname = f"gear-rattle.golden.{doc['scored']}"
     for r in doc["results"]:
-        tc = ET.SubElement(
-            ts, "testcase", {"classname": classname, "name": _x(r["id"]), "time": f"{times.get(r['id'], 0.0):.6f}"}
-        )
-        if r.get("malformed"):
-            e = ET.SubElement(tc, "error", {"message": _x(r["note"]), "type": "golden.malformed"})
-            e.text = _x(r["note"])
-        elif not r["passed"]:
-            f = ET.SubElement(tc, "failure", {"message": _x(r["note"] or "failed"), "type": "golden.mismatch"})
-            f.text = _x(_failure_text(r))
+        _testcase(ts, r, classname, times.get(r["id"], 0.0), details)
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from .csvformat import Table, decimal_value, integer_value, is_absent, read_csv
+from .differences import Comparison, Difference, compare_events, problem, value_difference
 from .jsonformat import read_json
 from .paths import DEFAULT_SUITE
 from .textformat import MalformedFile, MissingFile
@@ -263,11 +264,15 @@ class ColumnScore:
 
 @dataclass
 class CaseScore:
-    """The score of one case.  ``columns`` is empty when the output is not comparable row by row (no
-    output, or a wrong number of events); ``first_row`` is the 0-based data row of the first failure
-    (-1 when the case passes; for a wrong number of events the first event whose kind or wall differs,
-    or the length of the shorter sequence), ``level`` the case's level, ``no_output`` true when the
-    output file is missing."""
+    """The score of one case.  ``columns`` are scored over the first ``compared_rows`` rows: those that
+    pair one to one with the golden rows (all of them, unless the event sequences part: then the rows
+    before the first missing, extra or other event).  ``first_row`` is the 0-based golden row of the
+    first failure (-1 when the case passes), ``level`` the case's level, ``no_output`` true when the
+    output file is missing.  ``first_failing`` is the first failure, placed and structured
+    (:class:`.differences.Difference`: file, line, column, expected and actual rows, error, tolerance);
+    ``event_difference`` where the event sequences part (None when they do not), and ``worst`` the value
+    furthest beyond its tolerance (None when none is, or it is the first failing one); ``message`` is the
+    one-line note of the table."""
 
     case: str
     passed: bool
@@ -276,31 +281,42 @@ class CaseScore:
     level: int | None = None
     first_row: int = -1
     no_output: bool = False
-    #: Where the first failing value is in the output file, ``{"line": L, "column": C}`` (the file's own line,
-    #: blank lines counted), or None (the case passes, or its rows are not comparable one by one).
-    first_failing: dict | None = None
+    first_failing: Difference | None = None
+    event_difference: Difference | None = None
+    worst: Difference | None = None
+    compared_rows: int = 0
 
     @property
     def digits(self) -> float:
-        if not self.columns:  # not comparable row by row (wrong number of events)
+        if not self.columns or not self.compared_rows:  # no row compared value by value
             return 0.0
         return min((c.digits for k, c in self.columns.items() if k in TOLERANCE_COLUMNS), default=DIGITS_CAP)
 
     @property
     def column_digits(self) -> dict:
-        """Digits of accuracy per tolerance column (``{}`` when not comparable row by row)."""
+        """Digits of accuracy per tolerance column (``{}`` when no row was compared)."""
+        if not self.compared_rows:
+            return {}
         return {k: c.digits for k, c in self.columns.items() if k in TOLERANCE_COLUMNS}
 
     @property
     def worst_ratio(self) -> float | None:
-        """The largest |error| / tolerance over the tolerance columns (``None`` when not comparable)."""
+        """The largest |error| / tolerance over the tolerance columns (``None`` when no row was compared)."""
         ratios = [c.worst_ratio for k, c in self.columns.items() if k in TOLERANCE_COLUMNS]
-        return max(ratios) if ratios else None
+        return max(ratios) if ratios and self.compared_rows else None
 
 
 def no_output_score(case: Case, path) -> CaseScore:
     """The score of a case whose output file is missing: it fails ("no output"), the run goes on."""
-    return CaseScore(case.id, False, {}, f"no output ({path} missing)", case.level, 0, True)
+    msg = f"no output ({path} missing)"
+    return CaseScore(case.id, False, {}, msg, case.level, 0, True, problem("no-output", msg, str(path)))
+
+
+def problem_score(case: Case, kind: str, message: str, path=None, line=None, column=None) -> CaseScore:
+    """The score of a case whose output could not be scored: ``malformed`` (its file is not in the
+    format: an error of this case only) or ``crash`` (our own track raised on it)."""
+    diff = problem(kind, message, None if path is None else str(path), line, column)
+    return CaseScore(case.id, False, {}, message, case.level, 0, False, diff)
 
 
 def _digits(err: np.ndarray, scale: np.ndarray) -> float:
@@ -380,53 +396,67 @@ def circular_distance(a, b) -> np.ndarray:
     return np.asarray(out, dtype=float).reshape(x.shape)
 
 
-def score_sequence(case: Case, got: Sequence) -> CaseScore:
-    """Score one output against a case: pass/fail per column and digits of accuracy."""
+def _comparison(case: Case, got: Sequence) -> Comparison:
+    """The golden and the output rows, and the comparison of a tolerance value with its row's tolerance
+    (decided exactly where the float64 distance is within 1e-9 of the tolerance, as :func:`_score_column`)."""
     exp = case.expected
-    if len(got) != len(exp):
-        # a well-formed file with a different event sequence (e.g. a missed impact or sticking
-        # episode) is a wrong answer, not a malformed file: the case fails
-        k = min(len(got), len(exp))
-        diff = np.nonzero((got.kind[:k] != exp.kind[:k]) | (got.wall[:k] != exp.wall[:k]))[0]
-        where = (
-            f"first differing event at line {got.line(int(diff[0]))}"
-            if diff.size
-            else f"the first {k} events agree in kind and wall"
-        )
-        return CaseScore(
-            case.id,
-            False,
-            {},
-            f"wrong number of events: {len(got)} rows, expected {len(exp)} ({where} of {got.path})",
-            case.level,
-            int(diff[0]) if diff.size else k,
-        )
+    tols = {c: case.row_tolerances(c) for c in TOLERANCE_COLUMNS}
+
+    def compare(column: str, i: int, j: int) -> tuple[float, float, bool]:
+        a, e = float(getattr(got, column)[j]), float(getattr(exp, column)[i])
+        abs_tol, rel = tols[column]
+        if math.isnan(e):  # a stick or release row: no velocity to compare
+            return (0.0, 0.0, False) if math.isnan(a) else (math.inf, 0.0, True)
+        allowed = float(abs_tol[i]) + rel * abs(e)
+        circular = column == "tau_mod_2pi"
+        err = _circular_distance_1(a, e) if circular else abs(a - e)
+        err = math.inf if math.isnan(err) else err
+        if err < allowed * (1.0 - 1e-9) and allowed > 1e-280:
+            return err, allowed, False
+        return err, allowed, outside_tolerance(a, e, float(abs_tol[i]), rel, circular)
+
+    return Comparison(exp, got, COLUMNS, TOLERANCE_COLUMNS, compare, str(case.settings.get("expected_status")))
+
+
+def score_sequence(case: Case, got: Sequence) -> CaseScore:
+    """Score one output against a case: where the event sequences part (:func:`.differences.compare_events`),
+    then pass/fail per column and digits of accuracy over the rows before it."""
+    exp = case.expected
+    cmp = _comparison(case, got)
+    p, event = compare_events(cmp)
     cols: dict[str, ColumnScore] = {}
     for c in EXACT_COLUMNS:
-        a, e = getattr(got, c), getattr(exp, c)
+        a, e = getattr(got, c)[:p], getattr(exp, c)[:p]
         bad = np.nonzero(a != e)[0]
-        first = int(bad[0]) if bad.size else -1
-        cols[c] = ColumnScore(c, bad.size == 0, float(bad.size), first, DIGITS_CAP if bad.size == 0 else 0.0, first)
+        i0 = int(bad[0]) if bad.size else -1
+        cols[c] = ColumnScore(c, bad.size == 0, float(bad.size), i0, DIGITS_CAP if bad.size == 0 else 0.0, i0)
     for c in TOLERANCE_COLUMNS:
-        cols[c] = _score_column(c, *case.row_tolerances(c), getattr(got, c), getattr(exp, c))
-    passed = all(s.passed for s in cols.values())
-    if passed:
-        return CaseScore(case.id, True, cols, "", case.level, -1)
-    failing = _first_failing(cols)
+        abs_tol, rel_tol = case.row_tolerances(c)
+        cols[c] = _score_column(c, abs_tol[:p], rel_tol, getattr(got, c)[:p], getattr(exp, c)[:p])
+    if event is None and all(s.passed for s in cols.values()):
+        return CaseScore(case.id, True, cols, "", case.level, -1, compared_rows=p)
+    bad_cols = [s for s in cols.values() if not s.passed]
+    if bad_cols:
+        f = min(bad_cols, key=lambda s: (s.first_row, COLUMNS.index(s.column)))
+        first = value_difference(cmp, f.column, f.first_row, p)
+    else:
+        assert event is not None, "a failing case has a failing column or an event difference"
+        first = event
+    tol_bad = [s for s in bad_cols if s.column in TOLERANCE_COLUMNS]
+    w = max(tol_bad, key=lambda s: s.worst_ratio) if tol_bad else None
+    worst = None
+    if w is not None and (w.column, w.worst_row) != (first.column, first.golden_row):
+        worst = value_difference(cmp, w.column, w.worst_row, p, context=False)
+    note = f"first failing: {first.message}" + (f"; worst: {worst.message}" if worst else "")
+    if event is not None and event is not first:
+        note += f"; the events part: {event.message}"
+    if len(got) != len(exp):
+        note = f"wrong number of events: {len(got)} rows, expected {len(exp)}; {note}"
+    assert first.golden_row is not None, "a row difference names its golden row"
     return CaseScore(
-        case.id,
-        False,
-        cols,
-        _failure_note(cols, got, exp, case),
-        case.level,
-        failing.first_row,
-        first_failing={"line": got.line(failing.first_row), "column": failing.column},
-    )
-
-
-def _first_failing(cols: dict) -> ColumnScore:
-    """The first failing value: the smallest row, then the first column in file order."""
-    return min((s for s in cols.values() if not s.passed), key=lambda s: (s.first_row, COLUMNS.index(s.column)))
+        case.id, False, cols, f"{note} of {got.path}", case.level, first.golden_row,
+        first_failing=first, event_difference=event, worst=worst, compared_rows=p,
+    )  # fmt: skip
 
 
 def _score_column(c: str, abs_tol: np.ndarray, rel_tol: float, a: np.ndarray, e: np.ndarray) -> ColumnScore:
@@ -468,31 +498,6 @@ def _score_column(c: str, abs_tol: np.ndarray, rel_tol: float, a: np.ndarray, e:
         int(failing[0]) if failing.size else -1,
         float(ratio[worst]) if worst >= 0 else 0.0,
     )
-
-
-def _row_note(column: str, row: int, got: Sequence, exp: Sequence, case: Case) -> str:
-    """``column at line L (what is wrong there)``."""
-    line = got.line(row)
-    a, e = getattr(got, column)[row], getattr(exp, column)[row]
-    if column in EXACT_COLUMNS:
-        return f"{column} at line {line} ({a} instead of {e})"
-    err = float(circular_distance(a, e)) if column == "tau_mod_2pi" else abs(float(a) - float(e))
-    abs_tol, rel_tol = case.row_tolerances(column)
-    allowed = float(abs_tol[row]) + rel_tol * abs(float(e))
-    return f"{column} at line {line} (|error| {err:.3g}, {err / max(allowed, 1e-300):.3g} x tolerance)"
-
-
-def _failure_note(cols: dict, got: Sequence, exp: Sequence, case: Case) -> str:
-    """The first failing row (smallest line, first column in file order) and the worst one (largest
-    |error| / tolerance; an exact-column mismatch if no tolerance column fails)."""
-    bad = [s for s in cols.values() if not s.passed]
-    first = _first_failing(cols)
-    tol_bad = [s for s in bad if s.column in TOLERANCE_COLUMNS]
-    worst = max(tol_bad, key=lambda s: s.worst_ratio) if tol_bad else first
-    note = f"first failing: {_row_note(first.column, first.first_row, got, exp, case)}"
-    if (worst.column, worst.worst_row) != (first.column, first.first_row):
-        note += f"; worst: {_row_note(worst.column, worst.worst_row, got, exp, case)}"
-    return f"{note} of {got.path}"
 
 
 def score_file(case: Case, path: str | Path) -> CaseScore:

@@ -24,7 +24,14 @@ FORBIDDEN = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\u2028\u2029\ufeff]|
 
 
 class MalformedFile(Exception):
-    """An input file cannot be read as the documented layout (one-line message naming file and line)."""
+    """An input file cannot be read as the documented layout (one-line message naming file and line).
+    Where the problem has a place (:func:`malformed`), ``path``, ``line`` and ``column`` hold it (1-based),
+    and ``reason`` the message without the place, so that reports need not parse the message."""
+
+    path: str | None = None
+    line: int | None = None
+    column: int | None = None
+    reason: str | None = None
 
 
 class MissingFile(MalformedFile):
@@ -32,8 +39,10 @@ class MissingFile(MalformedFile):
 
 
 def malformed(path, line: int, column: int, msg: str) -> MalformedFile:
-    """The one-line error ``PATH: line L, column C: msg``."""
-    return MalformedFile(f"{path}: line {line}, column {column}: {msg}")
+    """The one-line error ``PATH: line L, column C: msg`` (its parts as attributes too)."""
+    e = MalformedFile(f"{path}: line {line}, column {column}: {msg}")
+    e.path, e.line, e.column, e.reason = str(path), line, column, msg
+    return e
 
 
 def position(text: str, offset: int) -> tuple[int, int]:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -176,6 +177,38 @@ def suite_info(folder: str | Path, part: str) -> SuiteInfo:
         block.get(f"{part}_digest"),
         str(block.get("name", "suite without a recorded version")),
     )
+
+
+#: The forms of ``check --require-suite`` (docs/golden.md, "Pinning a suite version").
+REQUIRE_FORMS = "MAJOR (1), MAJOR.MINOR (1.0), ~=MAJOR.MINOR (~=1.0), ~=MAJOR.MINOR.PATCH or MAJOR.MINOR.PATCH (1.0.0)"
+_SPEC = re.compile(r"(~=)?(0|[1-9][0-9]{0,8})(?:\.(0|[1-9][0-9]{0,8}))?(?:\.(0|[1-9][0-9]{0,8}))?")
+
+
+def parse_requirement(spec: str) -> tuple[str, tuple[int, ...]]:
+    """``(operator, numbers)`` of a version requirement: ``("", (1,))`` for ``1``, ``("~=", (1, 0))`` for
+    ``~=1.0``; a ``ValueError`` naming the allowed forms (:data:`REQUIRE_FORMS`) otherwise (``~=`` needs
+    two or three numbers)."""
+    m = _SPEC.fullmatch(spec.strip()) if isinstance(spec, str) else None
+    nums = tuple(int(x) for x in m.groups()[1:] if x is not None) if m else ()
+    if m is None or (m.group(1) and len(nums) < 2):
+        raise ValueError(f"{spec!r} is not a suite version requirement: allowed {REQUIRE_FORMS}")
+    return m.group(1) or "", nums
+
+
+def satisfies(version: str, spec: str) -> bool:
+    """Whether the suite version ``version`` (``MAJOR.MINOR.PATCH``) meets the requirement ``spec``: a
+    prefix (``1``: any 1.x.y; ``1.0``: any 1.0.y; ``1.0.0``: exactly) or a compatible release as pip's
+    ``~=`` (``~=1.0``: 1.0 or later within MAJOR 1; ``~=1.0.2``: 1.0.2 or later within 1.0).  A version
+    that is not ``MAJOR.MINOR.PATCH`` (``unversioned``) meets none."""
+    op, want = parse_requirement(spec)
+    m = re.fullmatch(r"(\d+)\.(\d+)\.(\d+)", version)
+    if m is None:
+        return False
+    have = tuple(int(x) for x in m.groups())
+    if not op:
+        return have[: len(want)] == want
+    fixed = len(want) - 1  # ~=X.Y fixes X; ~=X.Y.Z fixes X.Y
+    return have[:fixed] == want[:fixed] and have[: len(want)] >= want
 
 
 def _same(a: Path, b: Path) -> bool:
