@@ -508,7 +508,9 @@ def _check_jac(tally: Tally, p: Params, tau: float, sd: float) -> None:
 
 #: Slow next impacts, where the Jacobian carries 1/sdot_{n+1} (random search over the declared domain):
 #: the tracks' Jacobians differed from the map's by 129-136 (v1 = 0.0128, |J| = 610) and 32-119
-#: (v1 = -0.0164, |J| = 58) times JAC_TOL (1 + |J|); at their own impacts by <= 0.03 of it.
+#: (v1 = -0.0164, |J| = 58) times JAC_TOL (1 + |J|) with the tracks' former tolerances (rtol 1e-12), by 27
+#: and 4.7, 0.7 and 2.0 times since (issue 36: scipy rtol 3e-14, diffrax 1e-13); at their own impacts by
+#: <= 0.003 of it.
 SLOW_IMPACT_JACOBIANS = [
     (
         Params(4.815859604874244, 0.2237307057627083, -0.3046620843964265, 0.4209132996352853),
@@ -528,17 +530,19 @@ CANCELLING_JACOBIAN = (Params(2.875, 1.0, 0.0, 0.625), (0.515625, 1.25))
 
 
 def test_slow_impact_jacobians_differ_by_their_impact_states():
-    """At a slow next impact the routes' Jacobians differ from the map's far beyond JAC_TOL (1 + |J|)
-    (measured 129-136 and 32-119 times) and agree with the analytic formula at their own impact to
-    <= 0.03 of it: the difference is the impact state's one-step error times dJ/dv1 ~ -J / v1."""
+    """At a slow next impact the routes' Jacobians differ from the map's by up to 27 JAC_TOL (1 + |J|)
+    (129-136 and 32-119 times with the tracks' former tolerances) and agree with the analytic formula at
+    their own impact to <= 0.003 of it, at least 100 times closer: the difference is the impact state's
+    one-step error times dJ/dv1 ~ -J / v1."""
     for p, (tau, sd) in SLOW_IMPACT_JACOBIANS:
         m, mi = map_one(p, tau, sd)
         J = np.asarray(mi.jac)
         for tr in (S, D):
             o = tr.step_jacobian(p, tau, sd)
-            assert np.abs(o.jac - J).max() > 10 * JAC_TOL * (1.0 + np.abs(J).max())
             Jo = analytic_jacobian(p, tau, sd, o.tau, o.sdot)
-            assert np.abs(o.jac - Jo).max() <= 0.1 * JAC_TOL * (1.0 + np.abs(Jo).max())
+            own = np.abs(o.jac - Jo).max()
+            assert own <= 0.1 * JAC_TOL * (1.0 + np.abs(Jo).max())
+            assert np.abs(o.jac - J).max() >= 100 * own
 
 
 def test_jacobian_three_routes():
