@@ -87,7 +87,7 @@ _HIT, _NO_IMPACT, _STEP_CAP = (f.label for f in (FlightOutcome.HIT, FlightOutcom
 _FLIGHT_FAILURE = {_NO_IMPACT: int(Status.NO_IMPACT), _STEP_CAP: int(Status.STEP_CAP)}
 
 #: Default integrator tolerances and step bound of this track.
-RTOL, ATOL, MAX_STEP = 3e-14, 1e-16, 0.25
+RTOL, ATOL, MAX_STEP = 3e-14, 1e-16, 0.1
 
 
 @dataclass(frozen=True)
