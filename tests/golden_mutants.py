@@ -80,6 +80,10 @@ class Mutant:
     #: every bounce (0: none), and every value written with this many significant digits (0: ``repr``)
     restitution: float = 0.0
     digits: int = 0
+    #: more planted errors of a size: ``2 pi (1 + eps)`` wherever the implementation reduces a phase, and the
+    #: forcing amplitude ``alpha (1 + eps)`` in its flights (0: none)
+    two_pi: float = 0.0
+    forcing: float = 0.0
 
 
 BASE = Mutant()
@@ -199,7 +203,14 @@ def _params(p: dict):
     return Params(p["alpha"], p["beta"], p["gamma"], p["r"])
 
 
+def two_pi(m: Mutant) -> float:
+    """The implementation's ``2 pi`` (perturbed by :attr:`Mutant.two_pi`)."""
+    return TWO_PI * (1.0 + m.two_pi)
+
+
 def contact(th, s0, v0, p, release, m: Mutant):
+    if m.forcing:
+        p = {**p, "alpha": p["alpha"] * (1.0 + m.forcing)}
     if release and m.redetect_after_release:
         return 0.0, int(s0), 0.0
     finder = fixed_step_contact if m.step else (tolerant_contact if m.contact_tol else certified_contact)
@@ -232,10 +243,10 @@ def policy(tau, wall, sdot, p, stick_time, m: Mutant):
         return t_acc, None
     c = max(-1.0, min(1.0, c))
     phase = phi + (math.asin(c) if wall == 0 or not m.lower_branch else math.pi - math.asin(c))
-    delay = (phase - tau) % TWO_PI
+    delay = (phase - tau) % two_pi(m)
     if m.delay_check and not delay > t_acc:
         return None
-    return t_acc, (tau + delay, phase % TWO_PI)
+    return t_acc, (tau + delay, phase % two_pi(m))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -250,7 +261,7 @@ def run(settings: dict, m: Mutant = BASE) -> list[tuple]:
         tau, sdot = ini["tau0"], ini["sdot0"]
         wall = 0 if sdot > 0 else -1
     else:
-        hit = contact(ini["tau0"] % TWO_PI, ini["s0"], ini["sdot0"], p, False, m)
+        hit = contact(ini["tau0"] % two_pi(m), ini["s0"], ini["sdot0"], p, False, m)
         if hit is None:
             return rows
         tau, wall, sdot = ini["tau0"] + hit[0], hit[1], hit[2]
@@ -259,7 +270,7 @@ def run(settings: dict, m: Mutant = BASE) -> list[tuple]:
         dec = policy(tau, wall, sdot, p, st, m)
         step_rows = []
         if dec is None:
-            start, th, v0, release = tau, tau % TWO_PI, -p["r"] * (1.0 + m.restitution) * sdot, False
+            start, th, v0, release = tau, tau % two_pi(m), -p["r"] * (1.0 + m.restitution) * sdot, False
         else:
             step_rows.append((n - 1, tau + dec[0], wall, math.nan, "stick"))
             if dec[1] is None:
@@ -291,6 +302,6 @@ def write_csv(rows: list[tuple], path: Path, m: Mutant = BASE) -> None:
         return f"{x:.{m.digits}g}" if m.digits else repr(x)
 
     for n, tau, wall, sdot, kind in rows:
-        phase = tau % TWO_PI if m.phase_value is None else m.phase_value
+        phase = tau % two_pi(m) if m.phase_value is None else m.phase_value
         lines.append(f"{n},{text(tau)},{text(phase)},{wall},{'' if math.isnan(sdot) else text(sdot)},{kind}")
     Path(path).write_text("\n".join(lines) + "\n")

@@ -3,7 +3,8 @@
 every case folder of CASES_DIR (settings.json) with the mutant NAME (a key of test_golden_mutants.MUTANTS
 or VARIANTS, ``base``, ``fixed-step-H`` for the fixed-step finder of step H, or a planted error of a size:
 ``restitution-EPS`` (``r (1 + EPS)`` in every bounce), ``digits-D`` (every value written with D significant
-digits), ``gap-scale-K`` (every contact displaced by K times the modelled per-contact error, random signs)) and
+digits), ``gap-scale-K`` (every contact displaced by K times the modelled per-contact error, random signs),
+``two-pi-EPS`` (``2 pi (1 + EPS)``), ``forcing-EPS`` (``alpha (1 + EPS)`` in the flights)) and
 writes OUT_DIR/<case-id>.csv."""
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ def mutant(name: str) -> Mutant:
         "restitution-": lambda x: Mutant(name, restitution=float(x)),
         "digits-": lambda x: Mutant(name, digits=int(x)),
         "gap-scale-": lambda x: Mutant(name, gap_error="random", gap_scale=float(x)),
+        "two-pi-": lambda x: Mutant(name, two_pi=float(x)),
+        "forcing-": lambda x: Mutant(name, forcing=float(x)),
     }
     for prefix, make in sized.items():
         if name.startswith(prefix):
