@@ -54,7 +54,7 @@ from ._common import StepInfo, Trajectory, check_option, forcing_rhs, validate_s
 from .events import MAX_SEGMENTS, T_MAX
 
 #: Default tolerances, step bound and per-segment step cap of this track.
-RTOL, ATOL, DTMAX = 1e-12, 1e-13, 0.25
+RTOL, ATOL, DTMAX = 1e-13, 1e-16, 0.25
 MAX_STEPS = 16384
 #: Tolerances of the bisection root find locating an event on the step's dense interpolant (a bracket
 #: is always available; Newton started at the step end fails when that end is an extremum of s).

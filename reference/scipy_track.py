@@ -87,7 +87,7 @@ _HIT, _NO_IMPACT, _STEP_CAP = (f.label for f in (FlightOutcome.HIT, FlightOutcom
 _FLIGHT_FAILURE = {_NO_IMPACT: int(Status.NO_IMPACT), _STEP_CAP: int(Status.STEP_CAP)}
 
 #: Default integrator tolerances and step bound of this track.
-RTOL, ATOL, MAX_STEP = 1e-12, 1e-13, 0.25
+RTOL, ATOL, MAX_STEP = 3e-14, 1e-16, 0.1
 
 
 @dataclass(frozen=True)
@@ -146,13 +146,14 @@ def _make_rhs(theta0: float, p: Params, variational: bool) -> Callable:
     return rhs_var
 
 
-def _events(sigma: float, rhs: Callable | None = None):
+def _events(sigma: float, rhs: Callable | None = None, offset: float = 0.0):
     """The event functions of a segment of direction ``sigma`` (:mod:`reference.events`) as scipy
     events: the wall ahead first, then the velocity reversal (both terminal), and, given the vector
-    field ``rhs``, the speed minimum (not terminal: :func:`reference.events.dip_condition`)."""
+    field ``rhs``, the speed minimum (not terminal: :func:`reference.events.dip_condition`).  The state's
+    first component is the displacement ``s - offset`` (:func:`flight`)."""
 
     def wall_ev(t, y):
-        return ev.wall_condition(y[0], sigma)
+        return ev.wall_condition(y[0] + offset, sigma)
 
     def rev_ev(t, y):
         return ev.reversal_condition(y[1], sigma)
@@ -204,7 +205,10 @@ def flight(
     if sigma is None:
         sigma = ev.initial_direction(s0, v0, forcing_rhs(theta0, p.alpha, p.beta, p.gamma))
     rhs = _make_rhs(theta0, p, variational)
-    y = np.array([s0, v0, 1.0, 0.0, 0.0, 1.0]) if variational else np.array([s0, v0])
+    # the state is the displacement s - s0 (and sdot): the solver's error control is then relative to
+    # the flight's own motion, not to the wall's coordinate (|s| ~ 1 at s = -1)
+    offset = float(s0)
+    y = np.array([0.0, v0, 1.0, 0.0, 0.0, 1.0]) if variational else np.array([0.0, v0])
     t = 0.0
     ppu = points_per_unit or 0.0
     samples: list | None = [] if ppu else None
@@ -221,7 +225,7 @@ def flight(
             rtol=opts.rtol,
             atol=opts.atol,
             max_step=opts.max_step,
-            events=_events(sigma, rhs),
+            events=_events(sigma, rhs, offset),
             dense_output=samples is not None,
         )
         t_dip = _hidden_dip(sol, sigma, opts.atol) if sol.status >= 0 else None
@@ -236,7 +240,7 @@ def flight(
                 rtol=opts.rtol,
                 atol=opts.atol,
                 max_step=opts.max_step,
-                events=_events(sigma),
+                events=_events(sigma, offset=offset),
                 dense_output=samples is not None,
             )
             if redo.status == 1:  # else the dip was a rounding-level tangency: keep the first solve
@@ -245,14 +249,14 @@ def flight(
             return Flight(_STEP_CAP, math.inf, 0, math.nan, None, seg, samples)
         if sol.status == 0:  # reached t_max without an event (OPEN_END)
             if samples is not None:
-                _sample(sol, t, opts.t_max, ppu, samples, y)
+                _sample(sol, t, opts.t_max, ppu, samples, offset, y)
             return Flight(_NO_IMPACT, math.inf, 0, math.nan, None, seg, samples)
         hit = len(sol.t_events[0]) > 0
         k = 0 if hit else 1
         t_e = float(sol.t_events[k][-1])
         y_e = np.array(sol.y_events[k][-1], dtype=np.float64)
-        t_e, y_e = _land(rhs, sol, t_e, y_e, sigma, hit, opts)
-        if ev.segment_end(hit, not hit, y_e[0], sigma) == ev.MISSED_CROSSING:
+        t_e, y_e = _land(rhs, sol, t_e, y_e, sigma, hit, opts, offset)
+        if ev.segment_end(hit, not hit, y_e[0] + offset, sigma) == ev.MISSED_CROSSING:
             # the extremum lies beyond the wall ahead: s crossed it and came back inside one step
             # (scipy issue 9228).  s is monotone on [t, t_e], so a solve that ends at t_e sees the
             # crossing as a sign change and locates it; without one, the extremum is a reversal.
@@ -264,7 +268,7 @@ def flight(
                 rtol=opts.rtol,
                 atol=opts.atol,
                 max_step=opts.max_step,
-                events=_events(sigma)[:1],
+                events=_events(sigma, offset=offset)[:1],
             )
             if sol2.status == 1 and len(sol2.t_events[0]):
                 hit = True
@@ -276,9 +280,10 @@ def flight(
                     sigma,
                     True,
                     opts,
+                    offset,
                 )
         if samples is not None:
-            _sample(sol, t, t_e, ppu, samples, y, y_e)
+            _sample(sol, t, t_e, ppu, samples, offset, y, y_e)
         if hit:
             phi = y_e[2:].reshape(2, 2) if variational else None
             return Flight(_HIT, t_e, ev.wall_ahead(sigma), float(y_e[1]), phi, seg, samples)
@@ -287,10 +292,11 @@ def flight(
     return Flight(_STEP_CAP, math.inf, 0, math.nan, None, MAX_SEGMENTS, samples)
 
 
-def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: Options):
+def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: Options, offset: float = 0.0):
     """Refine an event located on the dense interpolant: integrate from the last node exactly to
     ``t_e`` (a node value, no interpolation error) and take one Newton step on the event condition
-    (``dt = -g / g'``, with ``g'`` from the vector field).  Returns the refined ``(t_e, y_e)``."""
+    (``dt = -g / g'``, with ``g'`` from the vector field; ``s = y[0] + offset``).  Returns the refined
+    ``(t_e, y_e)``."""
     t_prev, y_prev = float(sol.t[-2]), sol.y[:, -2]
     if not t_e > t_prev:
         return t_e, y_e
@@ -301,21 +307,24 @@ def _land(rhs, sol, t_e: float, y_e: np.ndarray, sigma: int, wall: bool, opts: O
         return t_e, y_e
     y_n = land.y[:, -1]
     f = rhs(t_e, y_n)
-    dt = ev.newton_step(ev.condition(y_n, sigma, wall), ev.condition_rate(f, sigma, wall))
+    g = ev.condition(np.array([y_n[0] + offset, y_n[1]]), sigma, wall)
+    dt = ev.newton_step(g, ev.condition_rate(f, sigma, wall))
     return t_e + dt, y_n + f * dt
 
 
-def _sample(sol, t0: float, t1: float, ppu: float, out: list, y0: np.ndarray, y1: np.ndarray | None = None) -> None:
+def _sample(
+    sol, t0: float, t1: float, ppu: float, out: list, offset: float, y0: np.ndarray, y1: np.ndarray | None = None
+) -> None:
     """Dense samples of one segment on ``[t0, t1]``: the first is the segment's start state ``y0`` (not
     the solver's start, whose velocity may be :func:`reference.events.start_velocity`), the last the
-    refined event state ``y1`` when given."""
+    refined event state ``y1`` when given; ``s`` is the displacement ``y[0]`` plus ``offset``."""
     m = max(2, int(math.ceil((t1 - t0) * ppu)) + 1)
     ts = np.linspace(t0, t1, m)
     ys = sol.sol(ts)
     ys[:, 0] = y0[: ys.shape[0]]
     if y1 is not None:
         ys[:, -1] = y1[: ys.shape[0]]
-    out.append((ts, ys[0].copy(), ys[1].copy()))
+    out.append((ts, ys[0] + offset, ys[1].copy()))
 
 
 class DenseTrajectory(NamedTuple):

@@ -23,7 +23,7 @@ import jax
 from gear_rattle.core.horizons import T_MAX
 from gear_rattle.mapimpl.finder import first_impact
 from gear_rattle.mapimpl.flight import flight
-from gear_rattle.validation.golden.conditioning import FLIGHT_ERROR, POSITION_STEP
+from gear_rattle.validation.golden.conditioning import FLIGHT_ERROR, gap_error, largest_force
 
 TWO_PI = 2 * math.pi
 _first_impact = jax.jit(first_impact)
@@ -69,9 +69,21 @@ class Mutant:
     #: contact where the computed ``y`` reaches the wall's value (:func:`rounded_coordinate_contact`)
     coordinate: float | None = None
     #: not a bug: every contact displaced by the per-impact error the tolerances assume (docs/golden.md): to
-    #: where the true gap is ``e = 2^-52 + 1e-12 h`` beyond the wall (``"late"``), before it (``"early"``), or
-    #: a sign per contact from the bits of its time (``"random"``); "" none (:func:`displaced_contact`)
+    #: where the true gap is ``gap_scale e`` beyond the wall (``e = 2 2^-52 + 3e-14 h max(1, dt / 2 pi)``,
+    #: ``"late"``), before it (``"early"``), or a sign per contact from the bits of its time (``"random"``); ""
+    #: none (:func:`displaced_contact`)
     gap_error: str = ""
+    #: the multiple of the modelled gap error a ``gap_error`` variant makes (1: a correct implementation; > 1 a
+    #: planted error of that size, for the sensitivity of the suite)
+    gap_scale: float = 1.0
+    #: a planted error of a size (the sensitivity of the suite, issue 36): the restitution ``r (1 + eps)`` in
+    #: every bounce (0: none), and every value written with this many significant digits (0: ``repr``)
+    restitution: float = 0.0
+    digits: int = 0
+    #: more planted errors of a size: ``2 pi (1 + eps)`` wherever the implementation reduces a phase, and the
+    #: forcing amplitude ``alpha (1 + eps)`` in its flights (0: none)
+    two_pi: float = 0.0
+    forcing: float = 0.0
 
 
 BASE = Mutant()
@@ -172,18 +184,33 @@ def rounded_coordinate_contact(hit, th, s0, v0, p, m: Mutant):
 
 
 def displaced_contact(hit, th, s0, v0, p, m: Mutant):
-    """The contact as found by an implementation whose computed gap is off by ``e = 2^-52 + 1e-12 h`` (``h``
-    the flight's height, sampled): the time moves by ``e / |v|`` and the velocity is the flight's there, plus
-    an error of 1e-12 of the same sign.  The per-impact error of the amplification rule, made on purpose."""
+    """The contact as found by an implementation whose computed gap is off by ``gap_scale`` times
+    ``e = gap_error(h, t)`` (``h`` the flight's height, sampled; ``t`` its duration): the time moves by
+    ``e / |v|`` and the velocity is the flight's there, plus an error of ``FLIGHT_ERROR V`` of the same sign
+    (``V = max(|v0|, |v|, F)``).  The per-contact error of the tolerance rule, made on purpose."""
     t, wall, v = hit
     h = min(1.0, float(np.max(np.abs(_s(np.linspace(0.0, t, CHUNK), th, 0.0, v0, p)))))
-    e = POSITION_STEP + FLIGHT_ERROR * h
+    e = m.gap_scale * gap_error(h, t)
     sign = {"late": 1.0, "early": -1.0}.get(m.gap_error) or (1.0 if hash(t) & 1 else -1.0)
     tr = t + sign * e / abs(v)
-    return tr, wall, _v(tr, th, v0, p) + sign * FLIGHT_ERROR
+    scale = max(abs(v0), abs(v), largest_force(_params(p)))
+    return tr, wall, _v(tr, th, v0, p) + sign * m.gap_scale * FLIGHT_ERROR * scale
+
+
+def _params(p: dict):
+    from gear_rattle.core.params import Params
+
+    return Params(p["alpha"], p["beta"], p["gamma"], p["r"])
+
+
+def two_pi(m: Mutant) -> float:
+    """The implementation's ``2 pi`` (perturbed by :attr:`Mutant.two_pi`)."""
+    return TWO_PI * (1.0 + m.two_pi)
 
 
 def contact(th, s0, v0, p, release, m: Mutant):
+    if m.forcing:
+        p = {**p, "alpha": p["alpha"] * (1.0 + m.forcing)}
     if release and m.redetect_after_release:
         return 0.0, int(s0), 0.0
     finder = fixed_step_contact if m.step else (tolerant_contact if m.contact_tol else certified_contact)
@@ -216,10 +243,10 @@ def policy(tau, wall, sdot, p, stick_time, m: Mutant):
         return t_acc, None
     c = max(-1.0, min(1.0, c))
     phase = phi + (math.asin(c) if wall == 0 or not m.lower_branch else math.pi - math.asin(c))
-    delay = (phase - tau) % TWO_PI
+    delay = (phase - tau) % two_pi(m)
     if m.delay_check and not delay > t_acc:
         return None
-    return t_acc, (tau + delay, phase % TWO_PI)
+    return t_acc, (tau + delay, phase % two_pi(m))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -234,7 +261,7 @@ def run(settings: dict, m: Mutant = BASE) -> list[tuple]:
         tau, sdot = ini["tau0"], ini["sdot0"]
         wall = 0 if sdot > 0 else -1
     else:
-        hit = contact(ini["tau0"] % TWO_PI, ini["s0"], ini["sdot0"], p, False, m)
+        hit = contact(ini["tau0"] % two_pi(m), ini["s0"], ini["sdot0"], p, False, m)
         if hit is None:
             return rows
         tau, wall, sdot = ini["tau0"] + hit[0], hit[1], hit[2]
@@ -243,7 +270,7 @@ def run(settings: dict, m: Mutant = BASE) -> list[tuple]:
         dec = policy(tau, wall, sdot, p, st, m)
         step_rows = []
         if dec is None:
-            start, th, v0, release = tau, tau % TWO_PI, -p["r"] * sdot, False
+            start, th, v0, release = tau, tau % two_pi(m), -p["r"] * (1.0 + m.restitution) * sdot, False
         else:
             step_rows.append((n - 1, tau + dec[0], wall, math.nan, "stick"))
             if dec[1] is None:
@@ -270,7 +297,11 @@ def run(settings: dict, m: Mutant = BASE) -> list[tuple]:
 def write_csv(rows: list[tuple], path: Path, m: Mutant = BASE) -> None:
     """The documented output layout ``n,tau,tau_mod_2pi,wall,sdot,kind`` (repr of every float)."""
     lines = ["n,tau,tau_mod_2pi,wall,sdot,kind"]
+
+    def text(x: float) -> str:
+        return f"{x:.{m.digits}g}" if m.digits else repr(x)
+
     for n, tau, wall, sdot, kind in rows:
-        phase = tau % TWO_PI if m.phase_value is None else m.phase_value
-        lines.append(f"{n},{tau!r},{phase!r},{wall},{'' if math.isnan(sdot) else repr(sdot)},{kind}")
+        phase = tau % two_pi(m) if m.phase_value is None else m.phase_value
+        lines.append(f"{n},{text(tau)},{text(phase)},{wall},{'' if math.isnan(sdot) else text(sdot)},{kind}")
     Path(path).write_text("\n".join(lines) + "\n")

@@ -1,8 +1,11 @@
 """A mutant of tests/golden_mutants.py as an implementation under the suite's protocol, for
 ``gear-rattle fuzz`` (tests/test_fuzz.py): ``python tests/mutant_impl.py NAME CASES_DIR OUT_DIR`` runs
 every case folder of CASES_DIR (settings.json) with the mutant NAME (a key of test_golden_mutants.MUTANTS
-or VARIANTS, ``base``, or ``fixed-step-H`` for the fixed-step finder of step H) and writes
-OUT_DIR/<case-id>.csv."""
+or VARIANTS, ``base``, ``fixed-step-H`` for the fixed-step finder of step H, or a planted error of a size:
+``restitution-EPS`` (``r (1 + EPS)`` in every bounce), ``digits-D`` (every value written with D significant
+digits), ``gap-scale-K`` (every contact displaced by K times the modelled per-contact error, random signs),
+``two-pi-EPS`` (``2 pi (1 + EPS)``), ``forcing-EPS`` (``alpha (1 + EPS)`` in the flights)) and
+writes OUT_DIR/<case-id>.csv."""
 
 from __future__ import annotations
 
@@ -21,6 +24,16 @@ def mutant(name: str) -> Mutant:
         return BASE
     if name.startswith("fixed-step-"):
         return Mutant(name, "skipped-graze", step=float(name[len("fixed-step-") :]))
+    sized = {
+        "restitution-": lambda x: Mutant(name, restitution=float(x)),
+        "digits-": lambda x: Mutant(name, digits=int(x)),
+        "gap-scale-": lambda x: Mutant(name, gap_error="random", gap_scale=float(x)),
+        "two-pi-": lambda x: Mutant(name, two_pi=float(x)),
+        "forcing-": lambda x: Mutant(name, forcing=float(x)),
+    }
+    for prefix, make in sized.items():
+        if name.startswith(prefix):
+            return make(name[len(prefix) :])
     from test_golden_mutants import MUTANTS, VARIANTS
 
     return MUTANTS[name][0] if name in MUTANTS else VARIANTS[name]

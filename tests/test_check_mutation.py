@@ -215,22 +215,67 @@ def read_rows(data: bytes) -> list[tuple]:
     return rows
 
 
+#: settings.json's pointer to the per-row tolerances of expected.csv, and its columns (suite 2.0.0).
+TOL_COLUMNS = {"tau": "tau_tol", "tau_mod_2pi": "tau_mod_2pi_tol", "sdot": "sdot_tol"}
+POINTER = {"file": "expected.csv", "columns": TOL_COLUMNS}
+
+
+def _absent(cell: str) -> bool:
+    return cell == "" or cell.lstrip("+-").lower() == "nan" and len(cell) - len(cell.lstrip("+-")) <= 1
+
+
+def read_tolerances(data: bytes, settings: dict) -> list[dict]:
+    """The absolute tolerance of every row of an expected.csv per column: with ``row_tolerances`` in the
+    settings (it must be the pointer above), the ``*_tol`` cells (a decimal literal, finite, >= 0; on a
+    stick or release row ``sdot_tol`` is empty or nan); without it, settings' ``abs`` for every row."""
+    rows = read_rows(data)
+    if "row_tolerances" not in settings:
+        return [{c: Fraction(settings["tolerances"][c]["abs"]) for c in TOL_COLUMNS}] * len(rows)
+    if settings["row_tolerances"] != POINTER:
+        raise Malformed("pointer")
+    lines = [ln[:-1] if ln.endswith("\r") else ln for ln in _text(data, MAX_BYTES).split("\n")]
+    lines = [ln for ln in lines if not all(c in " \t" for c in ln)]
+    header = _fields(lines[0])
+    if any(name not in header for name in TOL_COLUMNS.values()):
+        raise Malformed("tolerance column")
+    out = []
+    for line in lines[1:]:
+        f, tol = _fields(line), {}
+        for c, name in TOL_COLUMNS.items():
+            cell = f[header.index(name)]
+            if c == "sdot" and f[5] != "impact":
+                if not _absent(cell):
+                    raise Malformed("sdot_tol on a stick/release row")
+                continue
+            if _absent(cell):
+                raise Malformed("missing tolerance")
+            tol[c] = _decimal(cell)
+            if tol[c] < 0:
+                raise Malformed("negative tolerance")
+        out.append(tol)
+    return out
+
+
 def circ(d: Fraction) -> Fraction:
     """Distance of d to the nearest multiple of 2 pi."""
     k = math.floor(d / TWO_PI + Fraction(1, 2))
     return min(abs(d - j * TWO_PI) for j in (k - 1, k, k + 1))
 
 
-def case_verdict(cid: str, data: bytes) -> str:
+def case_verdict(cid: str, data: bytes, suite: Path = DEFAULT_SUITE) -> str:
+    """The verdict on an output ``data`` of case ``cid`` of ``suite``: the suite is read first (a malformed
+    expected.csv is a malformed run), each row against its own tolerance."""
+    settings = json.loads((suite / cid / "settings.json").read_text())
     try:
+        exp_data = (suite / cid / "expected.csv").read_bytes()
+        exp, tols = read_rows(exp_data), read_tolerances(exp_data, settings)
         got = read_rows(data)
     except Malformed:
         return "malformed"
-    exp = read_rows((DEFAULT_SUITE / cid / "expected.csv").read_bytes())
-    tol = json.loads((DEFAULT_SUITE / cid / "settings.json").read_text())["tolerances"]
+    rel = settings["tolerances"]
     if len(got) != len(exp):
         return "wrong"
-    for g, e in zip(got, exp):
+    for g, e, tol in zip(got, exp, tols):
         if (g[0], g[3], g[5]) != (e[0], e[3], e[5]):
             return "wrong"
         for k, col in ((1, "tau"), (2, "tau_mod_2pi"), (4, "sdot")):
@@ -238,7 +283,7 @@ def case_verdict(cid: str, data: bytes) -> str:
                 continue
             d = g[k] - e[k]
             err = circ(d) if col == "tau_mod_2pi" else abs(d)
-            if err > Fraction(tol[col]["abs"]) + Fraction(tol[col]["rel"]) * abs(e[k]):
+            if err > tol[col] + Fraction(rel[col]["rel"]) * abs(e[k]):
                 return "wrong"
     return "right"
 
@@ -400,9 +445,10 @@ def orbit_verdict(rid: str, data: bytes) -> str:
 # the checker
 
 
-def run_check(folder: Path, cid: str, orbits: bool) -> tuple[int, list[str]]:
+def run_check(folder: Path, cid: str, orbits: bool, suite: Path | None = None) -> tuple[int, list[str]]:
     out, err = io.StringIO(), io.StringIO()
     argv = ["check", *(["--orbits"] if orbits else []), str(folder), "--cases", cid, "--summary"]
+    argv += ["--suite", str(suite)] if suite is not None else []
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         rc = main(argv)
     return rc, err.getvalue().splitlines()
@@ -549,22 +595,29 @@ def _is_float(text: str) -> bool:
         return False
 
 
-def _case_rows(cid: str, radius: bool) -> list[list[str]]:
+def _case_rows(cid: str, extra: bool) -> list[list[str]]:
+    """The rows of the case's expected.csv, with its extra columns (radii, tolerances) or without."""
     rows = [r.split(",") for r in (DEFAULT_SUITE / cid / "expected.csv").read_text().splitlines()]
-    return rows if radius else [r[:6] for r in rows]
+    return rows if extra else [r[:6] for r in rows]
+
+
+def _row_tolerances(cid: str) -> list[dict]:
+    settings = json.loads((DEFAULT_SUITE / cid / "settings.json").read_text())
+    return read_tolerances((DEFAULT_SUITE / cid / "expected.csv").read_bytes(), settings)
 
 
 @st.composite
 def case_mutant(draw, cid: str) -> bytes:
     rows = _case_rows(cid, draw(st.booleans()))
-    tol = json.loads((DEFAULT_SUITE / cid / "settings.json").read_text())["tolerances"]
+    tols = _row_tolerances(cid)
     for _ in range(draw(st.integers(1, 3))):
         op = draw(st.sampled_from([0, 0, 1, 2, 2, 3, 4, 4, 5, 5, 5, 6, 7, 8, 9, 9, 10]))
         r = draw(st.integers(1, len(rows) - 1)) if len(rows) > 1 else 0
         c = min(draw(st.integers(0, len(rows[0]) - 1)), len(rows[r]) - 1)
         if op in (0, 1) and r > 0 and c in (1, 2, 4) and _is_float(rows[r][c]):
             col = COLUMNS[c]
-            x = draw(near_values(float(rows[r][c]), tol[col]["abs"], col == "tau_mod_2pi"))
+            scale = tols[(r - 1) % len(tols)].get(col, Fraction(1, 10**12))  # the row's tolerance (rows may move)
+            x = draw(near_values(float(rows[r][c]), float(scale), col == "tau_mod_2pi"))
             rows[r][c] = _num_text(x, draw(st.integers(0, 6)))
         elif op == 2 and r > 0:  # a field spelled otherwise, or another value
             rows[r][c] = draw(
@@ -697,6 +750,99 @@ def test_case_mutants(cid):
 @pytest.mark.parametrize("cid", CASE_IDS)
 def test_case_mutants_long(cid):
     _check_case(cid, 200)
+
+
+# --- the suite's per-row tolerance cells (suite 2.0.0: expected.csv's *_tol columns)
+
+TOL_SPELLINGS = [
+    "",
+    " ",
+    "nan",
+    "-nan",
+    "inf",
+    "-1e-15",
+    "-0",
+    "-0.0",
+    "0",
+    "0e0",
+    "1e-400",
+    "1e999",
+    "1e300",
+    "0x1p-40",
+    "1_0e-13",
+    "abc",
+    "\u0661e-12",
+    '"1e-12"',
+    ' "1e-12" ',
+    '"1e-12',
+    "1e-12 1",
+]
+
+
+@st.composite
+def tolerance_mutant(draw, cid: str) -> tuple[bytes, bytes]:
+    """``(expected.csv, output)``: the case's expected.csv with tolerance cells (and their header) mutated,
+    and the correct output with values moved near the row's tolerance (the mutated one where it is a number)."""
+    rows = _case_rows(cid, True)
+    out = [r[:6] for r in rows]
+    header = rows[0]
+    tcols = {header.index(name): c for c, name in TOL_COLUMNS.items()}
+    for _ in range(draw(st.integers(1, 4))):
+        r = draw(st.integers(1, len(rows) - 1))
+        k = draw(st.sampled_from(sorted(tcols)))
+        col = tcols[k]
+        op = draw(st.integers(0, 5))
+        if op == 0:  # the cell spelled otherwise (or another value)
+            rows[r][k] = draw(st.sampled_from(TOL_SPELLINGS + [rows[r][k], f'"{rows[r][k]}"', f" {rows[r][k]}\t"]))
+        elif op == 1 and _is_float(rows[r][k]):  # the tolerance scaled
+            x = float(rows[r][k]) * draw(st.sampled_from([0.0, 0.5, 0.999, 1.001, 2.0, 1e6]))
+            rows[r][k] = _num_text(x, draw(st.integers(0, 6)))
+        elif op == 2 and draw(st.integers(0, 3)) == 0:  # the column's name changed, or the column dropped
+            if draw(st.booleans()):
+                rows[0][k] = draw(st.sampled_from(["tau_tol ", "Tau_tol", "tol", "tau_radius", "sdot_tol", ""]))
+            else:
+                for row in rows:
+                    del row[k]
+                break
+        else:  # the output's value of this row near its tolerance
+            c = COLUMNS.index(col)
+            if _is_float(rows[r][k]) and _is_float(out[r][c]):
+                x = draw(near_values(float(out[r][c]), float(rows[r][k]), col == "tau_mod_2pi"))
+                out[r][c] = _num_text(x, draw(st.integers(0, 6)))
+    return ("\n".join(",".join(r) for r in rows) + "\n").encode(), ("\n".join(",".join(r) for r in out) + "\n").encode()
+
+
+def _check_tolerances(cid: str, n: int) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        suite, folder = Path(tmp) / "suite", Path(tmp) / "out"
+        folder.mkdir()
+        (suite / cid).mkdir(parents=True)
+        for name in ("settings.json", "provenance.json"):
+            (suite / cid / name).write_bytes((DEFAULT_SUITE / cid / name).read_bytes())
+
+        @_settings(n, "tol" + cid)
+        @given(data=tolerance_mutant(cid))
+        def prop(data):
+            expected, output = data
+            (suite / cid / "expected.csv").write_bytes(expected)
+            (folder / f"{cid}.csv").write_bytes(output)
+            rc, err = run_check(folder, cid, False, suite)
+            _agree(case_verdict(cid, output, suite), rc, err, expected)
+
+        prop()
+
+
+@pytest.mark.parametrize("cid", CASE_IDS)
+def test_tolerance_cell_mutants(cid):
+    """Mutated per-row tolerance cells of a suite: the checker reads them as docs/golden.md says (each row
+    against its own; a cell outside the forms, a missing or renamed column: a malformed suite, exit 2)."""
+    _check_tolerances(cid, _n_mutants())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cid", CASE_IDS)
+def test_tolerance_cell_mutants_long(cid):
+    _check_tolerances(cid, 200)
 
 
 # --- orbit records
@@ -880,5 +1026,13 @@ def test_the_independent_reading_accepts_the_correct_outputs():
         data = (DEFAULT_SUITE / cid / "expected.csv").read_bytes()
         assert case_verdict(cid, data) == "right", cid
     rows = _case_rows(CASE_IDS[0], False)
-    rows[3][1] = repr(float(rows[3][1]) + 2e-9)
+    tol = float(_row_tolerances(CASE_IDS[0])[2]["tau"])
+    rows[3][1] = repr(float(rows[3][1]) + 2 * tol)  # 2 times the row's own tolerance
     assert case_verdict(CASE_IDS[0], "\n".join(",".join(r) for r in rows).encode()) == "wrong"
+    rows[3][1] = repr(float(_case_rows(CASE_IDS[0], False)[3][1]) + 0.5 * tol)
+    assert case_verdict(CASE_IDS[0], "\n".join(",".join(r) for r in rows).encode()) == "right"
+    # a suite without the pointer: settings' abs for every row (the 1.0.0 reading)
+    old = json.loads((DEFAULT_SUITE / CASE_IDS[0] / "settings.json").read_text())
+    del old["row_tolerances"]
+    tols = read_tolerances((DEFAULT_SUITE / CASE_IDS[0] / "expected.csv").read_bytes(), old)
+    assert all(t["tau"] == Fraction(old["tolerances"]["tau"]["abs"]) for t in tols)

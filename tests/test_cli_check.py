@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids, circular_distance
+from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids, circular_distance, load_case
 
 TWO_PI = 2 * math.pi
 
@@ -113,22 +113,25 @@ def test_circular_distance_is_exact_for_any_double():
 
 
 def test_note_names_the_first_and_the_worst_failing_line(tmp_path, capsys):
-    """docs/golden.md: the note names the first failing line; the worst one follows."""
+    """docs/golden.md: the note names the first failing line; the worst one follows (each row against its
+    own tolerance, the ``tau_tol`` column of expected.csv)."""
     cid = "0001-regular-fig2"
     d = tmp_path / "out"
     _copy_expected(d, [cid])
     f = d / f"{cid}.csv"
+    tol = load_case(DEFAULT_SUITE / cid).row_tolerances("tau")[0]
     rows = list(csv.reader(f.read_text().splitlines()))
     j = rows[0].index("tau")
-    rows[3][j] = repr(float(rows[3][j]) + 3e-9)  # line 4: 3 x tolerance
-    rows[8][j] = repr(float(rows[8][j]) + 5e-7)  # line 9: 500 x tolerance
+    e3, e8 = 3 * float(tol[2]), 500 * float(tol[7])
+    rows[3][j] = repr(float(rows[3][j]) + e3)  # line 4: 3 x its tolerance
+    rows[8][j] = repr(float(rows[8][j]) + e8)  # line 9: 500 x its tolerance
     rows[12][3] = "-1" if rows[12][3] == "0" else "0"  # line 13: wrong wall
     with open(f, "w", newline="") as fh:
         csv.writer(fh, lineterminator="\n").writerows(rows)
     assert main(["check", str(d), "--cases", cid]) == 1
     note = capsys.readouterr().out.splitlines()[3]  # after the suite line, the header and the rule
-    assert "first failing: tau at line 4 (|error| 3e-09, 3 x tolerance)" in note
-    assert "worst: tau at line 9 (|error| 5e-07, 500 x tolerance)" in note
+    assert f"first failing: tau at line 4 (|error| {e3:.3g}, 3 x tolerance)" in note
+    assert f"worst: tau at line 9 (|error| {e8:.3g}, 500 x tolerance)" in note
 
 
 def _one_field(tmp_path, cid, line, column, text):

@@ -84,7 +84,7 @@ def flight_ds(v0: float, t_flight: float = 0.0) -> float:
     1.02 times the bound (ONE_STEP_EXAMPLES, last entry).
 
     Longer flights: the bound is per :data:`CALIBRATED_FLIGHT` (one forcing period).  The integrators'
-    steps are capped (scipy ``MAX_STEP = 0.25``), so the number of steps, and with it the local errors
+    steps are capped (scipy ``MAX_STEP``), so the number of steps, and with it the local errors
     committed, grows linearly with the flight's length; a flight of ``k = t_flight / 2 pi`` periods is
     a chain of ``k`` calibrated pieces, each carried to the wall by the flow of Eq. (3) (position error
     unchanged, velocity error damped by ``exp(-beta t) <= 1``), so to first order its error is at most
@@ -508,7 +508,9 @@ def _check_jac(tally: Tally, p: Params, tau: float, sd: float) -> None:
 
 #: Slow next impacts, where the Jacobian carries 1/sdot_{n+1} (random search over the declared domain):
 #: the tracks' Jacobians differed from the map's by 129-136 (v1 = 0.0128, |J| = 610) and 32-119
-#: (v1 = -0.0164, |J| = 58) times JAC_TOL (1 + |J|); at their own impacts by <= 0.03 of it.
+#: (v1 = -0.0164, |J| = 58) times JAC_TOL (1 + |J|) with the tracks' former tolerances (rtol 1e-12), by 2.6
+#: and 4.7, 0.2 and 2.0 times (scipy, diffrax) since issue 36 (scipy rtol 3e-14, max_step 0.1; diffrax rtol
+#: 1e-13); at their own impacts by <= 0.003 of it.
 SLOW_IMPACT_JACOBIANS = [
     (
         Params(4.815859604874244, 0.2237307057627083, -0.3046620843964265, 0.4209132996352853),
@@ -528,17 +530,19 @@ CANCELLING_JACOBIAN = (Params(2.875, 1.0, 0.0, 0.625), (0.515625, 1.25))
 
 
 def test_slow_impact_jacobians_differ_by_their_impact_states():
-    """At a slow next impact the routes' Jacobians differ from the map's far beyond JAC_TOL (1 + |J|)
-    (measured 129-136 and 32-119 times) and agree with the analytic formula at their own impact to
-    <= 0.03 of it: the difference is the impact state's one-step error times dJ/dv1 ~ -J / v1."""
+    """At a slow next impact the routes' Jacobians differ from the map's by up to 4.7 JAC_TOL (1 + |J|)
+    (129-136 and 32-119 times with the tracks' former tolerances) and agree with the analytic formula at
+    their own impact to <= 0.003 of it, at least 100 times closer: the difference is the impact state's
+    one-step error times dJ/dv1 ~ -J / v1."""
     for p, (tau, sd) in SLOW_IMPACT_JACOBIANS:
         m, mi = map_one(p, tau, sd)
         J = np.asarray(mi.jac)
         for tr in (S, D):
             o = tr.step_jacobian(p, tau, sd)
-            assert np.abs(o.jac - J).max() > 10 * JAC_TOL * (1.0 + np.abs(J).max())
             Jo = analytic_jacobian(p, tau, sd, o.tau, o.sdot)
-            assert np.abs(o.jac - Jo).max() <= 0.1 * JAC_TOL * (1.0 + np.abs(Jo).max())
+            own = np.abs(o.jac - Jo).max()
+            assert own <= 0.1 * JAC_TOL * (1.0 + np.abs(Jo).max())
+            assert np.abs(o.jac - J).max() >= 100 * own
 
 
 def test_jacobian_three_routes():
@@ -551,14 +555,15 @@ def test_jacobian_three_routes():
 
 
 def test_a_long_flight_has_its_length_in_the_one_step_bound():
-    """The long profile's counterexample (scipy 1.047 times the one-period bound on a 241.8-unit flight):
-    within the bound that grows with the flight's length in forcing periods, far inside it (< 0.1)."""
+    """The long profile's counterexample (scipy 1.047 times the one-period bound on a 241.8-unit flight with
+    its former defaults, rtol 1e-12, max_step 0.25; 0.36 times since issue 36): within the bound that grows
+    with the flight's length in forcing periods, far inside it (< 0.1; measured 0.0097)."""
     p, (tau, sd) = LONG_FLIGHT_JACOBIAN
     m, _ = map_one(p, tau, sd)
     tau1, v1, v0 = float(m.tau), float(m.sdot), -p.r * sd
     assert 240.0 < tau1 - tau < 245.0
     err = abs(S.step_jacobian(p, tau, sd).tau - tau1)
-    assert err > step_tau_tol(v0, v1)  # the one-period bound is exceeded
+    assert err > 0.1 * step_tau_tol(v0, v1)  # the error grows with the length: a third of the one-period bound
     assert err <= 0.1 * step_tau_tol(v0, v1, tau1 - tau)
 
 

@@ -2,10 +2,10 @@
 by every rule of docs/golden.md ("Asking the oracle").
 
 Writes SUITE/ID/ (settings.json, expected.csv, provenance.json) and updates SUITE/index.json (its other
-fields kept). Score an implementation against it with `gear-rattle check OUT --suite SUITE`. No case
-has a tolerance of 1e-6 or more: where the error of a correct float64 implementation, amplified along the
-orbit, would need one, the case stops at the last impact within that limit and says so (notes.truncation
-in settings.json, one line on stderr). With --from FILE, one case per input of a CSV (header
+fields kept). Score an implementation against it with `gear-rattle check OUT --suite SUITE`. No row of a
+case has a tolerance of 1e-6 (--max-tolerance T) or more: where the error of a correct float64
+implementation, amplified along the orbit, would need one, the case stops at the last impact within that
+limit and says so (notes.truncation in settings.json, one line on stderr). With --from FILE, one case per input of a CSV (header
 id,alpha,beta,gamma,r,tau0,sdot0,impacts[,s0][,stick_time]) or a JSON list of such objects.
 
 Exit status: 0 every case written, 1 some input has no case (not even impact 0 certified within the
@@ -24,7 +24,7 @@ HELP = "build a certified golden-format case (or a whole suite, --from) for your
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..golden.ondemand import MAX_CASE_IMPACTS, TOLERANCE_LIMIT
+    from ..golden.ondemand import MAX_CASE_IMPACTS, MAX_TOLERANCE_LIMIT, MIN_TOLERANCE_LIMIT, TOLERANCE_LIMIT
 
     g = p.add_argument_group("one input (or --from)")
     g.add_argument(
@@ -99,6 +99,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--out", required=True, metavar="SUITE", help="suite directory to write the case(s) into (required; no default)"
     )
+    p.add_argument(
+        "--max-tolerance",
+        type=real("--max-tolerance", lo=MIN_TOLERANCE_LIMIT, hi=MAX_TOLERANCE_LIMIT),
+        default=TOLERANCE_LIMIT,
+        metavar="T",
+        help=f"no row of a case has a tolerance of T or more: the case stops at the last impact within it "
+        f"(a smaller T, a shorter and tighter case), {MIN_TOLERANCE_LIMIT:g} <= T <= {MAX_TOLERANCE_LIMIT:g} "
+        f"(default {TOLERANCE_LIMIT:g})",
+    )
     p.add_argument("--replace", action="store_true", help="overwrite cases of the same id already in SUITE")
     p.add_argument("--quiet", action="store_true", help="no progress bar (notes and errors still go to stderr)")
 
@@ -157,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
     with Bar("case", total=len(inputs), unit="cases", enabled=progress_arg(args) is not False) as bar:
         for k, inp in enumerate(inputs):
             try:
-                case = build_user_case(inp)
+                case = build_user_case(inp, max_tolerance=args.max_tolerance)
             except CaseError as e:
                 note(f"no case: {e}")
                 failed += 1

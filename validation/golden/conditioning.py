@@ -1,32 +1,50 @@
-"""The error a correct float64 implementation makes at each impact, and how the impact map carries it
-along a golden case's orbit: the *amplification rule* of the tolerances (docs/golden.md, "Tolerances from
-the conditioning").
+"""The error a correct float64 implementation can make at each row of a golden case, and the tolerance of
+that row (docs/golden.md, "Tolerances from the conditioning").
 
-**Assumption** (per impact reached by a flight).  An implementation puts the contact where its computed gap
+**The per-contact error** (the gap-error model).  An implementation puts a contact where its computed gap
 to the wall vanishes, and that gap is off by at most
 
-    e_n = POSITION_STEP + FLIGHT_ERROR h_n
+    e_n = GAP_ULPS 2^-52 + FLIGHT_ERROR h_n max(1, dt_n / 2 pi)
 
-the rounding step of a float64 position of magnitude below 2 at the wall (2^-52: the ``e`` of the chatter
-rule) plus the error of its flight solution, relative to the height of the flight
-``h_n = max |s(t) - s(0)| <= 1`` (1e-12: a transversal impact across the backlash located to ~1e-12, the
-``err0`` of the chaotic horizon; a chatter bounce of height 1e-14 is located to its rounding).  A contact
-of speed ``v_n`` and acceleration ``a_n = s''`` found where the gap is off by ``e_n`` is off by (the
-implicit-function theorem on the impact condition ``s(tau) = wall``)
+a few roundings of a float64 position of magnitude below 2 at the wall (:data:`GAP_ULPS` steps of
+:data:`POSITION_STEP`) plus the error of its flight solution relative to the height of the flight,
+``h_n = max |s(t) - s(0)| <= 1``, per forcing period of the flight's duration ``dt_n`` (an ODE solver's
+steps, and its errors, grow with the length; :data:`FLIGHT_ERROR`, measured on our three tracks:
+benchmarks/results/per_contact_error_*.json).
+A contact of speed ``v_n`` and acceleration ``a_n = s''`` found where the gap is off by ``e_n`` is off by
+(the implicit-function theorem on ``s(tau) = wall``)
 
-    dtau_n = e_n / |v_n|,        dsdot_n = |a_n| e_n / |v_n| + FLIGHT_ERROR
+    dtau_n = e_n / |v_n|,        dsdot_n = |a_n| dtau_n + FLIGHT_ERROR V_n
 
-(the velocity's own error ``FLIGHT_ERROR``).  At a graze (small ``v_n``) this is the graze rule's
-conditioning; along a chatter, the chatter rule's.
+with the velocity's own error relative to the flight's velocity scale ``V_n = max(|v_start|, |v_n|, F)``
+(``F = alpha sqrt(1 + beta^2) + |gamma|``, the largest force).  **The graze rule**: where the acceleration
+points away from the wall (the flight was turning back: a graze) the impact condition is quadratic, and
+the root moves by ``2 e_n / (|v_n| + sqrt(v_n^2 - 2 |a_n| e_n))`` (between ``e_n / v_n`` and
+``2 e_n / v_n``); a graze with ``v_n^2 < 2 |a_n| SAFETY e_n`` (its excursion beyond the wall within
+``SAFETY e_n``) may be missed by a correct implementation: :attr:`RowErrors.fragile`.
+
+**Representation** (float64 numbers an implementation necessarily rounds).  The phase an implementation
+flies from is ``tau_n`` rounded (half an ulp of ``max(|tau_n|, 2 pi)``) and, where it reduces a large
+``tau`` with the float64 ``2 pi``, off by ``k_n (2 pi - fl(2 pi))`` (``k_n`` whole turns): both are added to
+the time error of the contact (and carried on by the Jacobians).  The ``tau`` column adds the rounding an
+implementation accumulates when it sums the flight times into ``tau`` (half an ulp per row up to this one,
+:data:`ACCUMULATED`) and ``k (2 pi - fl(2 pi))`` (``tau`` written as ``cycles 2 pi + theta``); the
+``tau_mod_2pi`` column ``k (2 pi - fl(2 pi))`` and half an ulp of ``2 pi``; ``sdot`` half an ulp.
 
 **Propagation.**  The analytic Jacobians of the impact map (Eqs. 12-13, :func:`mapimpl.impact_map.jacobian`)
-carry an error of impact ``n`` to the later rows: at impact ``m`` it is ``|P_mn| l_n`` (componentwise
-absolute values) with ``P_mn = J_m ... J_{n+1}`` and ``l_n = (dtau_n, dsdot_n)``.  A step that sticks forgets
-its input (the release leaves from the canonical phase, a function of the parameters alone: ``J = 0``); a
-stick row ``tau_n + t_acc`` has the sensitivity ``(1 + dt_acc/dtau, dt_acc/dsdot)`` to impact ``n``.  A
-pre-impact initial state is exact.  The rule: :data:`SAFETY` times the largest such error over the rows
-and the impacts (the largest single source, as the chaotic horizon's ``exp(lambda1 n)``; the safety
-factor covers the sum over the sources), per column, rounded up to one digit.
+carry the error of impact ``n`` to the later rows: at impact ``m`` it is ``|P_mn| l_n`` (componentwise
+absolute values) with ``P_mn = J_m ... J_{n+1}`` and ``l_n = (dtau_n, dsdot_n)``.  The error of a row is the
+**sum** over its sources, ``sum_n |P_mn| l_n``: the first-order bound of ``|sum_n P_mn eps_n|`` for any
+per-contact errors ``|eps_n| <= l_n`` (the largest single source underestimates it by up to the number of
+sources: a chatter, or a regular orbit whose tau errors add up).  Sources whose share falls below
+:data:`NEGLIGIBLE` are carried on as one vector bound (``|J| D``, never smaller than what they would give).
+A step that sticks forgets its input (the release leaves from the canonical phase, a function of the
+parameters alone: ``J = 0``; the release row's own phase error, :func:`release_phase_error`, starts the
+next sources); a stick row ``tau_n + t_acc`` has the sensitivity ``(1 + dt_acc/dtau, dt_acc/dsdot)`` to
+impact ``n``.  A pre-impact initial state is exact but for its phase's representation.
+
+**The tolerance of a row** (:func:`tolerances`): ``SAFETY`` times the row's error plus the golden value's own
+printed radius, rounded up to :data:`TOLERANCE_DIGITS` significant digits.
 """
 
 from __future__ import annotations
@@ -45,27 +63,58 @@ from ...mapimpl.flight import flight
 from ...mapimpl.impact_map import jacobian
 
 #: Rounding step of a float64 position of magnitude below 2 at a wall (2^-53 for ``s`` at ``s = -1`` and
-#: for ``s + 1`` at ``s = 0``; 2^-52 beyond): the gap error of every contact.
+#: for ``s + 1`` at ``s = 0``; 2^-52 beyond).
 POSITION_STEP = 2.0**-52
-#: Error of a flight solution relative to the flight's height, and of the pre-impact velocity: a
-#: transversal impact located to ~1e-12 (the per-impact error of the chaotic horizon).
-FLIGHT_ERROR = 1e-12
-#: Safety factor of the tolerance rules (chaotic horizon, chatter, amplification).
+#: Roundings of the position in the gap of a correct implementation (the coordinate's and the evaluation's).
+GAP_ULPS = 2
+#: Error of a flight solution relative to the flight's height (per forcing period), and of the velocity relative
+#: to the flight's velocity scale (measured on our three tracks: benchmarks/results/per_contact_error_*.json).
+FLIGHT_ERROR = 3e-14
+#: Safety factor of the tolerances.
 SAFETY = 10.0
+#: Significant digits of a printed tolerance (rounded up: at most 10 % above SAFETY x the error).
+TOLERANCE_DIGITS = 2
 #: Samples of a flight for its height ``max |s(t) - s(0)|``.
 HEIGHT_SAMPLES = 257
+#: ``2 pi - fl(2 pi)``: the error of the float64 ``2 pi`` (a phase reduced by ``k`` turns is off by ``k`` times it).
+TWO_PI_GAP = 2.4492935982947064e-16
+TWO_PI = 2.0 * math.pi
+#: Half an ulp per row: the rounding of ``tau = tau + dt`` accumulated over the rows (``tau`` column).
+ACCUMULATED = 0.5
+#: A source whose share of a row's error is below this is carried on in the one vector bound.
+NEGLIGIBLE = 1e-9
+#: The columns whose values have a tolerance.
+COLUMNS = ("tau", "tau_mod_2pi", "sdot")
 
 _jacobian = jax.jit(jacobian)
 _displacement = jax.jit(lambda t, th, v0, a, b, g: flight(t, th, v0, a, b, g).ds)
 
 
-def round_up_1(x: float) -> float:
-    """``x > 0`` rounded up to one significant digit (2.06e-8 -> 3e-8; 2e-6 stays 2e-6); 0 stays 0 (a case
-    with no impact reached by a flight has no propagated error)."""
-    if x == 0:
+def round_up(x: float, digits: int = TOLERANCE_DIGITS) -> float:
+    """``x >= 0`` rounded up to ``digits`` significant digits (the float64 of that decimal, never below ``x``;
+    ``round_up(2.01e-14) = 2.1e-14``, ``round_up(2e-14) = 2e-14``); 0 stays 0."""
+    if not x > 0:
         return 0.0
-    m = 10.0 ** math.floor(math.log10(x))
-    return float(f"{math.ceil(x / m - 1e-9) * m:.1g}")
+    if math.isinf(x):  # the row after a contact a correct implementation may miss (RowErrors.fragile)
+        return x
+    e = math.floor(math.log10(x)) - digits + 1
+    m = math.ceil(x / 10.0**e * (1 - 1e-12))
+    y = float(f"{m}e{e}")
+    while y < x:
+        m += 1
+        y = float(f"{m}e{e}")
+    return y
+
+
+def round_up_1(x: float) -> float:
+    """``x`` rounded up to one significant digit (:func:`round_up`)."""
+    return round_up(x, 1)
+
+
+def gap_error(h: float, dt: float) -> float:
+    """``e = GAP_ULPS 2^-52 + FLIGHT_ERROR h max(1, dt / 2 pi)``: the gap error at the end of a flight of
+    height ``h`` and duration ``dt``."""
+    return GAP_ULPS * POSITION_STEP + FLIGHT_ERROR * h * max(1.0, dt / TWO_PI)
 
 
 def flight_height(p: Params, theta0: float, v0: float, dt: float) -> float:
@@ -75,104 +124,218 @@ def flight_height(p: Params, theta0: float, v0: float, dt: float) -> float:
     return min(1.0, float(jnp.max(jnp.abs(_displacement(t, theta0, v0, p.alpha, p.beta, p.gamma)))))
 
 
-def local_error(p: Params, h: float, tau: float, sdot: float) -> np.ndarray:
-    """``(dtau_n, dsdot_n)`` of a contact at ``tau`` with pre-impact velocity ``sdot`` reached by a flight of
-    height ``h`` (module docstring)."""
-    e = POSITION_STEP + FLIGHT_ERROR * h
-    a = -p.alpha * math.sin(tau) + p.alpha * p.beta * math.cos(tau) + p.gamma - p.beta * sdot
-    return np.array([e / abs(sdot), abs(a) * e / abs(sdot) + FLIGHT_ERROR])
+def forcing(p: Params, tau: float) -> float:
+    """``f(tau) = -alpha sin tau + alpha beta cos tau + gamma`` (Eq. 3)."""
+    return -p.alpha * math.sin(tau) + p.alpha * p.beta * math.cos(tau) + p.gamma
+
+
+def largest_force(p: Params) -> float:
+    """``F = alpha sqrt(1 + beta^2) + |gamma|``: the largest ``|f|``."""
+    return p.alpha * math.sqrt(1 + p.beta**2) + abs(p.gamma)
+
+
+def contact_time_error(e: float, v: float, a: float, wall: int) -> float | None:
+    """The time error of a contact of speed ``v`` and acceleration ``a`` on ``wall`` found with a gap error
+    ``e``: ``e / |v|``, or at a graze (``a`` points away from the wall) the root shift of the quadratic
+    ``|v| d - |a| d^2 / 2 = e``; ``None`` where that has no root (the contact may vanish)."""
+    away = a < 0 if wall == 0 else a > 0
+    if not away:
+        return e / abs(v)
+    disc = v * v - 2.0 * abs(a) * e
+    return None if disc < 0 else 2.0 * e / (abs(v) + math.sqrt(disc))
+
+
+def phase_representation(tau: float) -> float:
+    """The phase error of ``tau`` as a float64 implementation holds it: half an ulp of ``max(|tau|, 2 pi)``,
+    plus ``k (2 pi - fl(2 pi))`` for a reduction by ``k`` whole turns with the float64 ``2 pi``."""
+    return 0.5 * math.ulp(max(abs(tau), TWO_PI)) + math.floor(abs(tau) / TWO_PI) * TWO_PI_GAP
+
+
+def local_error(p: Params, e: float, tau: float, sdot: float, wall: int, v_start: float) -> np.ndarray | None:
+    """``(dtau_n, dsdot_n)`` of a contact at ``tau`` on ``wall`` with pre-impact velocity ``sdot`` found with the
+    gap error ``e`` (:func:`gap_error`) at the end of a flight from the velocity ``v_start`` (module docstring;
+    the phase's representation included); ``None`` where a correct implementation may miss the contact (its
+    excursion beyond the wall within ``SAFETY e``: :func:`contact_time_error`)."""
+    a = forcing(p, tau) - p.beta * sdot
+    robust, dt = contact_time_error(SAFETY * e, sdot, a, wall), contact_time_error(e, sdot, a, wall)
+    if robust is None or dt is None:
+        return None
+    scale = max(abs(v_start), abs(sdot), largest_force(p))
+    return np.array([dt + phase_representation(tau), abs(a) * dt + FLIGHT_ERROR * scale])
 
 
 def stick_sensitivity(p: Params, tau: float, sdot: float, t_acc: float) -> np.ndarray:
-    """``|d(tau + t_acc) / d(tau, sdot)|`` of a stick row, ``t_acc = 2 r |sdot| / ((1 - r) f_in(tau))``."""
-    f = -p.alpha * math.sin(tau) + p.alpha * p.beta * math.cos(tau) + p.gamma
+    """``d(tau + t_acc) / d(tau, sdot)`` of a stick row, ``t_acc = 2 r |sdot| / ((1 - r) f_in(tau))`` (signed: the
+    row's error is ``|sens^T P| l`` over the sources)."""
+    f = forcing(p, tau)
     df = -p.alpha * math.cos(tau) - p.alpha * p.beta * math.sin(tau)
-    return np.array([abs(1.0 - t_acc * df / f), t_acc / abs(sdot)])
+    return np.array([1.0 - t_acc * df / f, t_acc / sdot])
+
+
+def release_phase_error(p: Params) -> float:
+    """The error of a float64 canonical release phase ``atan(beta) + asin(gamma / R)`` (or its lower wall
+    branch): a few ulps of ``2 pi``, and the conditioning of ``asin`` at ``c = gamma / R``."""
+    c = min(1.0, abs(p.gamma) / (p.alpha * math.sqrt(1 + p.beta**2))) if p.alpha > 0 else 1.0
+    cond = 2.0 * POSITION_STEP * c / math.sqrt(1 - c * c) if c < 1 else math.inf
+    return 4 * math.ulp(TWO_PI) + cond
 
 
 @dataclass(frozen=True)
-class PropagatedError:
-    """The largest first-order error of each column (``tau``, also ``tau_mod_2pi``; ``sdot``) of a case's
-    rows under the per-impact assumption, and where it arises (``"impact n -> impact m"``)."""
+class RowErrors:
+    """The error bound of a correct float64 implementation at each row of a case (columns ``tau``,
+    ``tau_mod_2pi``, ``sdot``; NaN where a row has no such value), the impact whose error contributes most
+    to each row's ``tau`` (``-1``: the row's own representation), and ``fragile``: the index of the first row
+    whose contact a correct implementation may miss (``None``: none)."""
 
-    tau: float
-    tau_where: str
-    sdot: float
-    sdot_where: str
+    tau: np.ndarray
+    tau_mod_2pi: np.ndarray
+    sdot: np.ndarray
+    source: np.ndarray
+    fragile: int | None = None
 
-    def tolerances(self) -> dict[str, float]:
-        """The rule's absolute tolerance per column: :data:`SAFETY` times the error, rounded up to one digit."""
-        t = round_up_1(SAFETY * self.tau)
-        return {"tau": t, "tau_mod_2pi": t, "sdot": round_up_1(SAFETY * self.sdot)}
-
-    def note(self, sets: list[str]) -> dict:
-        """``notes.amplification`` of the case's settings."""
-        return {
-            "tau_error": float(f"{self.tau:.3g}"),
-            "tau_worst": self.tau_where,
-            "sdot_error": float(f"{self.sdot:.3g}"),
-            "sdot_worst": self.sdot_where,
-            "tolerance": self.tolerances(),
-            "sets": sets,
-            "rule": f"the largest first-order error at a row of an error made at one impact (gap error "
-            f"2^-52 + {FLIGHT_ERROR:g} h at a contact of speed v: dtau = e / v, dsdot = |s''| e / v + "
-            f"{FLIGHT_ERROR:g}), carried by the map's Jacobians; tolerance = {SAFETY:g} x that, rounded "
-            "up to one digit, where it is not smaller than the case's own (docs/golden.md, tolerances "
-            "from the conditioning)",
-        }
+    def column(self, c: str) -> np.ndarray:
+        return getattr(self, c)
 
 
-def propagated_error(p: Params, seq, free_start: tuple[float, float, float] | None = None) -> PropagatedError:
-    """The :class:`PropagatedError` of a case's rows ``seq`` (columns ``n, tau, tau_mod_2pi, wall, sdot,
-    kind`` as arrays: a :class:`suite.Sequence`); ``free_start = (tau0, s0, sdot0)`` for a free-flight start
-    (its impact 0 is reached by a flight), ``None`` for a pre-impact initial state (exact)."""
-    sources: list[tuple[int, np.ndarray, np.ndarray]] = []  # (impact n, P_mn, l_n)
-    worst = {"tau": (0.0, ""), "sdot": (0.0, "")}
-    prev, start = None, None  # previous impact row; the flight to the next impact (theta0, v0, tau0, s0)
+class _Sources:
+    """The errors carried along the orbit: each source's ``P`` (2x2) and ``l`` (2), and the vector bound ``D``
+    of the negligible ones (module docstring)."""
+
+    def __init__(self) -> None:
+        self.reset()
+
+    def reset(self) -> None:
+        """No source (after a release: the orbit has forgotten its past)."""
+        self.P = np.zeros((0, 2, 2))
+        self.L = np.zeros((0, 2))
+        self.n = np.zeros(0, dtype=np.int64)
+        self.D = np.zeros(2)
+
+    def step(self, jac: np.ndarray) -> None:
+        self.P = np.einsum("ij,kjl->kil", jac, self.P)
+        self.D = np.abs(jac) @ self.D
+
+    def add(self, n: int, loc: np.ndarray) -> None:
+        self.P = np.concatenate([self.P, np.eye(2)[None]])
+        self.L = np.concatenate([self.L, loc[None]])
+        self.n = np.concatenate([self.n, [n]])
+
+    def error(self, row: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+        """``(sum |P| l + D, the largest source's impact)`` (``row``: a linear functional, a stick row's
+        sensitivity); prunes the negligible sources into ``D``."""
+        P = self.P if row is None else np.einsum("i,kij->kj", row, self.P)[:, None, :]
+        parts = np.einsum("kij,kj->ki", np.abs(P), self.L)
+        D = self.D if row is None else np.array([abs(row) @ self.D])
+        total = parts.sum(axis=0) + D
+        who = int(self.n[int(np.argmax(parts[:, 0]))]) if len(self.n) else -1
+        if row is None and len(self.n) > 1:
+            small = np.all(parts <= NEGLIGIBLE * total, axis=1)
+            if small.any():
+                self.D = self.D + parts[small].sum(axis=0)
+                keep = ~small
+                self.P, self.L, self.n = self.P[keep], self.L[keep], self.n[keep]
+        return total, who
+
+
+def row_errors(p: Params, seq, free_start: tuple[float, float, float] | None = None) -> RowErrors:
+    """The :class:`RowErrors` of a case's rows ``seq`` (columns ``n, tau, tau_mod_2pi, wall, sdot, kind`` as
+    arrays: a :class:`suite.Sequence`); ``free_start = (tau0, s0, sdot0)`` for a free-flight start (its
+    impact 0 is reached by a flight), ``None`` for a pre-impact initial state (exact)."""
+    rows = len(seq.kind)
+    out = {c: np.full(rows, math.nan) for c in COLUMNS}
+    source = np.full(rows, -1, dtype=np.int64)
+    src, acc = _Sources(), 0.0
+    fragile: int | None = None
+    prev: int | None = None  # the previous impact row
+    start: tuple[float, float, float] | None = None  # the flight to the next impact (theta0, v0, tau0)
     if free_start is not None:
-        start = (free_start[0] % (2 * math.pi), free_start[2], free_start[0])
-
-    def record(row: str, errors) -> None:
-        for n, err in errors:
-            for k, c in enumerate(("tau", "sdot")[: len(err)]):
-                if err[k] > worst[c][0]:
-                    worst[c] = (float(err[k]), f"impact {n} -> {row}")
-
+        start = (free_start[0] % TWO_PI, free_start[2], free_start[0])
     for i, kind in enumerate(seq.kind):
         tau, sdot = float(seq.tau[i]), float(seq.sdot[i])
+        rep = math.floor(abs(tau) / TWO_PI) * TWO_PI_GAP
+        acc += ACCUMULATED * math.ulp(max(abs(tau), TWO_PI))
         if kind == "stick":
-            sens = stick_sensitivity(p, float(seq.tau[prev]), float(seq.sdot[prev]), tau - float(seq.tau[prev]))
-            record(f"stick row of impact {int(seq.n[i])}", [(n, [sens @ (np.abs(P) @ loc)]) for n, P, loc in sources])
-            continue
-        if kind == "release":
-            sources, start = [], (float(seq.tau_mod_2pi[i]), 0.0, tau)
-            continue
-        if prev is None and start is None:  # a pre-impact initial state: exact
-            prev = i
-            continue
-        if start is None:  # a free step from the previous impact (Eq. 11, then Eqs. 7-8)
+            assert prev is not None, "a stick row follows its impact"
             j = prev
-            th0, v0, t0 = float(seq.tau_mod_2pi[j]), -p.r * float(seq.sdot[j]), float(seq.tau[j])
-            jac = np.asarray(
-                _jacobian(th0, v0, tau - t0, float(seq.tau_mod_2pi[i]), sdot, (p.alpha, p.beta, p.gamma, p.r))
-            )
-            sources = [(n, jac @ P, loc) for n, P, loc in sources]
-            start = (th0, v0, t0)
-        h = flight_height(p, start[0], start[1], tau - start[2])
-        sources.append((int(seq.n[i]), np.eye(2), local_error(p, h, tau, sdot)))
-        record(f"impact {int(seq.n[i])}", [(n, np.abs(P) @ loc) for n, P, loc in sources])
-        prev, start = i, None
-    return PropagatedError(worst["tau"][0], worst["tau"][1], worst["sdot"][0], worst["sdot"][1])
+            sens = stick_sensitivity(p, float(seq.tau[j]), float(seq.sdot[j]), tau - float(seq.tau[j]))
+            err, source[i] = src.error(sens)
+            prop = float(err[0]) + 4 * POSITION_STEP * (tau - float(seq.tau[j]))
+        elif kind == "release":
+            src.reset()
+            prop = release_phase_error(p)
+            src.add(int(seq.n[i]), np.array([prop + phase_representation(tau), 0.0]))
+            start = (float(seq.tau_mod_2pi[i]), 0.0, tau)
+        else:
+            if start is None and prev is not None:  # a free step from the previous impact (Eq. 11, then Eqs. 7-8)
+                j = prev
+                th0, v0, t0 = float(seq.tau_mod_2pi[j]), -p.r * float(seq.sdot[j]), float(seq.tau[j])
+                src.step(
+                    np.asarray(
+                        _jacobian(th0, v0, tau - t0, float(seq.tau_mod_2pi[i]), sdot, (p.alpha, p.beta, p.gamma, p.r))
+                    )
+                )
+                start = (th0, v0, t0)
+            elif start is not None and prev is not None:  # the flight from a release: J (its phase error) as well
+                src.step(
+                    np.asarray(
+                        _jacobian(
+                            start[0],
+                            0.0,
+                            tau - start[2],
+                            float(seq.tau_mod_2pi[i]),
+                            sdot,
+                            (p.alpha, p.beta, p.gamma, p.r),
+                        )
+                    )
+                )
+            if start is None:  # a pre-impact initial state: exact but for its phase
+                loc = np.array([phase_representation(tau), 0.0])
+            else:
+                dt = tau - start[2]
+                e = gap_error(flight_height(p, start[0], start[1], dt), dt)
+                contact = local_error(p, e, tau, sdot, int(seq.wall[i]), start[1])
+                if contact is None:
+                    fragile = i if fragile is None else fragile
+                loc = np.array([math.inf, math.inf]) if contact is None else contact
+            src.add(int(seq.n[i]), loc)
+            err, source[i] = src.error()
+            prop = float(err[0])
+            out["sdot"][i] = float(err[1]) + 0.5 * math.ulp(sdot)
+            prev, start = i, None
+        out["tau"][i] = prop + acc + rep
+        out["tau_mod_2pi"][i] = prop + rep + 0.5 * math.ulp(TWO_PI)
+    return RowErrors(out["tau"], out["tau_mod_2pi"], out["sdot"], source, fragile)
+
+
+def tolerances(errors: RowErrors, radii: dict[str, np.ndarray] | None = None) -> dict[str, np.ndarray]:
+    """The absolute tolerance of every row and column: ``SAFETY`` times the row's error plus the golden
+    value's printed radius (``radii``: per column, NaN or absent read as 0), rounded up to
+    :data:`TOLERANCE_DIGITS` digits; NaN where the row has no value (``sdot`` of a stick or release row)."""
+    out = {}
+    for c in COLUMNS:
+        err = errors.column(c)
+        rad = np.zeros(err.shape) if radii is None else np.nan_to_num(np.asarray(radii[c], dtype=float))
+        out[c] = np.array([math.nan if math.isnan(x) else round_up(SAFETY * x + r) for x, r in zip(err, rad)])
+    return out
 
 
 __all__ = [
     "POSITION_STEP",
+    "GAP_ULPS",
     "FLIGHT_ERROR",
     "SAFETY",
-    "PropagatedError",
-    "propagated_error",
+    "TOLERANCE_DIGITS",
+    "TWO_PI_GAP",
+    "RowErrors",
+    "row_errors",
+    "tolerances",
     "local_error",
+    "gap_error",
+    "contact_time_error",
+    "phase_representation",
+    "release_phase_error",
     "flight_height",
     "stick_sensitivity",
+    "round_up",
     "round_up_1",
 ]

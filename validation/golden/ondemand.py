@@ -1,31 +1,28 @@
 """A golden case for any input (``gear-rattle case``; docs/golden.md, "Asking the oracle").
 
 :func:`build_user_case` certifies the orbit of one input (:func:`mapimpl.certified.certify_orbit`, or
-:func:`mapimpl.certified.certify_no_impact_orbit` where the last flight never lands) and sets its
-tolerances by every rule of docs/golden.md: the case's own 1e-9 (:data:`generate.TOL`), the graze rule
-(:func:`graze_tolerance`: ``GAP_BUDGET / v`` at every contact reached against the pull of the force), the
-chatter rule (:func:`generate.chatter_tolerance`) and the amplification rule
-(:func:`generate.with_amplification_rule`).
+:func:`mapimpl.certified.certify_no_impact_orbit` where the last flight never lands) and gives every row its
+tolerance by the rule of docs/golden.md (:func:`generate.row_tolerances`: ``SAFETY`` times the error a correct
+float64 implementation can make at that row, from :mod:`.conditioning`).
 
-**The horizon rule** (the chaotic horizon, generalised): no generated case has a tolerance of
-:data:`TOLERANCE_LIMIT` (1e-6) or more in any column.  Where the rules would give one -- the error of a
-correct float64 implementation, amplified along the orbit, at a graze or down a chatter, is too large --
-the case stops at the last impact whose rows keep every tolerance below the limit, and says so
-(``notes.truncation`` of its settings, and :attr:`UserCase.message`).  Every rule is monotone in the
-length of the case (a maximum over more rows, a minimum speed over more impacts), so the longest such
-prefix is found by bisection.  Why 1e-6: an impact time (or velocity) off by 1e-6 then fails every
-generated case at every row -- the promise docs/golden.md makes for its ordinary cases -- and every rule
-keeps its safety factor 10 over the error of a correct implementation, so the case's tolerance is never
-more than 10 times that error (rounded up to one digit): a wrong implementation whose error exceeds
-the correct one's by more than that factor fails.  An impact that cannot be certified (a tangency the
-balls cannot separate, a flight longer than ``T_MAX`` that is not proven to never land) ends the case
-in the same way, at the last certified impact; so does a flight that turns back closer to a wall than
-:data:`NEAR_MISS_SAFETY` times the gap error of a correct implementation (:func:`near_miss_limit`: it may
-take such a near miss for a contact).
+**The horizon rule** (the chaotic horizon, generalised): no row of a generated case has a tolerance of
+``max_tolerance`` (default :data:`TOLERANCE_LIMIT`, 1e-6; ``gear-rattle case --max-tolerance T``) or more in any
+column.  Where the rule would give one -- the error of a correct float64 implementation, amplified along the
+orbit, at a graze or down a chatter, is too large -- the case stops at the last impact whose rows keep every
+tolerance below the limit, and says so (``notes.truncation`` of its settings, and :attr:`UserCase.message`).
+A row's tolerance depends on the rows before it only, so that impact is the last before the first row over
+the limit.  Why 1e-6 by default: an impact time (or velocity) off by 1e-6 then fails every generated case at
+every row, and every row's tolerance is 10 times the error of a correct implementation there: a wrong
+implementation whose error exceeds the correct one's by more than that factor fails.  A smaller limit gives a
+shorter case.  An impact that cannot be certified (a tangency the balls cannot separate, a flight longer than
+``T_MAX`` that is not proven to never land) ends the case in the same way, at the last certified impact; so
+does a flight that turns back closer to a wall than :data:`NEAR_MISS_SAFETY` times the gap error of a correct
+implementation (:func:`near_miss_limit`: it may take such a near miss for a contact), and a graze whose
+excursion beyond the wall lies within 10 gap errors (:attr:`conditioning.RowErrors.fragile`: it may miss it).
 
-:func:`build_user_cases` builds many (``--from FILE``: one process, the JAX functions of the
-amplification rule compiled once), :func:`write_user_case` writes a folder and :func:`update_index`
-the suite's ``index.json`` (its other fields kept).
+:func:`build_user_cases` builds many (``--from FILE``: one process, the JAX functions of the tolerance rule
+compiled once), :func:`write_user_case` writes a folder and :func:`update_index` the suite's ``index.json``
+(its other fields kept).
 """
 
 from __future__ import annotations
@@ -38,6 +35,7 @@ import re
 from dataclasses import dataclass, replace
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from ...core.checks import check_int, check_real
 from ...core.params import PARAM_NAMES, RANGES, Params, check_value
@@ -45,11 +43,15 @@ from ...mapimpl import certified as cert
 from ...mapimpl.sticking import STICK_TIME
 from . import generate
 from .catalog import INDEX_NAME, build_index
-from .conditioning import round_up_1
-from .contacts import GAP_BUDGET
 
-#: Every tolerance of a generated case lies below this (module docstring).
+import numpy as np
+
+#: Every tolerance of a generated case lies below this by default (module docstring).
 TOLERANCE_LIMIT = 1e-6
+#: The limits a case may ask for (``max_tolerance``): no row's tolerance is below ~1e-14 (10 times half an
+#: ulp of 2 pi), and one of 1e-3 or more would check nothing.
+MIN_TOLERANCE_LIMIT, MAX_TOLERANCE_LIMIT = 1e-14, 1e-3
+TOLERANCE_RANGE = f"{MIN_TOLERANCE_LIMIT:g} <= max_tolerance <= {MAX_TOLERANCE_LIMIT:g}"
 #: Impacts a case may ask for, and the first length certified (doubled until the case is decided).
 MAX_CASE_IMPACTS, FIRST_CHUNK = 100_000, 64
 #: The largest |tau0| and |sdot0| of an input (the command line's ranges, :func:`cliutil.tau0_type`).
@@ -226,46 +228,26 @@ def _spec(inp: CaseInput, n_impacts: int) -> generate.Spec:
     )
 
 
-def graze_tolerance(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[float, str] | None:
-    """The graze rule for any orbit: at every impact reached by a flight against the pull of the force
-    (the acceleration ``s'' = f - beta s'`` points away from the wall: the flight was turning back, its
-    un-reset continuation leaves the wall after a short excursion) the tolerance ``GAP_BUDGET / v`` at the
-    impact speed ``v``, rounded up to one digit; the largest, with its note, where it exceeds the case's
-    own 1e-9 (``None`` otherwise).  A contact reached with the force pressing is a chatter bounce: the
-    chatter rule's."""
-    p, worst = spec.params, None
-    for e in orb.events:
-        if e.kind != "impact" or (e.n == 0 and spec.s0 is None):
-            continue
-        v = cert.nearest_float(e.sdot)
-        acc = generate.forcing_in(p, cert.nearest_float(e.tau), 0) - p.beta * v
-        away = acc < 0 if e.wall == 0 else acc > 0
-        if away and v != 0 and (worst is None or abs(v) < abs(worst[1])):
-            worst = (e.n, v, e.wall)
-    if worst is None:
-        return None
-    t = round_up_1(GAP_BUDGET / abs(worst[1]))
-    if t <= generate.TOL["tau"]["abs"]:
-        return None
-    return t, (
-        f"graze: the slowest contact against the pull of the force, impact {worst[0]} (wall {worst[2]}), "
-        f"speed {abs(worst[1]):.4g}: {GAP_BUDGET:g} / v = {GAP_BUDGET / abs(worst[1]):.3g}, rounded up to one "
-        "digit (docs/golden.md, grazes and near misses)"
-    )
+#: A contact reached against the pull of the force (the flight was turning back) slower than this is a graze:
+#: the case is level 3 and catches ``skipped-graze`` (:func:`_level_and_catches`).
+GRAZE_SPEED = 0.1
 
 
-def ruled_spec(spec: generate.Spec, orb: cert.CertifiedOrbit) -> generate.Spec:
-    """``spec`` with the tolerances of every rule on ``orb`` (its own, graze, chatter, amplification)."""
-    g = graze_tolerance(spec, orb)
-    if g is not None:
-        spec = replace(spec, tolerances=generate.tol(g[0]), notes={**spec.notes, "graze_rule": g[1]})
-    return generate.with_amplification_rule(generate.with_chatter_rule(spec, orb), orb)
+def _first_over(tols: generate.RowTolerances, limit: float) -> tuple[int, str] | None:
+    """``(row, column)`` of the first row with a tolerance at or above ``limit``, or of a contact a correct
+    implementation may miss (column ``""``: :attr:`conditioning.RowErrors.fragile`); ``None`` if none."""
+    first = None if tols.errors.fragile is None else (tols.errors.fragile, "")
+    for c in generate.TOLERANCE_COLUMNS:
+        over = np.nonzero(np.nan_to_num(tols.values[c], nan=0.0) >= limit)[0]
+        if over.size and (first is None or over[0] < first[0]):
+            first = (int(over[0]), c)
+    return first
 
 
 #: A flight that turns back closer to a wall than this many times the gap error ``e`` of a correct float64
-#: implementation (:func:`conditioning.local_error`: ``2^-52 + 1e-12 h``) may be taken for a contact by one: a
-#: case stops before the impact that ends such a flight (the near-miss rule; the shipped near misses lie at
-#: 20 000 e, 1000 e and 9.9 e).
+#: implementation (:func:`conditioning.gap_error`: ``2 2^-52 + 3e-14 h`` for a flight within one period) may be
+#: taken for a contact by one: a case stops before the impact that ends such a flight (the near-miss rule; the
+#: shipped near misses lie at 6.6e6 e, 3.3e4 e and 330 e).
 NEAR_MISS_SAFETY = 10.0
 #: Samples of a flight per refinement when its turning points are searched (three refinements).
 TURN_SAMPLES = 257
@@ -278,8 +260,6 @@ def _turns(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float
     """The smallest distance to a wall at which the flight from ``(th0, s_start, v0)`` turns back before
     ``dt`` (interior extrema of ``s``, located by three rounds of :data:`TURN_SAMPLES` samples: the float64
     closed form, Eqs. 7-8); ``inf`` without a turning point."""
-    import numpy as np
-
     if not _FLIGHT:
         import jax
 
@@ -308,7 +288,7 @@ def _turns(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float
 def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int, str] | None:
     """``(impact, note)``: the first impact whose flight turns back within :data:`NEAR_MISS_SAFETY` times the
     gap error of a wall (the case must stop before it), or ``None``."""
-    from .conditioning import POSITION_STEP, FLIGHT_ERROR, flight_height
+    from .conditioning import flight_height, gap_error
 
     p = spec.params
     rows = generate.certified_rows(orb)
@@ -331,7 +311,7 @@ def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int,
         if start is not None:
             dt = tau - start[2]
             gap = _turns(p, start[0], start[1], start[3], dt)
-            e = POSITION_STEP + FLIGHT_ERROR * flight_height(p, start[0], start[1], dt)
+            e = gap_error(flight_height(p, start[0], start[1], dt), dt)
             if gap < NEAR_MISS_SAFETY * e:
                 return int(rows.n[i]), (
                     f"the flight to impact {int(rows.n[i])} turns back {gap:.3g} from a wall, "
@@ -340,10 +320,6 @@ def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int,
                 )
         prev, start = i, None
     return None
-
-
-def _loosest(spec: generate.Spec) -> float:
-    return max(v["abs"] for v in spec.tolerances.values())
 
 
 def _prefix(orb: cert.CertifiedOrbit, k: int) -> cert.CertifiedOrbit:
@@ -378,11 +354,11 @@ def _certify(inp: CaseInput, n: int, prec: int) -> tuple[cert.CertifiedOrbit | N
         inp.params, inp.tau0, inp.sdot0, n, s0=inp.s0, stick_time=inp.stick_time, prec=prec, progress=False
     )
     last = run.impacts_certified - 1
-    kw = dict(
+    kw: dict[str, Any] = dict(
         s0=inp.s0,
         prec=run.precision,
         stick_time=inp.stick_time,
-        radius_limit=generate.RADIUS_FRACTION * generate.TOL["tau"]["abs"],
+        radius_limit=generate.RADIUS_LIMIT,
     )
     if last < 0:
         return None, run.reason
@@ -424,74 +400,94 @@ class CaseError(Exception):
     """An input whose case cannot be built (not even impact 0 within the rules); one line."""
 
 
-def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
-    """Certify ``inp``, set its tolerances by every rule and apply the horizon rule (module docstring).
-    Raises :class:`CaseError` where no prefix of the orbit is certified within the limit."""
+def check_max_tolerance(value) -> float:
+    """``max_tolerance`` of :func:`build_user_case`, validated (``ValueError`` naming it and its range)."""
+    return check_real("max_tolerance", value, MIN_TOLERANCE_LIMIT, MAX_TOLERANCE_LIMIT, allowed=TOLERANCE_RANGE)
+
+
+def _cut(
+    inp: CaseInput, orb: cert.CertifiedOrbit, over: tuple[int, str], limit: float
+) -> tuple[cert.CertifiedOrbit, str]:
+    """The orbit up to the last impact before the row ``over`` (whose tolerance reaches ``limit``, or whose
+    contact a correct implementation may miss) and why; :class:`CaseError` where no impact is left."""
+    row, col = over
+    ev = orb.events[row]
+    last = ev.n - 1 if ev.kind == "impact" else ev.n  # a stick/release row comes after its impact
+    tols = generate.row_tolerances(_spec(inp, inp.impacts), orb)
+    if col:
+        why = (
+            f"with impact {ev.n} the tolerance of a correct float64 implementation would be {col} "
+            f"{tols.values[col][row]:.2g} (line {row + 2} of expected.csv, the error of impact "
+            f"{int(tols.errors.source[row])} carried there), not below the limit {limit:g}"
+        )
+    else:
+        why = f"impact {ev.n} is a graze that a correct float64 implementation may miss (its excursion is within 10 gap errors)"
+    if last < 0:
+        raise CaseError(f"case {inp.id}: {why} (no impact within the limit)")
+    return _prefix(orb, last), why
+
+
+def build_user_case(inp: CaseInput, prec: int = cert.PREC, max_tolerance: float = TOLERANCE_LIMIT) -> UserCase:
+    """Certify ``inp``, set the tolerance of every row (:func:`generate.row_tolerances`) and apply the horizon
+    rule with the limit ``max_tolerance`` (module docstring).  Raises :class:`CaseError` where no prefix of the
+    orbit is certified within the limit, ``ValueError`` for a limit out of range."""
+    limit = check_max_tolerance(max_tolerance)
     n = min(inp.impacts, FIRST_CHUNK)
     while True:
         orb, why = _certify(inp, n, prec)
         if orb is None:
             raise CaseError(f"case {inp.id}: impact 0 is not certified: {why}")
-        ruled = ruled_spec(_spec(inp, inp.impacts), orb)
-        over = _loosest(ruled) >= TOLERANCE_LIMIT
+        over = _first_over(generate.row_tolerances(_spec(inp, inp.impacts), orb), limit)
         if over or why or orb.status != "active" or n >= inp.impacts:
             break
         n = min(2 * n, inp.impacts)
-    reason = ""
+    reason = why
     miss = near_miss_limit(_spec(inp, inp.impacts), orb)
     if miss is not None:
         if miss[0] == 0:
             raise CaseError(f"case {inp.id}: {miss[1]} (no impact before it)")
-        orb, why = _prefix(orb, miss[0] - 1), miss[1]
-        ruled = ruled_spec(_spec(inp, inp.impacts), orb)
-        over = _loosest(ruled) >= TOLERANCE_LIMIT
+        orb, reason = _prefix(orb, miss[0] - 1), miss[1]
+        over = _first_over(generate.row_tolerances(_spec(inp, inp.impacts), orb), limit)
     if over:
-        last = _last_impact(orb)
-        lo, hi = -1, last  # prefix lo within the limit (-1: none), the whole orbit (hi) over it
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if _loosest(ruled_spec(_spec(inp, mid), _prefix(orb, mid))) < TOLERANCE_LIMIT:
-                lo = mid
-            else:
-                hi = mid
-        bad = ruled_spec(_spec(inp, hi), _prefix(orb, hi) if hi < last or orb.status == "active" else orb)
-        cols = ", ".join(f"{c} {v['abs']:g}" for c, v in bad.tolerances.items() if c != "tau_mod_2pi")
-        rules = [k for k in ("graze_rule", "tolerance_rule") if k in bad.notes]
-        rules += ["amplification"] if bad.notes["amplification"]["sets"] else []
-        where = bad.notes["amplification"]
-        reason = (
-            f"with impact {hi} the tolerance of a correct float64 implementation would be {cols} (rules: "
-            f"{', '.join(rules)}; amplified tau error {where['tau_error']:.3g} at {where['tau_worst']}), not "
-            f"below the limit {TOLERANCE_LIMIT:g}"
-        )
-        if lo < 0:
-            raise CaseError(f"case {inp.id}: {reason} (no impact within the limit)")
-        orb = _prefix(orb, lo)
-    elif why:
-        reason = why
+        orb, reason = _cut(inp, orb, over, limit)
     kept = _last_impact(orb) if reason else inp.impacts
-    # the rules do not depend on the length asked for: the orbit's spec serves unless it was cut since
-    spec = replace(ruled, n_impacts=kept) if not over else ruled_spec(_spec(inp, kept), orb)
+    spec = _spec(inp, kept)
+    tols = generate.row_tolerances(spec, orb)
     truncation = None
+    notes = {"tolerances": tols.note()}
     if reason:
         truncation = {
             "requested_impacts": inp.impacts,
             "kept_impacts": kept,
-            "limit": TOLERANCE_LIMIT,
+            "limit": limit,
             "reason": reason,
-            "rule": f"the case stops at the last impact whose rows keep every tolerance below "
-            f"{TOLERANCE_LIMIT:g}, or at the last certified impact (docs/golden.md, asking the "
-            "oracle)",
+            "rule": f"the case stops at the last impact whose rows keep every tolerance below {limit:g}, or at "
+            "the last certified impact (docs/golden.md, asking the oracle)",
         }
-        spec = replace(spec, tags=spec.tags + ("truncated",), notes={**spec.notes, "truncation": truncation})
-    text = generate.expected_csv(orb)
-    settings = generate.settings_json(spec, orb)
+        notes["truncation"] = truncation
+    spec = replace(spec, tags=spec.tags + (("truncated",) if reason else ()), notes={**spec.notes, **notes})
+    text = generate.expected_csv(orb, tols)
+    settings = generate.settings_json(spec, orb, tols)
     settings["level"], settings["catches"] = _level_and_catches(spec, orb)
     radii = generate.radius_stats(text, orb)
     radii.pop("_rows")
     prov = generate.provenance_json(spec, orb, radii, None)
     prov["generator"] = "gear-rattle case"
     return UserCase(inp, settings, text, prov, truncation)
+
+
+def _has_graze(spec: generate.Spec, orb: cert.CertifiedOrbit) -> bool:
+    """Whether a contact reached by a flight against the pull of the force (``s'' = f - beta s'`` points away
+    from the wall) is slower than :data:`GRAZE_SPEED`."""
+    p = spec.params
+    for e in orb.events:
+        if e.kind != "impact" or (e.n == 0 and spec.s0 is None):
+            continue
+        v = cert.nearest_float(e.sdot)
+        acc = generate.forcing_in(p, cert.nearest_float(e.tau), 0) - p.beta * v
+        if (acc < 0 if e.wall == 0 else acc > 0) and abs(v) < GRAZE_SPEED:
+            return True
+    return False
 
 
 def _level_and_catches(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int, list[str]]:
@@ -518,9 +514,10 @@ def _level_and_catches(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[i
         catches.append("no-impact-ending")
     if spec.params.r == 1.0:
         catches.append("elastic-r1")
-    if "graze_rule" in spec.notes:
+    graze = _has_graze(spec, orb)
+    if graze:
         catches.append("skipped-graze")
-    level = 3 if (orb.status == "no_impact" or "graze_rule" in spec.notes) else (2 if "stick" in kinds else 1)
+    level = 3 if (orb.status == "no_impact" or graze) else (2 if "stick" in kinds else 1)
     return level, catches
 
 

@@ -14,6 +14,7 @@ This module needs only numpy (no interval library), so ``gear-rattle check`` run
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -34,6 +35,12 @@ COLUMNS = ("n", "tau", "tau_mod_2pi", "wall", "sdot", "kind")
 RADIUS_COLUMNS = ("tau_radius", "tau_mod_2pi_radius", "sdot_radius")
 #: Columns compared with tolerances; the others must match exactly.
 TOLERANCE_COLUMNS = ("tau", "tau_mod_2pi", "sdot")
+#: Extra columns of ``expected.csv`` (suite 2.0.0): the absolute tolerance of each row, per tolerance column.
+ROW_TOLERANCE_COLUMNS = {"tau": "tau_tol", "tau_mod_2pi": "tau_mod_2pi_tol", "sdot": "sdot_tol"}
+#: ``settings.json``'s ``row_tolerances``: where the per-row tolerances are.  A case without it (a suite
+#: built before 2.0.0) has one absolute tolerance per column, ``tolerances[c]["abs"]``, for every row.
+ROW_TOLERANCES_POINTER = {"file": "expected.csv", "columns": ROW_TOLERANCE_COLUMNS}
+_TOLERANCE_OF = {v: k for k, v in ROW_TOLERANCE_COLUMNS.items()}
 EXACT_COLUMNS = ("n", "wall", "kind")
 KINDS = ("impact", "stick", "release")
 #: The levels of the cases (docs/golden.md, "Cases"); the orbit records are level 2.
@@ -67,24 +74,30 @@ class Sequence:
 
 @dataclass
 class Case:
-    """One golden case: its folder, settings and expected sequence."""
+    """One golden case: its folder, settings and expected sequence, and the absolute tolerance of each row
+    per tolerance column (``row_tol``; ``None`` for a case without per-row tolerances)."""
 
     id: str
     folder: Path
     settings: dict
     expected: Sequence
+    row_tol: dict | None = None
 
     @property
     def tolerances(self) -> dict:
-        """``settings.json``'s ``tolerances``: per column ``{"abs": a, "rel": q}`` (the case's loosest row)."""
+        """``settings.json``'s ``tolerances``: per column ``{"abs": a, "rel": q}`` (``a``: the case's loosest
+        row)."""
         return self.settings["tolerances"]
 
     def row_tolerances(self, column: str) -> tuple[np.ndarray, float]:
         """``(abs, rel)`` of a tolerance column: the absolute tolerance of every row (an array of the
-        expected rows' length) and the relative one; a value ``x`` of row ``i`` passes when
-        ``|x - golden_i| <= abs[i] + rel |golden_i|``."""
-        tol = self.tolerances[column]
-        return np.full(len(self.expected), float(tol["abs"])), float(tol["rel"])
+        expected rows' length: ``expected.csv``'s per-row column, or ``settings.json``'s ``abs`` for every
+        row of a case without them; 0 where a row has no value) and the relative one; a value ``x`` of row
+        ``i`` passes when ``|x - golden_i| <= abs[i] + rel |golden_i|``."""
+        rel = float(self.tolerances[column]["rel"])
+        if self.row_tol is None:
+            return np.full(len(self.expected), float(self.tolerances[column]["abs"])), rel
+        return np.nan_to_num(np.asarray(self.row_tol[column], dtype=float), nan=0.0), rel
 
     @property
     def level(self) -> int | None:
@@ -100,10 +113,27 @@ def _field(table: Table, rec, k: int, col: str, read):
         raise table.error(rec, k, f"column {col!r}: {rec.values[k]!r} {e}") from None
 
 
+def row_tolerance_value(value: str, column: str, kind: str) -> float:
+    """The one check of a per-row tolerance cell (``expected.csv``'s ``*_tol`` columns, docs/golden.md): a
+    decimal literal, finite and ``>= 0``; the ``sdot`` tolerance of a stick or release row (which has no
+    velocity) is empty, NaN here.  ``ValueError`` says what is wrong."""
+    if column == "sdot" and kind != "impact":
+        if not is_absent(value):
+            raise ValueError(f"on a {kind} row (must be empty: a stick/release row has no velocity)")
+        return math.nan
+    if is_absent(value):
+        raise ValueError("is missing (every row has a tolerance for this column)")
+    v = decimal_value(value)
+    if not v >= 0:
+        raise ValueError("is negative (a tolerance is >= 0)")
+    return v
+
+
 def read_sequence(path: str | Path, *, expected_rows: int | None = None, required_extra=()) -> Sequence:
     """Parse an impact-sequence CSV strictly (:func:`.csvformat.read_csv`, then the column forms of
-    docs/golden.md); raise :class:`MalformedFile` with a one-line message naming file, line and column
-    (:class:`MissingFile` when there is no file)."""
+    docs/golden.md; a per-row tolerance column of :data:`ROW_TOLERANCE_COLUMNS` among ``required_extra``
+    through :func:`row_tolerance_value`); raise :class:`MalformedFile` with a one-line message naming file,
+    line and column (:class:`MissingFile` when there is no file)."""
     table = read_csv(path)
     header, hrec = table.header.values, table.header
     for k, col in enumerate(COLUMNS):
@@ -148,7 +178,10 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
                 "(must be empty or nan: a stick/release row has no pre-impact velocity)",
             )
         for c in required_extra:
-            cols[c].append(_field(table, r, idx[c], c, lambda v: math.nan if is_absent(v) else decimal_value(v)))
+            if c in _TOLERANCE_OF:
+                cols[c].append(_field(table, r, idx[c], c, lambda v: row_tolerance_value(v, _TOLERANCE_OF[c], kind)))
+            else:
+                cols[c].append(_field(table, r, idx[c], c, lambda v: math.nan if is_absent(v) else decimal_value(v)))
     extra = {c: np.asarray(cols[c], dtype=float) for c in required_extra}
     return Sequence(
         table.path,
@@ -215,8 +248,13 @@ def load_case(folder: str | Path) -> Case:
             and all(_is_number(tol[k]) and tol[k] >= 0 for k in ("abs", "rel"))
         ):
             raise doc.error(("tolerances", c), "must be {'abs': a number >= 0, 'rel': a number >= 0}")
-    exp = read_sequence(folder / "expected.csv", expected_rows=settings["expected_rows"], required_extra=RADIUS_COLUMNS)
-    return Case(settings["id"], folder, settings, exp)
+    per_row = "row_tolerances" in settings
+    if per_row and settings["row_tolerances"] != ROW_TOLERANCES_POINTER:
+        raise doc.error(("row_tolerances",), f"must be {json.dumps(ROW_TOLERANCES_POINTER)}")
+    extra = RADIUS_COLUMNS + (tuple(ROW_TOLERANCE_COLUMNS.values()) if per_row else ())
+    exp = read_sequence(folder / "expected.csv", expected_rows=settings["expected_rows"], required_extra=extra)
+    row_tol = {c: exp.extra[k] for c, k in ROW_TOLERANCE_COLUMNS.items()} if per_row else None
+    return Case(settings["id"], folder, settings, exp, row_tol)
 
 
 def case_ids(suite: str | Path = DEFAULT_SUITE) -> list[str]:

@@ -32,7 +32,7 @@ from pathlib import Path
 #: The suite's semantic version: raise it, and add its changelog entry to docs/golden.md ("Versions
 #: of the suite"), whenever a file of ``cases/`` or ``orbits/`` changes; then regenerate
 #: ``cases/index.json`` (``python -m gear_rattle.validation.golden.generate`` or :func:`catalog.write_index`).
-SUITE_VERSION = "1.0.0"
+SUITE_VERSION = "2.0.0"
 #: The suite's name in reports.
 SUITE_NAME = "gear-rattle golden suite"
 #: The folders of the suite (beside each other in the package: ``validation/golden/``).
@@ -125,7 +125,7 @@ class SuiteInfo:
 
     @property
     def label(self) -> str:
-        """``1.0.0`` or, for files that differ from the recorded version's, ``1.0.0+modified``; a folder
+        """``2.0.0`` or, for files that differ from the recorded version's, ``2.0.0+modified``; a folder
         whose index records no digest is ``unversioned``."""
         if self.recorded_digest is None:
             return self.version
@@ -219,5 +219,5 @@ def _same(a: Path, b: Path) -> bool:
 
 
 def version_line() -> str:
-    """``golden suite 1.0.0`` (the package's recorded version) for ``gear-rattle --version``."""
+    """``golden suite 2.0.0`` (the package's recorded version) for ``gear-rattle --version``."""
     return f"golden suite {recorded().get('version', 'unversioned')}"
