@@ -269,6 +269,9 @@ def case_verdict(cid: str, data: bytes, suite: Path = DEFAULT_SUITE) -> str:
     try:
         exp_data = (suite / cid / "expected.csv").read_bytes()
         exp, tols = read_rows(exp_data), read_tolerances(exp_data, settings)
+    except Malformed:
+        return "malformed-suite"
+    try:
         got = read_rows(data)
     except Malformed:
         return "malformed"
@@ -454,13 +457,14 @@ def run_check(folder: Path, cid: str, orbits: bool, suite: Path | None = None) -
     return rc, err.getvalue().splitlines()
 
 
-EXIT = {"right": 0, "wrong": 1, "malformed": 1}  # a malformed output is an error of its case: exit 1
+# a malformed output is an error of its case (exit 1); a malformed suite is a usage error (exit 2)
+EXIT = {"right": 0, "wrong": 1, "malformed": 1, "malformed-suite": 2}
 
 
 def _agree(verdict: str, rc: int, err: list[str], data: bytes) -> None:
-    assert rc in (0, 1)
+    assert rc in (0, 1, 2)
     assert rc == EXIT[verdict], (verdict, rc, err, data[:300])
-    if verdict == "malformed":  # told apart from a wrong answer by its one line on stderr
+    if verdict.startswith("malformed"):  # told apart from a wrong answer by its one line on stderr
         assert len(err) == 1 and "line " in err[0] and ", column " in err[0], err
     else:
         assert err == [], (verdict, err, data[:300])
