@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import argparse
 from functools import partial
-from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
 from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
+    from ..golden.boundary import member
     from ..golden.orbit_float64 import float64_values
     from ..io import write_json
 
@@ -24,7 +24,7 @@ def _self_values(records, write: str | None) -> dict:
     for rec in records:
         d, values = float64_values(rec)
         if write:
-            values.path = write_output(Path(write) / f"{rec.id}.json", write_json, d)
+            values.path = write_output(member(write, rec.id, ".json"), write_json, d)
         out[rec.id] = values
     return out
 
@@ -55,9 +55,13 @@ def run_orbits(args: argparse.Namespace) -> int:
     if args.self_check:
         values = _self_values(records, args.out)
     else:
+        from ..golden.boundary import member
+
         root = check_input_path(args.path, "PATH", directory=True)
         values, errors = read_outputs(
-            {rec.id: partial(read_values, root / f"{rec.id}.json", rec) for rec in records}, MalformedFile, MissingFile
+            {rec.id: partial(read_values, member(root, rec.id, ".json"), rec, root) for rec in records},
+            MalformedFile,
+            MissingFile,
         )
         if errors:
             return report_malformed(args, records, errors, info, orbits=True)

@@ -17,12 +17,15 @@ def suite_header(args: argparse.Namespace, folder: Path, part: str):
     """The :class:`golden.version.SuiteInfo` of the suite scored (``folder``: its cases or orbits), for the
     header and the reports; with ``--require-suite VERSION`` a one-line error unless it is that version
     with its files unmodified."""
+    from ..golden.textformat import MalformedFile
     from ..golden.version import suite_info
 
     try:
         info = suite_info(folder, part)
     except OSError as e:
         raise CliError(f"--suite: cannot read {str(folder)!r}: {e.strerror or e}") from None
+    except MalformedFile as e:
+        raise CliError(f"suite: {e}") from None
     if args.require_suite is not None and not (info.version == args.require_suite and info.matches):
         raise CliError(
             f"--require-suite {args.require_suite}: the suite is {info.label} "
@@ -94,6 +97,7 @@ def score_and_report(
     """Score each case or orbit record (``items``) on its output (``outputs[id]``; None: the file
     ``root/<id><suffix>`` is missing, a failing "no output"), timing each, and :func:`report` the results
     (``result(item, score)``: :func:`golden.results.case_result` or ``orbit_result``)."""
+    from ..golden.boundary import member
     from ..golden.suite import MalformedFile
 
     results, times = [], {}
@@ -103,7 +107,7 @@ def score_and_report(
         try:
             if got is None:
                 assert root is not None, "an output is missing only where it is read from root (not with --self)"
-                sc = no_output(item, root / f"{item.id}{suffix}")
+                sc = no_output(item, member(root, item.id, suffix))
             else:
                 sc = score(item, got)
         except MalformedFile as e:

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 from functools import partial
-from pathlib import Path
 
 from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir, to_stdout
 from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
@@ -156,6 +155,7 @@ def _levels(text: str) -> list[int]:
 
 
 def _self_outputs(cases, track: str, write: str | None):
+    from ..golden.boundary import member
     from ..golden.suite import run_case, sequence_from_impacts
     from ..io import write_csv
 
@@ -170,7 +170,7 @@ def _self_outputs(cases, track: str, write: str | None):
         seq = run_case(case, track)
         label = f"<{track} track, case {case.id}>"
         if write:
-            label = write_output(Path(write) / f"{case.id}.csv", write_csv, *seq.table())
+            label = write_output(member(write, case.id, ".csv"), write_csv, *seq.table())
         out[case.id] = sequence_from_impacts(seq, label)
     return out
 
@@ -218,9 +218,13 @@ def run(args: argparse.Namespace) -> int:
     if args.self_check:
         outputs = _self_outputs(cases, args.track, args.out)
     else:
+        from ..golden.boundary import member
+
         root = check_input_path(args.path, "PATH", directory=True)
         outputs, errors = read_outputs(
-            {case.id: partial(read_sequence, root / f"{case.id}.csv") for case in cases}, MalformedFile, MissingFile
+            {case.id: partial(read_sequence, member(root, case.id, ".csv"), inside=root) for case in cases},
+            MalformedFile,
+            MissingFile,
         )
         if errors:
             return report_malformed(args, cases, errors, info, orbits=False)
