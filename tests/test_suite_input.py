@@ -218,6 +218,13 @@ HOSTILE = [
     ("case folder a link out", "cases", None, REFUSED, "outside"),  # made in the test (needs the copy)
     ("index.json a pipe", "cases", _fifo("suite", "index.json"), HANDLED, "golden suite unversioned"),
     ("index.json a folder", "cases", _dir("suite", "index.json"), HANDLED, "golden suite unversioned"),
+    (
+        "index.json naming the suite with an escape code",
+        "cases",
+        _text("index.json", '{"suite": {"name": "\\u001b[2J"}}'),
+        HANDLED,
+        "\\x1b[2J",
+    ),
     ("provenance.json a link out", "cases", _link("suite", f"{CASE}/provenance.json", _outside), REFUSED, "outside"),
     # file kinds in the implementation's output folder
     ("output a pipe", "out", _fifo("out", f"{CASE}.csv"), REFUSED, "named pipe"),
@@ -264,7 +271,7 @@ def _hostile_setup(tmp_path: Path, label: str, part: str, change):
 def test_a_hostile_suite_is_refused_in_one_line(label, part, change, expected, word, tmp_path, capsys):
     suite, out = _hostile_setup(tmp_path, label, part, change)
     before = sorted(p.name for p in tmp_path.iterdir())
-    args = ["check", str(out), "--suite", str(suite), "--quiet", "--summary"]
+    args = ["check", str(out), "--suite", str(suite), "--quiet"]
     if part == "orbits":
         args = ["check", "--orbits", "--self", "--suite", str(suite), "--out", str(out / "self"), "--quiet"]
     rc, stdout, err = run_cli(args, capsys)
@@ -274,6 +281,7 @@ def test_a_hostile_suite_is_refused_in_one_line(label, part, change, expected, w
     else:
         assert rc == 0 and "Traceback" not in err, err
         assert word in stdout or word in err, (stdout, err)
+        assert "\x1b" not in stdout + err, "an escape code reached the terminal raw"
     assert sorted(p.name for p in tmp_path.iterdir()) == before, "something was written beside the folders"
 
 

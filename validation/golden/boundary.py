@@ -59,6 +59,13 @@ def shown(value) -> str:
     return text if len(text) <= SHOWN_CHARS else text[: SHOWN_CHARS - 3] + "..."
 
 
+def printable(value) -> str:
+    """``value`` as text for a message or a table: itself where it is a printable string of at most
+    :data:`SHOWN_CHARS` characters, else :func:`shown` (a suite's name from its ``index.json`` may hold
+    ``\u001b``, which JSON unescapes into an escape code)."""
+    return value if isinstance(value, str) and value.isprintable() and len(value) <= SHOWN_CHARS else shown(value)
+
+
 def reserved(name: str) -> bool:
     """Whether ``name`` is a name of the suite's own files or a Windows device name (module docstring)."""
     low = name.lower()

@@ -328,8 +328,8 @@ def read_input_file(path: str | Path) -> InputFile:
     if not entries:
         raise ValueError(f"--from {path}: no inputs")
     good, problems = [], []
-    for where, e in entries:
-        got = e if isinstance(e, InputProblem) else _entry(e, where)
+    for where, entry in entries:
+        got = entry if isinstance(entry, InputProblem) else _entry(entry, where)
         (problems.append((where, got)) if isinstance(got, InputProblem) else good.append((where, got)))
     inputs, dups = _duplicates(good)
     order = {w: k for k, (w, _) in enumerate(entries)}

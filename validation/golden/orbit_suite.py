@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .boundary import MAX_CASES, check_id, check_tolerance, shown
+from .boundary import check_id, check_tolerance, shown
 from .jsonformat import JsonDoc, read_json
 from .paths import DEFAULT_ORBITS
 from .suite import (
@@ -34,6 +34,7 @@ from .suite import (
     MalformedFile,
     MissingFile,
     checked_at,
+    checked_ids,
     circular_distance_exact,
     read_suite_json,
     select_ids,
@@ -158,17 +159,8 @@ def record_ids(folder: str | Path = DEFAULT_ORBITS) -> list[str]:
     folder = Path(folder)
     if not folder.is_dir():
         raise MalformedFile(f"{folder}: orbit suite directory not found")
-    ids = []
-    for p in folder.glob("*.json"):
-        if p.name.endswith(MANIFEST_SUFFIX):
-            continue
-        try:
-            ids.append(check_id(p.stem, "orbit record file"))
-        except ValueError as e:
-            raise MalformedFile(f"{folder}: {e}") from None
-        if len(ids) > MAX_CASES:
-            raise MalformedFile(f"{folder}: more than {MAX_CASES} orbit records (the limit of a suite)")
-    return sorted(ids)
+    names = (p.stem for p in folder.glob("*.json") if not p.name.endswith(MANIFEST_SUFFIX))
+    return checked_ids(folder, names, "orbit record file")
 
 
 def load_records(

@@ -284,16 +284,25 @@ def case_ids(suite: str | Path = DEFAULT_SUITE) -> list[str]:
     suite = Path(suite)
     if not suite.is_dir():
         raise MalformedFile(f"{suite}: suite directory not found")
+    names = (
+        p.name
+        for p in suite.iterdir()
+        if not p.name.startswith(".") and p.is_dir() and os.path.lexists(p / "settings.json")
+    )
+    return checked_ids(suite, names, "case folder")
+
+
+def checked_ids(folder: Path, names, what: str) -> list[str]:
+    """The sorted ``names`` found in ``folder``, each an id (:func:`.boundary.check_id`) and at most
+    :data:`.boundary.MAX_CASES` of them; a :class:`MalformedFile` naming the folder otherwise."""
     ids = []
-    for p in suite.iterdir():
-        if p.name.startswith(".") or not (p.is_dir() and os.path.lexists(p / "settings.json")):
-            continue
+    for name in names:
         try:
-            ids.append(check_id(p.name, "case folder"))
+            ids.append(check_id(name, what))
         except ValueError as e:
-            raise MalformedFile(f"{suite}: {e}") from None
+            raise MalformedFile(f"{folder}: {e}") from None
         if len(ids) > MAX_CASES:
-            raise MalformedFile(f"{suite}: more than {MAX_CASES} case folders (the limit of a suite)")
+            raise MalformedFile(f"{folder}: more than {MAX_CASES} {what}s (the limit of a suite)")
     return sorted(ids)
 
 

@@ -28,6 +28,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from .boundary import printable
 from .jsonformat import read_json
 from .textformat import MAX_BYTES, MalformedFile, open_regular
 
@@ -195,9 +196,9 @@ def suite_info(folder: str | Path, part: str) -> SuiteInfo:
         part,
         folder,
         folder_digest(folder),
-        str(block.get("version", "unversioned")),
+        printable(block.get("version", "unversioned")),
         block.get(f"{part}_digest"),
-        str(block.get("name", "suite without a recorded version")),
+        printable(block.get("name", "suite without a recorded version")),
     )
 
 
