@@ -208,9 +208,10 @@ def _entry(values: dict, where: str) -> CaseInput | InputProblem:
         fields = ", ".join(map(shown, unknown))
         allowed = ", ".join(REQUIRED_FIELDS + OPTIONAL_FIELDS)
         return InputProblem(where, {"": f"unknown field(s) {fields} (allowed: {allowed})"})
-    bad = {k: "missing (a value is needed)" for k in REQUIRED_FIELDS if _blank(values.get(k))}
+    missing = {k: "missing (a value is needed)" for k in REQUIRED_FIELDS if _blank(values.get(k))}
     out, problems = checked_fields({k: (None if _blank(v) else v) for k, v in values.items()})
-    bad.update({k: r for k, r in problems.items() if k not in bad})
+    bad = {**problems, **missing}
+    bad = {k: bad[k] for k in (*REQUIRED_FIELDS, *OPTIONAL_FIELDS) if k in bad}  # in field order
     return InputProblem(where, bad) if bad else _input(out)
 
 
