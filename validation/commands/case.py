@@ -214,9 +214,11 @@ def _check_suite(suite: Path, inputs: list, replace: bool, out: str) -> None:
     index_text(suite)  # the suite as it is must read (ValueError: one line) before minutes are spent
 
 
-def _commit(suite: Path, built: list) -> None:
-    """Write the cases and the index that lists them into a staging folder in the suite, then move them
-    all in at once (:func:`io.atomic.staged`): a full disk or an error leaves the suite as it was."""
+def commit_cases(suite: Path, built: list) -> None:
+    """Write the cases (:class:`golden.ondemand.UserCase`) and the index that lists them into a staging
+    folder in the suite, then move them all in at once (:func:`io.atomic.staged`): a full disk or an error
+    leaves the suite as it was.  The caller holds the suite's lock (:func:`writelock.suite_lock`); ``fuzz``
+    may write its findings the same way."""
     from ..golden.ondemand import INDEX_NAME, index_text, write_user_case
     from ..io.atomic import staged, write_text_atomic
 
@@ -258,7 +260,7 @@ def run(args: argparse.Namespace) -> int:
             if case.message:
                 note(case.message)
         if built:
-            _commit(suite, built)
+            commit_cases(suite, built)
     if failed:
         raise CommandFailed(
             f"{failed} of {len(inputs) + len(problems)} input(s) have no case (named above); "
