@@ -9,10 +9,16 @@ with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scor
 from __future__ import annotations
 
 import argparse
-from functools import partial
 
 from ..cliutil import CliError, check_input_path
-from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
+from ._check_scoring import (
+    no_selection,
+    read_output_folder,
+    report_malformed,
+    score_and_report,
+    suite_header,
+    write_output,
+)
 
 
 def _self_values(records, write: str | None) -> dict:
@@ -34,7 +40,6 @@ def run_orbits(args: argparse.Namespace) -> int:
     from ..golden.orbit_suite import (
         DEFAULT_ORBITS,
         MalformedFile,
-        MissingFile,
         load_records,
         no_output_score,
         read_values,
@@ -55,14 +60,7 @@ def run_orbits(args: argparse.Namespace) -> int:
     if args.self_check:
         values = _self_values(records, args.out)
     else:
-        from ..golden.boundary import member
-
-        root = check_input_path(args.path, "PATH", directory=True)
-        values, errors = read_outputs(
-            {rec.id: partial(read_values, member(root, rec.id, ".json"), rec, root) for rec in records},
-            MalformedFile,
-            MissingFile,
-        )
+        root, values, errors = read_output_folder(args.path, records, ".json", read_values)
         if errors:
             return report_malformed(args, records, errors, info, orbits=True)
     return score_and_report(

@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, to_stdout
@@ -115,6 +116,20 @@ def score_and_report(
         results.append(result(item, sc))
         times[item.id] = time.perf_counter() - t0
     return report(args, results, info, orbits=orbits, times=times)
+
+
+def read_output_folder(path: str, items, suffix: str, read) -> tuple[Path, dict, dict]:
+    """``(root, outputs, problems)`` of the implementation's folder ``PATH``: each item's file
+    ``<id><suffix>``, its path built from the validated id (:func:`golden.boundary.member`), read by
+    ``read(file, item, root)`` as a regular file inside the folder (:func:`read_outputs`)."""
+    from ..cliutil import check_input_path
+    from ..golden.boundary import member
+    from ..golden.suite import MalformedFile, MissingFile
+
+    root = check_input_path(path, "PATH", directory=True)
+    reads = {item.id: partial(read, member(root, item.id, suffix), item, root) for item in items}
+    outputs, errors = read_outputs(reads, MalformedFile, MissingFile)
+    return root, outputs, errors
 
 
 def read_outputs(reads: dict, malformed, missing=None) -> tuple[dict, dict]:

@@ -22,10 +22,16 @@ files needs numpy alone (pip install --no-deps gear-rattle numpy); --self needs 
 from __future__ import annotations
 
 import argparse
-from functools import partial
 
 from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir, to_stdout
-from ._check_scoring import no_selection, read_outputs, report_malformed, score_and_report, suite_header, write_output
+from ._check_scoring import (
+    no_selection,
+    read_output_folder,
+    report_malformed,
+    score_and_report,
+    suite_header,
+    write_output,
+)
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -181,7 +187,6 @@ def run(args: argparse.Namespace) -> int:
     from ..golden.suite import (
         DEFAULT_SUITE,
         MalformedFile,
-        MissingFile,
         load_suite,
         no_output_score,
         read_sequence,
@@ -218,13 +223,8 @@ def run(args: argparse.Namespace) -> int:
     if args.self_check:
         outputs = _self_outputs(cases, args.track, args.out)
     else:
-        from ..golden.boundary import member
-
-        root = check_input_path(args.path, "PATH", directory=True)
-        outputs, errors = read_outputs(
-            {case.id: partial(read_sequence, member(root, case.id, ".csv"), inside=root) for case in cases},
-            MalformedFile,
-            MissingFile,
+        root, outputs, errors = read_output_folder(
+            args.path, cases, ".csv", lambda path, case, root: read_sequence(path, inside=root)
         )
         if errors:
             return report_malformed(args, cases, errors, info, orbits=False)
