@@ -10,7 +10,9 @@
 * ``message`` -- one line: the status' message, or for many orbits the count of each code with its message.
 
 A result type mixes in :class:`Outcome`; it has a ``status`` attribute (a field or a property) and may
-narrow :attr:`Outcome.OK_CODES`.
+narrow :attr:`Outcome.OK_CODES`.  A result type whose ``status`` is a field refuses, when it is built, a
+status that is not one of its own (:func:`check_status`: ``ValueError`` naming ``status``) and arrays of
+inconsistent shapes (:func:`check_lengths`), so a result never says ``ok`` about data that make no sense.
 """
 
 from __future__ import annotations
@@ -47,6 +49,43 @@ def is_ok(status, ok_codes: frozenset = ANSWERS) -> bool:
     return bool(np.all(np.isin(status_codes(status), [int(s) for s in ok_codes])))
 
 
+def check_status(status, allowed) -> None:
+    """``ValueError`` naming ``status`` unless it is the label of one of the :class:`Status` ``allowed``
+    (a result of one computation) or an integer array whose every code is one of them (a result of many)."""
+    labels = ", ".join(s.label for s in allowed)
+    if isinstance(status, str):
+        if status not in {s.label for s in allowed}:
+            raise ValueError(f"status={status!r} is out of range: allowed one of {labels}")
+        return
+    codes = np.asarray(status)
+    if codes.dtype.kind not in "iu" or not np.isin(codes, [int(s) for s in allowed]).all():
+        raise ValueError(
+            f"status={short_repr(status)} is out of range: allowed codes of {labels} "
+            f"({', '.join(str(int(s)) for s in allowed)}), as an integer array"
+        )
+
+
+def check_lengths(what: str, length: int | None = None, /, **arrays) -> int:
+    """The common length of the 1-D ``arrays`` (``length`` where given, else the first one's);
+    ``ValueError`` naming the first that differs (``what``: whose arrays they are) otherwise."""
+    first = next(iter(arrays))
+    for k, v in arrays.items():
+        shape = np.shape(v)
+        if length is None and len(shape) == 1:
+            length = shape[0]
+        if shape != (length,):
+            want = "a 1-D array" + (f" of length {length}" if length is not None else "")
+            raise ValueError(f"{k} has shape {shape}: allowed {want} (the length of {first}; {what})")
+    assert length is not None
+    return length
+
+
+def short_repr(value) -> str:
+    """``repr(value)`` cut to 60 characters (a message naming a bad value)."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 class Outcome:
     """The ``ok`` / ``message`` of a result with a ``status`` (see the module docstring)."""
 
@@ -64,4 +103,4 @@ class Outcome:
         return describe(status_codes(self.status))  # type: ignore[attr-defined]
 
 
-__all__ = ["ANSWERS", "Outcome", "describe", "is_ok", "status_codes"]
+__all__ = ["ANSWERS", "Outcome", "check_lengths", "check_status", "describe", "is_ok", "short_repr", "status_codes"]

@@ -21,6 +21,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Protocol
 
+from .checks import InputTypeError
+
 #: :func:`wanted`'s answer for ``progress=None``: a bar on a terminal only.
 TERMINAL = "terminal"
 #: :func:`wanted`'s answer for ``progress=True``: a bar on a terminal, else lines (a log).
@@ -53,9 +55,23 @@ def set_display(display: Callable[..., View | None] | None) -> None:
     _DISPLAY[:] = [] if display is None else [display]
 
 
+def check_progress(progress, name: str = "progress"):
+    """``progress`` if it is one of the values of the module docstring (None, True, False or a callable),
+    else ``InputTypeError`` (a ``TypeError`` and a ``ValueError``) naming ``name`` and what is allowed: a
+    ``progress=5`` or ``progress="yes"`` is refused, not taken for False."""
+    if progress is None or isinstance(progress, bool) or callable(progress):
+        return progress
+    raise InputTypeError(
+        f"{name}={progress!r} is a {type(progress).__name__}: allowed None (a bar on a terminal), True, False "
+        "or a callable progress(done, total)"
+    )
+
+
 def wanted(progress) -> str | bool:
     """Whether a function given ``progress`` draws its own bar, and where: :data:`TERMINAL` for None,
-    :data:`ANYWHERE` for True, False otherwise (see the module docstring)."""
+    :data:`ANYWHERE` for True, False for False or a callable (see the module docstring); anything else is
+    refused (:func:`check_progress`)."""
+    check_progress(progress)
     if progress is None:
         return TERMINAL
     if progress is True:
@@ -64,7 +80,8 @@ def wanted(progress) -> str | bool:
 
 
 def sink(progress):
-    """The caller's ``progress(done, total)`` callable, or None."""
+    """The caller's ``progress(done, total)`` callable, or None (:func:`check_progress` first)."""
+    check_progress(progress)
     return progress if callable(progress) and not isinstance(progress, bool) else None
 
 

@@ -25,9 +25,10 @@ from typing import Callable, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
-from .outcome import Outcome, describe, is_ok, status_codes
+from .checks import InputTypeError
+from .outcome import Outcome, short_repr, check_lengths, check_status, describe, is_ok, status_codes
 from .params import Params
-from .status import Status
+from .status import TRACK_STATUSES, Status
 
 #: The tracks that compute an orbit: the closed-form map (:mod:`gear_rattle.mapimpl`) and two numerical
 #: integrations of Eq. (3) (:mod:`gear_rattle.reference`); :func:`gear_rattle.mapimpl.tracks.get` returns one.
@@ -65,6 +66,21 @@ class ImpactSequence(Outcome):
     status: str = Status.ACTIVE.label
     track: str = "map"
     meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        """Refuse what no track returns (``ValueError``, ``TypeError`` naming the argument): ``params`` not a
+        :class:`Params`, a ``status`` not one of :data:`~gear_rattle.core.status.TRACK_STATUSES`, columns that
+        are not 1-D arrays of one length, a ``kind`` outside :data:`KINDS` or a ``wall`` other than 0 and -1."""
+        if not isinstance(self.params, Params):
+            raise InputTypeError(f"params={self.params!r} is a {type(self.params).__name__}: allowed a Params")
+        check_status(self.status, [Status.from_label(s) for s in TRACK_STATUSES])
+        cols = ("n", "tau", "theta", "wall", "sdot", "kind")
+        check_lengths(f"one row per event in {', '.join(cols)}", **{k: getattr(self, k) for k in cols})
+        kind, wall = np.asarray(self.kind), np.asarray(self.wall)
+        if not ((kind == "impact") | (kind == "stick") | (kind == "release")).all():
+            raise ValueError(f"kind={short_repr(self.kind)} is out of range: allowed values {', '.join(KINDS)}")
+        if wall.dtype.kind not in "iuf" or not ((wall == 0) | (wall == -1)).all():
+            raise ValueError(f"wall={short_repr(self.wall)} is out of range: allowed values 0 (s = 0) and -1 (s = -1)")
 
     @property
     def impacts(self) -> np.ndarray:

@@ -37,7 +37,7 @@ import jax
 import jax.numpy as jnp
 
 from ..core.deprecation import UNSET, renamed_argument
-from ..core.outcome import Outcome
+from ..core.outcome import Outcome, check_lengths, check_status
 from ..core.checks import MAX_AVERAGED, MAX_VALUES, check_array, check_choice, check_int, check_start
 from ..core.params import DIAGRAM_PARAMS, Params, param_arrays
 from ..core.state import make_state
@@ -73,6 +73,20 @@ class LyapunovResult(Outcome):
     n_stuck: np.ndarray
     n_steps: int
     status: np.ndarray
+
+    def __post_init__(self) -> None:
+        """Refuse status codes that are no :class:`~gear_rattle.core.status.Status` and arrays whose shapes
+        disagree (``ValueError`` naming them)."""
+        check_status(self.status, list(Status))
+        m = check_lengths(
+            "values, status and n_stuck of a LyapunovResult",
+            values=self.values,
+            status=self.status,
+            n_stuck=self.n_stuck,
+        )
+        for k in ("lam", "lam_free"):
+            if np.shape(getattr(self, k)) != (m, 2):
+                raise ValueError(f"{k} of a LyapunovResult: allowed shape ({m}, 2) (got {np.shape(getattr(self, k))})")
 
     @property
     def active(self) -> np.ndarray:

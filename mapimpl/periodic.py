@@ -22,7 +22,7 @@ import jax.numpy as jnp
 from ..core.phase import TWO_PI
 from ..core.checks import MAX_ITER, MAX_PERIOD, InputTypeError, check_int, check_start, check_tol
 from ..core.deprecation import UNSET, renamed_argument, renamed_attribute
-from ..core.outcome import Outcome
+from ..core.outcome import Outcome, check_lengths, check_status
 from ..core.status import Status
 from .impact_map import step
 from ..core.state import make_state
@@ -76,6 +76,19 @@ class PeriodicOrbit(Outcome):
 
     impacts = renamed_attribute("impacts", "period")
     tau = renamed_attribute("tau", "theta")
+
+    def __post_init__(self) -> None:
+        """Refuse a status other than ``converged`` / ``not_converged`` and points that are not ``period``
+        of each (``ValueError`` naming them): such an orbit would say ``ok`` about nothing."""
+        check_status(self.status, (Status.CONVERGED, Status.NOT_CONVERGED))
+        check_int("period", self.period, 1, MAX_PERIOD, strict=True)
+        check_lengths(
+            "theta, sdot and walls of a PeriodicOrbit",
+            int(self.period),
+            theta=self.theta,
+            sdot=self.sdot,
+            walls=self.walls,
+        )
 
     @property
     def converged(self) -> bool:

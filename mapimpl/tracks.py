@@ -29,6 +29,7 @@ from ..core.state import make_state
 from .orbit import map_orbit
 from ..core.checks import MAX_IMPACTS, check_choice, check_int, check_start, start_wall
 from ..core.params import Params, check_params
+from ..core.progress import check_progress
 from ..core.registry import load_track
 from ..core.results import TRACKS, ImpactSequence, StepJacobian, Track, TrackFunctions
 
@@ -163,6 +164,7 @@ def orbit(
     check_params(params)
     check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
     check_start(tau0, sdot0, s0)
+    check_progress(progress)
     if track == "certified":
         from .certified.track import track_orbit
 

@@ -36,3 +36,28 @@ assert jax.config.jax_numpy_rank_promotion == "raise" and jax.config.jax_numpy_d
 settings.register_profile("ci", deadline=None, max_examples=40, derandomize=True)
 settings.register_profile("long", deadline=None, max_examples=3000)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture
+def full_disk(tmp_path):
+    """A 64 KiB tmpfs at tmp_path/full (mounted where the test may: root with mount permitted), else the
+    test is skipped with the reason (tests/test_safe_outputs.py, tests/test_suite_input.py)."""
+    where = tmp_path / "full"
+    where.mkdir()
+    if not shutil.which("mount") or os.geteuid() != 0:
+        pytest.skip("a full disk needs a tiny tmpfs: mount(8) as root is not available here")
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(where)], capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f"a full disk needs a tiny tmpfs, and mounting one was refused: {r.stderr.strip()}")
+    try:
+        yield where
+    finally:
+        subprocess.run(["umount", str(where)], capture_output=True)
+        if os.path.ismount(where):
+            subprocess.run(["umount", "-l", str(where)], capture_output=True)

@@ -24,7 +24,7 @@ pytest.importorskip("distributed")
 import cloudpickle  # a dependency of distributed
 
 from gear_rattle.validation.atlas import FIELDS, AtlasSpec
-from gear_rattle.validation.atlas.lock import StoreBusy, StoreLock, lock_path
+from gear_rattle.validation.writelock import StoreBusy, StoreLock, lock_path
 from gear_rattle.validation.atlas.run import ClusterLost, run_atlas
 from gear_rattle.validation.atlas.store import StoreWriteError, load_store
 from gear_rattle.validation.cli import main
@@ -234,7 +234,7 @@ def test_interrupted_creation_is_made_again(tmp_path):
 
 HOLDER = """
 import sys, time
-from gear_rattle.validation.atlas.lock import StoreLock
+from gear_rattle.validation.writelock import StoreLock
 locks = [StoreLock(store, command="holder-of-the-test").acquire() for store in sys.argv[2:]]
 print("held", flush=True)
 if sys.argv[1] == "die":

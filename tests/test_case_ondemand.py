@@ -197,15 +197,18 @@ def test_batch_from_csv_and_json_and_the_index(tmp_path, capsys):
     [
         (
             "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,1.5,0,0.5,5\n",
-            "line 2: parameter r='1.5' is out of range",
+            "line 2: field r: parameter r='1.5' is out of range",
         ),
-        ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0,5\n", "line 2: sdot0=0.0 is out of range"),
+        (
+            "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0,5\n",
+            "line 2: field sdot0: sdot0=0.0 is out of range",
+        ),
         (
             "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,2.5\n",
             "impacts=2.5 is out of range: allowed an integer 0 <= impacts",
         ),
-        ("id,alpha,beta,gamma,r,tau0,sdot0\na,0.5,0.1,0.1,0.9,0,0.5\n", "line 2: missing field(s) impacts"),
-        ("id,alpha,beta,gamma,r,tau0,sdot0,impacts,x\na,0.5,0.1,0.1,0.9,0,0.5,5,1\n", "unknown field(s) x"),
+        ("id,alpha,beta,gamma,r,tau0,sdot0\na,0.5,0.1,0.1,0.9,0,0.5\n", "line 1: missing field(s) impacts"),
+        ("id,alpha,beta,gamma,r,tau0,sdot0,impacts,x\na,0.5,0.1,0.1,0.9,0,0.5,5,1\n", "unknown field(s) 'x'"),
         ("id,alpha,beta,gamma,r,tau0,sdot0,impacts\n../a,0.5,0.1,0.1,0.9,0,0.5,5\n", "id='../a' is out of range"),
         (
             "id,alpha,beta,gamma,r,tau0,sdot0,impacts\na,0.5,0.1,0.1,0.9,0,0.5,5\na,0.5,0.1,0.1,0.9,0,0.5,5\n",

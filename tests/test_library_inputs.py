@@ -157,6 +157,19 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
             sdot0="real",
         ),
     ),
+    # a result type refuses what no computation returns (issue 38 item 5); its other fields: EXTRA
+    "gear_rattle:ImpactSequence": (
+        dict(
+            params=P,
+            n=np.zeros(1, int),
+            tau=np.zeros(1),
+            theta=np.zeros(1),
+            wall=np.zeros(1, int),
+            sdot=np.ones(1),
+            kind=np.array(["impact"]),
+        ),
+        dict(params="params"),
+    ),
     "gear_rattle:transient_times": (
         dict(params=None, tau0=[3.2], sdot0=[0.3], cap=100, progress=False),
         dict(
@@ -446,6 +459,19 @@ EXTRA = [
     ("gear_rattle.mapimpl.tracks:orbit", dict(track="diffrax", n_impacts=10**20), V, "n_impacts"),
     ("gear_rattle:orbit", dict(track="scipy", atol="1e-9"), T, "atol"),
     ("gear_rattle:orbit", dict(s0=-0.5, sdot0=NAN), V, "sdot0"),
+    # issue 38 item 5: progress= checked (5 and "yes" were taken for False), a pre-impact start's s0 refused
+    # (it was ignored), a result that makes no sense refused (it said ok=True)
+    ("gear_rattle:orbit", dict(progress=5), T, "progress"),
+    ("gear_rattle:orbit", dict(progress="yes"), T, "progress"),
+    ("gear_rattle:transient_times", dict(progress=[1]), T, "progress"),
+    ("gear_rattle:transient_times", dict(s0=-0.5), V, "s0"),
+    ("gear_rattle:transient_times", dict(ic_mode="pre-impact", s0="x"), V, "s0"),
+    ("gear_rattle:ImpactSequence", dict(status="banana"), V, "status"),
+    ("gear_rattle:ImpactSequence", dict(status="converged"), V, "status"),
+    ("gear_rattle:ImpactSequence", dict(tau=np.zeros(2)), V, "tau"),
+    ("gear_rattle:ImpactSequence", dict(kind=np.array(["boom"])), V, "kind"),
+    ("gear_rattle:ImpactSequence", dict(wall=np.array([3])), V, "wall"),
+    ("gear_rattle:ImpactSequence", dict(n=np.zeros((1, 1))), V, "n"),
 ]
 
 

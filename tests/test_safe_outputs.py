@@ -298,25 +298,7 @@ def test_debris_of_a_killed_run_is_removed_by_the_next_and_nothing_else(tmp_path
 
 
 # ---------------------------------------------------------------------------------------- full disk
-
-
-@pytest.fixture
-def full_disk(tmp_path):
-    """A 64 KiB tmpfs at tmp_path/full (mounted where the test may: root with mount permitted), else the
-    test is skipped with the reason."""
-    where = tmp_path / "full"
-    where.mkdir()
-    if not shutil.which("mount") or os.geteuid() != 0:
-        pytest.skip("a full disk needs a tiny tmpfs: mount(8) as root is not available here")
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(where)], capture_output=True, text=True)
-    if r.returncode != 0:
-        pytest.skip(f"a full disk needs a tiny tmpfs, and mounting one was refused: {r.stderr.strip()}")
-    try:
-        yield where
-    finally:
-        subprocess.run(["umount", str(where)], capture_output=True)
-        if os.path.ismount(where):
-            subprocess.run(["umount", "-l", str(where)], capture_output=True)
+# (the fixture full_disk, a 64 KiB tmpfs, is tests/conftest.py's)
 
 
 def _one_line_error(rc, err, status):

@@ -479,15 +479,13 @@ def output_fault(e: OSError, option: str | None = None, path=None) -> Exception:
     operating system refused the path (too long, invalid, permission, read-only, not a directory); the
     message names the option (where known) and the path, and says that an earlier file is kept (the
     output writer renames a whole new file into place or nothing, validation/io/atomic.py)."""
-    from .io.atomic import DEVICE_ERRNOS, STAGING_NAME
+    from .io.atomic import DEVICE_ERRNOS, target_of
 
     where = e.filename if getattr(e, "filename", None) else path
-    where_s = str(where)
-    name = Path(where_s).name
-    if STAGING_NAME.match(name):  # the writer's temporary file: name the target
-        where_s = str(Path(where_s).parent / STAGING_NAME.match(name)["base"])  # type: ignore[index]
     what = f"{option}: cannot write" if option else "cannot write"
-    text = f"{what} {where_s!r}: {e.strerror or e}"
+    # the writer's temporary file or staging folder: name the output it stands for
+    text = f"{what} {str(target_of(where))!r}" if where is not None else f"{what} (the file is not known)"
+    text += f": {e.strerror or e}"
     if e.errno in DEVICE_ERRNOS:
         return CommandFailed(f"{text} (nothing written: an earlier file of that name is kept as it was)")
     return CliError(text)

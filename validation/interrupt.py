@@ -7,7 +7,7 @@ with one line on stderr and exit status 130 or 143, after removing the output wr
   a traceback);
 * :data:`CLEANUP` and :data:`CLEANUP_LOCK`, the files that the handler removes and the lock that the
   output writer (:mod:`gear_rattle.validation.io.atomic`) and the atlas lock
-  (:mod:`gear_rattle.validation.atlas.lock`) hold while they register or rename them;
+  (:mod:`gear_rattle.validation.writelock`) hold while they register or rename them;
 * :data:`CLEAR_LINE`, what clears a progress bar's line first (:mod:`gear_rattle.validation.progress`).
 
 The library (``core``, ``mapimpl``, ``reference``) installs no signal handler and never ends the

@@ -51,7 +51,7 @@ from ..impact_map import free_flight_start
 from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_choice, check_int, check_real
 from ...core.paper import DELTA, DELTAS, MAX_DELTA, PAPER_BOX, PAPER_PARAMS
 from ...core.deprecation import UNSET, warn_renamed
-from ...core.outcome import Outcome
+from ...core.outcome import Outcome, check_lengths, check_status
 from ...core.params import Params, check_params
 from ...core.status import Status
 from ..sticking import STICK_TIME
@@ -169,6 +169,17 @@ class TransientResult(Outcome):
     post_release: tuple[PostRelease, ...] = ()
     meta: dict = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        """Refuse status codes that are no :class:`~gear_rattle.core.status.Status` and per-orbit arrays whose
+        lengths disagree (``ValueError`` naming them)."""
+        check_status(self.status, list(Status))
+        per_orbit = ("tau0", "sdot0", "n", "status", "nstick", "first_stick", "stick_wall")
+        n = check_lengths("the per-orbit arrays of a TransientResult", **{k: getattr(self, k) for k in per_orbit})
+        if np.shape(self.hit) != (n, np.size(self.deltas)):
+            raise ValueError(
+                f"hit of a TransientResult: allowed shape ({n}, {np.size(self.deltas)}) (got {np.shape(self.hit)})"
+            )
+
     def column(self, delta: float | None = None) -> int:
         d = self.delta if delta is None else float(delta)
         j = np.flatnonzero(np.isclose(self.deltas, d, rtol=1e-12, atol=0))
@@ -272,7 +283,7 @@ def _given_release(base: Release, t_post: dict) -> Release:
 def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
     """The initial conditions as flat float64 arrays, checked (:mod:`core.checks`): ``|tau0| <= 1e6``,
     finite ``sdot0`` (``!= 0`` for pre-impact states), at most ``MAX_ORBITS`` (2e7) of them, and ``s0``
-    in ``[-1, 0]`` for free states."""
+    in ``[-1, 0]`` for free states, None for pre-impact ones."""
     ic_mode = check_choice("ic_mode", ic_mode, IC_MODES)
     tau0 = check_array("tau0", tau0, -TAU0_MAX, TAU0_MAX, allowed=f"finite reals with {TAU0_RANGE}")
     pre = ic_mode == "pre-impact"
@@ -288,6 +299,11 @@ def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
         if s0 is None:
             raise ValueError("s0=None is out of range: allowed -1 <= s0 <= 0 for ic_mode='free'")
         check_real("s0", s0, -1.0, 0.0)
+    elif s0 is not None:  # a pre-impact state has no position: an s0 given with it would be ignored
+        raise ValueError(
+            f"s0={s0!r} is out of range: allowed None for ic_mode='pre-impact' (the states are just before an "
+            "impact, on the wall sdot0 points to); a start in free flight at s0 is ic_mode='free'"
+        )
     return tau0, sdot0
 
 

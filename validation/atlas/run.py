@@ -35,7 +35,7 @@ from .. import interrupt
 from ...core.checks import InputTypeError, check_int
 from .compute import compute_tile
 from ..extras import require
-from .lock import StoreLock, holder_text
+from ..writelock import StoreLock, holder_text
 from .spec import AtlasSpec
 from .store import AtlasStore, StoreWriteError, fit_tile, open_store, tile_slices
 
@@ -192,7 +192,7 @@ def run_atlas(
     lock : StoreLock, optional
         The store's lock, held by the caller until it is done with the store (acquired here if it is
         not held yet; the caller releases it).  Without it, this call takes the lock for its duration.
-        A store whose lock another process holds is refused (:class:`.lock.StoreBusy`).
+        A store whose lock another process holds is refused (:class:`..writelock.StoreBusy`).
     note : callable, optional
         ``note(text)`` for what the caller should know: a stale lock taken over, a damaged tile computed
         again, waiting for workers (default: :func:`warnings.warn`).

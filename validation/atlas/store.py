@@ -21,7 +21,7 @@ Group attributes: ``format`` (:data:`FORMAT`), ``spec`` (:meth:`AtlasSpec.to_dic
 (``[tile_r, tile_alpha]``), ``engine`` (:data:`.compute.ENGINE`), ``checked`` (:data:`CHECKED`) and
 ``sha256`` (:func:`.integrity.meta_digest` of the others).  A tile's ``done`` flag is written after its
 data and checksums, by the one process that writes (the client, holding the store's lock,
-:mod:`.lock`), so a tile is either done and verified on resume, or recomputed.
+:mod:`..writelock`), so a tile is either done and verified on resume, or recomputed.
 """
 
 from __future__ import annotations
@@ -276,7 +276,7 @@ def _remove(p: Path) -> None:
 def open_store(path: str, spec: AtlasSpec, tile=(16, 16), overwrite: bool = False) -> AtlasStore:
     """Open the atlas store at ``path`` for ``spec`` and ``tile``, creating it if absent.
 
-    The caller holds the store's lock (:class:`.lock.StoreLock`; :func:`.run.run_atlas` does).
+    The caller holds the store's lock (:class:`..writelock.StoreLock`; :func:`.run.run_atlas` does).
     ``tile`` is fitted to the grid (:func:`fit_tile`).  An existing store made with another spec, tile
     size, engine or format is refused (``ValueError``, one line) unless ``overwrite``, which deletes and
     recreates it.  An existing store is checked first (:mod:`.integrity`): damaged metadata (attributes,

@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import argparse
 from functools import partial
-from pathlib import Path
 
 from ..cliutil import CliError, check_input_path
 from ._check_scoring import Scorer, check_items, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
+    from ..golden.boundary import member
     from ..golden.orbit_float64 import float64_values
     from ..io import write_json
 
@@ -25,7 +25,7 @@ def _self_values(records, write: str | None) -> dict:
     for rec in records:
         d, values = float64_values(rec)
         if write:
-            values.path = write_output(Path(write) / f"{rec.id}.json", write_json, d)
+            values.path = write_output(member(write, rec.id, ".json"), write_json, d)
         out[rec.id] = values
     return out
 

@@ -20,12 +20,15 @@ def suite_header(args: argparse.Namespace, folder: Path, part: str):
     """The :class:`golden.version.SuiteInfo` of the suite scored (``folder``: its cases or orbits), for the
     header and the reports; with ``--require-suite SPEC`` a one-line error unless its version meets SPEC
     (:func:`golden.version.satisfies`) with its files unmodified."""
+    from ..golden.textformat import MalformedFile
     from ..golden.version import satisfies, suite_info
 
     try:
         info = suite_info(folder, part)
     except OSError as e:
         raise CliError(f"--suite: cannot read {str(folder)!r}: {e.strerror or e}") from None
+    except MalformedFile as e:
+        raise CliError(f"suite: {e}") from None
     spec = args.require_suite
     if spec is not None and not (satisfies(info.version, spec) and info.matches):
         why = "" if satisfies(info.version, spec) else f", not {spec}"
@@ -38,7 +41,7 @@ def suite_header(args: argparse.Namespace, folder: Path, part: str):
 @dataclass
 class Scorer:
     """What differs between the impact cases and the orbit records: the output files' suffix, how one
-    is read (``read(path, item)``), scored, scored when missing or unreadable, and made a result."""
+    is read (``read(path, item, root)``: a regular file inside the folder ``root``), scored, scored when missing or unreadable, and made a result."""
 
     orbits: bool
     suffix: str
@@ -108,6 +111,7 @@ def read_outputs(args: argparse.Namespace, items, scorer: Scorer) -> dict:
     """``{id: output or Ready(score)}``: each file of PATH read on its own.  A missing file is "no
     output"; a malformed one an error of its item alone, named on stderr (one line per file).  A PATH
     that does not exist: every item "no output", one line on stderr."""
+    from ..golden.boundary import member
     from ..golden.suite import MalformedFile, MissingFile
 
     root = Path(args.path)
@@ -115,11 +119,11 @@ def read_outputs(args: argparse.Namespace, items, scorer: Scorer) -> dict:
     if not root.is_dir():
         each = "every record" if scorer.orbits else "every case"
         print(f'gear-rattle check: error: PATH={args.path!r} not found: {each} scored "no output"', file=sys.stderr)
-        return {i.id: Ready(scorer.no_output(i, root / f"{i.id}{scorer.suffix}")) for i in items}
+        return {i.id: Ready(scorer.no_output(i, member(root, i.id, scorer.suffix))) for i in items}
     for item in items:
-        path = root / f"{item.id}{scorer.suffix}"
+        path = member(root, item.id, scorer.suffix)  # a path built from a validated id, inside PATH
         try:
-            out[item.id] = scorer.read(path, item)
+            out[item.id] = scorer.read(path, item, root)  # a regular file inside PATH, its links resolved
         except MissingFile:
             out[item.id] = Ready(scorer.no_output(item, path))
         except MalformedFile as e:

@@ -161,7 +161,7 @@ def _spec(args: argparse.Namespace) -> AtlasSpec:
 
 def run(args: argparse.Namespace) -> int:
     spec = _spec(args)
-    from ..atlas.lock import StoreBusy, StoreLock
+    from ..writelock import StoreBusy, StoreLock
     from ..atlas.run import ClusterLost, check_scheduler, import_distributed, run_atlas
     from ..atlas.store import StoreWriteError
     from ..atlas.store import fit_tile, import_zarr, load_store

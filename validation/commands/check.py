@@ -183,6 +183,7 @@ def _levels(text: str) -> list[int]:
 
 
 def _self_outputs(cases, track: str, write: str | None):
+    from ..golden.boundary import member
     from ..golden.suite import problem_score, run_case, sequence_from_impacts
     from ..io import write_csv
 
@@ -202,7 +203,7 @@ def _self_outputs(cases, track: str, write: str | None):
             out[case.id] = Ready(problem_score(case, "crash", msg, label))
             continue
         if write:
-            label = write_output(Path(write) / f"{case.id}.csv", write_csv, *seq.table())
+            label = write_output(member(write, case.id, ".csv"), write_csv, *seq.table())
         out[case.id] = sequence_from_impacts(seq, label)
     return out
 
@@ -270,7 +271,7 @@ def run(args: argparse.Namespace) -> int:
     scorer = Scorer(
         orbits=False,
         suffix=".csv",
-        read=lambda path, case: read_sequence(path),
+        read=lambda path, case, root: read_sequence(path, inside=root),
         score=score_sequence,
         no_output=no_output_score,
         problem=problem_score,

@@ -10,11 +10,10 @@ that the committed file matches them.  numpy-free, no interval library.
 
 from __future__ import annotations
 
-import csv
 import json
+import math
 from pathlib import Path
 
-from .suite import ROW_TOLERANCE_COLUMNS
 
 #: Bug classes: id -> what an implementation with that bug does wrong.
 BUG_CLASSES: dict[str, str] = {
@@ -53,22 +52,24 @@ ENDINGS = {"active": "n_impacts", "stuck_forever": "stuck_forever", "no_impact":
 INDEX_NAME = "index.json"
 
 
-def case_entry(folder: Path) -> dict:
-    """The index entry of one case folder (from its ``settings.json`` and ``expected.csv``)."""
-    settings = json.loads((folder / "settings.json").read_text())
-    with open(folder / "expected.csv", newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    impact_walls = sorted({int(r["wall"]) for r in rows if r["kind"] == "impact"}, reverse=True)
-    stick_walls = sorted({int(r["wall"]) for r in rows if r["kind"] == "stick"}, reverse=True)
-    if "row_tolerances" in settings:  # the smallest tolerance of any row (docs/golden.md, "File formats")
-        tol = min(float(r[c]) for r in rows for c in ROW_TOLERANCE_COLUMNS.values() if r[c] != "")
+def case_entry(folder: Path, inside: Path | None = None) -> dict:
+    """The index entry of one case folder (its ``settings.json`` and ``expected.csv`` read and checked as
+    ``check`` reads them, :func:`.suite.load_case`, inside the folder ``inside``)."""
+    from .suite import load_case
+
+    case = load_case(folder, inside)
+    settings, exp = case.settings, case.expected
+    impact_walls = sorted({int(w) for w, k in zip(exp.wall, exp.kind) if k == "impact"}, reverse=True)
+    stick_walls = sorted({int(w) for w, k in zip(exp.wall, exp.kind) if k == "stick"}, reverse=True)
+    if case.row_tol is not None:  # the smallest tolerance of any row (docs/golden.md, "File formats")
+        tol = min(float(x) for v in case.row_tol.values() for x in v if math.isfinite(x))
     else:
         tol = min(v["abs"] for v in settings["tolerances"].values())
     return {
         "id": settings["id"],
-        "level": settings["level"],
-        "tags": settings["tags"],
-        "catches": settings["catches"],
+        "level": settings.get("level"),
+        "tags": settings.get("tags", []),
+        "catches": settings.get("catches", []),
         "walls": impact_walls,
         "stick_walls": stick_walls,
         "ending": ENDINGS[settings["expected_status"]],
@@ -78,14 +79,27 @@ def case_entry(folder: Path) -> dict:
     }
 
 
-def build_index(suite: Path) -> dict:
-    """The index of every case folder under ``suite`` (sorted by id)."""
+def case_folders(suite: Path, overlay: dict[str, Path] | None = None) -> dict[str, Path]:
+    """``{id: folder}`` of the suite's cases (:func:`.suite.case_ids`), those of ``overlay``
+    (``{"<id>/<file>": file}``: cases about to be moved in) from where they wait."""
+    from .suite import case_ids
+
+    folders = {cid: Path(suite) / cid for cid in case_ids(suite)}
+    for rel, f in (overlay or {}).items():
+        if "/" in rel:
+            folders[rel.split("/")[0]] = Path(f).parent
+    return folders
+
+
+def build_index(suite: Path, overlay: dict[str, Path] | None = None) -> dict:
+    """The index of every case folder under ``suite`` (sorted by id); with ``overlay`` (``{relative path:
+    file}``) the index the suite will have once those files are moved in."""
     from .version import suite_block
 
-    folders = sorted(p for p in Path(suite).iterdir() if (p / "settings.json").is_file())
+    folders = case_folders(suite, overlay)
     return {
         "format": "gear-rattle golden suite index, version 1",
-        "suite": suite_block(suite),
+        "suite": suite_block(suite, overlay),
         "fields": {
             "level": "1, 2 or 3 (see levels)",
             "tags": "situations the case exercises",
@@ -99,7 +113,7 @@ def build_index(suite: Path) -> dict:
         },
         "levels": {str(k): v for k, v in LEVELS.items()},
         "bug_classes": BUG_CLASSES,
-        "cases": [case_entry(f) for f in folders],
+        "cases": [case_entry(folders[cid], folders[cid].parent) for cid in sorted(folders)],
     }
 
 

@@ -119,20 +119,29 @@ class Table:
         return malformed(self.path, rec.line, field_column(rec, k, self.path), msg)
 
 
-def read_csv(path: str | Path) -> Table:
-    """Read a CSV file strictly (module docstring): :class:`.textformat.MissingFile` if it does not
-    exist, :class:`MalformedFile` (one line: file, line, column) if it breaks the format."""
-    text = read_text(path)
-    header, records = None, []
+def text_lines(text: str) -> list[tuple[int, str]]:
+    """``(line number, text)`` of every line that is not blank (the line end and a CR before it dropped)."""
+    out = []
     for i, raw in enumerate(text.split("\n")):
         t = raw[:-1] if raw.endswith("\r") else raw
-        if not t.strip(_BLANKS):
-            continue
+        if t.strip(_BLANKS):
+            out.append((i + 1, t))
+    return out
+
+
+def read_csv(path: str | Path, inside: str | Path | None = None) -> Table:
+    """Read a CSV file strictly (module docstring): :class:`.textformat.MissingFile` if it does not
+    exist, :class:`MalformedFile` (one line: file, line, column) if it breaks the format (or is not a
+    regular file inside the folder ``inside``, :func:`.textformat.read_bytes`)."""
+    text = read_text(path, inside=inside)
+    header, records = None, []
+    for line, t in text_lines(text):
+        i = line - 1
         values = split_line(t, path, i + 1)
         rec = Record(i + 1, t, values)
         if header is None:
             header = rec
-            _check_header(path, rec)
+            check_header(path, rec)
         elif len(values) != len(header.values):
             raise malformed(
                 path,
@@ -147,7 +156,8 @@ def read_csv(path: str | Path) -> Table:
     return Table(str(path), header, records)
 
 
-def _check_header(path, rec: Record) -> None:
+def check_header(path, rec: Record) -> None:
+    """The header's rules (module docstring): at most :data:`MAX_COLUMNS` names, none empty, none twice."""
     names = rec.values
     if len(names) > MAX_COLUMNS:
         raise malformed(

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from typing import Any
 from pathlib import Path
 
 from .textformat import MalformedFile, malformed, position, read_text
@@ -43,7 +44,7 @@ class JsonDoc:
 
     path: str
     text: str
-    value: dict
+    value: Any
     offsets: dict = field(default_factory=dict)
 
     def error(self, where: tuple, msg: str) -> MalformedFile:
@@ -197,12 +198,13 @@ class _Parser:
             p = self.ws(q + 1)
 
 
-def parse_json(text: str, path: str) -> JsonDoc:
-    """Parse JSON text strictly (module docstring); the top level must be an object."""
+def parse_json(text: str, path: str, top: type = dict) -> JsonDoc:
+    """Parse JSON text strictly (module docstring); the top level must be an object (``top=list``: an
+    array, as a ``--from`` file holds)."""
     p = _Parser(text, path)
     start = p.ws(0)
-    if not text.startswith("{", start):
-        raise malformed(path, *position(text, start), "expected a JSON object")
+    if not text.startswith("{" if top is dict else "[", start):
+        raise malformed(path, *position(text, start), f"expected a JSON {'object' if top is dict else 'array'}")
     value, end = p.value(start, (), 0)
     end = p.ws(end)
     if end != len(text):
@@ -210,8 +212,9 @@ def parse_json(text: str, path: str) -> JsonDoc:
     return JsonDoc(path, text, value, p.offsets)
 
 
-def read_json(path: str | Path) -> JsonDoc:
+def read_json(path: str | Path, inside: str | Path | None = None, max_bytes: int = MAX_JSON_BYTES) -> JsonDoc:
     """Read a JSON file strictly: :class:`.textformat.MissingFile` if it does not exist,
-    :class:`MalformedFile` (one line: file, line, column) if it breaks the format."""
-    text = read_text(path, MAX_JSON_BYTES)
+    :class:`MalformedFile` (one line: file, line, column) if it breaks the format (or is not a regular
+    file inside the folder ``inside``, :func:`.textformat.read_bytes`); at most ``max_bytes`` bytes."""
+    text = read_text(path, max_bytes, inside)
     return parse_json(text, str(path))

@@ -27,11 +27,10 @@ compiled once), :func:`write_user_case` writes a folder and :func:`update_index`
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
-import re
+import os
+import time
 from dataclasses import dataclass, replace
 from collections.abc import Callable
 from pathlib import Path
@@ -42,22 +41,28 @@ from ...core.params import PARAM_NAMES, RANGES, Params, check_value
 from ...mapimpl import certified as cert
 from ...mapimpl.sticking import STICK_TIME
 from . import generate
+from .boundary import MAX_CASE_IMPACTS, MAX_CASES, check_id, shown
 from .catalog import INDEX_NAME, build_index
+from .csvformat import Record, check_header, split_line, text_lines
+from .jsonformat import parse_json, read_json
+from .textformat import MAX_BYTES, MAX_LINES, MalformedFile, position, read_text
 
 import numpy as np
 
 #: Every tolerance of a generated case lies below this by default (module docstring).
 TOLERANCE_LIMIT = 1e-6
 #: The limits a case may ask for (``max_tolerance``): no row's tolerance is below ~1e-14 (10 times half an
-#: ulp of 2 pi), and one of 1e-3 or more would check nothing.
-MIN_TOLERANCE_LIMIT, MAX_TOLERANCE_LIMIT = 1e-14, 1e-3
+#: ulp of 2 pi); every row stays below the limit, and a suite states no tolerance of 1e-4 or more
+#: (:data:`.boundary.MAX_TOLERANCE`).
+MIN_TOLERANCE_LIMIT, MAX_TOLERANCE_LIMIT = 1e-14, 1e-4
 TOLERANCE_RANGE = f"{MIN_TOLERANCE_LIMIT:g} <= max_tolerance <= {MAX_TOLERANCE_LIMIT:g}"
-#: Impacts a case may ask for, and the first length certified (doubled until the case is decided).
-MAX_CASE_IMPACTS, FIRST_CHUNK = 100_000, 64
+#: The first length certified (doubled until the case is decided); the impacts a case may ask for are
+#: :data:`.boundary.MAX_CASE_IMPACTS`.
+FIRST_CHUNK = 64
 #: The largest |tau0| and |sdot0| of an input (the command line's ranges, :func:`cliutil.tau0_type`).
 TAU0_MAX, SDOT0_MAX = 1e6, 1e6
-#: A case id: a folder name (letters, digits, ``.``, ``_``, ``-``; not starting with ``.``).
-ID_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9._-]{0,99}")
+#: Most inputs of a ``--from`` file (as many cases as a suite may hold).
+MAX_INPUTS = MAX_CASES
 #: The fields of an input (a ``--from`` file's columns or keys): required, then optional.
 REQUIRED_FIELDS = ("id", *PARAM_NAMES, "tau0", "sdot0", "impacts")
 OPTIONAL_FIELDS = ("s0", "stick_time")
@@ -87,120 +92,262 @@ class CaseInput:
         return d
 
 
-def _finite(name: str, value, lo: float | None = None, hi: float | None = None, allowed: str = "") -> float:
+def _number(name: str, value, lo: float | None = None, hi: float | None = None, allowed: str = "") -> float:
     """A number of an input (a decimal string from a CSV file is read as its float) checked by the one
     boundary helper, :func:`core.checks.check_real` (ValueError naming ``name`` and ``allowed``)."""
+    if isinstance(value, bool):
+        raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}")
     if isinstance(value, str):
         try:
             value = float(value)
         except ValueError:
-            raise ValueError(f"{name}={value!r} is not a number: allowed {allowed}") from None
+            raise ValueError(f"{name}={shown(value)} is not a number: allowed {allowed}") from None
     return check_real(
         name, value, -math.inf if lo is None else lo, math.inf if hi is None else hi, allowed=allowed or None
     )
 
 
-def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, stick_time=None) -> CaseInput:
-    """A validated :class:`CaseInput`; ``ValueError`` naming the field and its allowed range."""
-    if not isinstance(id, str) or not ID_PATTERN.fullmatch(id):
-        raise ValueError(
-            f"id={id!r} is out of range: allowed a folder name of 1-100 letters, digits, '.', '_' "
-            "or '-', not starting with '.' or '-'"
-        )
-    values = dict(zip(PARAM_NAMES, (alpha, beta, gamma, r)))
-    for k, v in values.items():
-        if isinstance(v, bool):
-            raise ValueError(f"parameter {k}={v!r} is not a number: allowed {RANGES[k]} (finite)")
-    params = Params(*(check_value(k, v) for k, v in values.items()))  # ValueError naming the parameter, range
-    tau0 = _finite("tau0", tau0, -TAU0_MAX, TAU0_MAX, f"a finite number with |tau0| <= {TAU0_MAX:g}")
-    sdot0 = _finite("sdot0", sdot0, -SDOT0_MAX, SDOT0_MAX, f"a finite number with |sdot0| <= {SDOT0_MAX:g}")
-    if s0 is not None:
-        s0 = _finite("s0", s0, allowed="-1 < s0 < 0 (a free-flight start strictly between the walls)")
-        if not -1.0 < s0 < 0.0:
-            raise ValueError(
-                f"s0={s0!r} is out of range: allowed -1 < s0 < 0 (a free-flight start strictly between the walls)"
-            )
-    elif sdot0 == 0.0:
-        raise ValueError(
+def _param(name: str) -> Callable[[object], float]:
+    def check(value) -> float:
+        if isinstance(value, bool):
+            raise ValueError(f"parameter {name}={value!r} is not a number: allowed {RANGES[name]} (finite)")
+        return check_value(name, value)  # ValueError naming the parameter and its range
+
+    return check
+
+
+def _s0(value) -> float:
+    allowed = "-1 < s0 < 0 (a free-flight start strictly between the walls)"
+    s0 = _number("s0", value, allowed=allowed)
+    if not -1.0 < s0 < 0.0:
+        raise ValueError(f"s0={s0!r} is out of range: allowed {allowed}")
+    return s0
+
+
+def _impacts(value) -> int:
+    allowed = f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}"
+    return check_int("impacts", _number("impacts", value, allowed=allowed), 0, MAX_CASE_IMPACTS)
+
+
+#: The check of each field of an input (:func:`checked_fields`): the value, converted, or ValueError.
+FIELD_CHECKS: dict[str, Callable[[object], object]] = {
+    "id": lambda v: check_id(v.strip() if isinstance(v, str) else v, "id"),
+    **{k: _param(k) for k in PARAM_NAMES},
+    "tau0": lambda v: _number("tau0", v, -TAU0_MAX, TAU0_MAX, f"a finite number with |tau0| <= {TAU0_MAX:g}"),
+    "sdot0": lambda v: _number("sdot0", v, -SDOT0_MAX, SDOT0_MAX, f"a finite number with |sdot0| <= {SDOT0_MAX:g}"),
+    "impacts": _impacts,
+    "s0": _s0,
+    "stick_time": lambda v: _number("stick_time", v, 0.0, 1.0, "a finite number 0 <= stick_time <= 1"),
+}
+
+
+def checked_fields(values: dict) -> tuple[dict, dict[str, str]]:
+    """``(converted, problems)``: every field of ``values`` (those of :data:`FIELD_CHECKS`; an optional one
+    absent or None is left out) checked on its own, and the start's joint rule (a pre-impact start needs
+    ``sdot0 != 0``); ``problems`` maps each bad field to its reason, in field order."""
+    out, bad = {}, {}
+    for k in (*REQUIRED_FIELDS, *OPTIONAL_FIELDS):
+        if k in values and not (k in OPTIONAL_FIELDS and values[k] is None):
+            try:
+                out[k] = FIELD_CHECKS[k](values[k])
+            except (ValueError, TypeError) as e:
+                bad[k] = str(e)
+    if out.get("sdot0") == 0.0 and values.get("s0") is None:
+        bad["sdot0"] = (
             "sdot0=0.0 is out of range: a pre-impact start needs sdot0 != 0 (> 0: upper wall s = 0, "
             "< 0: lower wall s = -1); give s0 for a start in free flight"
         )
-    n = check_int(
-        "impacts",
-        _finite("impacts", impacts, allowed=f"an integer 0 <= impacts <= {MAX_CASE_IMPACTS}"),
-        0,
-        MAX_CASE_IMPACTS,
-    )
-    st = (
-        STICK_TIME
-        if stick_time is None
-        else _finite("stick_time", stick_time, 0.0, 1.0, "a finite number 0 <= stick_time <= 1")
-    )
-    return CaseInput(id, params, tau0, sdot0, n, s0, st)
+    return out, {k: bad[k] for k in (*REQUIRED_FIELDS, *OPTIONAL_FIELDS) if k in bad}
+
+
+def _input(out: dict) -> CaseInput:
+    params = Params(*(out[k] for k in PARAM_NAMES))
+    st = out.get("stick_time", STICK_TIME)
+    return CaseInput(out["id"], params, out["tau0"], out["sdot0"], out["impacts"], out.get("s0"), st)
+
+
+def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, stick_time=None) -> CaseInput:
+    """A validated :class:`CaseInput`; ``ValueError`` naming the (first bad) field and its allowed range."""
+    values = dict(zip(REQUIRED_FIELDS, (id, alpha, beta, gamma, r, tau0, sdot0, impacts)))
+    out, bad = checked_fields({**values, "s0": s0, "stick_time": stick_time})
+    if bad:
+        raise ValueError(next(iter(bad.values())))
+    return _input(out)
 
 
 def _blank(v) -> bool:
     return v is None or (isinstance(v, str) and v.strip() == "")
 
 
-def _from_mapping(entry: dict, where: str) -> CaseInput:
-    if not isinstance(entry, dict):
-        raise ValueError(f"{where}: an input must be an object with the fields {', '.join(REQUIRED_FIELDS)}")
-    unknown = sorted(set(entry) - set(REQUIRED_FIELDS) - set(OPTIONAL_FIELDS))
+@dataclass
+class InputProblem:
+    """A bad input of a ``--from`` file: where it is (``line 3``, ``entry 2 (line 5)``) and, per bad field
+    (``""``: the line as a whole), the reason."""
+
+    where: str
+    fields: dict[str, str]
+
+    def __str__(self) -> str:
+        return f"{self.where}: " + "; ".join(f"field {k}: {r}" if k else r for k, r in self.fields.items())
+
+
+@dataclass
+class InputFile:
+    """A ``--from`` file read by :func:`read_input_file`: its good inputs and its bad ones, in file order."""
+
+    path: str
+    inputs: list[CaseInput]
+    problems: list[InputProblem]
+
+    @property
+    def total(self) -> int:
+        return len(self.inputs) + len(self.problems)
+
+
+def _entry(values: dict, where: str) -> CaseInput | InputProblem:
+    """One input from its fields (strings from a CSV line, JSON values from an entry)."""
+    unknown = sorted(set(values) - set(REQUIRED_FIELDS) - set(OPTIONAL_FIELDS), key=str)
     if unknown:
+        fields = ", ".join(map(shown, unknown))
+        allowed = ", ".join(REQUIRED_FIELDS + OPTIONAL_FIELDS)
+        return InputProblem(where, {"": f"unknown field(s) {fields} (allowed: {allowed})"})
+    missing = {k: "missing (a value is needed)" for k in REQUIRED_FIELDS if _blank(values.get(k))}
+    out, problems = checked_fields({k: (None if _blank(v) else v) for k, v in values.items()})
+    bad = {**problems, **missing}
+    bad = {k: bad[k] for k in (*REQUIRED_FIELDS, *OPTIONAL_FIELDS) if k in bad}  # in field order
+    return InputProblem(where, bad) if bad else _input(out)
+
+
+def _csv_entries(text: str, path: str) -> list[tuple[str, dict | InputProblem]]:
+    """``(where, fields or problem)`` of every data line of a ``--from`` CSV (:mod:`.csvformat`'s grammar,
+    each line on its own: a bad line does not stop the others); ValueError for a bad header."""
+    lines = text_lines(text)
+    if not lines:
         raise ValueError(
-            f"{where}: unknown field(s) {', '.join(unknown)} (allowed: {', '.join(REQUIRED_FIELDS + OPTIONAL_FIELDS)})"
+            f"--from {path}: empty file (a CSV with the header {','.join(REQUIRED_FIELDS)}"
+            "[,s0][,stick_time], or a JSON list)"
         )
-    missing = [k for k in REQUIRED_FIELDS if _blank(entry.get(k))]
-    if missing:
-        raise ValueError(f"{where}: missing field(s) {', '.join(missing)}")
-    opt = {k: (None if _blank(entry.get(k)) else entry[k]) for k in OPTIONAL_FIELDS}
+    hline, htext = lines[0]
     try:
-        return case_input(str(entry["id"]).strip(), *(entry[k] for k in REQUIRED_FIELDS[1:]), **opt)
-    except ValueError as e:
-        raise ValueError(f"{where}: {e}") from None
+        header = Record(hline, htext, split_line(htext, path, hline))
+        check_header(path, header)
+    except MalformedFile as e:
+        raise ValueError(f"--from {e}") from None
+    names = header.values
+    unknown = [h for h in names if h not in REQUIRED_FIELDS + OPTIONAL_FIELDS]
+    missing = [k for k in REQUIRED_FIELDS if k not in names]
+    if unknown or missing:
+        what = (
+            f"unknown field(s) {', '.join(map(shown, unknown))}"
+            if unknown
+            else f"missing field(s) {', '.join(missing)}"
+        )
+        raise ValueError(
+            f"--from {path}: line {hline}: {what} (the header names {','.join(REQUIRED_FIELDS)}, "
+            f"optionally {','.join(OPTIONAL_FIELDS)})"
+        )
+    out: list[tuple[str, dict | InputProblem]] = []
+    for line, t in lines[1:]:
+        where = f"line {line}"
+        try:
+            row = split_line(t, path, line)
+        except MalformedFile as e:  # "PATH: line L, column C: what": the position and what
+            what = str(e).removeprefix(f"{path}: ").removeprefix(f"{where}, ")
+            out.append((where, InputProblem(where, {"": what})))
+            continue
+        if len(row) != len(names):
+            out.append(
+                (where, InputProblem(where, {"": f"{len(row)} fields, expected {len(names)} (as many as the header)"}))
+            )
+        else:
+            out.append((where, dict(zip(names, row))))
+    return out
+
+
+def _json_entries(text: str, path: str) -> list[tuple[str, dict | InputProblem]]:
+    """``(where, fields or problem)`` of every entry of a ``--from`` JSON list (the strict reader,
+    :mod:`.jsonformat`: its limits; a syntax error is one ValueError, the entries are then checked one by one)."""
+    try:
+        doc = parse_json(text, path, top=list)
+    except MalformedFile as e:
+        raise ValueError(f"--from {e}") from None
+    out: list[tuple[str, dict | InputProblem]] = []
+    for k, entry in enumerate(doc.value):
+        where = f"entry {k} (line {position(text, doc.offsets.get((k,), 0))[0]})"
+        if isinstance(entry, dict):
+            out.append((where, entry))
+        else:
+            out.append(
+                (
+                    where,
+                    InputProblem(
+                        where, {"": f"an input must be an object with the fields {', '.join(REQUIRED_FIELDS)}"}
+                    ),
+                )
+            )
+    return out
+
+
+def _duplicates(inputs: list[tuple[str, CaseInput]]) -> tuple[list[CaseInput], list[tuple[str, InputProblem]]]:
+    """The inputs whose id is new, and a problem for each later one with an id taken (compared in lower
+    case: on a case-insensitive file system ``A`` and ``a`` would be one folder)."""
+    seen: dict[str, tuple[str, str]] = {}
+    good, bad = [], []
+    for where, inp in inputs:
+        key = inp.id.lower()
+        if key in seen:
+            first, fid = seen[key]
+            why = (
+                f"duplicate id {inp.id!r} (also {first})"
+                if fid == inp.id
+                else (
+                    f"id {inp.id!r} differs from {fid!r} ({first}) only in case: one folder on a case-insensitive file system"
+                )
+            )
+            bad.append((where, InputProblem(where, {"id": why})))
+        else:
+            seen[key] = (where, inp.id)
+            good.append(inp)
+    return good, bad
+
+
+def read_input_file(path: str | Path) -> InputFile:
+    """Every input of a ``--from`` file (a JSON list of objects, or a CSV with a header of the field names:
+    :data:`REQUIRED_FIELDS`, optionally :data:`OPTIONAL_FIELDS`; an empty ``s0`` is a pre-impact start),
+    the good ones and the bad ones (each with where it is, its bad fields and why; duplicate ids refused).
+
+    Read as ``check`` reads (:mod:`.textformat`: a regular file, never waited on; 2 MiB, 20000 lines,
+    UTF-8; CSV fields of at most 1000 characters; JSON nested at most 32 deep, numbers of at most 100
+    characters) and at most :data:`MAX_INPUTS` inputs.  ``ValueError`` (one line naming the file) where the
+    file as a whole cannot be read: missing, not a regular file, beyond a limit, invalid JSON, a bad header."""
+    path = Path(path)
+    try:
+        text = read_text(path, MAX_BYTES)
+    except MalformedFile as e:
+        raise ValueError(f"--from {e}") from None
+    json_file = text.lstrip().startswith(("[", "{"))
+    entries = _json_entries(text, str(path)) if json_file else _csv_entries(text, str(path))
+    if len(entries) > MAX_INPUTS:
+        raise ValueError(f"--from {path}: {len(entries)} inputs: allowed at most {MAX_INPUTS} (the limit of a suite)")
+    if not entries:
+        raise ValueError(f"--from {path}: no inputs")
+    good, problems = [], []
+    for where, entry in entries:
+        got = entry if isinstance(entry, InputProblem) else _entry(entry, where)
+        (problems.append((where, got)) if isinstance(got, InputProblem) else good.append((where, got)))
+    inputs, dups = _duplicates(good)
+    order = {w: k for k, (w, _) in enumerate(entries)}
+    problems = sorted(problems + dups, key=lambda wp: order[wp[0]])
+    return InputFile(str(path), inputs, [p for _, p in problems])
 
 
 def read_inputs(path: str | Path) -> list[CaseInput]:
-    """The inputs of a ``--from`` file: a JSON list of objects, or a CSV with a header of the field
-    names (:data:`REQUIRED_FIELDS`, optionally :data:`OPTIONAL_FIELDS`; an empty ``s0`` is a pre-impact
-    start).  ``ValueError`` naming the file, the entry (or line) and the field; duplicate ids refused."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as e:
-        raise ValueError(f"--from {path}: cannot read: {e.strerror or e}") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"--from {path}: not UTF-8 text") from None
-    out: list[CaseInput] = []
-    if text.lstrip().startswith("["):
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as e:
-            raise ValueError(f"--from {path}: line {e.lineno}: invalid JSON: {e.msg}") from None
-        out = [_from_mapping(entry, f"--from {path}: entry {k}") for k, entry in enumerate(data)]
-    else:
-        rows = list(csv.reader(io.StringIO(text)))
-        if not rows:
-            raise ValueError(
-                f"--from {path}: empty file (a CSV with the header {','.join(REQUIRED_FIELDS)}"
-                "[,s0][,stick_time], or a JSON list)"
-            )
-        head = [h.strip() for h in rows[0]]
-        for line, row in enumerate(rows[1:], start=2):
-            if not any(c.strip() for c in row):
-                continue
-            if len(row) != len(head):
-                raise ValueError(f"--from {path}: line {line}: {len(row)} fields, expected {len(head)}")
-            out.append(_from_mapping(dict(zip(head, row)), f"--from {path}: line {line}"))
-    if not out:
-        raise ValueError(f"--from {path}: no inputs")
-    seen: set[str] = set()
-    for c in out:
-        if c.id in seen:
-            raise ValueError(f"--from {path}: duplicate id {c.id!r}")
-        seen.add(c.id)
-    return out
+    """The inputs of a ``--from`` file (:func:`read_input_file`), all good: ``ValueError`` naming the file,
+    the first bad entry (or line) and its field otherwise."""
+    f = read_input_file(path)
+    if f.problems:
+        raise ValueError(f"--from {path}: {f.problems[0]}")
+    return f.inputs
 
 
 # ---------------------------------------------------------------------------------------------
@@ -338,7 +485,9 @@ def _last_impact(orb: cert.CertifiedOrbit) -> int:
     return max(e.n for e in orb.events if e.kind == "impact")
 
 
-def _certify(inp: CaseInput, n: int, prec: int) -> tuple[cert.CertifiedOrbit | None, str]:
+def _certify(
+    inp: CaseInput, n: int, prec: int, deadline: float | None = None
+) -> tuple[cert.CertifiedOrbit | None, str]:
     """``(orbit, why it ends early)``: the certified orbit of ``n`` impacts; where a flight cannot be
     certified, the longest certified prefix (``why``: the impact and the reason), with the ``no_impact``
     ending where the flight after it is proven never to land.  ``None`` where not even impact 0 is certified.
@@ -347,11 +496,20 @@ def _certify(inp: CaseInput, n: int, prec: int) -> tuple[cert.CertifiedOrbit | N
     (:func:`mapimpl.certified.track.certified_orbit`, from ``prec`` bits up, raised by itself up to its limit).
     The case's balls are then those of :func:`mapimpl.certified.certify_orbit` at the precision the schedule
     settled on, for the impacts it certified (the generator's orbit, with its flight certificates and its
-    radius limit)."""
+    radius limit).  ``deadline`` (``time.monotonic()``): the schedule stops there (its time budget)."""
     from ...mapimpl.certified.track import certified_orbit
 
+    budget = None if deadline is None else max(deadline - time.monotonic(), 1.0)
     run = certified_orbit(
-        inp.params, inp.tau0, inp.sdot0, n, s0=inp.s0, stick_time=inp.stick_time, prec=prec, progress=False
+        inp.params,
+        inp.tau0,
+        inp.sdot0,
+        n,
+        s0=inp.s0,
+        stick_time=inp.stick_time,
+        prec=prec,
+        progress=False,
+        time_budget_s=budget,
     )
     last = run.impacts_certified - 1
     kw: dict[str, Any] = dict(
@@ -427,20 +585,58 @@ def _cut(
     return _prefix(orb, last), why
 
 
-def build_user_case(inp: CaseInput, prec: int = cert.PREC, max_tolerance: float = TOLERANCE_LIMIT) -> UserCase:
-    """Certify ``inp``, set the tolerance of every row (:func:`generate.row_tolerances`) and apply the horizon
-    rule with the limit ``max_tolerance`` (module docstring).  Raises :class:`CaseError` where no prefix of the
-    orbit is certified within the limit, ``ValueError`` for a limit out of range."""
-    limit = check_max_tolerance(max_tolerance)
+#: Most rows of a case's ``expected.csv``: ``check`` reads at most 20000 lines and 2 MiB (a row ~100-160 bytes).
+MAX_CASE_ROWS = 12_000
+#: The time a case may take by default (``case --time-limit``), in seconds.
+TIME_LIMIT_S = 600.0
+
+
+def _grow(inp: CaseInput, prec: int, limit: float, time_limit_s: float | None):
+    """``(orbit, why it ends early, the first row over the limit or None)``: the orbit certified in chunks
+    doubled from :data:`FIRST_CHUNK` until the case is decided (every impact asked for, a tolerance at the
+    limit, an ending, an impact not certified) -- or the time limit: a chunk is started only if twice the
+    last one's time is left (the next is twice as long), and the certified track stops at the deadline
+    itself -- then cut to :data:`MAX_CASE_ROWS` rows."""
+    deadline = None if time_limit_s is None else time.monotonic() + time_limit_s
     n = min(inp.impacts, FIRST_CHUNK)
     while True:
-        orb, why = _certify(inp, n, prec)
+        t0 = time.monotonic()
+        orb, why = _certify(inp, n, prec, deadline)
+        if why and deadline is not None and time.monotonic() > deadline:
+            why = f"the time limit of {time_limit_s:g} s (--time-limit) was reached: {why}"
         if orb is None:
             raise CaseError(f"case {inp.id}: impact 0 is not certified: {why}")
         over = _first_over(generate.row_tolerances(_spec(inp, inp.impacts), orb), limit)
         if over or why or orb.status != "active" or n >= inp.impacts:
             break
+        now = time.monotonic()
+        if deadline is not None and now + 2 * (now - t0) > deadline:
+            why = f"the time limit of {time_limit_s:g} s (--time-limit) leaves no time to certify impacts after {n}"
+            break
         n = min(2 * n, inp.impacts)
+    if len(orb.events) > MAX_CASE_ROWS:
+        k = max(e.n for e in orb.events[:MAX_CASE_ROWS] if e.kind == "impact")
+        orb, why = (
+            _prefix(orb, k),
+            (
+                f"with impact {k + 1} the case would have more than {MAX_CASE_ROWS} rows (expected.csv "
+                f"must stay within what check reads: {MAX_LINES} lines, {MAX_BYTES} bytes)"
+            ),
+        )
+        over = _first_over(generate.row_tolerances(_spec(inp, inp.impacts), orb), limit)
+    return orb, why, over
+
+
+def build_user_case(
+    inp: CaseInput, prec: int = cert.PREC, max_tolerance: float = TOLERANCE_LIMIT, time_limit_s: float | None = None
+) -> UserCase:
+    """Certify ``inp``, set the tolerance of every row (:func:`generate.row_tolerances`) and apply the horizon
+    rule with the limit ``max_tolerance`` (module docstring).  ``time_limit_s``: the case stops at the last
+    impact certified within about that time (None: no limit; :func:`_grow`); it has at most
+    :data:`MAX_CASE_ROWS` rows.  Raises :class:`CaseError` where no prefix of the orbit is certified within
+    the limits, ``ValueError`` for a limit out of range."""
+    limit = check_max_tolerance(max_tolerance)
+    orb, why, over = _grow(inp, prec, limit, time_limit_s)
     reason = why
     miss = near_miss_limit(_spec(inp, inp.impacts), orb)
     if miss is not None:
@@ -521,13 +717,18 @@ def _level_and_catches(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[i
     return level, catches
 
 
-def build_user_cases(inputs: list[CaseInput], progress=None) -> list[UserCase | CaseError]:
+def build_user_cases(
+    inputs: list[CaseInput],
+    progress=None,
+    time_limit_s: float | None = None,
+    max_tolerance: float = TOLERANCE_LIMIT,
+) -> list[UserCase | CaseError]:
     """:func:`build_user_case` for each input (a :class:`CaseError` in place of a case that cannot be
-    built); ``progress(done, total)`` after each."""
+    built); ``progress(done, total)`` after each; ``time_limit_s`` and ``max_tolerance``: each case's."""
     out: list[UserCase | CaseError] = []
     for k, inp in enumerate(inputs):
         try:
-            out.append(build_user_case(inp))
+            out.append(build_user_case(inp, max_tolerance=max_tolerance, time_limit_s=time_limit_s))
         except CaseError as e:
             out.append(e)
         if progress is not None:
@@ -547,19 +748,25 @@ def write_user_case(suite: Path, case: UserCase, write: Callable[[Path, str], ob
 USER_SUITE_NAME = "user suite (gear-rattle case)"
 
 
-def update_index(suite: Path, write: Callable[[Path, str], object] = generate.write_plain) -> Path:
-    """Write ``suite/index.json`` from its case folders, keeping every field an existing index has beside
-    the case list (a suite version, a changelog ...) and adding the standard ones it lacks."""
+def index_text(suite: Path, overlay: dict[str, Path] | None = None) -> str:
+    """The text of ``suite/index.json`` from its case folders (with ``overlay``, ``{"<id>/<file>": file}``:
+    as it will be once those files are moved in, :func:`.catalog.build_index`), keeping every field an
+    existing index has beside the case list (a suite version, a changelog ...) and adding the standard ones
+    it lacks.  The existing index and every case are read as ``check`` reads them (regular files inside
+    the suite, within the limits): ``ValueError`` (one line) otherwise."""
     path = Path(suite) / INDEX_NAME
     old: dict = {}
-    if path.is_file():
+    if os.path.lexists(path):
         try:
-            old = json.loads(path.read_text())
-        except json.JSONDecodeError as e:
-            raise ValueError(f"{path}: line {e.lineno}: invalid JSON: {e.msg} (not updated)") from None
+            old = read_json(path, suite, MAX_BYTES).value
+        except MalformedFile as e:
+            raise ValueError(f"{e} (not updated)") from None
         if not isinstance(old, dict):
             raise ValueError(f"{path}: not a JSON object (not updated)")
-    fresh = build_index(Path(suite))
+    try:
+        fresh = build_index(Path(suite), overlay)
+    except MalformedFile as e:
+        raise ValueError(f"suite {str(suite)!r}: {e}") from None
     # the suite block: this suite's name and version (the user's, if the index had them; never the shipped
     # suite's) with the digests of its files as they are now, so that check says it matches
     mine = old.get("suite")
@@ -575,5 +782,11 @@ def update_index(suite: Path, write: Callable[[Path, str], object] = generate.wr
         "suite": block,
         "cases": fresh["cases"],
     }
-    write(path, json.dumps(merged, indent=1) + "\n")
+    return json.dumps(merged, indent=1) + "\n"
+
+
+def update_index(suite: Path, write: Callable[[Path, str], object] = generate.write_plain) -> Path:
+    """Write ``suite/index.json`` (:func:`index_text`) through ``write``; returns its path."""
+    path = Path(suite) / INDEX_NAME
+    write(path, index_text(suite))
     return path

@@ -27,16 +27,29 @@ from pathlib import Path
 import numpy as np
 
 from .differences import Difference, problem
+from .boundary import check_id, check_tolerance, shown
 from .jsonformat import JsonDoc, read_json
 from .textformat import position
 from .paths import DEFAULT_ORBITS
-from .suite import DIGITS_CAP, MalformedFile, MissingFile, circular_distance_exact, read_suite_json, select_ids
+from .suite import (
+    DIGITS_CAP,
+    MalformedFile,
+    MissingFile,
+    checked_at,
+    checked_ids,
+    circular_distance_exact,
+    read_suite_json,
+    select_ids,
+)
+from .version import MANIFEST_SUFFIX
 
 __all__ = ["DEFAULT_ORBITS", "MalformedFile", "MissingFile"]  # re-exported
 #: The level of every record (docs/golden.md: periodic orbits and bifurcation points are level 2).
 LEVEL = 2
 KINDS = ("periodic-orbit", "fold", "period-doubling")
 COLUMNS = ("tau_mod_2pi", "sdot", "multipliers", "value")
+#: Most impacts per period of a record.
+MAX_PERIOD = 1000
 TWO_PI = 2.0 * math.pi
 
 
@@ -94,14 +107,23 @@ def _objects(doc: JsonDoc, key: str, what: str) -> list:
     return items
 
 
-def load_record(path: str | Path) -> Record:
-    """Load and validate one golden record."""
+def load_record(path: str | Path, inside: str | Path | None = None) -> Record:
+    """Load and validate one golden record (a regular file inside the folder ``inside``, default its own;
+    its id the file's name, :func:`.boundary.check_id`; its tolerances :func:`.boundary.check_tolerance`)."""
     path = Path(path)
-    doc = read_suite_json(path)
+    doc = read_suite_json(path, path.parent if inside is None else inside)
     d = doc.value
     for k in ("id", "kind", "params", "impacts_per_period", "turns", "points", "multipliers", "tolerances"):
         if k not in d:
             raise doc.error((), f"missing key {k!r}")
+    rid = checked_at(doc, ("id",), check_id, d["id"], "id")
+    if rid + ".json" != path.name:
+        raise doc.error(
+            ("id",), f"{shown(rid)} is not its file's name {shown(path.name)} (a record's id names its file)"
+        )
+    ipp = d["impacts_per_period"]
+    if not (isinstance(ipp, int) and not isinstance(ipp, bool) and 1 <= ipp <= MAX_PERIOD):
+        raise doc.error(("impacts_per_period",), f"must be an integer 1 <= impacts_per_period <= {MAX_PERIOD}")
     if d["kind"] not in KINDS:
         raise doc.error(("kind",), f"{d['kind']!r} is not one of {', '.join(KINDS)}")
     points = _objects(doc, "points", "tau_mod_2pi, sdot, wall")
@@ -130,22 +152,22 @@ def load_record(path: str | Path) -> Record:
         value = _pair(doc, ("value",), d["value"])
     tol = d["tolerances"]
     need = ("tau_mod_2pi", "sdot", "multipliers") + (("value",) if value is not None else ())
+    if not isinstance(tol, dict):
+        raise doc.error(("tolerances",), f"must be an object with {', '.join(need)}")
     for c in need:
-        if not (
-            isinstance(tol, dict)
-            and isinstance(tol.get(c), (int, float))
-            and not isinstance(tol[c], bool)
-            and tol[c] >= 0
-        ):
-            raise doc.error(("tolerances", c), "must be a number >= 0")
+        checked_at(doc, ("tolerances", c), check_tolerance, tol.get(c), f"tolerances.{c}")
     return Record(d["id"], d["kind"], d, pts, np.array(walls, dtype=np.int64), mult, value, dict(tol))
 
 
 def record_ids(folder: str | Path = DEFAULT_ORBITS) -> list[str]:
+    """Sorted record ids: the names of the folder's ``*.json`` files (but the bookkeeping of
+    :data:`.version.MANIFEST_SUFFIX`); a :class:`MalformedFile` where one is not an id
+    (:func:`.boundary.check_id`) or there are more than :data:`.boundary.MAX_CASES`."""
     folder = Path(folder)
     if not folder.is_dir():
         raise MalformedFile(f"{folder}: orbit suite directory not found")
-    return sorted(p.stem for p in folder.glob("*.json"))
+    names = (p.stem for p in folder.glob("*.json") if not p.name.endswith(MANIFEST_SUFFIX))
+    return checked_ids(folder, names, "orbit record file")
 
 
 def load_records(
@@ -155,7 +177,9 @@ def load_records(
     :data:`LEVEL` (every record is level 2)."""
     if levels and LEVEL not in levels:
         return []
-    return [load_record(Path(folder) / f"{i}.json") for i in select_ids(record_ids(folder), ids, folder, "orbit")]
+    return [
+        load_record(Path(folder) / f"{i}.json", folder) for i in select_ids(record_ids(folder), ids, folder, "orbit")
+    ]
 
 
 # ------------------------------------------------------------------------------------------------
@@ -226,9 +250,10 @@ def required(rec: Record) -> tuple:
     return ("points", "multipliers") if rec.kind == "periodic-orbit" else ("value",)
 
 
-def read_values(path: str | Path, rec: Record | None = None) -> Values:
-    """Read and validate an implementation's file (with ``rec``: the keys it requires must be there)."""
-    doc = read_json(path)  # MissingFile when there is none: check scores it as "no output"
+def read_values(path: str | Path, rec: Record | None = None, inside: str | Path | None = None) -> Values:
+    """Read and validate an implementation's file (with ``rec``: the keys it requires must be there; a
+    regular file, inside the folder ``inside`` where given)."""
+    doc = read_json(path, inside)  # MissingFile when there is none: check scores it as "no output"
     missing = [k for k in (required(rec) if rec is not None else ()) if k not in doc.value]
     if rec is not None and missing:
         raise doc.error((), f"missing key {missing[0]!r} (a {rec.kind} needs {', '.join(required(rec))})")

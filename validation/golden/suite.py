@@ -16,17 +16,20 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from fractions import Fraction
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
+from .boundary import MAX_CASE_IMPACTS, MAX_CASES, MAX_TOLERANCE, check_id, check_tolerance, shown
 from .csvformat import Table, decimal_value, integer_value, is_absent, read_csv
 from .differences import Comparison, Difference, compare_events, problem, value_difference
 from .jsonformat import read_json
 from .paths import DEFAULT_SUITE
-from .textformat import MalformedFile, MissingFile
+from .textformat import MAX_LINES, MalformedFile, MissingFile
 
 __all__ = ["DEFAULT_SUITE", "MalformedFile", "MissingFile"]  # re-exported: the suite's names for them
 #: Columns of an impact-sequence CSV, in order (``core.results.COLUMNS``, restated: numpy only here).
@@ -126,15 +129,20 @@ def row_tolerance_value(value: str, column: str, kind: str) -> float:
     v = decimal_value(value)
     if not v >= 0:
         raise ValueError("is negative (a tolerance is >= 0)")
+    if not v < MAX_TOLERANCE:  # the bound of every tolerance a suite states (boundary.check_tolerance)
+        raise ValueError(f"is out of range: allowed a tolerance 0 <= t < {MAX_TOLERANCE:g}")
     return v
 
 
-def read_sequence(path: str | Path, *, expected_rows: int | None = None, required_extra=()) -> Sequence:
+def read_sequence(
+    path: str | Path, *, expected_rows: int | None = None, required_extra=(), inside: str | Path | None = None
+) -> Sequence:
     """Parse an impact-sequence CSV strictly (:func:`.csvformat.read_csv`, then the column forms of
     docs/golden.md; a per-row tolerance column of :data:`ROW_TOLERANCE_COLUMNS` among ``required_extra``
     through :func:`row_tolerance_value`); raise :class:`MalformedFile` with a one-line message naming file,
-    line and column (:class:`MissingFile` when there is no file)."""
-    table = read_csv(path)
+    line and column (:class:`MissingFile` when there is no file).  ``inside``: the folder the file must lie in, its links
+    resolved (a regular file only, whether or not it is given: :func:`.textformat.read_bytes`)."""
+    table = read_csv(path, inside)
     header, hrec = table.header.values, table.header
     for k, col in enumerate(COLUMNS):
         if col not in header:
@@ -196,10 +204,11 @@ def read_sequence(path: str | Path, *, expected_rows: int | None = None, require
     )
 
 
-def read_suite_json(path: Path):
-    """A suite JSON file (:func:`.jsonformat.read_json`); a missing one is malformed here."""
+def read_suite_json(path: Path, inside: str | Path | None = None):
+    """A suite JSON file (:func:`.jsonformat.read_json`, a regular file inside the folder ``inside``); a
+    missing one is malformed here."""
     try:
-        return read_json(path)
+        return read_json(path, inside)
     except MissingFile as e:
         raise MalformedFile(str(e)) from None
 
@@ -215,54 +224,124 @@ SETTINGS_KEYS = (
     "expected_status",
     "tolerances",
 )
+#: The endings a case may expect (``expected_status``).
+STATUSES = ("active", "stuck_forever", "no_impact")
 
 
-def _is_number(x) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+def checked_at(doc, where: tuple, check, *args):
+    """``check(*args)``; its ValueError or TypeError becomes a :class:`MalformedFile` at ``where``."""
+    try:
+        return check(*args)
+    except (ValueError, TypeError) as e:
+        raise doc.error(where, str(e)) from None
 
 
-def load_case(folder: str | Path) -> Case:
-    """Load and validate one case folder."""
-    folder = Path(folder)
-    doc = read_suite_json(folder / "settings.json")
+def _check_start(settings: dict) -> None:
+    """``initial_state`` and ``params``: what ``check --self`` runs (:func:`run_settings`), checked as the
+    library checks them (:func:`core.checks.check_start`, :func:`core.params.check_value`)."""
+    from ...core.checks import check_real, check_start
+    from ...core.params import PARAM_NAMES, check_value
+
+    params, ini = settings["params"], settings["initial_state"]
+    if not (isinstance(params, dict) and sorted(params) == sorted(PARAM_NAMES)):
+        raise ValueError(f"must be an object with the keys {', '.join(PARAM_NAMES)}")
+    for k in PARAM_NAMES:
+        if isinstance(params[k], bool):
+            raise ValueError(f"{k}={params[k]!r} is not a number")
+        check_value(k, params[k])
+    kinds = {"pre-impact": {"kind", "tau0", "sdot0"}, "free-flight": {"kind", "tau0", "sdot0", "s0"}}
+    if not (isinstance(ini, dict) and ini.get("kind") in kinds and set(ini) == kinds[ini["kind"]]):
+        raise ValueError(
+            "initial_state must be {kind: pre-impact, tau0, sdot0} or {kind: free-flight, tau0, s0, sdot0}"
+        )
+    for k in ini.keys() - {"kind"}:
+        if isinstance(ini[k], bool):
+            raise ValueError(f"initial_state.{k}={ini[k]!r} is not a number")
+    check_start(ini["tau0"], ini["sdot0"], ini.get("s0"))
+    check_real("sdot0", ini["sdot0"], -1e6, 1e6)
+    check_real("stick_time", settings["stick_time"], 0.0, 1.0)
+
+
+def _check_settings(doc, folder: Path) -> None:
+    """Every field of ``settings.json`` that ``check`` uses, within its bounds (docs/golden.md, "What check
+    reads"): the id (:func:`.boundary.check_id`, the folder's name), counts, tolerances
+    (:func:`.boundary.check_tolerance`), the start and parameters."""
     settings = doc.value
     for k in SETTINGS_KEYS:
         if k not in settings:
             raise doc.error((), f"missing key {k!r}")
-    if not isinstance(settings["id"], str):
-        raise doc.error(("id",), "must be a string")
-    if not (
-        isinstance(settings["expected_rows"], int)
-        and not isinstance(settings["expected_rows"], bool)
-        and settings["expected_rows"] >= 0
-    ):
-        raise doc.error(("expected_rows",), "must be an integer >= 0")
+    cid = checked_at(doc, ("id",), check_id, settings["id"], "id")
+    name = Path(os.path.abspath(folder)).name
+    if cid != name:
+        raise doc.error(("id",), f"{shown(cid)} is not its folder's name {shown(name)} (a case's id names its folder)")
+    from ...core.checks import check_int
+
+    count = partial(check_int, strict=True)
+    checked_at(doc, ("expected_rows",), count, "expected_rows", settings["expected_rows"], 0, MAX_LINES)
+    checked_at(doc, ("n_impacts",), count, "n_impacts", settings["n_impacts"], 0, MAX_CASE_IMPACTS)
+    if settings["expected_status"] not in STATUSES:
+        raise doc.error(("expected_status",), f"must be one of {', '.join(STATUSES)}")
     if "level" in settings and settings["level"] not in LEVELS:
         raise doc.error(("level",), f"must be one of {', '.join(map(str, LEVELS))}")
     tols = settings["tolerances"]
     for c in TOLERANCE_COLUMNS:
         tol = tols.get(c) if isinstance(tols, dict) else None
-        if not (
-            isinstance(tol, dict)
-            and {"abs", "rel"} <= set(tol)
-            and all(_is_number(tol[k]) and tol[k] >= 0 for k in ("abs", "rel"))
-        ):
-            raise doc.error(("tolerances", c), "must be {'abs': a number >= 0, 'rel': a number >= 0}")
+        if not (isinstance(tol, dict) and {"abs", "rel"} <= set(tol)):
+            raise doc.error(("tolerances", c), f"must be {{'abs': a, 'rel': q}}, numbers 0 <= a, q < {MAX_TOLERANCE:g}")
+        for k in ("abs", "rel"):
+            checked_at(doc, ("tolerances", c, k), check_tolerance, tol[k], f"tolerances.{c}.{k}")
+    checked_at(doc, ("params",), _check_start, settings)
+
+
+def load_case(folder: str | Path, suite: str | Path | None = None) -> Case:
+    """Load and validate one case folder (its files read inside ``suite``, default the folder itself:
+    regular files, no link out; :func:`.textformat.read_bytes`)."""
+    folder = Path(folder)
+    inside = folder if suite is None else suite
+    doc = read_suite_json(folder / "settings.json", inside)
+    if not isinstance(doc.value, dict):
+        raise doc.error((), "expected a JSON object")
+    _check_settings(doc, folder)
+    settings = doc.value
     per_row = "row_tolerances" in settings
     if per_row and settings["row_tolerances"] != ROW_TOLERANCES_POINTER:
         raise doc.error(("row_tolerances",), f"must be {json.dumps(ROW_TOLERANCES_POINTER)}")
     extra = RADIUS_COLUMNS + (tuple(ROW_TOLERANCE_COLUMNS.values()) if per_row else ())
-    exp = read_sequence(folder / "expected.csv", expected_rows=settings["expected_rows"], required_extra=extra)
+    exp = read_sequence(
+        folder / "expected.csv", expected_rows=settings["expected_rows"], required_extra=extra, inside=inside
+    )
     row_tol = {c: exp.extra[k] for c, k in ROW_TOLERANCE_COLUMNS.items()} if per_row else None
     return Case(settings["id"], folder, settings, exp, row_tol)
 
 
 def case_ids(suite: str | Path = DEFAULT_SUITE) -> list[str]:
-    """Sorted case ids (folder names that contain a settings.json)."""
+    """Sorted case ids (folder names that contain an entry settings.json, of whatever kind: the reader
+    refuses what is not a regular file; hidden names, starting with ``.``, are never cases); a
+    :class:`MalformedFile` where such a folder's name is not an id (:func:`.boundary.check_id`) or the
+    suite holds more than :data:`.boundary.MAX_CASES` of them."""
     suite = Path(suite)
     if not suite.is_dir():
         raise MalformedFile(f"{suite}: suite directory not found")
-    return sorted(p.name for p in suite.iterdir() if (p / "settings.json").is_file())
+    names = (
+        p.name
+        for p in suite.iterdir()
+        if not p.name.startswith(".") and p.is_dir() and os.path.lexists(p / "settings.json")
+    )
+    return checked_ids(suite, names, "case folder")
+
+
+def checked_ids(folder: Path, names, what: str) -> list[str]:
+    """The sorted ``names`` found in ``folder``, each an id (:func:`.boundary.check_id`) and at most
+    :data:`.boundary.MAX_CASES` of them; a :class:`MalformedFile` naming the folder otherwise."""
+    ids = []
+    for name in names:
+        try:
+            ids.append(check_id(name, what))
+        except ValueError as e:
+            raise MalformedFile(f"{folder}: {e}") from None
+        if len(ids) > MAX_CASES:
+            raise MalformedFile(f"{folder}: more than {MAX_CASES} {what}s (the limit of a suite)")
+    return sorted(ids)
 
 
 def select_ids(known: list[str], wanted: list[str] | None, where, what: str = "case") -> list[str]:
@@ -272,7 +351,9 @@ def select_ids(known: list[str], wanted: list[str] | None, where, what: str = "c
         return known
     unknown = [c for c in wanted if c not in known]
     if unknown:
-        raise MalformedFile(f"{where}: unknown {what} id(s): {', '.join(unknown)} (known: {', '.join(known)})")
+        raise MalformedFile(
+            f"{where}: unknown {what} id(s): {', '.join(map(shown, unknown))} (known: {', '.join(known)})"
+        )
     return [c for c in known if c in wanted]
 
 
@@ -280,8 +361,8 @@ def load_suite(
     suite: str | Path = DEFAULT_SUITE, cases: list[str] | None = None, levels: list[int] | None = None
 ) -> list[Case]:
     """Load every case of a suite directory, or those listed in ``cases`` and (if given) of a level
-    in ``levels`` (both: the cases in both selections)."""
-    loaded = [load_case(Path(suite) / i) for i in select_ids(case_ids(suite), cases, suite)]
+    in ``levels`` (both: the cases in both selections).  Every file is read inside the suite."""
+    loaded = [load_case(Path(suite) / i, suite) for i in select_ids(case_ids(suite), cases, suite)]
     return [c for c in loaded if not levels or c.level in levels]
 
 

@@ -8,12 +8,21 @@ character outside :data:`FORBIDDEN`'s complement: control characters other than 
 directly before LF, as line ends), DEL and the C1 controls (U+0085 included), the Unicode line and
 paragraph separators U+2028/U+2029, and U+FEFF anywhere but as the first character (a byte-order
 mark, dropped).  Reading stops at ``MAX_BYTES + 1`` bytes, so a huge file costs no more than that.
+
+**Only regular files are read** (:func:`read_bytes`, the one place a file of a suite, an implementation's
+output folder or a ``--from`` file is opened): a named pipe, a device, a socket or a folder at the name is
+refused in one line, never waited on (the name is examined with ``stat`` and opened with ``O_NONBLOCK``,
+then checked again on the open descriptor); with ``inside`` (the folder the name was built in), a name
+whose links lead outside that folder is refused as well.
 """
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from pathlib import Path
+from typing import BinaryIO
 
 #: Largest file read, in bytes (2 MiB): a case has tens of rows (about 100 bytes each).
 MAX_BYTES = 2 * 1024 * 1024
@@ -59,18 +68,69 @@ def _describe(ch: str) -> str:
     return f"the character U+{ord(ch):04X}, which the format does not allow (control or line-separator character)"
 
 
-def read_text(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
-    """The file's text, checked against the limits (at most ``max_bytes``) and the character rule; a
-    leading byte-order mark is dropped.  :class:`MissingFile` when it does not exist,
-    :class:`MalformedFile` otherwise."""
+def _kind(mode: int) -> str | None:
+    """What a file that is not a regular file is (None for a regular file)."""
+    for test, what in (
+        (stat.S_ISREG, None),
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISFIFO, "a named pipe (FIFO)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
+        if test(mode):
+            return what
+    return "not a regular file"
+
+
+def lies_inside(path: str | Path, folder: str | Path) -> bool:
+    """Whether ``path``, its links resolved, lies inside ``folder`` (its links resolved too)."""
+    root = os.path.realpath(folder)
+    return os.path.commonpath([root, os.path.realpath(path)]) == root
+
+
+def open_regular(path: str | Path, inside: str | Path | None = None) -> BinaryIO:
+    """``path`` opened for reading in binary if it is a **regular file** (module docstring): never waits
+    on a pipe or a device.  :class:`MissingFile` when nothing is there; :class:`MalformedFile` (one line)
+    for anything else than a regular file, a name whose links lead outside the folder ``inside``, or a
+    file that cannot be opened."""
     path = Path(path)
+    if inside is not None and not lies_inside(path, inside):
+        raise MalformedFile(
+            f"{path}: a link to {os.path.realpath(path)!r}, outside {str(inside)!r}: refused (only files "
+            "inside the folder are read)"
+        )
     try:
-        with open(path, "rb") as fh:
-            data = fh.read(max_bytes + 1)
+        kind = _kind(os.stat(path).st_mode)
+        if kind is None:
+            fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_NOCTTY | getattr(os, "O_CLOEXEC", 0))
+            kind = _kind(os.fstat(fd).st_mode)  # the file opened is the one examined (or refused after all)
+            if kind is None:
+                return os.fdopen(fd, "rb")
+            os.close(fd)
     except FileNotFoundError:
         raise MissingFile(f"{path}: missing file") from None
     except OSError as e:
         raise MalformedFile(f"{path}: cannot read: {e.strerror or e}") from None
+    raise MalformedFile(f"{path}: {kind}, not a regular file: refused (only regular files are read)")
+
+
+def read_bytes(path: str | Path, max_bytes: int = MAX_BYTES, inside: str | Path | None = None) -> bytes:
+    """At most ``max_bytes + 1`` bytes of the regular file ``path`` (:func:`open_regular`)."""
+    with open_regular(path, inside) as fh:
+        try:
+            return fh.read(max_bytes + 1)
+        except OSError as e:
+            raise MalformedFile(f"{path}: cannot read: {e.strerror or e}") from None
+
+
+def read_text(path: str | Path, max_bytes: int = MAX_BYTES, inside: str | Path | None = None) -> str:
+    """The file's text, checked against the limits (at most ``max_bytes``) and the character rule; a
+    leading byte-order mark is dropped.  Read by :func:`read_bytes` (a regular file, inside the folder
+    ``inside`` where given).  :class:`MissingFile` when it does not exist, :class:`MalformedFile`
+    otherwise."""
+    path = Path(path)
+    data = read_bytes(path, max_bytes, inside)
     if len(data) > max_bytes:
         head = data[:max_bytes]
         raise malformed(

@@ -24,10 +24,14 @@ and the changelog of docs/golden.md changing with them.  Only the standard libra
 from __future__ import annotations
 
 import hashlib
-import json
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
+
+from .boundary import printable
+from .jsonformat import read_json
+from .textformat import MAX_BYTES, MalformedFile, open_regular
 
 #: The suite's semantic version: raise it, and add its changelog entry to docs/golden.md ("Versions
 #: of the suite"), whenever a file of ``cases/`` or ``orbits/`` changes; then regenerate
@@ -41,6 +45,8 @@ PARTS = {"cases": GOLDEN / "cases", "orbits": GOLDEN / "orbits"}
 #: The index file: not part of the digest (it records it).
 INDEX_NAME = "index.json"
 SUFFIXES = (".json", ".csv")
+#: The largest suite file digested (a case's provenance.json grows with its impacts: ~0.2 MB per 1000).
+MAX_FILE_BYTES = 64 * 1024 * 1024
 
 
 #: A command's record of the files it wrote into a folder (``<command>.manifest.json``, the output
@@ -49,24 +55,41 @@ MANIFEST_SUFFIX = ".manifest.json"
 
 
 def suite_files(folder: str | Path) -> list[str]:
-    """The relative paths of ``folder``'s suite files, in the digest's order (module docstring)."""
+    """The relative paths of ``folder``'s suite files, in the digest's order (module docstring); a name
+    starting with ``.`` (a hidden file, a writer's temporary file or staging folder) is never one."""
     folder = Path(folder)
     found = []
-    for p in list(folder.iterdir()) + [q for d in folder.iterdir() if d.is_dir() for q in d.iterdir()]:
+    top = [p for p in folder.iterdir() if not p.name.startswith(".")]
+    for p in top + [q for d in top if d.is_dir() for q in d.iterdir() if not q.name.startswith(".")]:
         rel = p.relative_to(folder).as_posix()
         if p.is_file() and p.suffix in SUFFIXES and rel != INDEX_NAME and not rel.endswith(MANIFEST_SUFFIX):
             found.append(rel)
     return sorted(found, key=lambda r: r.encode("utf-8"))
 
 
-def folder_digest(folder: str | Path) -> str:
-    """``sha256:<hex>`` of ``folder``'s suite files (module docstring); ``OSError`` if unreadable."""
+def folder_digest(folder: str | Path, overlay: dict[str, Path] | None = None) -> str:
+    """``sha256:<hex>`` of ``folder``'s suite files (module docstring) -- with ``overlay``
+    (``{relative path: file}``, files about to be moved in) as they will be once those are in place;
+    ``OSError`` if the folder is unreadable, :class:`.textformat.MalformedFile` (one line) for a file that
+    is not a regular file inside its folder (:func:`.textformat.open_regular`), larger than
+    :data:`MAX_FILE_BYTES` or changed while read."""
     folder = Path(folder)
+    files = {rel: (folder / rel, folder) for rel in suite_files(folder)}
+    files.update({rel: (Path(f), Path(f).parent) for rel, f in (overlay or {}).items()})
     h = hashlib.sha256()
-    for rel in suite_files(folder):
-        data = (folder / rel).read_bytes()
-        h.update(rel.encode("utf-8") + b"\0" + str(len(data)).encode("ascii") + b"\0")
-        h.update(data)
+    for rel in sorted(files, key=lambda r: r.encode("utf-8")):
+        path, inside = files[rel]
+        with open_regular(path, inside) as fh:
+            size = os.fstat(fh.fileno()).st_size
+            if size > MAX_FILE_BYTES:
+                raise MalformedFile(f"{path}: larger than {MAX_FILE_BYTES} bytes (the limit of a suite file)")
+            h.update(rel.encode("utf-8") + b"\0" + str(size).encode("ascii") + b"\0")
+            read = 0
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                read += len(block)
+                h.update(block)
+            if read != size:
+                raise MalformedFile(f"{path}: changed while it was read (run again)")
     return "sha256:" + h.hexdigest()
 
 
@@ -76,12 +99,13 @@ def combined_digest(cases: str, orbits: str | None) -> str:
     return "sha256:" + hashlib.sha256(text.encode("ascii")).hexdigest()
 
 
-def suite_block(cases: str | Path) -> dict:
+def suite_block(cases: str | Path, overlay: dict[str, Path] | None = None) -> dict:
     """The ``suite`` block of ``cases/index.json``: name, version and the digests, computed from the
-    case folder ``cases`` and the ``orbits`` folder beside it (None where there is none)."""
+    case folder ``cases`` (with ``overlay``, :func:`folder_digest`) and the ``orbits`` folder beside it
+    (None where there is none)."""
     cases = Path(cases)
     orbits = cases.parent / "orbits"
-    d_cases = folder_digest(cases)
+    d_cases = folder_digest(cases, overlay)
     d_orbits = folder_digest(orbits) if orbits.is_dir() else None
     return {
         "name": SUITE_NAME,
@@ -99,9 +123,9 @@ def recorded(index: str | Path | None = None) -> dict:
     """The ``suite`` block recorded in an ``index.json`` (default: the package's); ``{}`` if it has none
     or cannot be read."""
     path = Path(index) if index is not None else PARTS["cases"] / INDEX_NAME
-    try:
-        block = json.loads(path.read_text(encoding="utf-8")).get("suite")
-    except (OSError, ValueError, AttributeError):
+    try:  # the strict reader: a regular file inside its folder, within the limits
+        block = read_json(path, path.parent, MAX_BYTES).value.get("suite")
+    except (MalformedFile, AttributeError):
         return {}
     return block if isinstance(block, dict) else {}
 
@@ -173,9 +197,9 @@ def suite_info(folder: str | Path, part: str) -> SuiteInfo:
         part,
         folder,
         folder_digest(folder),
-        str(block.get("version", "unversioned")),
+        printable(block.get("version", "unversioned")),
         block.get(f"{part}_digest"),
-        str(block.get("name", "suite without a recorded version")),
+        printable(block.get("name", "suite without a recorded version")),
     )
 
 

@@ -29,9 +29,11 @@ above for that very target, older than the run, and whose process is gone (a con
 are left alone); never a file of the user's.  The staging folders of earlier versions
 (``.<DIR>.partial-<8 characters>``, from ``tempfile.mkdtemp``) are recognised as well.
 
-**Special targets**: a symbolic link is followed (the file it points to is replaced atomically, the
-link stays); a target that exists and is not a regular file (``/dev/null``, a named pipe, a terminal)
-is written in place -- there is no earlier content to keep.
+**Special targets** (the one rule of every command, the report's staged files included): a symbolic link
+is followed (the file it points to is replaced atomically, the link stays) -- in a folder of outputs the
+manifest lists the file under the name asked for, with ``written_to``, the real path written, where a
+link led elsewhere; a target that exists and is not a regular file (``/dev/null``, a named pipe, a
+terminal) is written in place -- there is no earlier content to keep.
 """
 
 from __future__ import annotations
@@ -144,6 +146,7 @@ class Outputs:
         self.argv = list(sys.argv if argv is None else argv)
         self.started = time.time()
         self.pending: list[tuple[Path, Path]] = []  # (temporary file, target)
+        self.asked: dict[Path, Path] = {}  # target -> the name the command asked for (a link: where it leads)
         self.stages: list[Path] = []  # staging folders: files written in them are renamed at once
         self.written: list[Path] = []  # targets committed
 
@@ -178,15 +181,25 @@ class Outputs:
         self.written += targets
         return targets
 
-    def _in_folder(self, pairs) -> dict[str, Path]:
+    def _in_folder(self, pairs) -> dict[str, tuple[Path, str | None]]:
+        """``{name in the folder: (temporary file, where it is written)}`` of the files asked for inside the
+        folder: the name as asked (relative to the folder, links not followed) and, where a link in it
+        leads elsewhere (the link rule: followed), the real path written, else None."""
         if self.folder is None:
             return {}
-        root = self.folder.resolve()
-        out = {}
+        root, real_root = os.path.abspath(self.folder), os.path.realpath(self.folder)
+        out: dict[str, tuple[Path, str | None]] = {}
         for tmp, target in pairs:
-            t = target.resolve() if target.exists() else target.parent.resolve() / target.name
-            if root in t.parents:
-                out[t.relative_to(root).as_posix()] = tmp
+            asked = os.path.abspath(self.asked.get(target, target))
+            if os.path.commonpath([root, asked]) != root or asked == root:
+                continue
+            rel = Path(os.path.relpath(asked, root)).as_posix()
+            real = os.path.realpath(target)
+            same = (
+                os.path.commonpath([real_root, real]) == real_root
+                and Path(os.path.relpath(real, real_root)).as_posix() == rel
+            )
+            out[rel] = (tmp, None if same else real)
         return out
 
     def _manifest(self, files: dict, complete: bool) -> tuple[Path, Path]:
@@ -219,15 +232,18 @@ class Outputs:
             self.stages = []
 
 
-def _digests(inside: dict[str, Path]) -> dict:
-    """``{relative name: {bytes, sha256}}`` of the files ``{relative name: temporary file}``."""
+def _digests(inside: dict[str, tuple[Path, str | None]]) -> dict:
+    """``{relative name: {bytes, sha256[, written_to]}}`` of the files ``{relative name: (temporary file,
+    where a link led it or None)}``."""
     files = {}
-    for rel, tmp in sorted(inside.items()):
+    for rel, (tmp, real) in sorted(inside.items()):
         h = hashlib.sha256()
         with open(tmp, "rb") as fh:
             for block in iter(lambda: fh.read(1 << 20), b""):
                 h.update(block)
         files[rel] = {"bytes": tmp.stat().st_size, "sha256": h.hexdigest()}
+        if real is not None:
+            files[rel]["written_to"] = real
     return files
 
 
@@ -301,7 +317,9 @@ def _write_temp(
 ) -> tuple[Path, Path]:
     """Write ``data`` (bytes, or a function filling a binary file) to a new temporary file beside
     ``target``, flushed to disk; returns ``(temporary file, target)``.  The temporary file is in
-    :data:`validation.interrupt.CLEANUP` until it is renamed or removed."""
+    :data:`validation.interrupt.CLEANUP` until it is renamed or removed.  An ``OSError`` without a file
+    name (a write or fsync on a full disk) is raised again naming the temporary file (messages then name
+    the target: :func:`target_of`)."""
     tmp = target.parent / staging_name(target.name)
     with _locked():
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
@@ -316,10 +334,30 @@ def _write_temp(
                 data(fh)
             fh.flush()
             os.fsync(fh.fileno())
+    except OSError as e:
+        _unlink(tmp)
+        if e.filename is None:
+            raise OSError(e.errno, e.strerror, str(tmp)) from None
+        raise
     except BaseException:
         _unlink(tmp)
         raise
     return tmp, target
+
+
+def target_of(path: str | Path) -> Path:
+    """The output a temporary or staged path stands for: ``DIR/.<name>.partial-...`` is ``DIR/<name>``, a
+    file in a staging folder (:func:`staged`: inside the output folder or beside it) the file of that name
+    in the output folder; any other path is itself."""
+    p = Path(path)
+    parts = p.parts
+    for i in range(len(parts) - 1, -1, -1):
+        m = STAGING_NAME.match(parts[i])
+        if m:
+            parent = Path(*parts[:i]) if i else Path()
+            inside = i < len(parts) - 1 and parent.name == m["base"]  # a staging folder inside its output folder
+            return target_of((parent if inside else parent / m["base"]).joinpath(*parts[i + 1 :]))
+    return p
 
 
 def _replace(tmp: Path, target: Path) -> None:
@@ -380,6 +418,7 @@ def write_atomic(path: str | Path, data: bytes | Callable[[IO[bytes]], object]) 
     tmp, _ = _write_temp(target, data, mode)
     if tx is not None and not tx.in_stage(target):
         tx.pending.append((tmp, target))
+        tx.asked[target] = Path(path)
     else:
         with _locked():
             _replace(tmp, target)
@@ -421,16 +460,35 @@ def staged(out: str | Path, label: str = "report") -> Iterator[Path]:
         for f in folders:  # all checked before anything is created or moved
             if f.exists() and not f.is_dir():
                 raise NotADirectoryError(errno.ENOTDIR, "is not a directory (allowed a folder)", str(f))
-        for f in folders:
-            f.mkdir(parents=True, exist_ok=True)
-        for f in sorted(p for p in stage.rglob("*") if not p.is_dir()):
-            tx.pending.append((f, out / f.relative_to(stage)))
-            interrupt.CLEANUP.append(str(f))
-        tx.commit()  # in place when the block ends (the command reads them back)
+        created = [f for f in folders if not os.path.lexists(f)]
+        try:
+            for f in folders:
+                f.mkdir(parents=True, exist_ok=True)
+            _move_in(tx, stage, out)
+            tx.commit()  # in place when the block ends (the command reads them back)
+        except BaseException:  # nothing moved in: the folders made for it go again (a new one stays empty)
+            for f in sorted(created, key=lambda q: len(q.parts), reverse=True):
+                with contextlib.suppress(OSError):
+                    f.rmdir()
+            raise
         with _locked():
             shutil.rmtree(stage, ignore_errors=True)
             _forget(stage)
             tx.stages.remove(stage)
+
+
+def _move_in(tx: Outputs, stage: Path, out: Path) -> None:
+    """Every file of the staging folder joins the set of outputs, to be renamed into ``out`` at the same
+    relative path (the link rule of the module docstring)."""
+    for f in sorted(p for p in stage.rglob("*") if not p.is_dir()):
+        asked = out / f.relative_to(stage)
+        target, atomic = resolve_target(asked)  # a link is followed, as by write_atomic
+        if not atomic:  # a device or a pipe at the name: written in place, as write_atomic does
+            shutil.copyfile(f, target)
+            continue
+        tx.pending.append((f, target))
+        tx.asked[target] = asked
+        interrupt.CLEANUP.append(str(f))
 
 
 def read_manifest(folder: str | Path, command: str) -> dict | None:

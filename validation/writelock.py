@@ -1,14 +1,16 @@
-"""One writer at a time: the lock of an atlas store.
+"""One writer at a time: the lock of an atlas store or of a golden suite (shared by ``atlas``, ``case`` and
+anything else that writes a folder of results another run may be writing: ``fuzz``'s suite of findings).
 
-The lock is the file ``STORE.lock`` beside the store (``atlas.zarr.lock`` next to ``atlas.zarr``: beside
-it, not in it, so that it exists before the store is created and survives ``--overwrite``, which deletes
-the store).  A writer holds an exclusive ``fcntl.flock`` on it for its whole run and writes into it who
+The lock is a file: for an atlas store ``STORE.lock`` beside the store (``atlas.zarr.lock`` next to
+``atlas.zarr``: beside it, not in it, so that it exists before the store is created and survives
+``--overwrite``, which deletes the store; :func:`lock_path`); for a suite ``SUITE/suite.lock`` inside it
+(:func:`suite_lock`: the suite's own file, a name no case id may take).  A writer holds an exclusive ``fcntl.flock`` on it for its whole run and writes into it who
 it is (one JSON line: pid, host, start time, command).  The operating system releases a ``flock`` when
 its holder dies, however it dies (SIGKILL included), so:
 
 * a second writer (a second command on the store, ``--overwrite`` included, or the same command started
-  twice on a new store) finds the lock held and is refused with :class:`StoreBusy`, one line naming the
-  store and the holder -- it never waits;
+  twice on a new store; two ``case`` runs into one suite) finds the lock held and is refused with
+  :class:`StoreBusy`, one line naming the store (or suite) and the holder -- it never waits;
 * a writer that ended normally (or by Ctrl-C on the command line) removes the file; a file found with a holder in it but no ``flock`` on it
   is the **stale lock** of a run that was killed: it is taken over, and ``StoreLock.stale`` says
   whose it was (the command line prints a note).
@@ -31,7 +33,10 @@ import socket
 import sys
 from pathlib import Path
 
-from .. import interrupt
+from . import interrupt
+
+#: The lock file of a suite, inside it (:func:`suite_lock`).
+SUITE_LOCK_NAME = "suite.lock"
 
 
 class StoreBusy(RuntimeError):
@@ -75,14 +80,17 @@ def _read(fd: int) -> dict | None:
 class StoreLock:
     """The exclusive lock of the atlas store at ``store`` (a context manager; :meth:`acquire` never waits).
 
-    Attributes after :meth:`acquire`: ``stale`` (the record of a killed run whose lock was taken over, or
-    None) and ``unsupported`` (the file system refused ``flock``: no lock is held).
+    ``path``: the lock file (default :func:`lock_path`, beside the store); ``what``: the word messages use
+    for what it guards (``store``, ``suite``).  Attributes after :meth:`acquire`: ``stale`` (the record of
+    a killed run whose lock was taken over, or None) and ``unsupported`` (the file system refused
+    ``flock``: no lock is held).
     """
 
-    def __init__(self, store: str, command: str | None = None):
+    def __init__(self, store: str, command: str | None = None, *, path: str | Path | None = None, what: str = "store"):
         self.store = str(store)
-        self.path = lock_path(store)
+        self.path = lock_path(store) if path is None else Path(path)
         self.command = command
+        self.what = what
         self.fd: int | None = None
         self.stale: dict | None = None
         self.unsupported: str | None = None
@@ -107,7 +115,7 @@ class StoreLock:
                 if e.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
                     who = holder_text(holder) if holder else "another process (it is starting)"
                     raise StoreBusy(
-                        f"store {self.store!r} is in use by another writer: {who}; its lock is "
+                        f"{self.what} {self.store!r} is in use by another writer: {who}; its lock is "
                         f"{str(self.path)!r}: wait until it ends"
                     ) from None
                 self.unsupported = f"{e.strerror or e}"  # e.g. ENOLCK, EOPNOTSUPP: no flock on this file system
@@ -125,12 +133,12 @@ class StoreLock:
             try:
                 os.ftruncate(fd, 0)
                 os.pwrite(fd, (json.dumps(_record(self.command)) + "\n").encode(), 0)
-            except OSError:  # e.g. the disk is full: no lock held, no lock file left
+            except OSError as e:  # e.g. the disk is full: no lock held, no lock file left
                 self.stale = None
                 self.release()
-                raise
+                raise OSError(e.errno, e.strerror, str(self.path)) from None  # the message names the lock file
             return self
-        raise StoreBusy(f"store {self.store!r}: its lock {str(self.path)!r} keeps changing: another writer")
+        raise StoreBusy(f"{self.what} {self.store!r}: its lock {str(self.path)!r} keeps changing: another writer")
 
     def release(self) -> None:
         """Remove the lock file and release the lock (nothing if not held)."""
@@ -151,3 +159,9 @@ class StoreLock:
 
     def __exit__(self, *exc) -> None:
         self.release()
+
+
+def suite_lock(suite: str | Path, command: str | None = None) -> StoreLock:
+    """The lock of the golden suite folder ``suite`` (``SUITE/suite.lock``, :data:`SUITE_LOCK_NAME`), not
+    yet taken: every writer of a suite (``case``, ``fuzz``'s findings) holds it while it writes."""
+    return StoreLock(str(suite), command, path=Path(suite) / SUITE_LOCK_NAME, what="suite")
