@@ -252,6 +252,8 @@ def read_tolerances(data: bytes, settings: dict) -> list[dict]:
             tol[c] = _decimal(cell)
             if tol[c] < 0:
                 raise Malformed("negative tolerance")
+            if tol[c] >= Fraction(1e-4):  # every tolerance a suite states is below 1e-4 (docs/golden.md)
+                raise Malformed("tolerance out of range")
         out.append(tol)
     return out
 

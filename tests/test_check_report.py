@@ -62,7 +62,11 @@ def test_a_value_beyond_its_tolerance_expected_against_got(tmp_path, capsys):
     ff = res["first_failing"]
     assert (ff["kind"], ff["column"], ff["line"], ff["golden_line"], ff["row"]) == ("value", "tau", 5, 5, 3)
     assert ff["expected"]["tau"] == golden and ff["actual"]["tau"] == golden + 3 * tol
-    assert ff["tolerance"] == pytest.approx(tol) and ff["over_tolerance"] == pytest.approx(3, rel=1e-6)
+    # 3 x the row's tolerance, as far as golden + 3 tol rounds (a row's tolerance is ~1e-11: the rounding of
+    # golden + 3 tol to a float64 moves the ratio by up to ~1e-5)
+    over = abs((golden + 3 * tol) - golden) / tol
+    assert ff["tolerance"] == pytest.approx(tol) and ff["over_tolerance"] == pytest.approx(over, rel=1e-9)
+    assert over == pytest.approx(3, rel=1e-4)
     assert ff["file"] == str(tmp_path / "out" / f"{cid}.csv")
     assert ff["golden_file"] == str(DEFAULT_SUITE / cid / "expected.csv")
     assert _ops(ff) == [("=", 3, 3), ("=", 4, 4), ("~", 5, 5), ("=", 6, 6), ("=", 7, 7)]

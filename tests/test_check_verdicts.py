@@ -71,7 +71,7 @@ def test_cases_not_selected_are_skipped_with_the_reason(tmp_path, capsys):
     assert main(["check", str(out), "--level", "1", "--summary"]) == 0
     assert f"{n1}/{n1} cases pass, {len(CASES) - n1} skipped" in capsys.readouterr().out
     assert main(["check", str(out), "--exclude", "9999-nope"]) == 2
-    _one_error(capsys, "unknown case id(s): 9999-nope")
+    _one_error(capsys, "unknown case id(s): '9999-nope'")
 
 
 def test_known_failures_are_expected_and_one_that_passes_fails_the_run(tmp_path, capsys):

@@ -261,9 +261,11 @@ def run(args: argparse.Namespace) -> int:
         with Bar("case", total=len(inputs), unit="cases", enabled=progress_arg(args) is not False) as bar:
             for k, inp in enumerate(inputs):
                 try:
-                    built.append(build_user_case(
+                    built.append(
+                        build_user_case(
                             inp, max_tolerance=args.max_tolerance, time_limit_s=args.time_limit or TIME_LIMIT_S
-                        ))
+                        )
+                    )
                 except CaseError as e:
                     note(f"no case: {e}")
                     failed += 1
