@@ -36,10 +36,52 @@ HELP = "build a certified golden-format case (or a whole suite, --from) for your
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..golden.boundary import MAX_CASE_IMPACTS
     from ..golden.ondemand import MAX_TOLERANCE_LIMIT, MIN_TOLERANCE_LIMIT, TOLERANCE_LIMIT
 
-    g = p.add_argument_group("one input (or --from)")
+    _add_input_arguments(p.add_argument_group("one input (or --from)"))
+    p.add_argument(
+        "--from",
+        dest="from_file",
+        default=None,
+        metavar="FILE",
+        help="build one case per input of FILE (CSV with a header, or a JSON list of objects) "
+        "(default: one input, from the options above)",
+    )
+    p.add_argument(
+        "--out", required=True, metavar="SUITE", help="suite directory to write the case(s) into (required; no default)"
+    )
+    p.add_argument(
+        "--max-tolerance",
+        type=real("--max-tolerance", lo=MIN_TOLERANCE_LIMIT, hi=MAX_TOLERANCE_LIMIT),
+        default=TOLERANCE_LIMIT,
+        metavar="T",
+        help=f"no row of a case has a tolerance of T or more: the case stops at the last impact within it "
+        f"(a smaller T, a shorter and tighter case), {MIN_TOLERANCE_LIMIT:g} <= T <= {MAX_TOLERANCE_LIMIT:g} "
+        f"(default {TOLERANCE_LIMIT:g})",
+    )
+    p.add_argument("--replace", action="store_true", help="overwrite cases of the same id already in SUITE")
+    p.add_argument(
+        "--skip-bad",
+        action="store_true",
+        help="with --from: build the good inputs and skip the bad ones (each named on stderr; exit status 1) "
+        "(default: a bad input stops the command before anything is written)",
+    )
+    p.add_argument(
+        "--time-limit",
+        type=real("--time-limit", lo=1.0, hi=1e6),
+        default=None,
+        metavar="S",
+        help="seconds a case may take, 1 <= S <= 1e6: it stops at the last impact certified in about that "
+        "time and says so (default 600)",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress bar (notes and errors still go to stderr)")
+
+
+def _add_input_arguments(g) -> None:
+    """The options of one input (``g``: their argument group)."""
+    from ..golden.boundary import MAX_CASE_IMPACTS
+    from ..golden.ondemand import TOLERANCE_LIMIT
+
     g.add_argument(
         "--alpha",
         type=real("--alpha", lo=0.0, hi=1e10),
@@ -101,42 +143,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--id", default=None, help="case id: the folder name under SUITE (no default: required without --from)"
     )
-    p.add_argument(
-        "--from",
-        dest="from_file",
-        default=None,
-        metavar="FILE",
-        help="build one case per input of FILE (CSV with a header, or a JSON list of objects) "
-        "(default: one input, from the options above)",
-    )
-    p.add_argument(
-        "--out", required=True, metavar="SUITE", help="suite directory to write the case(s) into (required; no default)"
-    )
-    p.add_argument(
-        "--max-tolerance",
-        type=real("--max-tolerance", lo=MIN_TOLERANCE_LIMIT, hi=MAX_TOLERANCE_LIMIT),
-        default=TOLERANCE_LIMIT,
-        metavar="T",
-        help=f"no row of a case has a tolerance of T or more: the case stops at the last impact within it "
-        f"(a smaller T, a shorter and tighter case), {MIN_TOLERANCE_LIMIT:g} <= T <= {MAX_TOLERANCE_LIMIT:g} "
-        f"(default {TOLERANCE_LIMIT:g})",
-    )
-    p.add_argument("--replace", action="store_true", help="overwrite cases of the same id already in SUITE")
-    p.add_argument(
-        "--skip-bad",
-        action="store_true",
-        help="with --from: build the good inputs and skip the bad ones (each named on stderr; exit status 1) "
-        "(default: a bad input stops the command before anything is written)",
-    )
-    p.add_argument(
-        "--time-limit",
-        type=real("--time-limit", lo=1.0, hi=1e6),
-        default=None,
-        metavar="S",
-        help="seconds a case may take, 1 <= S <= 1e6: it stops at the last impact certified in about that "
-        "time and says so (default 600)",
-    )
-    p.add_argument("--quiet", action="store_true", help="no progress bar (notes and errors still go to stderr)")
 
 
 ONE = (*PARAM_NAMES, "tau0", "sdot0", "impacts", "id")
