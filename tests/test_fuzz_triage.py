@@ -51,13 +51,17 @@ def tmpdir_here(tmp_path, monkeypatch):
     return tmp
 
 
+class Late(BaseException):
+    """A test's time is up (a BaseException: no handler of the command line turns it into an exit status)."""
+
+
 @contextlib.contextmanager
 def at_most(seconds: int):
     """Fail (rather than hang) when the block takes longer than ``seconds`` (SIGALRM: an open() of a named
     pipe is interrupted)."""
 
     def late(signum, frame):
-        raise TimeoutError(f"still running after {seconds} s")
+        raise Late(f"still running after {seconds} s")
 
     old = signal.signal(signal.SIGALRM, late)
     signal.alarm(seconds)
@@ -141,10 +145,12 @@ def test_one_defect_failing_many_inputs_is_one_group_with_json_and_junit(tmp_pat
     assert main(["check", str(tmp_path / "impl"), "--suite", str(out), "--summary"]) == 1
 
 
-def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_here, capsys):
-    """A correct implementation: exit 0, no group, one passing JUnit testcase.  A command that does not
-    exist: exit 2 and one line (the only implementation fault that stops the run)."""
+def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_here, capsys, monkeypatch):
+    """A correct implementation: exit 0, no group, one passing JUnit testcase, nothing of Hypothesis's in the
+    current directory (--hypothesis-dir names where it goes).  A command that does not exist: exit 2 and
+    one line (the only implementation fault that stops the run)."""
     junit = tmp_path / "j.xml"
+    monkeypatch.chdir(tmp_path)
     rc, s, _ = run_fuzz(
         [
             "--impl",
@@ -157,10 +163,13 @@ def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_he
             str(tmp_path / "f"),
             "--junit-xml",
             str(junit),
+            "--hypothesis-dir",
+            str(tmp_path / "hyp"),
         ],
         capsys,
     )
     assert rc == 0 and s["status"] == "clean" and s["groups"] == [] and s["cases"] > 0
+    assert not (tmp_path / ".hypothesis").exists()
     [case] = ET.parse(junit).getroot().iter("testcase")
     assert case.get("name") == "search" and case.find("failure") is None and not (tmp_path / "f").exists()
     rc, s, err = run_fuzz(
@@ -344,10 +353,8 @@ def test_sigterm_ends_the_implementation_and_its_grandchild_and_removes_the_work
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 def test_sigkill_leaves_nothing_running_and_no_work_folder(tmp_path):
     """SIGKILL of `fuzz` (it runs no code): its watchdog kills the implementation's group and the grandchild
-    and removes the work folder; with --hypothesis-dir, Hypothesis's files go there, not into the current
-    directory."""
-    hyp = tmp_path / "hyp"
-    proc, pids, tmp = _start_fuzz(tmp_path, ["--hypothesis-dir", str(hyp)])
+    and removes the work folder.  Before: both kept running, the work folder stayed."""
+    proc, pids, tmp = _start_fuzz(tmp_path)
     proc.kill()
     proc.communicate(timeout=60)
     assert _gone(pids, tmp, 10.0), ([_alive(p) for p in pids], list(tmp.iterdir()))
