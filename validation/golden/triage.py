@@ -19,6 +19,7 @@ by cause, one folder per group, and the reports.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
 import shutil
@@ -199,6 +200,10 @@ class GroupWriter:
     seed: int
     command: str
     store: Callable[[dict], None] = store_plain
+    out_existed: bool = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.out_existed = Path(self.out).exists()
 
     def write(self, g: Group) -> None:
         """Write (or replace) the group's folder, then the index; a file that cannot be written goes to
@@ -218,8 +223,12 @@ class GroupWriter:
             files[kept / "output.csv"] = g.outcome.output
         else:
             (kept / "output.csv").unlink(missing_ok=True)
-        if not self._store(g, files) and not existed:
-            shutil.rmtree(folder, ignore_errors=True)
+        if not self._store(g, files):
+            if not existed:  # nothing of it was there: nothing of it stays, nor an --out made for it
+                shutil.rmtree(folder, ignore_errors=True)
+                if not self.out_existed:
+                    with contextlib.suppress(OSError):
+                        Path(self.out).rmdir()
             return
         self.index(g)
 
