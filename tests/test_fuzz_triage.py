@@ -241,11 +241,15 @@ def test_the_shrinker_aims_at_the_scores_row_with_blank_lines(tmp_path):
 
 def test_a_group_is_written_before_it_is_shrunk(tmp_path, tmpdir_here, capsys, monkeypatch):
     """The first failing input of a group is in --out, with its kept files, before the shrinker runs: a
-    Ctrl-C while shrinking leaves it whole (a golden-format case and its group.json)."""
+    Ctrl-C while shrinking leaves it whole (a golden-format case and its group.json), and the work folder
+    (there while it ran) is removed."""
     from gear_rattle.validation.golden import fuzz_runner
 
     def interrupted(*a, **k):
+        work.extend(p.name for p in tmpdir_here.iterdir())
         raise KeyboardInterrupt
+
+    work: list[str] = []
 
     monkeypatch.setattr(fuzz_runner, "shrink", interrupted)
     out = tmp_path / "found"
@@ -271,7 +275,8 @@ def test_a_group_is_written_before_it_is_shrunk(tmp_path, tmpdir_here, capsys, m
     g = json.loads((out / name / "fuzz" / "group.json").read_text())
     assert g["shrunk"] is False and g["count"] == 1 and g["kept"]["output"].endswith("output.csv")
     assert load_case(out / name).settings["notes"]["fuzz"]["original_input"] == g["original_input"]
-    assert (out / name / "fuzz" / "output.csv").is_file() and list(tmpdir_here.iterdir()) == []
+    assert (out / name / "fuzz" / "output.csv").is_file()
+    assert len(work) == 1 and work[0].startswith(WORK_PREFIX) and list(tmpdir_here.iterdir()) == []
 
 
 def test_disk_full_keeps_what_was_found_and_says_what_was_not_written(full_disk, tmp_path, tmpdir_here, capsys):  # noqa: F811

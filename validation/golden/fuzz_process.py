@@ -25,7 +25,6 @@ from __future__ import annotations
 import errno
 import json
 import os
-import shutil
 import signal
 import stat
 import subprocess
@@ -165,7 +164,7 @@ class WorkFolder:
         fuzz_reaper.kill_all(self.groups, str(self.path))
         for g in list(self.groups):
             self._untrack(g)
-        shutil.rmtree(self.path, ignore_errors=True)
+        fuzz_reaper.remove_tree(self.path)
         with interrupt.CLEANUP_LOCK:
             if str(self.path) in interrupt.CLEANUP:
                 interrupt.CLEANUP.remove(str(self.path))
@@ -292,7 +291,7 @@ def remove_stale(root: Path) -> list[Path]:
         except FileNotFoundError:
             if time.time() - st.st_mtime > UNLOCKED_STALE_S:
                 fuzz_reaper.kill_all([], entry.path)
-                shutil.rmtree(entry.path, ignore_errors=True)
+                fuzz_reaper.remove_tree(entry.path)
                 removed.append(Path(entry.path))
             continue
         except OSError:
@@ -307,7 +306,7 @@ def remove_stale(root: Path) -> list[Path]:
                     continue  # a live run
                 raise
             fuzz_reaper.kill_all([], entry.path)
-            shutil.rmtree(entry.path, ignore_errors=True)
+            fuzz_reaper.remove_tree(entry.path)
             removed.append(Path(entry.path))
         except OSError:
             continue

@@ -102,6 +102,24 @@ def kill_all(groups, work: str | None = None, wait: float = GONE_WAIT_S) -> None
         time.sleep(0.01)
 
 
+def remove_tree(path) -> None:
+    """Remove a folder the implementation wrote in, whatever it did to the permissions of its subfolders
+    (each is made writable and searchable again where a removal fails); errors are ignored."""
+
+    def again(func, p, exc_info) -> None:
+        try:
+            os.chmod(os.path.dirname(p), 0o700)
+            if os.path.isdir(p) and not os.path.islink(p):
+                os.chmod(p, 0o700)
+                shutil.rmtree(p, ignore_errors=True)
+            else:
+                func(p)
+        except OSError:
+            pass
+
+    shutil.rmtree(path, onerror=again)
+
+
 def main(argv: list[str]) -> int:
     """The watchdog (module docstring): ``WORK`` the run's work folder."""
     (work,) = argv
@@ -115,7 +133,7 @@ def main(argv: list[str]) -> int:
     except (OSError, ValueError):
         pass
     kill_all(groups, work)
-    shutil.rmtree(work, ignore_errors=True)
+    remove_tree(work)
     return 0
 
 

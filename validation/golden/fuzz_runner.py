@@ -21,7 +21,6 @@ from __future__ import annotations
 import contextlib
 import json
 import shlex
-import shutil
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,9 +30,10 @@ from ..extras import require
 from . import ondemand
 from .fuzz import BATCH, SCENARIOS, SHRINK_TIME, TIMEOUT, construct, draw_recipes
 from .fuzz_process import ImplementationError, RunStatus, WorkFolder, output_bytes
+from .fuzz_reaper import remove_tree
 from .ondemand import CaseError, UserCase
 from .shrink import shrink
-from .suite import load_case, read_sequence, score_sequence
+from .suite import Case, load_case, read_sequence, score_sequence
 from .textformat import MalformedFile, MissingFile
 from .triage import Group, GroupWriter, Signature, group_id, score_signature, store_plain
 
@@ -84,8 +84,8 @@ def _last_line(data: bytes) -> str:
     return _one_line(lines[-1], 300) if lines else ""
 
 
-def read_output(case: UserCase, ref: Path, out: Path, status: RunStatus) -> Outcome:
-    """Score the implementation's file ``out/<id>.csv`` against the reference case in ``ref``; the one
+def read_output(case: UserCase, ref: Case, out: Path, status: RunStatus) -> Outcome:
+    """Score the implementation's file ``out/<id>.csv`` against the reference case ``ref``; the one
     place the fuzzer reads an implementation's output (regular files only, bounded:
     :func:`.fuzz_process.output_bytes`; then the suite's strict reader)."""
     id_ = case.input.id
@@ -102,10 +102,9 @@ def read_output(case: UserCase, ref: Path, out: Path, status: RunStatus) -> Outc
     except MalformedFile as e:
         o.signature, o.message = Signature("malformed"), f"malformed output: {_one_line(e)}"
     else:
-        ref_case = load_case(ref / id_)
-        o.score = score_sequence(ref_case, got)
+        o.score = score_sequence(ref, got)
         if not o.score.passed:
-            o.signature, o.message = score_signature(o.score, got, ref_case.expected), o.score.message
+            o.signature, o.message = score_signature(o.score, got, ref.expected), o.score.message
     return _judged(o)
 
 
@@ -152,15 +151,16 @@ class Runner:
         given, ref, out = folder / "cases", folder / "reference", folder / "out"
         try:
             out.mkdir(parents=True)
+            refs = {}
             for c in cases:
                 (given / c.input.id).mkdir(parents=True)
                 (given / c.input.id / "settings.json").write_text(json.dumps(c.settings, indent=1) + "\n")
-                ondemand.write_user_case(ref, c)
+                refs[c.input.id] = load_case(ondemand.write_user_case(ref, c))  # read before the run
             status = self.work.run(self.command, given, out, self.timeout, limit)
             status.cases = len(cases)
-            outs = {c.input.id: read_output(c, ref, out, status) for c in cases}
+            outs = {c.input.id: read_output(c, refs[c.input.id], out, status) for c in cases}
         finally:
-            shutil.rmtree(folder, ignore_errors=True)
+            remove_tree(folder)
         if not status.ok and not status.cut and len(cases) > 1 and not any(o.suspect for o in outs.values()):
             for o in outs.values():  # every file right, yet the run failed: each case is a suspect
                 o.suspect = True
