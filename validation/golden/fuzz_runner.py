@@ -146,6 +146,10 @@ class Runner:
     def run(self, cases: list[UserCase], limit: float | None = None) -> dict:
         """One run on ``cases`` (their settings only), at most ``limit`` seconds besides ``--timeout``;
         ``{id: Outcome}``."""
+        if limit is not None and limit <= 0:  # the deadline has passed: nothing is run
+            st = RunStatus(None, cut=True, cases=len(cases), timeout=self.timeout)
+            why = "not run: the fuzzer's time (--budget) was spent"
+            return {c.input.id: Outcome(c, None, "", st, unresolved=why) for c in cases}
         self.runs += 1
         folder = self.work.path / f"r{self.runs}"
         given, ref, out = folder / "cases", folder / "reference", folder / "out"

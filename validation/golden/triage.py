@@ -126,13 +126,13 @@ class Group:
     unwritten: list = field(default_factory=list)
 
     def kept(self) -> dict:
-        """The kept files (paths, as the summary names them; ``output`` None where the implementation
-        wrote no regular file)."""
-        base = Path(self.folder) / KEPT if self.folder else Path(KEPT)
+        """The kept files (paths, as the summary names them): None where nothing is kept -- no folder (the
+        library without ``out``), or, for ``output``, no regular file written by the implementation."""
+        base = Path(self.folder) / KEPT if self.folder else None
         return {
-            "output": str(base / "output.csv") if self.outcome.output is not None else None,
-            "stdout": str(base / "stdout.txt"),
-            "stderr": str(base / "stderr.txt"),
+            "output": str(base / "output.csv") if base and self.outcome.output is not None else None,
+            "stdout": str(base / "stdout.txt") if base else None,
+            "stderr": str(base / "stderr.txt") if base else None,
         }
 
     def message(self) -> str:
@@ -141,7 +141,7 @@ class Group:
         text = self.outcome.message
         if self.outcome.output_path:
             text = text.replace(str(self.outcome.output_path), kept["output"] or f"{self.id}.csv (not kept)")
-        if self.signature.kind in ("crash", "timeout"):
+        if self.signature.kind in ("crash", "timeout") and kept["stderr"]:
             text += f" (its stderr: {kept['stderr']})"
         return text
 
