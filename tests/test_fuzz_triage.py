@@ -101,7 +101,7 @@ def test_a_crash_on_one_input_is_isolated_shrunk_and_kept(tmp_path, tmpdir_here,
     assert rc == 1 and s["status"] == "failures" and s["error"] is None, err
     [g] = s["groups"]
     assert g["signature"]["kind"] == "crash" and g["signature"]["detail"] == "exit 101"
-    assert g["id"] == "fuzz-0-01-crash-exit-101-generic" and folders(out) == [g["id"]]
+    assert g["id"] == "fuzz-0-01-crash-exit-101" and folders(out) == [g["id"]]
     assert g["original_input"]["alpha"] > 2 and g["input"]["alpha"] > 2
     assert g["shrunk"] and g["impacts"] == 0 < g["original_input"]["impacts"], g
     assert g["run"] == {**g["run"], "exit_status": 101, "alone": True, "cases_in_run": 1}
@@ -119,17 +119,20 @@ def test_a_crash_on_one_input_is_isolated_shrunk_and_kept(tmp_path, tmpdir_here,
 
 def test_one_defect_failing_many_inputs_is_one_group_with_json_and_junit(tmp_path, tmpdir_here, capsys):
     """--keep-going with an implementation whose every impact's sdot is off by 1e-6 relative: every input
-    with an impact after impact 0 fails, all with the same signature -- one group (one folder), its count the
-    number of failing inputs; its kept output fails the kept case under `check`; --json FILE holds the
-    summary printed on stdout, --junit-xml FILE one failing testcase for the group.  Before: one folder per
-    failing input (7 in the issue's run), no --json FILE or --junit-xml."""
+    with an impact after impact 0 fails, all with the same signature, from three scenarios -- one group (one
+    folder), its count the number of failing inputs, counted per scenario; its kept output fails the kept
+    case under `check`; --json FILE holds the summary printed on stdout, --junit-xml FILE one failing
+    testcase for the group.  Before: one folder per failing input (7 in the issue's run), no --json FILE or
+    --junit-xml."""
     out, js, junit = tmp_path / "found", tmp_path / "s.json", tmp_path / "j.xml"
-    args = ["--impl", copy_impl("sdot-off"), "--budget", "5", "--batch", "6", "--keep-going", "--out", str(out)]
+    args = ["--impl", copy_impl("sdot-off"), "--budget", "6", "--batch", "6", "--keep-going", "--out", str(out)]
+    args += ["--scenarios", "generic", "paper", "free-flight"]
     rc, s, _ = run_fuzz([*args, "--json", str(js), "--junit-xml", str(junit)], capsys)
     assert rc == 1 and s["failed_inputs"] >= 3, s
     [g] = s["groups"]
-    assert g["signature"] == {**g["signature"], "kind": "value", "column": "sdot"}
-    assert g["count"] == s["failed_inputs"] and len(g["members"]) == min(g["count"], 50)
+    assert g["signature"] == {**g["signature"], "kind": "value", "column": "sdot", "row": "impact"}
+    assert g["count"] == s["failed_inputs"] == sum(g["scenarios"].values()) and len(g["scenarios"]) >= 2
+    assert len(g["members"]) == min(g["count"], 50) and g["id"] == "fuzz-0-01-value-sdot-impact"
     assert folders(out) == [g["id"]] and g["impacts"] <= g["original_input"]["impacts"]
     assert json.loads(js.read_text()) == s
     root = ET.parse(junit).getroot()
@@ -143,6 +146,20 @@ def test_one_defect_failing_many_inputs_is_one_group_with_json_and_junit(tmp_pat
     (tmp_path / "impl").mkdir()
     (tmp_path / "impl" / f"{g['id']}.csv").write_bytes(kept.read_bytes())
     assert main(["check", str(tmp_path / "impl"), "--suite", str(out), "--summary"]) == 1
+
+
+def test_two_defects_are_two_groups(tmp_path, tmpdir_here, capsys):
+    """An implementation with two defects -- a panic where alpha > 2 and sdot off everywhere else: two
+    groups, a crash and a value of sdot, each with its own count, folder and kept files."""
+    out = tmp_path / "found"
+    args = ["--impl", copy_impl("crash-alpha-2+sdot-off"), "--budget", "4", "--batch", "6", "--keep-going"]
+    rc, s, _ = run_fuzz([*args, "--out", str(out)], capsys)
+    assert rc == 1 and sorted(g["signature"]["kind"] for g in s["groups"]) == ["crash", "value"], s["groups"]
+    assert sum(g["count"] for g in s["groups"]) == s["failed_inputs"] and folders(out) == sorted(
+        g["id"] for g in s["groups"]
+    )
+    crash = next(g for g in s["groups"] if g["signature"]["kind"] == "crash")
+    assert crash["input"]["alpha"] > 2 and "panicked" in Path(crash["kept"]["stderr"]).read_text()
 
 
 def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_here, capsys, monkeypatch):

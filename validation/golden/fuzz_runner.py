@@ -10,8 +10,7 @@ runs (:mod:`.fuzz_process`), the scorer (:mod:`.suite`), the shrinker (:mod:`.sh
    *suspects*, run again in halves until each failure is pinned on one case run alone
    (:meth:`Runner.evaluate`, a bisection); a crash, a timeout, a missing or malformed file of one input is
    then a failure of that input like a wrong value.
-3. Each failure gets its :class:`.triage.Signature`; a new signature (with the draw's scenario) is a new
-   group, written at once, shrunk to the simplest input that fails the same way, run alone once more so
+3. Each failure gets its :class:`.triage.Signature`; a new signature is a new group, written at once, shrunk to the simplest input that fails the same way, run alone once more so
    that its kept output, stdout, stderr and exit status are its own, and written again; a failure of a
    known group is counted.  The run stops after the first group unless ``keep_going``.
 """
@@ -292,10 +291,11 @@ class _Search:
             if o.signature is None:
                 continue
             self.res.failed_inputs += 1
-            g = self.groups.get((o.signature, scenario))
+            g = self.groups.get(o.signature)
             if g is not None:
                 g.count += 1
                 g.members.append(_member(c))
+                g.scenarios[scenario] = g.scenarios.get(scenario, 0) + 1
                 grown.append(g)
             elif self.res.groups and not self.keep_going:
                 self.res.untriaged += 1
@@ -309,7 +309,7 @@ class _Search:
         """A new group: written as found, shrunk, run alone, written again."""
         k = len(self.res.groups) + 1
         g = Group(
-            group_id(self.seed, k, o.signature, scenario),  # type: ignore[arg-type]
+            group_id(self.seed, k, o.signature),  # type: ignore[arg-type]
             o.signature,  # type: ignore[arg-type]
             scenario,
             c,
@@ -317,9 +317,10 @@ class _Search:
             c.input,
             time.monotonic() - self.t0,
             members=[_member(c)],
+            scenarios={scenario: 1},
             alone=o.status.cases == 1,
         )
-        self.groups[(o.signature, scenario)] = g
+        self.groups[o.signature] = g
         self.res.groups.append(g)
         if self.writer is not None:
             self.writer.write(g)  # before anything else can fail: the failure as found

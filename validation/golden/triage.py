@@ -4,8 +4,9 @@ by cause, one folder per group, and the reports.
 * :class:`Signature`: what the first difference of a failing input is -- a value of a column beyond its
   tolerance, a wrong ``wall``, ``kind`` or ``n``, a different number of events (and whether the first
   differing event differs in kind or wall, or one sequence is a prefix of the other), a crash (its exit
-  status or signal), a timeout, a malformed or a missing output file.  A **group** is a signature and the
-  scenario of the draw: one defect that fails many inputs of a scenario is one group with a count.
+  status or signal), a timeout, a malformed or a missing output file -- and the kind of the expected row
+  where it shows (an impact, stick or release row).  A **group** is a signature: one defect that fails many
+  inputs is one group with a count, whatever the scenarios that drew them (counted per scenario).
 * :class:`Group`: its smallest member (shrunk), how many inputs failed with it, and what the implementation
   left on that member: its output file, stdout, stderr and exit status.
 * :class:`GroupWriter`: writes a group's folder ``OUT/<group id>/`` -- a golden-format case
@@ -47,43 +48,48 @@ KEPT = "fuzz"
 class Signature:
     """The cause of a failure (module docstring): ``kind`` (:data:`KINDS`), the ``column`` where it shows
     (a value's column; for a different number of events ``kind`` or ``wall`` of the first differing event,
-    or ``extra rows`` / ``missing rows``), and a ``detail`` (a crash's ``exit 101`` or ``SIGSEGV``)."""
+    or ``extra rows`` / ``missing rows``), the ``row``: the kind of the expected row there (``impact``,
+    ``stick``, ``release``; None where there is none), and a ``detail`` (a crash's ``exit 101`` or
+    ``SIGSEGV``)."""
 
     kind: str
     column: str | None = None
     detail: str | None = None
+    row: str | None = None
 
     def text(self) -> str:
-        """``a value of tau beyond its tolerance``, ``crash (exit 101)``, ..."""
+        """``a value of tau beyond its tolerance (at an impact row)``, ``crash (exit 101)``, ..."""
+        at = f" (at {'an' if self.row == 'impact' else 'a'} {self.row} row)" if self.row else ""
         if self.kind == "value":
-            return f"a value of {self.column} beyond its tolerance"
+            return f"a value of {self.column} beyond its tolerance{at}"
         if self.kind in EXACT_COLUMNS:
-            return f"a wrong {self.kind}"
+            return f"a wrong {self.kind}{at}"
         if self.kind == "row count":
-            return f"a different number of events ({self.column})"
+            return f"a different number of events ({self.column}{', ' + at[2:-1] if at else ''})"
         return self.kind + (f" ({self.detail})" if self.detail else "")
 
     def slug(self) -> str:
-        """The signature in a folder name: ``value-tau``, ``crash-exit-101``, ``row-count-kind``."""
-        words = dict.fromkeys(w for w in (self.kind, self.column, self.detail) if w)
+        """The signature in a folder name: ``value-tau-impact``, ``crash-exit-101``, ``row-count-kind-stick``."""
+        words = dict.fromkeys(w for w in (self.kind, self.column, self.detail, self.row) if w)
         return re.sub(r"[^a-z0-9]+", "-", " ".join(words).lower()).strip("-")
 
     def as_dict(self) -> dict:
-        return {"kind": self.kind, "column": self.column, "detail": self.detail, "text": self.text()}
+        return {"kind": self.kind, "column": self.column, "row": self.row, "detail": self.detail, "text": self.text()}
 
 
 def score_signature(score, got, expected) -> Signature:
     """The signature of a failing score of a well-formed file: from the score's structured fields (its
     ``first_row`` and ``columns``), and for a different number of events the sequences ``got`` and
     ``expected`` at that row -- never from its message."""
+    k = score.first_row
+    row = str(expected.kind[k]) if 0 <= k < len(expected) else None
     if not score.columns:  # a different number of events
-        k = score.first_row
         if 0 <= k < min(len(got), len(expected)):
-            return Signature("row count", "kind" if got.kind[k] != expected.kind[k] else "wall")
-        return Signature("row count", "extra rows" if len(got) > len(expected) else "missing rows")
+            return Signature("row count", "kind" if got.kind[k] != expected.kind[k] else "wall", row=row)
+        return Signature("row count", "extra rows" if len(got) > len(expected) else "missing rows", row=row)
     failing = [c for c in COLUMNS if c in score.columns and not score.columns[c].passed]
     first = min(failing, key=lambda c: (score.columns[c].first_row, COLUMNS.index(c)))
-    return Signature(first) if first in EXACT_COLUMNS else Signature("value", first)
+    return Signature(first, row=row) if first in EXACT_COLUMNS else Signature("value", first, row=row)
 
 
 class Outcome(Protocol):
@@ -105,8 +111,8 @@ class NotWritten(Exception):
 
 @dataclass
 class Group:
-    """A cause of failure (:class:`Signature` and scenario) and its smallest member.  ``outcome`` is the
-    member's outcome (``status``: its run, with stdout and stderr; ``output``: the bytes of its output
+    """A cause of failure (:class:`Signature`) and its smallest member; ``scenario`` is that of its first
+    member, ``scenarios`` counts the members per scenario.  ``outcome`` is the smallest member's outcome (``status``: its run, with stdout and stderr; ``output``: the bytes of its output
     file, None where there was none; ``output_path``: where that was; ``message``)."""
 
     id: str
@@ -118,6 +124,7 @@ class Group:
     found_after_s: float
     count: int = 1
     members: list = field(default_factory=list)
+    scenarios: dict = field(default_factory=dict)
     shrink_rounds: int = 0
     shrunk: bool = False
     alone: bool = False
@@ -153,6 +160,7 @@ class Group:
             "signature": self.signature.as_dict(),
             "scenario": self.scenario,
             "count": self.count,
+            "scenarios": dict(self.scenarios),
             "message": self.message(),
             "found_after_s": round(self.found_after_s, 2),
             "impacts": self.case.settings["n_impacts"],
@@ -169,9 +177,9 @@ class Group:
         }
 
 
-def group_id(seed: int, k: int, sig: Signature, scenario: str) -> str:
-    """``fuzz-<seed>-<k>-<signature>-<scenario>``: a valid case id (:data:`ondemand.ID_PATTERN`)."""
-    ident = f"fuzz-{seed}-{k:02d}-{sig.slug()}-{scenario}"[:100]
+def group_id(seed: int, k: int, sig: Signature) -> str:
+    """``fuzz-<seed>-<k>-<signature>``: a valid case id (:data:`ondemand.ID_PATTERN`)."""
+    ident = f"fuzz-{seed}-{k:02d}-{sig.slug()}"[:100]
     assert ondemand.ID_PATTERN.fullmatch(ident), ident
     return ident
 
@@ -285,7 +293,7 @@ def _with_fuzz_notes(g: Group, seed: int, command: str) -> UserCase:
 def junit_xml(doc: dict) -> str:
     """The JUnit XML of ``--junit-xml`` for the JSON summary ``doc``: one ``<testsuite>`` ("gear-rattle
     fuzz", the implementation, seed and counts as properties) with one ``<testcase>`` per group (``name``
-    its id, ``classname`` ``gear-rattle.fuzz.<scenario>``) failing with its signature, count, message and
+    its id, ``classname`` ``gear-rattle.fuzz.<kind>``) failing with its signature, count, message and
     kept files; a run that found nothing is one passing testcase (``search``), a run that could not run the
     implementation one testcase with an ``<error>``."""
     groups = doc["groups"]
@@ -303,7 +311,8 @@ def junit_xml(doc: dict) -> str:
     for key in ("implementation", "seed", "budget_s", "cases", "failed_inputs", "out"):
         ET.SubElement(props, "property", {"name": key, "value": _x(str(doc.get(key)))})
     for g in groups:
-        tc = ET.SubElement(ts, "testcase", {"classname": f"gear-rattle.fuzz.{g['scenario']}", "name": _x(g["id"])})
+        classname = "gear-rattle.fuzz." + re.sub(r"[^a-z0-9]+", "-", g["signature"]["kind"])
+        tc = ET.SubElement(ts, "testcase", {"classname": classname, "name": _x(g["id"])})
         head = f"{g['signature']['text']}: {g['count']} input(s) failed"
         f = ET.SubElement(
             tc, "failure", {"message": _x(f"{head}; {g['message']}"), "type": f"fuzz.{g['signature']['kind']}"}
@@ -323,7 +332,8 @@ def junit_xml(doc: dict) -> str:
 def _failure_text(g: dict) -> str:
     lines = [
         g["message"],
-        f"signature: {g['signature']['text']}; scenario {g['scenario']}; {g['count']} input(s) failed with it",
+        f"signature: {g['signature']['text']}; {g['count']} input(s) failed with it, by scenario "
+        + ", ".join(f"{k} {v}" for k, v in g["scenarios"].items()),
         f"smallest member: {json.dumps(g['input'])} ({g['impacts']} impacts, {g['rows']} rows)",
         f"first found: {json.dumps(g['original_input'])}",
         "kept: " + ", ".join(f"{k} {v}" for k, v in g["kept"].items() if v),
