@@ -10,8 +10,9 @@ of cases (one process per batch), scores them as `gear-rattle check` does, and s
 golden-format case folder: keep it as a regression test (`gear-rattle check OUT --suite DIR`).
 
 Failures are triaged: each gets a signature (a value of a column beyond its tolerance, a wrong wall, kind or
-n, a different number of events, a crash with its exit status, a timeout, a malformed or missing output),
-and a signature with the draw's scenario is a group: one folder per group in --out holding its smallest
+n, a different number of events -- with the kind of the expected row there --, a crash with its exit status,
+a timeout, a malformed or missing output), and a signature is a group (one defect failing many inputs is
+one group, its count per scenario): one folder per group in --out holding its smallest
 member (shrunk) and fuzz/ -- group.json (signature, how many inputs failed with it, their inputs, the exit
 status), the implementation's output.csv, stdout.txt and stderr.txt on that member. A crash, a timeout or a
 missing file of one input in a batch is pinned on that input (the batch is run again in halves) and the run
@@ -61,7 +62,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--out",
         default="fuzz-failures",
         metavar="DIR",
-        help="where failing cases are written (default fuzz-failures; created only if one is found)",
+        help="where the groups of failures are written, one case folder each (default fuzz-failures; created "
+        "only if one is found)",
     )
     p.add_argument("--keep-going", action="store_true", help="go on after the first group until the budget is spent")
     p.add_argument(
@@ -69,7 +71,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         type=real("--timeout", lo=0.0, lo_open=True, hi=1e5),
         default=TIMEOUT,
         metavar="SECONDS",
-        help="seconds one batch of the implementation may take, 0 < SECONDS <= 1e5 (default %(default)s)",
+        help="seconds one run of the implementation may take, then it is killed with its process group (a case "
+        "that outlives it alone is a timeout failure), 0 < SECONDS <= 1e5 (default %(default)s)",
     )
     p.add_argument(
         "--batch",
