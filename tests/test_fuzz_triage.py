@@ -55,6 +55,21 @@ class Late(BaseException):
     """A test's time is up (a BaseException: no handler of the command line turns it into an exit status)."""
 
 
+@pytest.fixture(scope="module", autouse=True)
+def warm(tmp_path_factory):
+    """The first draw and the first case of a process take seconds (Hypothesis reads the package's sources,
+    the certifier starts): done once here, so that each test's --budget is spent on its own search."""
+    from gear_rattle.validation.golden import fuzz
+
+    try:
+        from gear_rattle.validation.golden.fuzz_runner import hypothesis_home
+    except ImportError:  # the code before the fuzzer's runner module (a test run on it fails its own way)
+        hypothesis_home = lambda path: contextlib.nullcontext()  # noqa: E731
+    with hypothesis_home(tmp_path_factory.mktemp("hypothesis")):
+        recipe = fuzz.draw_recipes(0, 1, ["generic"])[0]
+    ondemand.build_user_case(fuzz.construct(recipe, "warm"))
+
+
 @contextlib.contextmanager
 def at_most(seconds: int):
     """Fail (rather than hang) when the block takes longer than ``seconds`` (SIGALRM: an open() of a named
@@ -96,7 +111,7 @@ def test_a_crash_on_one_input_is_isolated_shrunk_and_kept(tmp_path, tmpdir_here,
     out = tmp_path / "found"
     with at_most(240):
         rc, s, err = run_fuzz(
-            ["--impl", copy_impl("crash-alpha-2"), "--budget", "6", "--batch", "6", "--out", str(out)], capsys
+            ["--impl", copy_impl("crash-alpha-2"), "--budget", "10", "--batch", "6", "--out", str(out)], capsys
         )
     assert rc == 1 and s["status"] == "failures" and s["error"] is None, err
     [g] = s["groups"]
@@ -125,7 +140,7 @@ def test_one_defect_failing_many_inputs_is_one_group_with_json_and_junit(tmp_pat
     testcase for the group.  Before: one folder per failing input (7 in the issue's run), no --json FILE or
     --junit-xml."""
     out, js, junit = tmp_path / "found", tmp_path / "s.json", tmp_path / "j.xml"
-    args = ["--impl", copy_impl("sdot-off"), "--budget", "6", "--batch", "6", "--keep-going", "--out", str(out)]
+    args = ["--impl", copy_impl("sdot-off"), "--budget", "8", "--batch", "6", "--keep-going", "--out", str(out)]
     args += ["--scenarios", "generic", "paper", "free-flight"]
     rc, s, _ = run_fuzz([*args, "--json", str(js), "--junit-xml", str(junit)], capsys)
     assert rc == 1 and s["failed_inputs"] >= 3, s
@@ -135,6 +150,10 @@ def test_one_defect_failing_many_inputs_is_one_group_with_json_and_junit(tmp_pat
     assert len(g["members"]) == min(g["count"], 50) and g["id"] == "fuzz-0-01-value-sdot-impact"
     assert folders(out) == [g["id"]] and g["impacts"] <= g["original_input"]["impacts"]
     assert json.loads(js.read_text()) == s
+    manifest = json.loads((out / "fuzz.manifest.json").read_text())
+    assert manifest["complete"] and {"index.json", f"{g['id']}/settings.json", f"{g['id']}/fuzz/group.json"} <= set(
+        manifest["files"]
+    )
     root = ET.parse(junit).getroot()
     [case] = root.iter("testcase")
     failure = case.find("failure")
@@ -152,7 +171,7 @@ def test_two_defects_are_two_groups(tmp_path, tmpdir_here, capsys):
     """An implementation with two defects -- a panic where alpha > 2 and sdot off everywhere else: two
     groups, a crash and a value of sdot, each with its own count, folder and kept files."""
     out = tmp_path / "found"
-    args = ["--impl", copy_impl("crash-alpha-2+sdot-off"), "--budget", "4", "--batch", "6", "--keep-going"]
+    args = ["--impl", copy_impl("crash-alpha-2+sdot-off"), "--budget", "6", "--batch", "6", "--keep-going"]
     rc, s, _ = run_fuzz([*args, "--out", str(out)], capsys)
     assert rc == 1 and sorted(g["signature"]["kind"] for g in s["groups"]) == ["crash", "value"], s["groups"]
     assert sum(g["count"] for g in s["groups"]) == s["failed_inputs"] and folders(out) == sorted(
@@ -173,9 +192,9 @@ def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_he
             "--impl",
             copy_impl("right"),
             "--budget",
-            "3",
+            "5",
             "--batch",
-            "4",
+            "2",
             "--out",
             str(tmp_path / "f"),
             "--junit-xml",
@@ -203,15 +222,14 @@ def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_he
     [
         ("exit 3", "crash"),
         ("sleep 30", "timeout"),
-        ('for d in "$1"/*/; do printf \'n,tau\\n\' > "$2/$(basename "$d").csv"; done', "malformed"),
         (":", "missing output"),  # writes nothing
     ],
 )
 def test_a_broken_implementation_is_a_triaged_failure(script, kind, tmp_path, tmpdir_here, capsys):
-    """A crash, a timeout, a malformed or a missing file on every input: a group of that kind (exit status
-    1, the run went on), no longer an error that ends the run (exit 2 before)."""
+    """A crash, a timeout or a missing file on every input: a group of that kind (exit status 1, the run went
+    on), no longer an error that ends the run (exit 2 before; a malformed file: the named-pipe test)."""
     impl = f"sh -c {shlex.quote(script)} sh"
-    args = ["--impl", impl, "--budget", "3", "--timeout", "1", "--batch", "2", "--out", str(tmp_path / "f")]
+    args = ["--impl", impl, "--budget", "4", "--timeout", "1", "--batch", "2", "--out", str(tmp_path / "f")]
     with at_most(120):
         rc, s, err = run_fuzz(args, capsys)
     assert rc == 1 and s["status"] == "failures" and err.strip() == "", err
@@ -226,7 +244,7 @@ def test_a_named_pipe_as_output_is_malformed_not_waited_on(tmp_path, tmpdir_here
     t0 = time.monotonic()
     with at_most(120):
         rc, s, _ = run_fuzz(
-            ["--impl", copy_impl("fifo-alpha-2"), "--budget", "4", "--batch", "6", "--out", str(tmp_path / "f")], capsys
+            ["--impl", copy_impl("fifo-alpha-2"), "--budget", "8", "--batch", "6", "--out", str(tmp_path / "f")], capsys
         )
     assert rc == 1 and time.monotonic() - t0 < 60
     [g] = s["groups"]
@@ -302,7 +320,7 @@ def test_disk_full_keeps_what_was_found_and_says_what_was_not_written(full_disk,
     Before: an empty fuzz-0-000001/, no JSON summary."""
     (full_disk / "filler").write_bytes(b"x" * 60_000)
     out = full_disk / "found"
-    rc, s, err = run_fuzz(["--impl", copy_impl("sdot-off"), "--budget", "4", "--batch", "4", "--out", str(out)], capsys)
+    rc, s, err = run_fuzz(["--impl", copy_impl("sdot-off"), "--budget", "5", "--batch", "4", "--out", str(out)], capsys)
     assert rc == 1 and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
     assert "No space left on device" in err and str(out) in err and ".partial" not in err
     [g] = s["groups"]

@@ -118,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
     from ..extras import require
     from ..golden.fuzz_runner import fuzz, split_command, summary
     from ..golden.triage import junit_xml
+    from ..io.atomic import current
 
     require("hypothesis", "test", "gear-rattle fuzz")
     command = split_command(args.impl)
@@ -128,6 +129,9 @@ def run(args: argparse.Namespace) -> int:
     if args.hypothesis_dir is not None:
         check_output_dir(args.hypothesis_dir, "--hypothesis-dir")
     out = Path(args.out)
+    tx = current()
+    if tx is not None:  # groups go in one by one: --out's manifest lists every file of the run, not the last set
+        tx.merge = True
     with Bar("fuzz", total=None, unit="cases", enabled=progress_arg(args) is not False) as bar:
 
         def progress(cases: int, groups: int) -> None:
