@@ -221,13 +221,16 @@ def test_a_clean_run_and_an_implementation_that_cannot_start(tmp_path, tmpdir_he
     "script, kind",
     [
         ("exit 3", "crash"),
-        ("sleep 30", "timeout"),
+        ('sleep 30 & echo $! >> "$FUZZ_TEST_PIDS"; wait', "timeout"),  # a grandchild that outlives the timeout
         (":", "missing output"),  # writes nothing
     ],
 )
-def test_a_broken_implementation_is_a_triaged_failure(script, kind, tmp_path, tmpdir_here, capsys):
+def test_a_broken_implementation_is_a_triaged_failure(script, kind, tmp_path, tmpdir_here, capsys, monkeypatch):
     """A crash, a timeout or a missing file on every input: a group of that kind (exit status 1, the run went
-    on), no longer an error that ends the run (exit 2 before; a malformed file: the named-pipe test)."""
+    on), no longer an error that ends the run (exit 2 before; a malformed file: the named-pipe test).  The
+    timeout kills the implementation's grandchildren too."""
+    pids = tmp_path / "pids"
+    monkeypatch.setenv("FUZZ_TEST_PIDS", str(pids))
     impl = f"sh -c {shlex.quote(script)} sh"
     args = ["--impl", impl, "--budget", "4", "--timeout", "1", "--batch", "2", "--out", str(tmp_path / "f")]
     with at_most(120):
@@ -235,6 +238,8 @@ def test_a_broken_implementation_is_a_triaged_failure(script, kind, tmp_path, tm
     assert rc == 1 and s["status"] == "failures" and err.strip() == "", err
     assert [g["signature"]["kind"] for g in s["groups"]] == [kind]
     assert list(tmpdir_here.iterdir()) == []
+    started = [int(p) for p in pids.read_text().split()] if pids.exists() else []
+    assert (kind != "timeout" or started) and not any(_alive(p) for p in started)
 
 
 def test_a_named_pipe_as_output_is_malformed_not_waited_on(tmp_path, tmpdir_here, capsys):
