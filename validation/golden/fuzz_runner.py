@@ -104,7 +104,10 @@ def read_output(case: UserCase, ref: Case, out: Path, status: RunStatus) -> Outc
         o.score = score_sequence(ref, got)
         if not o.score.passed:
             o.signature, o.message = score_signature(o.score, got, ref.expected), o.score.message
-    return _judged(o)
+    o = _judged(o)
+    if o.signature is None and not o.suspect:
+        o.output = None  # kept only for failures (a batch may hold many files)
+    return o
 
 
 def _judged(o: Outcome) -> Outcome:
