@@ -209,8 +209,7 @@ def hypothesis_home(path: Path):
     """Hypothesis's files (its cache of the constants of local source files; the draws keep no example
     database) under ``path`` for the block, instead of ``./.hypothesis`` in the current directory (its
     default); the earlier setting is restored after."""
-    from hypothesis import configuration
-
+    configuration = require("hypothesis", "test", "gear-rattle fuzz (the draws)").configuration
     before = vars(configuration).get("__hypothesis_home_directory")
     configuration.set_hypothesis_home_dir(path)
     try:
