@@ -271,8 +271,35 @@ def test_the_shrinker_aims_at_the_scores_row_with_blank_lines(tmp_path):
     rows[3] = ",".join(f)
     (tmp_path / "c.csv").write_text("\n".join([header, *[x for r in rows[:-1] for x in (r, "")]]) + "\n")
     score = score_sequence(load_case(folder), read_sequence(tmp_path / "c.csv"))
-    assert not score.passed and not score.columns and score.first_row == 3 and "line 8 " in score.message
+    assert not score.passed and score.first_row == 3
     assert first_failing_impact(case, score) == 3
+
+
+def test_signatures_come_from_the_scores_fields(tmp_path):
+    """The signature of a failing output: a value beyond its tolerance, a wrong wall with as many events, a
+    missing last event, a wrong wall with an event missing further on -- each with the kind of the golden
+    row at the first difference."""
+    from gear_rattle.validation.golden.triage import Signature, score_signature
+
+    case = ondemand.build_user_case(ondemand.case_input("c", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 6))
+    ref = load_case(ondemand.write_user_case(tmp_path / "s", case))
+    header, *rows = case.expected.splitlines()
+
+    def edited(row: int | None, field: int, value, drop_last: bool) -> Signature:
+        out = list(rows[:-1] if drop_last else rows)
+        if row is not None:
+            f = out[row].split(",")
+            f[field] = value(f[field])
+            out[row] = ",".join(f)
+        (tmp_path / "c.csv").write_text("\n".join([header, *out]) + "\n")
+        got = read_sequence(tmp_path / "c.csv")
+        return score_signature(score_sequence(ref, got), got, ref.expected)
+
+    flip = lambda w: "0" if w == "-1" else "-1"  # noqa: E731
+    assert edited(2, 4, lambda v: repr(float(v) * (1 + 1e-6)), False) == Signature("value", "sdot", row="impact")
+    assert edited(3, 3, flip, False) == Signature("wall", row="impact")
+    assert edited(None, 0, str, True) == Signature("row count", "missing rows", row="impact")
+    assert edited(3, 3, flip, True) == Signature("row count", "wall", row="impact")
 
 
 # ---------------------------------------------------------------------------------------------

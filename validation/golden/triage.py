@@ -78,18 +78,25 @@ class Signature:
 
 
 def score_signature(score, got, expected) -> Signature:
-    """The signature of a failing score of a well-formed file: from the score's structured fields (its
-    ``first_row`` and ``columns``), and for a different number of events the sequences ``got`` and
-    ``expected`` at that row -- never from its message."""
+    """The signature of a failing score of a well-formed file, from the score's structured fields: its
+    ``first_row`` (the first failure's golden row) and ``columns`` (each failing column's ``first_row``);
+    where no column fails there (the event sequences part), the sequences ``got`` and ``expected`` at that
+    row -- never from its message."""
     k = score.first_row
     row = str(expected.kind[k]) if 0 <= k < len(expected) else None
-    if not score.columns:  # a different number of events
-        if 0 <= k < min(len(got), len(expected)):
-            return Signature("row count", "kind" if got.kind[k] != expected.kind[k] else "wall", row=row)
-        return Signature("row count", "extra rows" if len(got) > len(expected) else "missing rows", row=row)
     failing = [c for c in COLUMNS if c in score.columns and not score.columns[c].passed]
-    first = min(failing, key=lambda c: (score.columns[c].first_row, COLUMNS.index(c)))
-    return Signature(first, row=row) if first in EXACT_COLUMNS else Signature("value", first, row=row)
+    if failing:
+        first = min(failing, key=lambda c: (score.columns[c].first_row, COLUMNS.index(c)))
+        if score.columns[first].first_row == k:
+            return Signature(first, row=row) if first in EXACT_COLUMNS else Signature("value", first, row=row)
+    column = None
+    if 0 <= k < min(len(got), len(expected)):
+        column = next((c for c in ("kind", "wall") if getattr(got, c)[k] != getattr(expected, c)[k]), None)
+    if len(got) == len(expected) and column is not None:
+        return Signature(column, row=row)
+    if column is None:
+        column = "extra rows" if len(got) > len(expected) else "missing rows"
+    return Signature("row count", column, row=row)
 
 
 class Outcome(Protocol):
