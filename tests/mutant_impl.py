@@ -4,8 +4,9 @@ every case folder of CASES_DIR (settings.json) with the mutant NAME (a key of te
 or VARIANTS, ``base``, ``fixed-step-H`` for the fixed-step finder of step H, or a planted error of a size:
 ``restitution-EPS`` (``r (1 + EPS)`` in every bounce), ``digits-D`` (every value written with D significant
 digits), ``gap-scale-K`` (every contact displaced by K times the modelled per-contact error, random signs),
-``two-pi-EPS`` (``2 pi (1 + EPS)``), ``forcing-EPS`` (``alpha (1 + EPS)`` in the flights)) and
-writes OUT_DIR/<case-id>.csv."""
+``two-pi-EPS`` (``2 pi (1 + EPS)``), ``forcing-EPS`` (``alpha (1 + EPS)`` in the flights)) and writes
+OUT_DIR/<case-id>.csv.  ``NAME+crash-alpha-2``: the mutant NAME that also panics (a line on stderr, exit
+status 101) at the first case with ``alpha > 2``, in sorted order (tests/test_fuzz_triage.py)."""
 
 from __future__ import annotations
 
@@ -41,10 +42,14 @@ def mutant(name: str) -> Mutant:
 
 def main(argv: list[str]) -> int:
     name, cases, out = argv
+    name, crash = name.split("+")[0], name.endswith("+crash-alpha-2")
     m = mutant(name)
     Path(out).mkdir(parents=True, exist_ok=True)
     for folder in sorted(p for p in Path(cases).iterdir() if (p / "settings.json").is_file()):
         settings = json.loads((folder / "settings.json").read_text())
+        if crash and settings["params"]["alpha"] > 2:
+            sys.stderr.write(f"panic: alpha {settings['params']['alpha']} > 2 not supported\n")
+            return 101
         write_csv(run(settings, m), Path(out) / f"{settings['id']}.csv", m)
     return 0
 

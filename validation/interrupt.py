@@ -1,5 +1,6 @@
 """The command line's process control: Ctrl-C (SIGINT) and SIGTERM end a ``gear-rattle`` command at once,
-with one line on stderr and exit status 130 or 143, after removing the output writer's temporary files.
+with one line on stderr and exit status 130 or 143, after killing the processes the command started in
+sessions of their own and removing the output writer's temporary files.
 
 * :func:`exit_interrupted`, the handler (installed by the console script's ``main``,
   ``validation/cli.py``, for the command's run, and -- ``_guard_command_line_start`` -- as soon as this
@@ -39,6 +40,9 @@ INTERRUPTED = ["gear-rattle: interrupted"]
 #: Temporary files and staging folders a Ctrl-C or SIGTERM removes before the process ends (those of the
 #: output writer, validation/io/atomic.py: nothing half-written stays).
 CLEANUP: list[str] = []
+#: Process groups the command started in sessions of their own (``fuzz``'s implementation,
+#: validation/golden/fuzz_process.py): the handler kills each whole group (SIGKILL) before it removes the files.
+PROCESS_GROUPS: list[int] = []
 #: Held while the output writer registers a temporary file or renames outputs into place; the signal
 #: handler takes it before it cleans up, so a signal never lands between two renames of one command.
 CLEANUP_LOCK = threading.RLock()
@@ -61,6 +65,11 @@ def exit_interrupted(signum=None, frame=None) -> None:
     keeps an exception from being swallowed by a library (a KeyboardInterrupt inside JAX's
     garbage-collection callback is printed and ignored)."""
     term = signum == signal.SIGTERM
+    for group in list(PROCESS_GROUPS):  # what the command started goes first (it may be writing)
+        try:
+            os.killpg(group, signal.SIGKILL)
+        except OSError:
+            pass
     try:
         sys.stdout.flush()
     except Exception:  # noqa: BLE001 - a closed or broken stdout: nothing to keep
