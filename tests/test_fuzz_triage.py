@@ -29,7 +29,6 @@ import pytest
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden import ondemand
 from gear_rattle.validation.golden.suite import load_case, load_suite, read_sequence, score_sequence
-from test_safe_outputs import full_disk  # noqa: F401  (the fixture: a 64 KiB tmpfs)
 
 HERE = Path(__file__).resolve().parent
 PY = shlex.quote(sys.executable)

@@ -616,3 +616,33 @@ def add_renamed(p: argparse.ArgumentParser, old: str, new: str, **kwargs) -> Non
     p.add_argument(
         old, dest=dest, action=_Renamed, new=new, default=argparse.SUPPRESS, help=argparse.SUPPRESS, **kwargs
     )
+
+
+@contextlib.contextmanager
+def suite_writer(suite: Path, option: str, value: str):
+    """The lock of a suite folder (:func:`writelock.suite_lock`; ``option value``: how the command names the
+    folder) held for the block -- every command that writes a suite (``case``, ``fuzz``) holds it: another
+    writer is refused in one line (exit status 1); a suite folder this run created is removed again if it
+    is left empty."""
+    from .writelock import StoreBusy, suite_lock
+
+    existed = suite.exists()
+    lock = suite_lock(suite)
+    try:
+        lock.acquire()
+    except StoreBusy as e:
+        raise CommandFailed(str(e)) from None
+    except BaseException:
+        if not existed:
+            with contextlib.suppress(OSError):
+                suite.rmdir()
+        raise
+    try:
+        if lock.stale:
+            note(f"{option} {value}: the lock of a run that was killed was taken over ({lock.path})")
+        yield lock
+    finally:
+        lock.release()
+        if not existed:
+            with contextlib.suppress(OSError):
+                suite.rmdir()  # only if empty: nothing was written

@@ -23,13 +23,22 @@ being written by another run, 2 usage error (a bad input without --skip-bad: not
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
 import sys
 from pathlib import Path
 
 from ...core.params import PARAM_NAMES
-from ..cliutil import COMMAND, CliError, CommandFailed, nonneg_int, note, progress_arg, real, tau0_type
+from ..cliutil import (
+    COMMAND,
+    CliError,
+    CommandFailed,
+    nonneg_int,
+    note,
+    progress_arg,
+    real,
+    suite_writer,
+    tau0_type,
+)
 
 NAME = "case"
 HELP = "build a certified golden-format case (or a whole suite, --from) for your own input"
@@ -262,7 +271,7 @@ def run(args: argparse.Namespace) -> int:
     if not inputs:
         raise CommandFailed(f"--from {args.from_file}: no good input: nothing written")
     failed, built = len(problems), []
-    with _suite_lock(suite, args.out):
+    with suite_writer(suite, "--out", args.out):
         _check_suite(suite, inputs, args.replace, args.out)
         with Bar("case", total=len(inputs), unit="cases", enabled=progress_arg(args) is not False) as bar:
             for k, inp in enumerate(inputs):
@@ -291,31 +300,3 @@ def run(args: argparse.Namespace) -> int:
 
 #: The files of a case folder that ``case`` writes.
 CASE_FILES = ("settings.json", "expected.csv", "provenance.json")
-
-
-@contextlib.contextmanager
-def _suite_lock(suite: Path, out: str):
-    """The suite's lock (:func:`writelock.suite_lock`) held for the block: another writer is refused in one
-    line (exit status 1); a suite folder this run created is removed again if it is left empty."""
-    from ..writelock import StoreBusy, suite_lock
-
-    existed = suite.exists()
-    lock = suite_lock(suite)
-    try:
-        lock.acquire()
-    except StoreBusy as e:
-        raise CommandFailed(str(e)) from None
-    except BaseException:
-        if not existed:
-            with contextlib.suppress(OSError):
-                suite.rmdir()
-        raise
-    try:
-        if lock.stale:
-            note(f"--out {out}: the lock of a run that was killed was taken over ({lock.path})")
-        yield lock
-    finally:
-        lock.release()
-        if not existed:
-            with contextlib.suppress(OSError):
-                suite.rmdir()  # only if empty: nothing was written

@@ -114,7 +114,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ...core.progress import Bar
-    from ..cliutil import check_distinct, check_output_dir, check_output_file, write_text
+    from ..cliutil import check_distinct, check_output_dir, check_output_file, suite_writer, write_text
     from ..extras import require
     from ..golden.fuzz_runner import fuzz, split_command, summary
     from ..golden.triage import junit_xml
@@ -132,7 +132,10 @@ def run(args: argparse.Namespace) -> int:
     tx = current()
     if tx is not None:  # groups go in one by one: --out's manifest lists every file of the run, not the last set
         tx.merge = True
-    with Bar("fuzz", total=None, unit="cases", enabled=progress_arg(args) is not False) as bar:
+    with (
+        suite_writer(out, "--out", args.out),  # the suite of found cases has one writer (as `case` holds it)
+        Bar("fuzz", total=None, unit="cases", enabled=progress_arg(args) is not False) as bar,
+    ):
 
         def progress(cases: int, groups: int) -> None:
             bar.postfix(f"{groups} failing")

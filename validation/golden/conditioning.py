@@ -36,8 +36,13 @@ carry the error of impact ``n`` to the later rows: at impact ``m`` it is ``|P_mn
 absolute values) with ``P_mn = J_m ... J_{n+1}`` and ``l_n = (dtau_n, dsdot_n)``.  The error of a row is the
 **sum** over its sources, ``sum_n |P_mn| l_n``: the first-order bound of ``|sum_n P_mn eps_n|`` for any
 per-contact errors ``|eps_n| <= l_n`` (the largest single source underestimates it by up to the number of
-sources: a chatter, or a regular orbit whose tau errors add up).  Sources whose share falls below
-:data:`NEGLIGIBLE` are carried on as one vector bound (``|J| D``, never smaller than what they would give).
+sources: a chatter, or a regular orbit whose tau errors add up).  Where an orbit has more than
+:data:`MAX_SOURCES` sources, the smaller half of them (by what they give now) becomes one source whose ``l``
+is their sum ``sum_k |P_mk| l_k`` and whose ``P`` starts again from the identity: ``|Q P| <= |Q| |P|``, so it
+never gives less than they would.  The absolute value is taken once per such fold, not at every step: a
+bound carried as ``|J| D`` step by step grows like the spectral radius of ``|J|``, which exceeds the true
+growth wherever the Jacobians' signs cancel (on a stable orbit of 700 impacts it grew from 1e-10 to 1e-6
+in 30 impacts).
 A step that sticks forgets its input (the release leaves from the canonical phase, a function of the
 parameters alone: ``J = 0``; the release row's own phase error, :func:`release_phase_error`, starts the
 next sources); a stick row ``tau_n + t_acc`` has the sensitivity ``(1 + dt_acc/dtau, dt_acc/dsdot)`` to
@@ -81,8 +86,8 @@ TWO_PI_GAP = 2.4492935982947064e-16
 TWO_PI = 2.0 * math.pi
 #: Half an ulp per row: the rounding of ``tau = tau + dt`` accumulated over the rows (``tau`` column).
 ACCUMULATED = 0.5
-#: A source whose share of a row's error is below this is carried on in the one vector bound.
-NEGLIGIBLE = 1e-9
+#: The most sources carried one by one: beyond, the smaller half becomes one source (module docstring).
+MAX_SOURCES = 256
 #: The columns whose values have a tolerance.
 COLUMNS = ("tau", "tau_mod_2pi", "sdot")
 
@@ -198,8 +203,8 @@ class RowErrors:
 
 
 class _Sources:
-    """The errors carried along the orbit: each source's ``P`` (2x2) and ``l`` (2), and the vector bound ``D``
-    of the negligible ones (module docstring)."""
+    """The errors carried along the orbit: each source's ``P`` (2x2) and ``l`` (2), at most
+    :data:`MAX_SOURCES` of them (module docstring)."""
 
     def __init__(self) -> None:
         self.reset()
@@ -209,11 +214,9 @@ class _Sources:
         self.P = np.zeros((0, 2, 2))
         self.L = np.zeros((0, 2))
         self.n = np.zeros(0, dtype=np.int64)
-        self.D = np.zeros(2)
 
     def step(self, jac: np.ndarray) -> None:
         self.P = np.einsum("ij,kjl->kil", jac, self.P)
-        self.D = np.abs(jac) @ self.D
 
     def add(self, n: int, loc: np.ndarray) -> None:
         self.P = np.concatenate([self.P, np.eye(2)[None]])
@@ -221,19 +224,21 @@ class _Sources:
         self.n = np.concatenate([self.n, [n]])
 
     def error(self, row: np.ndarray | None = None) -> tuple[np.ndarray, int]:
-        """``(sum |P| l + D, the largest source's impact)`` (``row``: a linear functional, a stick row's
-        sensitivity); prunes the negligible sources into ``D``."""
+        """``(sum |P| l, the largest source's impact)`` (``row``: a linear functional, a stick row's
+        sensitivity); beyond :data:`MAX_SOURCES` sources, folds the smaller half into one."""
         P = self.P if row is None else np.einsum("i,kij->kj", row, self.P)[:, None, :]
         parts = np.einsum("kij,kj->ki", np.abs(P), self.L)
-        D = self.D if row is None else np.array([abs(row) @ self.D])
-        total = parts.sum(axis=0) + D
+        total = parts.sum(axis=0)
         who = int(self.n[int(np.argmax(parts[:, 0]))]) if len(self.n) else -1
-        if row is None and len(self.n) > 1:
-            small = np.all(parts <= NEGLIGIBLE * total, axis=1)
-            if small.any():
-                self.D = self.D + parts[small].sum(axis=0)
-                keep = ~small
-                self.P, self.L, self.n = self.P[keep], self.L[keep], self.n[keep]
+        if row is None and len(self.n) > MAX_SOURCES:
+            share = (parts / np.where(total > 0, total, 1.0)).max(axis=1)
+            fold = np.zeros(len(self.n), dtype=bool)
+            fold[np.argsort(share, kind="stable")[: len(self.n) // 2]] = True
+            last = int(self.n[fold].max())
+            keep = ~fold
+            self.P = np.concatenate([self.P[keep], np.eye(2)[None]])
+            self.L = np.concatenate([self.L[keep], parts[fold].sum(axis=0)[None]])
+            self.n = np.concatenate([self.n[keep], [last]])
         return total, who
 
 

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Protocol
 
+from .boundary import check_id
 from . import generate, ondemand
 from .fuzz_process import RunStatus
 from .ondemand import CaseInput, UserCase
@@ -185,10 +186,8 @@ class Group:
 
 
 def group_id(seed: int, k: int, sig: Signature) -> str:
-    """``fuzz-<seed>-<k>-<signature>``: a valid case id (:data:`ondemand.ID_PATTERN`)."""
-    ident = f"fuzz-{seed}-{k:02d}-{sig.slug()}"[:100]
-    assert ondemand.ID_PATTERN.fullmatch(ident), ident
-    return ident
+    """``fuzz-<seed>-<k>-<signature>``: a valid case id (:func:`.boundary.check_id`)."""
+    return check_id(f"fuzz-{seed}-{k:02d}-{sig.slug()}"[:100].rstrip("."), "a group's id")
 
 
 # ---------------------------------------------------------------------------------------------
