@@ -345,7 +345,7 @@ def test_a_group_is_written_before_it_is_shrunk(tmp_path, tmpdir_here, capsys, m
     assert len(work) == 1 and work[0].startswith(WORK_PREFIX) and list(tmpdir_here.iterdir()) == []
 
 
-def test_disk_full_keeps_what_was_found_and_says_what_was_not_written(full_disk, tmp_path, tmpdir_here, capsys):  # noqa: F811
+def test_disk_full_keeps_what_was_found_and_says_what_was_not_written(full_disk, tmp_path, tmpdir_here, capsys):
     """--out on a full file system: exit status 1, one line naming the file that could not be written, the
     JSON summary on stdout with the failure's input (nothing found is lost), no empty or partial folder.
     Before: an empty fuzz-0-000001/, no JSON summary."""
