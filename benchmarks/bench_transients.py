@@ -4,7 +4,7 @@ Measures map iterations (impacts) per second:
 
 * engine: :func:`mapimpl.engine.transients.transient_times` on random ICs of the paper's box,
   once on all devices of the default backend (on the CPU one XLA device per core, see
-  ``core/_jax.py``) and once on one device (steady state: compilation is done by a warm-up on
+  ``core/jax_config.py``) and once on one device (steady state: compilation is done by a warm-up on
   the same shapes);
 * baseline: ``jax.jit(mapimpl.impact_map.step)`` in a Python loop, one orbit at a time (one core).
 

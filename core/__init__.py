@@ -4,7 +4,7 @@
 :mod:`.params`     the model's parameters (:class:`Params`, Eqs. 3-6 and 11) and their checks
 :mod:`.status`     how an orbit and a flight search end (:class:`Status`, :class:`FlightOutcome`)
 :mod:`.results`    the result types every track returns (:class:`ImpactSequence`, ...)
-:mod:`._jax`       the project's JAX set-up (float64; :func:`use_cpu_devices`)
+:mod:`.jax_config`       the project's JAX set-up (float64; :func:`use_cpu_devices`)
 =================  ==========================================================================
 
 The closed-form map (:mod:`gear_rattle.mapimpl`), the numerical tracks

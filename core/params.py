@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from . import _jax  # noqa: F401  (enables float64)
+from . import jax_config  # noqa: F401  (enables float64)
 
 if TYPE_CHECKING:  # JAX is imported where arrays are made, not on import (``gear-rattle check``: numpy only)
     import jax.numpy as jnp

@@ -6,7 +6,7 @@ phase's digits; :func:`reduce_phase` is the one reduction (three-term Cody-Waite
 
 from __future__ import annotations
 
-from . import _jax  # noqa: F401  (float64)
+from . import jax_config  # noqa: F401  (float64)
 import jax.numpy as jnp
 
 TWO_PI = 2.0 * jnp.pi

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 # first: in the command line, validation.interrupt takes over Ctrl-C before anything slow is imported
 from .validation import interrupt as _interrupt  # noqa: F401
-from .core._jax import use_cpu_devices
+from .core.jax_config import use_cpu_devices
 from .core.params import Params
 from .core.results import TRACKS, ImpactSequence, StepJacobian
 from .core.status import Status

@@ -112,7 +112,7 @@ def transient_lyapunov(
     Returns ``{"lambda1", "impacts_used", "orbits", "orbits_reaching_target"}``."""
     import numpy as np
 
-    from ..core import _jax  # noqa: F401
+    from ..core import jax_config  # noqa: F401
     import jax
     import jax.numpy as jnp
 

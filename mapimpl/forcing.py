@@ -8,7 +8,7 @@ pyproject.toml).
 
 from __future__ import annotations
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 from .forcing import forcing_rate_sc, forcing_sc

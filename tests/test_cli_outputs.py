@@ -232,7 +232,7 @@ def test_human_summary_on_a_terminal_json_elsewhere(monkeypatch, capsys):
 
     cliutil.print_result({"x": math.nan}, ["x is not a number"], ["out/x.json"])
     assert strict_json(capsys.readouterr().out) == {"x": None}
-    monkeypatch.setattr(cliutil, "_is_terminal", lambda stream: True)
+    monkeypatch.setattr(cliutil, "is_terminal", lambda stream: True)
     cliutil.print_result({"x": 1.0}, ["x is one"], ["out/x.npz", "out/x.json"])
     out = capsys.readouterr().out
     assert out.startswith("x is one\n") and "out/x.json" in out and "out/x.npz" not in out and "{" not in out

@@ -21,7 +21,7 @@ from gear_rattle.mapimpl.engine.observers import (
     Laminar,
     Sample,
     Tangent,
-    _givens_qr,
+    givens_qr,
     orbit_distance,
 )
 from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
@@ -138,9 +138,9 @@ def test_composed_release_equals_following_every_orbit(target):
     assert late.any() and np.all(comp.hit[late, comp.column()] == -1)
     assert np.all(comp.duration()[0][late] == comp.first_stick[late] + tp)
     # another T_post (e.g. a certified one) replaces the float64 one for exactly those orbits
-    from gear_rattle.mapimpl.engine.release import Release, ReleaseSource, WallTPost
+    from gear_rattle.mapimpl.engine.release import TPost, ReleaseSource, WallTPost
 
-    seven = Release(ReleaseSource.CERTIFIED, comp.delta, {0: WallTPost(0, 7, ReleaseSource.CERTIFIED, tp)})
+    seven = TPost(ReleaseSource.CERTIFIED, comp.delta, {0: WallTPost(0, 7, ReleaseSource.CERTIFIED, tp)})
     d2, _ = comp.duration(release=seven)
     assert np.all(d2[late] == comp.first_stick[late] + 7) and np.array_equal(d2[~late], comp.duration()[0][~late])
     with pytest.warns(DeprecationWarning, match="t_post"):
@@ -344,7 +344,7 @@ def test_givens_qr_reconstructs_and_keeps_a_positive_diagonal():
     rng = np.random.default_rng(5)
     for _ in range(20):
         Z = rng.normal(size=(2, 2))
-        Q, R = _givens_qr(jnp.asarray(Z))
+        Q, R = givens_qr(jnp.asarray(Z))
         Q, R = np.asarray(Q), np.asarray(R)
         assert np.allclose(Q @ R, Z, atol=1e-14) and np.allclose(Q.T @ Q, np.eye(2), atol=1e-14)
         assert abs(R[1, 0]) < 1e-15 and R[0, 0] >= 0 and R[1, 1] >= 0
@@ -406,15 +406,15 @@ def test_bad_inputs_name_the_argument(target):
 def test_engine_xla_options_only_on_tested_jaxlib_and_can_be_turned_off(monkeypatch):
     """use_cpu_devices adds ENGINE_XLA_FLAGS only on the jaxlib versions they were tested with (XLA aborts
     on a flag it does not know) and not with GEAR_RATTLE_XLA_TUNING=0."""
-    from gear_rattle.core import _jax as J
+    from gear_rattle.core import jax_config as J
 
     monkeypatch.delenv(J.XLA_TUNING_ENV, raising=False)
-    monkeypatch.setattr(J, "_jaxlib_version", lambda: J.ENGINE_XLA_TESTED[0])
+    monkeypatch.setattr(J, "jaxlib_version", lambda: J.ENGINE_XLA_TESTED[0])
     assert J.engine_xla_flags() == J.ENGINE_XLA_FLAGS
     monkeypatch.setenv(J.XLA_TUNING_ENV, "0")
     assert J.engine_xla_flags() == ()
     monkeypatch.delenv(J.XLA_TUNING_ENV)
-    monkeypatch.setattr(J, "_jaxlib_version", lambda: (99, 0))
+    monkeypatch.setattr(J, "jaxlib_version", lambda: (99, 0))
     assert J.engine_xla_flags() == ()
 
 
@@ -430,13 +430,13 @@ def test_durations_without_the_xla_options_agree(target):
     import subprocess
     import sys
 
-    from gear_rattle.core._jax import xla_tuning_active
+    from gear_rattle.core.jax_config import xla_tuning_active
 
     rng = np.random.default_rng(5)
     tau0, sdot0 = rng.uniform(0, 2 * np.pi, 800), rng.uniform(1e-3, 0.5, 800)
     code = (
         "import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
-        "from gear_rattle.core._jax import xla_tuning_active; "
+        "from gear_rattle.core.jax_config import xla_tuning_active; "
         "from gear_rattle.mapimpl.engine.transients import PeriodicTarget, transient_times; "
         "t, s, th, sd, w, mr, mi, res = (np.array(x) for x in json.loads(sys.stdin.read())); "
         "tg = PeriodicTarget(th, sd, w.astype(np.int32), mr + 1j * mi, float(res)); "

@@ -6,7 +6,7 @@ orbit status on every track, and subnormal numbers do not change a decision.
   subnormal to 1; tau0 at +-1e6 -- through the engine, the map track, the scipy track and the command
   line.  Beyond the box one line names the parameter and the range.
 * Subnormal inputs: XLA on the CPU flushes subnormals to zero; the wall a subnormal pre-impact
-  velocity points to is decided on its bits (:func:`core._jax.positive`), and the tracks agree.
+  velocity points to is decided on its bits (:func:`core.jax_config.positive`), and the tracks agree.
 
 Tolerance of the track comparisons: a velocity error ``eps M / |v|`` is the conditioning of the
 impact velocity, ``v^2 = v_0^2 - 2 (work of a force of size M)``, where the orbit slows down to

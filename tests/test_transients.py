@@ -121,7 +121,7 @@ def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_on
     report it.  Away from the paper's parameters the JSON, the terminal lines and the title say that no
     comparison is made, the title names the parameters, and the rounding's certification is opt-in."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.commands.transient_common import human_lines
     from gear_rattle.validation.plots.transients import survival_figure
     from gear_rattle.validation.transient.experiments import transients
 
@@ -147,7 +147,7 @@ def test_figs9_10_away_from_the_papers_parameters_compare_nothing():
     (which name alpha, beta, gamma, r) say so, by the one rule of the Fig. 11 result (``paper_setting``);
     at the paper's parameters the paper's exponents stay."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.commands.transient_common import human_lines
     from gear_rattle.validation.plots.transients import basins_figure, uncertainty_figure
     from gear_rattle.validation.transient.experiments import basins, uncertainty
 

@@ -15,9 +15,9 @@ import threading
 import warnings
 from types import ModuleType
 
-from ..core import _jax
+from ..core import jax_config
 from . import interrupt, progress
-from ..core._jax import use_compilation_cache, use_cpu_devices
+from ..core.jax_config import use_compilation_cache, use_cpu_devices
 from .cliutil import COMMAND, CliError, CommandFailed, output_fault
 from .extras import FULL_INSTALL, MissingExtra, require_full_install
 from .io.atomic import outputs
@@ -135,7 +135,7 @@ def main(argv: list[str] | None = None) -> int:
     processes from their nanny), so the main thread takes it at its next 0.1 s wake-up at the latest.
     The command's files are renamed into place together when it returns (:func:`.io.atomic.outputs`;
     the signal handler waits for those renames).  The console script also turns on the persistent
-    compilation cache (:func:`core._jax.use_compilation_cache`).  Called with ``argv`` (tests, other
+    compilation cache (:func:`core.jax_config.use_compilation_cache`).  Called with ``argv`` (tests, other
     programs), the command runs in the calling thread, a KeyboardInterrupt returns 130, and JAX's
     configuration is left as the caller has it (no cache).  Python warnings become one-line notes on
     stderr in both (:class:`_WarningNotes`)."""
@@ -191,8 +191,8 @@ class _WarningNotes:
         text = " ".join(str(message).split())
         if "persistent compilation cache" in text:  # JAX recompiled: say where the cache is
             text += (
-                f" (recompiled; the cache is {_jax.compilation_cache_dir()!r}: delete it to rebuild it, or "
-                f"set {_jax.JAX_CACHE_ENV}=0)"
+                f" (recompiled; the cache is {jax_config.compilation_cache_dir()!r}: delete it to rebuild it, or "
+                f"set {jax_config.JAX_CACHE_ENV}=0)"
             )
         print(f"{label}: note: {category.__name__}: {text}", file=sys.stderr)
 

@@ -255,7 +255,7 @@ def note(text: str) -> None:
     print(f"{COMMAND[0]}: note: {' '.join(str(text).split())}", file=sys.stderr)  # noqa: T201 - the one note writer
 
 
-def _is_terminal(stream) -> bool:
+def is_terminal(stream) -> bool:
     try:
         return bool(stream.isatty())
     except (AttributeError, ValueError, OSError):  # no isatty, or a closed stream
@@ -272,7 +272,7 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
 
     commit_pending()  # the files are in place before the result says where they are
     clear_status()
-    if not _is_terminal(sys.stdout):
+    if not is_terminal(sys.stdout):
         to_stdout(json_text(result) + "\n")
         return
     lines = list(human)
@@ -527,7 +527,7 @@ def add_output_options(
     data file, its format from the extension, default stdout) with ``--format csv|json`` (the format on
     stdout), ``--plot FILE.png`` (a figure), ``--out DIR`` (``out = (default, help)``: an output
     directory) and ``--quiet`` (no progress bars; every command has it).  Checked together by
-    :func:`check_outputs`, written by :func:`write_output` and :func:`write_plot`."""
+    :func:`check_outputs`, written by :func:`write_result` and :func:`write_plot`."""
     if output is not None:
         p.add_argument(
             "--output",
@@ -563,7 +563,7 @@ def check_outputs(args: argparse.Namespace) -> None:
         check_output_dir(args.out, "--out")
 
 
-def write_output(args: argparse.Namespace, result=None, *, arrays=None, table=None, data=None) -> None:
+def write_result(args: argparse.Namespace, result=None, *, arrays=None, table=None, data=None) -> None:
     """``--output`` of a result in the format of :func:`output_format`, through the one writer of each
     format (:mod:`validation.io`): NPZ of ``result.arrays()``, CSV of ``result.table()`` (``(header,
     rows)``), JSON of ``result.as_dict()`` (else of its arrays); or of the callables ``arrays``,

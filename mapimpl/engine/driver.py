@@ -28,11 +28,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ...core._jax import xla_tuning_active
+from ...core.jax_config import xla_tuning_active
 from ..finder import MAX_STEPS, T_MAX
 from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_int, check_real
 from ...core.params import ParamArrays, Params, validate_arrays
@@ -109,7 +109,7 @@ def default_lanes(n_per_device: int) -> int:
 
 def cpu_lanes() -> int:
     """The widest CPU block: where the working set of a device's micro-step stays in its core's cache.
-    With the engine's XLA options (:func:`gear_rattle.core._jax.xla_tuning_active`) 256 lanes: Fig. 11's
+    With the engine's XLA options (:func:`gear_rattle.core.jax_config.xla_tuning_active`) 256 lanes: Fig. 11's
     200 x 200 grid on 2 cores did 4.3e6, 5.4e6 and 4.6e6 impacts/s at 512, 256 and 128 lanes
     (2026-11-24); without them the kernel keeps more intermediate arrays and 512 lanes was best
     (Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048, 2026-11-22)."""

@@ -11,7 +11,7 @@ flight times ``<= T_MAX / 2``.
 
 from __future__ import annotations
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 _INVPIO2 = 6.36619772367581382433e-01

@@ -23,14 +23,14 @@ becomes iteration 0.
 (:func:`mapimpl.sticking.release_phase`), so every orbit that sticks to a wall continues on ONE
 post-release orbit.  With ``sticking="compose"`` (default) the engine stops each orbit at its first
 sticking episode (impact ``first_stick``) and runs the post-release orbit once per wall (from the
-first initial condition that stuck there, :class:`~.release.PostRelease`): the results are raw facts
+first initial condition that stuck there, :class:`~.release.PostReleaseOrbit`): the results are raw facts
 (``hit`` before the first sticking, ``first_stick``, ``stick_wall``, the post-release orbits), and a
 duration is composed from them by the one rule :func:`.release.compose_durations`, ``first_stick +
 T_post`` with ``T_post[delta]`` the post-release orbit's own duration counted from the release (its
 first impact is 1).  This equals, bit for bit, following every orbit through (``sticking="follow"``,
 tested), and saves re-computing the same orbit thousands of times.  The engine's ``T_post`` is a
 float64 sample of a chaotic orbit; :meth:`TransientResult.duration` takes a
-:class:`~.release.Release` from another source instead (a certified value: :func:`.t_post.release_for`).
+:class:`~.release.TPost` from another source instead (a certified value: :func:`.t_post.release_for`).
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -57,7 +57,7 @@ from ...core.status import Status
 from ..sticking import STICK_TIME
 from .driver import check_engine_options, run
 from .observers import Capture
-from .release import PostRelease, Release, ReleaseSource, WallTPost, compose_durations, composed_mask, float64_release
+from .release import PostReleaseOrbit, TPost, ReleaseSource, WallTPost, compose_durations, composed_mask, float64_t_post
 
 IC_MODES = ("pre-impact", "free")
 #: How orbits that stick are followed (see the module docstring).
@@ -146,7 +146,7 @@ class TransientResult(Outcome):
     ``nstick``: sticking episodes computed; ``first_stick``: impact index at which the orbit first
     stuck (-1: never); ``stick_wall``: its wall (``sticking="compose"``; 1 = not recorded when followed).
     ``post_release``: per wall that was stuck to, the engine's post-release orbit
-    (:class:`~.release.PostRelease`).  :meth:`duration` gives the durations, censored orbits set to ``cap``.
+    (:class:`~.release.PostReleaseOrbit`).  :meth:`duration` gives the durations, censored orbits set to ``cap``.
     ``ok``, ``message`` (:class:`~gear_rattle.core.outcome.Outcome`): built on ``status``, one code per orbit.
     """
 
@@ -166,7 +166,7 @@ class TransientResult(Outcome):
     s0: float | None
     target: PeriodicTarget
     elapsed: float
-    post_release: tuple[PostRelease, ...] = ()
+    post_release: tuple[PostReleaseOrbit, ...] = ()
     meta: dict = field(default_factory=dict)
 
     def column(self, delta: float | None = None) -> int:
@@ -176,14 +176,19 @@ class TransientResult(Outcome):
             raise ValueError(f"delta={delta!r} is out of range: allowed one of the recorded deltas {list(self.deltas)}")
         return int(j[0])
 
-    def float64_release(self, delta: float | None = None) -> Release:
-        """The :class:`~.release.Release` of the engine's own post-release orbits at ``delta`` (a float64
+    def float64_t_post(self, delta: float | None = None) -> TPost:
+        """The :class:`~.release.TPost` of the engine's own post-release orbits at ``delta`` (a float64
         sample)."""
         j = self.column(delta)
-        return float64_release(self.post_release, self.deltas, float(self.deltas[j]), j)
+        return float64_t_post(self.post_release, self.deltas, float(self.deltas[j]), j)
+
+    def float64_release(self, delta: float | None = None) -> TPost:
+        """Deprecated: :meth:`float64_t_post` (same meaning)."""
+        warn_renamed("TransientResult.float64_release()", "TransientResult.float64_t_post()")
+        return self.float64_t_post(delta)
 
     def duration(
-        self, delta: float | None = None, t_post: dict | None = None, *, release: Release | None = None
+        self, delta: float | None = None, t_post: dict | None = None, *, release: TPost | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
         """``(durations, censored)``: iterations to come within ``delta`` (``cap`` when never), the
         orbits that stuck before composed with ``release`` (:func:`.release.compose_durations`;
@@ -193,17 +198,17 @@ class TransientResult(Outcome):
         ``t_post``: ``{wall: T_post}`` (deprecated: give ``release``) replaces the post-release duration
         of that wall (``T_post < 0`` or None: never captured)."""
         if release is None:
-            release = self.float64_release(delta)
-        elif not isinstance(release, Release):
+            release = self.float64_t_post(delta)
+        elif not isinstance(release, TPost):
             raise TypeError(
-                f"release is a {type(release).__name__}: allowed a Release "
+                f"release is a {type(release).__name__}: allowed a TPost "
                 "(gear_rattle.mapimpl.engine.t_post.release_for)"
             )
         elif delta is not None and self.column(delta) != self.column(release.delta):
             raise ValueError(f"delta={delta!r} is out of range: allowed the release's delta={release.delta!r}")
         if t_post:
             warnings.warn(
-                "TransientResult.duration(t_post=) is deprecated: give release= (a Release, "
+                "TransientResult.duration(t_post=) is deprecated: give release= (a TPost, "
                 "gear_rattle.mapimpl.engine.t_post.release_for)",
                 DeprecationWarning,
                 stacklevel=2,
@@ -252,7 +257,7 @@ class TransientResult(Outcome):
         }
 
 
-def _given_release(base: Release, t_post: dict) -> Release:
+def _given_release(base: TPost, t_post: dict) -> TPost:
     """``base`` with the walls of ``t_post = {wall: T_post}`` (the deprecated argument of
     :meth:`TransientResult.duration`; ``T_post < 0`` or None: never captured) replaced."""
     walls = dict(base.walls)
@@ -266,7 +271,7 @@ def _given_release(base: Release, t_post: dict) -> Release:
             ReleaseSource.CERTIFIED,
             old.float64_sample if old is not None else -1,
         )
-    return Release(base.source, base.delta, walls)
+    return TPost(base.source, base.delta, walls)
 
 
 def _check_ic_arrays(tau0, sdot0, ic_mode, s0):
@@ -496,7 +501,7 @@ def _sticking_mode(sticking: str, release: str | None) -> str:
 
 def _post_release(
     tau, sd, wall, i: int, first: int, w: int, params: Params, cap_obs, cap: int, kw: dict
-) -> PostRelease:
+) -> PostReleaseOrbit:
     """The post-release orbit of wall ``w``, once: initial condition ``i`` (which first stuck at impact
     ``first``) followed through from its start, its capture counted from the release."""
     rep = run(
@@ -513,7 +518,7 @@ def _post_release(
     h = rep.obs[0]["hit"][0].astype(np.int64)
     if int(rep.first_stick[0]) != first:  # pragma: no cover - would be an engine bug
         raise RuntimeError("post-release orbit: the representative orbit stuck at a different impact")
-    return PostRelease(w, i, first, np.where(h >= 0, h - first, -1), int(rep.n[0]) - first)
+    return PostReleaseOrbit(w, i, first, np.where(h >= 0, h - first, -1), int(rep.n[0]) - first)
 
 
 def _params_first(params, tau0, sdot0):

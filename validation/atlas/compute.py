@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401  (float64)
+from ...core import jax_config  # noqa: F401  (float64)
 
 from ...mapimpl.engine.driver import run
 from ...mapimpl.engine.exponents import exponents

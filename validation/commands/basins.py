@@ -13,7 +13,7 @@ import math
 from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, progress_arg, real
-from ._transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, print_summary
 
 NAME = "basins"
 HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"

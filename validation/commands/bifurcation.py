@@ -25,7 +25,7 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 from ..paper import SCAN_OF
@@ -139,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
             progress=progress_arg(args),
         )
         lyap, result = (res.values, res.lam_free), DiagramLyapunov(d, res)  # --output carries the exponents
-    write_output(args, result)
+    write_result(args, result)
     if args.plot:
         from ..plots import diagram_figure
 

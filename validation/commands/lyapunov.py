@@ -24,7 +24,7 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
             args.param,
             title=f"Lyapunov exponents (free steps): {params_text(base, args.param, values)}",
         )
-    write_output(args, res)
+    write_result(args, res)
     ended = ~np.asarray(res.active)
     if ended.any():
         at = ", ".join(f"{v:g}" for v in values[ended][:5]) + (", ..." if ended.sum() > 5 else "")

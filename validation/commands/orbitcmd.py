@@ -29,7 +29,7 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
@@ -161,7 +161,7 @@ def _find(args, base, tau0: float, sdot0: float) -> int:
     from ...mapimpl.continuation import closed_form_det
 
     o = _converged(args, base, tau0, sdot0)
-    write_output(args, o)
+    write_result(args, o)
     note(
         f"converged (residual {o.residual:.2e}, {o.iterations} iterations); multipliers "
         + ", ".join(f"{complex(m):.12g}" for m in o.multipliers)
@@ -191,7 +191,7 @@ def _continue(args, base, tau0: float, sdot0: float, bounds: tuple[float, float]
         ds_max=max(2e-2, args.ds),
         max_points=args.max_points,
     )
-    write_output(
+    write_result(
         args,
         table=br.table,
         arrays=lambda: {

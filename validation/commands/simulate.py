@@ -30,7 +30,7 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
@@ -96,7 +96,7 @@ def _finish(args: argparse.Namespace, seq) -> None:
         from ..plots import time_series_figure
 
         fig = time_series_figure(seq, span=args.plot_span)
-    write_output(args, seq)
+    write_result(args, seq)
     if seq.status != "active":
         why = {
             "no_impact": "no wall is reached within the flight horizon T_MAX",
@@ -122,7 +122,7 @@ def _run_certified(args: argparse.Namespace, params) -> int:
     if run.complete:
         _finish(args, seq)
         return 0
-    write_output(args, seq)  # the certified prefix only (no plot of a partial orbit)
+    write_result(args, seq)  # the certified prefix only (no plot of a partial orbit)
     commit_pending()  # a whole file, kept although the command fails (io.atomic discards on failure)
     k = run.impacts_certified
     raise CommandFailed(

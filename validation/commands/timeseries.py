@@ -20,7 +20,7 @@ from ..cliutil import (
     progress_arg,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
             "span less than one forcing period (2 pi), so there is no stroboscopic sample; "
             "allowed: enough impacts to span a period (the orbit may chatter or stick)"
         )
-    write_output(args, ts)
+    write_result(args, ts)
     if args.plot:
         from ..plots import velocity_series_figure
 

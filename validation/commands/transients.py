@@ -15,7 +15,7 @@ from pathlib import Path
 
 from ...core.paper import recorded_deltas
 from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, add_s0_arg, nonneg_int, positive_int, progress_arg, seed_int
-from ._transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, print_summary
 
 NAME = "transients"
 HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"

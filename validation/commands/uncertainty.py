@@ -15,7 +15,7 @@ import argparse
 from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, progress_arg, real, seed_int
-from ._transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, print_summary
 
 NAME = "uncertainty"
 HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 from ...mapimpl.flight import flight

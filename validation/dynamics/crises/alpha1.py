@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 from ....mapimpl.engine.observers import Capture
 from ....core.params import Params
 from ....core.status import Status
@@ -294,7 +294,7 @@ def locate_alpha1(
     ...     "T_deep": 1e3,
     ... }
     >>> res = locate_alpha1(sizes=tiny)
-    >>> bool(1.2420 < res.alpha1 < 1.2450), bool(res.alpha_sn < res.alpha1)
+    >>> bool(1.2420 < res.value < 1.2450), bool(res.alpha_sn < res.value)
     (True, True)
     """
     pr = get_profile(profile, "alpha1", sizes)
@@ -322,16 +322,16 @@ def locate_alpha1(
     table = _lifetime_table(rows)
     finite_T = [x["T"] for x in table if x["events"] > 0]
     return Alpha1Result(
-        alpha1=where.value,
-        alpha1_err=where.err,
+        value=where.value,
+        err=where.err,
         method=where.method,
         located=where,
-        alpha1_goy=goy.mu_c,
-        alpha1_goy_err=total,
-        alpha1_stat=goy.err,
-        alpha1_syst=syst_goy,
-        alpha1_free=free.mu_c,
-        alpha1_free_err=math.hypot(free.err, syst_free),
+        goy=goy.mu_c,
+        goy_err=total,
+        stat=goy.err,
+        syst=syst_goy,
+        free=free.mu_c,
+        free_err=math.hypot(free.err, syst_free),
         g_free=free.g,
         g_free_err=free.g_err,
         fit_goy=goy,

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 import jax
 from ....mapimpl.engine.driver import EngineResult, run
 from ....core.params import ParamArrays, Params, param_arrays

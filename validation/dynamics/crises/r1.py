@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 from ....mapimpl.engine.exponents import exponents
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
@@ -221,7 +221,7 @@ def locate_r1(
     ...     "lyap_n": 1000,
     ... }
     >>> res = locate_r1(sizes=tiny)
-    >>> bool(0.740 < res.r1 < 0.742), res.method in ("fit", "bracket"), len(res.hops) >= 3
+    >>> bool(0.740 < res.value < 0.742), res.method in ("fit", "bracket"), len(res.hops) >= 3
     (True, True, True)
     """
     pr = get_profile(profile, "r1", sizes)
@@ -284,16 +284,16 @@ def locate_r1(
         np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]), overdispersed=True
     )
     return R1Result(
-        r1=where.value,
-        r1_err=where.err,
+        value=where.value,
+        err=where.err,
         method=where.method,
         located=where,
-        r1_goy=goy.mu_c,
-        r1_goy_err=total,
-        r1_stat=goy.err,
-        r1_syst=syst_goy,
-        r1_free=free.mu_c,
-        r1_free_err=math.hypot(free.err, syst_free),
+        goy=goy.mu_c,
+        goy_err=total,
+        stat=goy.err,
+        syst=syst_goy,
+        free=free.mu_c,
+        free_err=math.hypot(free.err, syst_free),
         g_free=free.g,
         g_free_err=free.g_err,
         fit_goy=goy,

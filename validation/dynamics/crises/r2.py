@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 from ....mapimpl.engine.observers import Laminar
 from ....core.params import Params
 from ....mapimpl.continuation import orbit_states

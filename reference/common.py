@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401  (float64)
+from ..core import jax_config  # noqa: F401  (float64)
 import jax
 
 from ..core.state import Array, MapState
