@@ -388,7 +388,7 @@ def test_find_periodic_singular_step_and_divergence(monkeypatch):
 
 def test_basins_mesh_keeps_the_profile_ratio():
     """basins --nx 120 gave 120 x 60 and --nx 121 gave 121 x 121."""
-    from gear_rattle.validation.transient.experiments import basins_mesh
+    from gear_rattle.validation.transient.settings import basins_mesh
 
     assert basins_mesh("quick", None, None) == (120, 60)
     assert basins_mesh("quick", 121, None) == (121, 60)

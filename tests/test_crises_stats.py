@@ -196,6 +196,12 @@ def test_crisis_results_are_typed_and_write_as_strict_json(tmp_path):
     )
     d = res.as_dict()
     assert "saddle" not in d and d["bracket"] == brk.as_dict() and d["located"] == loc.as_dict()
+    # one crisis result type (issue 39): the fields r1 and alpha1 share have one name each, and the file keeps
+    # its layout: the located values named after the crisis, in the order of before
+    assert list(d)[:8] == ["r1", "r1_err", "method", "located", "r1_goy", "r1_goy_err", "r1_stat", "r1_syst"]
+    assert list(d)[-4:] == ["paper_fig7", "ics", "cost", "profile"] and d["r1"] == res.value == loc.value
+    with pytest.warns(DeprecationWarning, match=r"R1Result.r1_goy is deprecated: use .goy"):
+        assert res.r1_goy == res.goy
     assert d["fit_goy"]["mu_c"] == goy.mu_c and d["near"]["T"] == math.inf
     write_crises(tmp_path, "quick", types_ns(as_dict=lambda: {}), res, types_ns(as_dict=lambda: {"x": math.nan}))
     back = json.loads((tmp_path / "crises.json").read_text(), parse_constant=lambda c: pytest.fail(c))

@@ -23,6 +23,7 @@ import math
 import numpy as np
 import pytest
 
+from gear_rattle.mapimpl.engine.options import Execution
 from gear_rattle.mapimpl.engine.driver import max_kernel_calls, run
 from gear_rattle.mapimpl.engine.observers import Sample
 from gear_rattle.mapimpl.orbit import map_orbit
@@ -143,7 +144,7 @@ def test_engine_guard_counts_the_longest_flights():
         (1e-3, 0.1, 0.0, 0.9),
         cap=1,
         progress=False,
-        devices=1,
+        execution=Execution(devices=1),
     )
     assert set(Status(int(s)).label for s in res.status) == {"no_impact"}
     # the bound: every orbit's cap + 1 flights of at most 2 max_steps + 86 micro-steps, one after another

@@ -66,7 +66,6 @@ from ..finder import (
     H0,
     NEWTON_ITERS,
     MAX_STEPS,
-    T_MAX,
     wall_gaps,
     bracket_test,
     bracket_unique,
@@ -79,7 +78,7 @@ from ..forcing import forcing_rate_sc, forcing_sc
 from ...core.phase import reduce_phase
 from ..impact_map import jacobian_sc
 from ...core.status import Status
-from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
+from ..sticking import decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
 from ...core.params import ParamArrays
 from .lanes import (
@@ -97,6 +96,7 @@ from .lanes import (
     lane_dtypes,
 )
 from .observers import Impact, Observer
+from .options import DEFAULT_RULES, StepRules
 
 # lane modes: searching (A: safe step, B: bracket test, N: root iteration), pending arrival (L: a loaded
 # initial condition, H: an impact found), idle
@@ -169,22 +169,20 @@ def make_consts(
     cap,
     observers: tuple[Observer, ...],
     stop_at_stick=False,
-    stick_time=STICK_TIME,
-    t_max=T_MAX,
-    max_steps=MAX_STEPS,
+    rules: StepRules = DEFAULT_RULES,
     params: ParamArrays | None = None,
 ) -> RunConsts:
-    """The run constants (:class:`~.lanes.RunConsts`, JAX arrays): caps, the sticking threshold, the
-    observers' constants (one dict per observer) and, when every orbit of the run has the same
-    parameters ``params`` (a :class:`~gear_rattle.core.params.ParamArrays` of scalars), those parameters
-    and their release constants (``uniform``, a :class:`~.lanes.LaneParams` of scalars: the lanes then
-    read them from here instead of from their own fields, which saves memory traffic; same arithmetic,
-    same results)."""
+    """The run constants (:class:`~.lanes.RunConsts`, JAX arrays): caps, the sticking threshold and the
+    finder's caps of ``rules`` (:class:`~.options.StepRules`), the observers' constants (one dict per
+    observer) and, when every orbit of the run has the same parameters ``params`` (a
+    :class:`~gear_rattle.core.params.ParamArrays` of scalars), those parameters and their release
+    constants (``uniform``, a :class:`~.lanes.LaneParams` of scalars: the lanes then read them from here
+    instead of from their own fields, which saves memory traffic; same arithmetic, same results)."""
     return RunConsts(
         cap=jnp.asarray(cap, jnp.int32),
-        stick_time=jnp.asarray(stick_time, jnp.float64),
-        t_max=jnp.asarray(t_max, jnp.float64),
-        max_steps=jnp.asarray(max_steps, jnp.int32),
+        stick_time=jnp.asarray(rules.stick_time, jnp.float64),
+        t_max=jnp.asarray(rules.t_max, jnp.float64),
+        max_steps=jnp.asarray(rules.max_steps, jnp.int32),
         stop_at_stick=jnp.asarray(bool(stop_at_stick)),
         true=jnp.asarray(True),
         obs=tuple(o.consts() for o in observers),

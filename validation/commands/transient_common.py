@@ -42,6 +42,13 @@ def check_common(args: argparse.Namespace) -> None:
     check_outputs(args)
 
 
+def execution_of(args: argparse.Namespace):
+    """The engine's :class:`~gear_rattle.mapimpl.engine.options.Execution` of ``--lanes``."""
+    from ...mapimpl.engine.options import Execution
+
+    return Execution(lanes=args.lanes)
+
+
 def _fmt(x, spec: str = ".4g") -> str:
     return "n/a" if x is None else format(x, spec)
 

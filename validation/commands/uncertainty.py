@@ -15,7 +15,7 @@ import argparse
 from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, progress_arg, real, seed_int
-from .transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "uncertainty"
 HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
@@ -64,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
     from ..io import save_figure
     from ..io.transients import write_uncertainty
     from ..plots.transients import uncertainty_figure
-    from ..transient.experiments import default_eps, uncertainty
+    from ..transient.experiments import uncertainty
+    from ..transient.settings import UncertaintySettings, default_eps
 
     params = params_from(args)
     if not args.eps_min < args.eps_max:
@@ -74,17 +75,10 @@ def run(args: argparse.Namespace) -> int:
         )
     check_common(args)
     eps = default_eps(args.profile, args.n_eps, args.eps_min, args.eps_max)
-    res = uncertainty(
-        profile=args.profile,
-        n_points=args.points,
-        eps=eps,
-        ns=tuple(args.ns),
-        seed=args.seed,
-        delta=args.delta,
-        params=params,
-        progress=progress_arg(args),
-        lanes=args.lanes,
+    settings = UncertaintySettings.of_profile(
+        args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns), seed=args.seed, delta=args.delta
     )
+    res = uncertainty(params=params, settings=settings, execution=execution_of(args), progress=progress_arg(args))
     files = write_uncertainty(args.out, res)
     fig = Path(args.out) / "fig10_uncertainty.png"
     save_figure(uncertainty_figure(res), fig)
