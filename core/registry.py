@@ -1,4 +1,4 @@
-"""Where the numerical tracks are found: a loader per name of :data:`core.results.TRACKS`.
+"""Where the numerical tracks are found: the tracks' names (:data:`TRACKS`) and a loader per numerical one.
 
 The registry of tracks (:mod:`gear_rattle.mapimpl.tracks`) sits below the numerical tracks
 (:mod:`gear_rattle.reference`), which it may not import (docs/architecture.md).  The layer above both,
@@ -12,8 +12,15 @@ diffrax is imported only by a program that uses it.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
-from .results import TRACKS, Track
+if TYPE_CHECKING:  # (core.results imports numpy; this module is imported by ``import gear_rattle``: stdlib only)
+    from .results import Track
+
+#: The tracks that compute an orbit: the closed-form map (:mod:`gear_rattle.mapimpl`) and two numerical
+#: integrations of Eq. (3) (:mod:`gear_rattle.reference`); :func:`gear_rattle.mapimpl.tracks.get` returns one.
+#: (Also :data:`gear_rattle.core.results.TRACKS`, the same tuple.)
+TRACKS = ("map", "scipy", "diffrax")
 
 _LOADERS: dict[str, Callable[[], Track]] = {}
 

@@ -25,15 +25,7 @@ from ..core.checks import (
 )  # re-exported
 from ..core.paper import PAPER_FIG3
 from ..core.params import PARAM_NAMES, Params
-
-
-class CliError(Exception):
-    """A user error on the command line: printed as one line, exit status 2."""
-
-
-class CommandFailed(Exception):
-    """The computation did not give the result asked for (e.g. Newton did not converge): printed as
-    one line, exit status 1, nothing written."""
+from .clierror import COMMAND, CliError, CommandFailed  # (the command line's errors; re-exported)
 
 
 # --------------------------------------------------------------------------------- upper bounds
@@ -241,9 +233,6 @@ def check_start_args(args: argparse.Namespace) -> None:
 
 
 # ---------------------------------------------------------------------------------- messages
-
-#: The command running (``gear-rattle simulate``), set by :mod:`validation.cli`: the label of notes.
-COMMAND = ["gear-rattle"]
 
 
 def note(text: str) -> None:

@@ -24,7 +24,6 @@ if TYPE_CHECKING:
     from ..atlas.spec import AtlasSpec
 
 NAME = "atlas"
-HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
 
 _FIELD = re.compile(
     r"^(alpha_lo|alpha_hi|n_alpha|r_lo|r_hi|n_r|tau0|sdot0|transient|impacts|period_max|"

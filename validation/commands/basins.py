@@ -16,7 +16,6 @@ from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, progress_ar
 from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "basins"
-HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -34,7 +34,6 @@ if TYPE_CHECKING:
     from ..dynamics.bifurcation import Diagram, DiagramLyapunov
 
 NAME = "bifurcation"
-HELP = "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure"
 #: Most recorded points of a diagram (values x keep), ~1.6 GB of float64 with the phases.
 MAX_RECORDED = 100_000_000
 #: Most impacts recorded per value.

@@ -29,7 +29,6 @@ from ..cliutil import (
 )
 
 NAME = "lyapunov"
-HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

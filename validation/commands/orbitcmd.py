@@ -36,7 +36,6 @@ from ..cliutil import (
 NAME = "orbit"
 #: Most impacts (and turns) per periodic orbit.
 MAX_PERIOD = 1000
-HELP = "periodic orbits: find, continue in r or alpha, fold and flip points"
 #: The options of 'continue' only, with their defaults (None: from the orbit's parameter value).
 CONTINUATION = {"param": "r", "lo": None, "hi": None, "direction": 1, "ds": 2e-3, "max_points": 200}
 

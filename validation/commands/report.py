@@ -10,7 +10,6 @@ from ..cliutil import add_output_options, check_outputs, note, print_result, see
 from ..report.builder import SECTION_KEYS
 
 NAME = "report"
-HELP = "generate the validation report (HTML + Markdown)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

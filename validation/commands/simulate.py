@@ -35,7 +35,6 @@ from ..cliutil import (
 )
 
 NAME = "simulate"
-HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -25,7 +25,6 @@ from ..cliutil import (
 )
 
 NAME = "timeseries"
-HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -18,7 +18,6 @@ from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, add_s0_arg, nonneg_int
 from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "transients"
-HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

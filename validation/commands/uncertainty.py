@@ -18,7 +18,6 @@ from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, progress_a
 from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "uncertainty"
-HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
 #: Most random points (each costs 1 + 2 x n-eps orbits).
 MAX_POINTS = 1_000_000
 
