@@ -182,3 +182,18 @@ def param_arrays(base: Params, name: str, values) -> ParamArrays:
     d = {k: np.full(v.shape, getattr(base, k)) for k in PARAM_NAMES}
     d[name] = v
     return validate_arrays(*(d[k] for k in PARAM_NAMES))
+
+
+__all__ = [
+    "PARAM_NAMES",
+    "PARAM_MAX",
+    "RANGES",
+    "check_value",
+    "check_param",
+    "check_params",
+    "ParamArrays",
+    "Params",
+    "validate_arrays",
+    "DIAGRAM_PARAMS",
+    "param_arrays",
+]

@@ -52,3 +52,11 @@ def load_track(name: str) -> Track:
 def registered_tracks() -> tuple[str, ...]:
     """The names with a registered loader, in the order of :data:`~core.results.TRACKS`."""
     return tuple(t for t in TRACKS if t in _LOADERS)
+
+
+__all__ = [
+    "TRACKS",
+    "register_track",
+    "load_track",
+    "registered_tracks",
+]

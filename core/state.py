@@ -187,3 +187,16 @@ def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, prog
         shapes = jax.eval_shape(lambda s: run(s, pa, 0), first)
         return jax.tree_util.tree_map(lambda a: np.zeros(a.shape, a.dtype), shapes)
     return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs), *parts)
+
+
+__all__ = [
+    "Array",
+    "MapState",
+    "StepInfo",
+    "make_state",
+    "Trajectory",
+    "sequence_from_states",
+    "SHORT",
+    "chunk_length",
+    "run_in_chunks",
+]

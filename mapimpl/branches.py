@@ -78,3 +78,13 @@ def orbit_on_branch(branch: Branch, mu: float, part: str = "saddle") -> Periodic
     if not o.converged:
         raise ValueError(f"Newton did not converge on the {part} branch at {branch.param}={mu!r}")
     return o
+
+
+__all__ = [
+    "R2_START",
+    "ALPHA1_START",
+    "attractor_point",
+    "six_impact_branch",
+    "four_impact_branch",
+    "orbit_on_branch",
+]

@@ -455,3 +455,17 @@ def orbit_states(params: Params, tau: float, sdot: float, impacts: int) -> tuple
         th.append(float(s.theta))
         sd.append(float(s.sdot))
     return np.array(th), np.array(sd)
+
+
+__all__ = [
+    "CONTINUATION_PARAMS",
+    "closed_form_det",
+    "OrbitResidual",
+    "OrbitPoint",
+    "BifurcationPoint",
+    "Branch",
+    "POLISH_STEPS",
+    "locate",
+    "continue_orbit",
+    "orbit_states",
+]

@@ -108,3 +108,10 @@ def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | Non
     if not taus:
         return np.empty(0), np.empty(0), np.empty(0)
     return np.concatenate(taus), np.concatenate(ss), np.concatenate(vs)
+
+
+__all__ = [
+    "BLOCK",
+    "flight_samples",
+    "dense",
+]

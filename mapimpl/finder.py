@@ -423,3 +423,23 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         status=status.astype(jnp.int32),
         steps=c["it"],
     )
+
+
+__all__ = [
+    "MAX_STEPS",
+    "H0",
+    "NEWTON_ITERS",
+    "Hit",
+    "quadratic_time",
+    "safe_time",
+    "wall_gaps",
+    "departure_time_sc",
+    "departure_time",
+    "SafeStep",
+    "safe_step",
+    "bracket_unique",
+    "bracket_test",
+    "root_step",
+    "check_flight",
+    "first_impact",
+]

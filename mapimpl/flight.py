@@ -157,3 +157,19 @@ def derivative_bounds(t, tau0, sdot0, alpha, beta, gamma):
     """
     b = jnp.abs(beta * (sdot0 - alpha * jnp.cos(tau0)) - gamma) * jnp.exp(-beta * t)
     return alpha + b, alpha + beta * b, alpha + beta * beta * b
+
+
+__all__ = [
+    "SERIES_X",
+    "horner",
+    "SIGMA_COEFFS",
+    "phi12",
+    "phi1",
+    "phi2",
+    "sigma",
+    "sinc",
+    "FlightPoint",
+    "flight",
+    "flight_textbook",
+    "derivative_bounds",
+]

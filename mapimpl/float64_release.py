@@ -196,3 +196,13 @@ def sticking_walls(
         "status": np.asarray(res.status),
         "n": np.asarray(res.n),
     }
+
+
+__all__ = [
+    "stick_at_once_state",
+    "float64_release_duration",
+    "float64_horizon",
+    "float64_departure",
+    "transient_lyapunov",
+    "sticking_walls",
+]

@@ -34,3 +34,11 @@ def forcing_rate(tau, alpha, beta):
 def forcing_rate_sc(sin_t, cos_t, alpha, beta):
     """:func:`forcing_rate` from ``sin(tau), cos(tau)``."""
     return -alpha * cos_t - alpha * beta * sin_t
+
+
+__all__ = [
+    "forcing",
+    "forcing_sc",
+    "forcing_rate",
+    "forcing_rate_sc",
+]

@@ -215,3 +215,11 @@ def raw_product_overflow(
     fin = np.asarray(run(st, p))
     bad = np.nonzero(~fin)[0]
     return int(bad[0]) + 1 if bad.size else None
+
+
+__all__ = [
+    "LyapunovResult",
+    "check_arguments",
+    "lyapunov",
+    "raw_product_overflow",
+]

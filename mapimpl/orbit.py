@@ -130,3 +130,12 @@ def map_orbit(
     return sequence_from_states(
         params, first, traj, track="map", meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)}
     )
+
+
+__all__ = [
+    "CHUNK",
+    "MAX_CHUNK",
+    "initial_state",
+    "iterate_chunked",
+    "map_orbit",
+]

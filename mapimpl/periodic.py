@@ -269,3 +269,12 @@ def find_periodic(
 def _multipliers(J: np.ndarray) -> np.ndarray:
     """Eigenvalues of the monodromy matrix; NaN where it is not finite (the orbit ended or overflowed)."""
     return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(J.shape[0], np.nan)
+
+
+__all__ = [
+    "pfold",
+    "PeriodicOrbit",
+    "MAX_TOL",
+    "check_newton",
+    "find_periodic",
+]

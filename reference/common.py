@@ -165,3 +165,17 @@ class TrajectoryRecorder:
             ),
         )
         return sequence_from_states(params, self.first, traj, track=track, meta=meta)
+
+
+__all__ = [
+    "TWO_PI",
+    "forcing_rhs",
+    "reduce_phase",
+    "check_option",
+    "validate_start",
+    "stick_decision",
+    "release_start",
+    "StepInfo",
+    "Trajectory",
+    "TrajectoryRecorder",
+]

@@ -300,3 +300,14 @@ def _out_folder(args: argparse.Namespace) -> str | None:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+__all__ = [
+    "SUBCOMMANDS",
+    "command_module",
+    "command_modules",
+    "NEGATIVE_NUMBER",
+    "build_parser",
+    "command_word",
+    "main",
+]

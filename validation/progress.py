@@ -334,3 +334,18 @@ def display(
 
 
 _core.set_display(display)
+
+
+__all__ = [
+    "MIN_INTERVAL",
+    "PHASE_FORMAT",
+    "stderr_is_terminal",
+    "status",
+    "clear_status",
+    "TerminalBar",
+    "LINES_ENV",
+    "LOG_FIRST_S",
+    "LOG_INTERVAL_S",
+    "LogLines",
+    "display",
+]

@@ -53,3 +53,8 @@ def sincos(x):
     s_out = jnp.where(q == 0, sn, jnp.where(q == 1, cs, jnp.where(q == 2, -sn, -cs)))
     c_out = jnp.where(q == 0, cs, jnp.where(q == 1, -sn, jnp.where(q == 2, -cs, sn)))
     return s_out, c_out
+
+
+__all__ = [
+    "sincos",
+]

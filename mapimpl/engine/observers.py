@@ -429,3 +429,17 @@ class Tangent(Observer):
             "cycles0": jnp.where(at0, ev.cycles, o["cycles0"]),
         }
         return new, jnp.asarray(False)
+
+
+__all__ = [
+    "Impact",
+    "orbit_distance",
+    "euclidean_distance",
+    "Observer",
+    "Capture",
+    "BandEscape",
+    "Laminar",
+    "Sample",
+    "givens_qr",
+    "Tangent",
+]

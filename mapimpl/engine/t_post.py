@@ -163,3 +163,14 @@ def release_for(
             else WallTPost(w, s.value, ReleaseSource.FLOAT64, s.float64_sample, c, undecided=True)
         )
     return TPost(source, d, walls)
+
+
+__all__ = [
+    "NEVER_CAPTURED",
+    "decimal_params",
+    "float64_target",
+    "CertifiedKey",
+    "certified_t_post",
+    "certified_value",
+    "release_for",
+]

@@ -609,3 +609,21 @@ def grid(box=PAPER_BOX, nx: int = 400, ny: int = 400):
     tx = t_lo + (np.arange(nx) + 0.5) * (t_hi - t_lo) / nx
     sy = s_lo + (np.arange(ny) + 0.5) * (s_hi - s_lo) / ny
     return np.meshgrid(tx, sy)
+
+
+__all__ = [
+    "IC_MODES",
+    "STICKING_MODES",
+    "PeriodicTarget",
+    "periodic_target",
+    "TransientResult",
+    "initial_states",
+    "MAX_CAP",
+    "TransientSettings",
+    "DEFAULT_SETTINGS",
+    "transient_settings",
+    "transient_times",
+    "MAX_MESH",
+    "check_box",
+    "grid",
+]

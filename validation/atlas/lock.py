@@ -151,3 +151,11 @@ class StoreLock:
 
     def __exit__(self, *exc) -> None:
         self.release()
+
+
+__all__ = [
+    "StoreBusy",
+    "lock_path",
+    "holder_text",
+    "StoreLock",
+]

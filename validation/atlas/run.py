@@ -503,3 +503,20 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeo
         finally:
             for fut in futures:
                 fut.cancel()
+
+
+__all__ = [
+    "ComputeFn",
+    "CONNECT_TIMEOUT_S",
+    "WORKER_TIMEOUT_S",
+    "POLL_S",
+    "ClusterLost",
+    "import_distributed",
+    "default_workers",
+    "check_scheduler",
+    "tile_points",
+    "crop",
+    "AtlasRun",
+    "run_atlas",
+    "local_cluster",
+]

@@ -272,3 +272,11 @@ def _run_line(spec, ru: dict, scheduler: str) -> str:
         f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} "
         f"points x impacts/s (start-up and compile included; median tile: {tile_rate:.3g} per worker)"
     )
+
+
+__all__ = [
+    "EXIT_CLUSTER_LOST",
+    "NAME",
+    "add_arguments",
+    "run",
+]

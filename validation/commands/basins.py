@@ -79,3 +79,10 @@ def run(args: argparse.Namespace) -> int:
     save_figure(basins_figure(res), fig)
     print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

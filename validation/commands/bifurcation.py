@@ -144,3 +144,12 @@ def run(args: argparse.Namespace) -> int:
 
         write_plot(args, diagram_figure(d, lyap))
     return 0
+
+
+__all__ = [
+    "NAME",
+    "MAX_RECORDED",
+    "MAX_KEEP",
+    "add_arguments",
+    "run",
+]

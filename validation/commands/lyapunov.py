@@ -104,3 +104,10 @@ def run(args: argparse.Namespace) -> int:
         )
     write_plot(args, fig)
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -208,3 +208,12 @@ def _continue(args, base, tau0: float, sdot0: float, bounds: tuple[float, float]
 
         write_plot(args, branch_figure(br, args.param))
     return 0
+
+
+__all__ = [
+    "NAME",
+    "MAX_PERIOD",
+    "CONTINUATION",
+    "add_arguments",
+    "run",
+]

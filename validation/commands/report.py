@@ -65,3 +65,10 @@ def run(args: argparse.Namespace) -> int:
     if not ok:
         note("some sections FAILED (see the report)")
     return 0 if ok else 1
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

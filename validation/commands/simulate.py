@@ -128,3 +128,10 @@ def _run_certified(args: argparse.Namespace, params) -> int:
         f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
         f"{k} certified impact{'' if k == 1 else 's'} before it"
     )
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -82,3 +82,10 @@ def run(args: argparse.Namespace) -> int:
         title = f"{args.figure}: {params_text(base)}" if args.figure else None  # default: the parameters
         write_plot(args, velocity_series_figure(ts, title=title))
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -105,3 +105,13 @@ def print_summary(summary: dict, notes=(), files=()) -> None:
         f"impacts/s), orbits with sticking: {e.get('orbits_with_sticking')}"
     )
     print_result({k: v for k, v in summary.items() if k != "engine"}, human_lines(summary), files)
+
+
+__all__ = [
+    "MAX_LANES",
+    "add_common",
+    "check_common",
+    "execution_of",
+    "human_lines",
+    "print_summary",
+]

@@ -83,3 +83,11 @@ def run(args: argparse.Namespace) -> int:
     save_figure(uncertainty_figure(res), fig)
     print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0
+
+
+__all__ = [
+    "NAME",
+    "MAX_POINTS",
+    "add_arguments",
+    "run",
+]

@@ -242,3 +242,15 @@ def raw_product_horizon(lam1: float) -> float:
     pass the largest float64: ``ln(float64 max) / lambda1`` (the measured step:
     :func:`gear_rattle.mapimpl.lyapunov.raw_product_overflow`)."""
     return LN_FLOAT_MAX / lam1
+
+
+__all__ = [
+    "MAX_POINTS",
+    "MAX_IMPACTS",
+    "Diagram",
+    "bifurcation_diagram",
+    "LN_FLOAT_MAX",
+    "DiagramLyapunov",
+    "diagram_with_lyapunov",
+    "raw_product_horizon",
+]

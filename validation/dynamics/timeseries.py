@@ -99,3 +99,11 @@ def time_series(
     k, v = stroboscopic(sub)
     m = sub.kind == "impact"
     return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0] if k.size else k, v)  # no sample: span < 2 pi
+
+
+__all__ = [
+    "FIGURE_R",
+    "TimeSeries",
+    "stroboscopic",
+    "time_series",
+]

@@ -108,3 +108,10 @@ def laminar_law_figure(r2, theory: float):
     ax.legend(fontsize=8)
     fg.tight_layout()
     return fg
+
+
+__all__ = [
+    "diagram_lyapunov_figure",
+    "crisis_laws_figure",
+    "laminar_law_figure",
+]

@@ -453,3 +453,11 @@ def _crisis_rows(sec: Section, r1, a1, settle4, a_f9: float) -> None:
             where=PAPER["alpha1_impacts_per_period"].where,
         )
     )
+
+
+__all__ = [
+    "KEY",
+    "TITLE",
+    "SUM_RULE_TOL",
+    "build",
+]

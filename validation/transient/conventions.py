@@ -105,3 +105,17 @@ def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> Sticking
     }
     rel_spans = {name: (hi - lo) / lo if lo else float("nan") for name, (lo, hi) in spans.items()}
     return StickingConventions(rows, float(stuck.mean()), spans, rel_spans, between)
+
+
+__all__ = [
+    "OURS",
+    "FLOAT64_ROUNDING",
+    "SAMPLE",
+    "DECAYED",
+    "LEFT_OUT",
+    "N_BOOT",
+    "ConventionFit",
+    "StickingConventions",
+    "rounding_t_post",
+    "sticking_conventions",
+]

@@ -340,3 +340,13 @@ def float64_horizon(
         REL.float64_horizon(lam, delta),
         REL.float64_horizon(lam, 1.0),
     )
+
+
+__all__ = [
+    "basins",
+    "uncertainty",
+    "transients",
+    "STICK_TIMES",
+    "stick_time_sensitivity",
+    "float64_horizon",
+]

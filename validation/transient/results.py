@@ -398,3 +398,19 @@ class Float64Horizon:
     def fraction_beyond(self, durations) -> float:
         """The fraction of ``durations`` longer than the horizon at ``delta``: samples, not values."""
         return float(np.mean(np.asarray(durations) > self.horizon_delta))
+
+
+__all__ = [
+    "SURVIVAL_ROWS",
+    "stick_counts",
+    "ComparedWithPaper",
+    "BasinsResult",
+    "UncertaintyResult",
+    "SurvivalResult",
+    "paper_setting",
+    "no_comparison",
+    "paper_comparison",
+    "StickTimeRow",
+    "StickTimeSensitivity",
+    "Float64Horizon",
+]

@@ -355,3 +355,16 @@ def locate_alpha1(
         cost=cost.as_dict(),
         profile=_label(profile, sizes),
     )
+
+
+__all__ = [
+    "PAPER_ALPHA1",
+    "APPROACH",
+    "N0",
+    "DIAGRAM_IMPACTS",
+    "DEEP_AIM",
+    "nodes",
+    "attractor_ics",
+    "lifetimes",
+    "locate_alpha1",
+]

@@ -122,3 +122,14 @@ def orbit_points(orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     th = np.concatenate([np.mod(np.asarray(o.theta, float), 2 * np.pi) for o in orbits])
     sd = np.concatenate([np.asarray(o.sdot, float) for o in orbits])
     return th, sd, np.where(sd > 0, 0, -1).astype(np.int32)
+
+
+__all__ = [
+    "BOX",
+    "Cost",
+    "Timer",
+    "engine_run",
+    "per_orbit",
+    "box_ics",
+    "orbit_points",
+]

@@ -315,3 +315,16 @@ def locate_r1(
         cost=cost.as_dict(),
         profile=_label(profile, sizes),
     )
+
+
+__all__ = [
+    "PAPER_R1_FIG7",
+    "BANDS",
+    "THRESHOLD",
+    "MIN_INSIDE",
+    "N0",
+    "band_ics",
+    "hop_counts",
+    "lyapunov_at",
+    "locate_r1",
+]

@@ -221,3 +221,13 @@ class Alpha1Result(CrisisResult):
     T_max_measured: float
     paper: dict
     diagram: dict
+
+
+__all__ = [
+    "LaminarStats",
+    "R2Result",
+    "PREFIXED",
+    "CrisisResult",
+    "R1Result",
+    "Alpha1Result",
+]
