@@ -128,9 +128,9 @@ def _module(name: str):
 
         return params
     if name in ("ImpactSequence", "StepJacobian"):
-        from .core import results
+        from .core import results as core_results
 
-        return results
+        return core_results
     if name == "orbit":
         from .mapimpl import tracks
 

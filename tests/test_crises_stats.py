@@ -4,6 +4,7 @@ answers: censored exponential lifetimes, exact Poisson intervals, the crisis-law
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -202,6 +203,12 @@ def test_crisis_results_are_typed_and_write_as_strict_json(tmp_path):
     assert list(d)[-4:] == ["paper_fig7", "ics", "cost", "profile"] and d["r1"] == res.value == loc.value
     with pytest.warns(DeprecationWarning, match=r"R1Result.r1_goy is deprecated: use .goy"):
         assert res.r1_goy == res.goy
+    # the located values r1 and alpha1 build alike (one function): the shared fields, in their order
+    from gear_rattle.validation.dynamics.crises.results import CrisisResult, located_fields
+
+    shared = located_fields(loc, goy, goy, 0.0, 0.0)
+    assert list(shared) == [f.name for f in dataclasses.fields(CrisisResult)][: len(shared)]
+    assert shared["value"] == res.value and shared["goy_err"] == res.goy_err and shared["fit_free"] is goy
     assert d["fit_goy"]["mu_c"] == goy.mu_c and d["near"]["T"] == math.inf
     write_crises(tmp_path, "quick", types_ns(as_dict=lambda: {}), res, types_ns(as_dict=lambda: {"x": math.nan}))
     back = json.loads((tmp_path / "crises.json").read_text(), parse_constant=lambda c: pytest.fail(c))

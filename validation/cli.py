@@ -49,34 +49,58 @@ def command_module(name: str) -> ModuleType:
     import what the command computes with)."""
     match name:
         case "simulate":
-            from .commands import simulate as mod
+            from .commands import simulate
+
+            return simulate
         case "report":
-            from .commands import report as mod
+            from .commands import report
+
+            return report
         case "bifurcation":
-            from .commands import bifurcation as mod
+            from .commands import bifurcation
+
+            return bifurcation
         case "lyapunov":
-            from .commands import lyapunov as mod
+            from .commands import lyapunov
+
+            return lyapunov
         case "orbit":
-            from .commands import orbitcmd as mod
+            from .commands import orbitcmd
+
+            return orbitcmd
         case "timeseries":
-            from .commands import timeseries as mod
+            from .commands import timeseries
+
+            return timeseries
         case "basins":
-            from .commands import basins as mod
+            from .commands import basins
+
+            return basins
         case "uncertainty":
-            from .commands import uncertainty as mod
+            from .commands import uncertainty
+
+            return uncertainty
         case "transients":
-            from .commands import transients as mod
+            from .commands import transients
+
+            return transients
         case "atlas":
-            from .commands import atlas as mod
+            from .commands import atlas
+
+            return atlas
         case "check":
-            from .commands import check as mod
+            from .commands import check
+
+            return check
         case "case":
-            from .commands import case as mod
+            from .commands import case
+
+            return case
         case "fuzz":
-            from .commands import fuzz as mod
-        case _:
-            raise ValueError(f"name={name!r} is out of range: allowed one of {list(SUBCOMMANDS)}")
-    return mod
+            from .commands import fuzz
+
+            return fuzz
+    raise ValueError(f"name={name!r} is out of range: allowed one of {list(SUBCOMMANDS)}")
 
 
 def command_modules() -> list[ModuleType]:

@@ -41,6 +41,7 @@ import time
 import warnings
 from dataclasses import dataclass, field
 from functools import lru_cache, partial
+from typing import cast
 
 import numpy as np
 
@@ -308,7 +309,8 @@ def _start_states(params: Params, tau0: np.ndarray, sdot0: np.ndarray, s: Transi
     """:func:`initial_states` of checked arrays and settings."""
     if s.ic_mode == "pre-impact":
         return tau0.copy(), sdot0.copy(), np.where(sdot0 > 0, 0, -1).astype(np.int32), np.ones(tau0.size, bool)
-    st = _free_start_v(jnp.asarray(tau0), jnp.asarray(float(s.s0)), jnp.asarray(sdot0), params.arrays())
+    s0 = cast(float, s.s0)  # (given in free mode: TransientSettings)
+    st = _free_start_v(jnp.asarray(tau0), jnp.asarray(float(s0)), jnp.asarray(sdot0), params.arrays())
     ok = np.asarray(st.status) == Status.ACTIVE
     return (np.asarray(st.theta), np.asarray(st.sdot), np.asarray(st.wall, dtype=np.int32), ok)
 

@@ -44,7 +44,7 @@ from ....mapimpl.branches import ALPHA1_START, four_impact_branch, orbit_on_bran
 from .orbits import Cost, Timer, box_ics, engine_run, orbit_points, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
-from .results import Alpha1Result
+from .results import Alpha1Result, located_fields
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
 from ....core.paper import DELTA, PAPER_PARAMS
 from ...paper import PAPER
@@ -322,20 +322,7 @@ def locate_alpha1(
     table = _lifetime_table(rows)
     finite_T = [x["T"] for x in table if x["events"] > 0]
     return Alpha1Result(
-        value=where.value,
-        err=where.err,
-        method=where.method,
-        located=where,
-        goy=goy.mu_c,
-        goy_err=total,
-        stat=goy.err,
-        syst=syst_goy,
-        free=free.mu_c,
-        free_err=math.hypot(free.err, syst_free),
-        g_free=free.g,
-        g_free_err=free.g_err,
-        fit_goy=goy,
-        fit_free=free,
+        **located_fields(where, goy, free, syst_goy, syst_free),
         subranges_goy=sub_goy,
         subranges_free=sub_free,
         goy_exponent=g,

@@ -39,7 +39,7 @@ from ....mapimpl.branches import R2_START, orbit_on_branch, six_impact_branch
 from .orbits import Cost, Timer, box_ics, engine_run, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
-from .results import R1Result
+from .results import R1Result, located_fields
 from .stats import LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes, range_systematic
 from ...paper import PAPER
 
@@ -284,20 +284,7 @@ def locate_r1(
         np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]), overdispersed=True
     )
     return R1Result(
-        value=where.value,
-        err=where.err,
-        method=where.method,
-        located=where,
-        goy=goy.mu_c,
-        goy_err=total,
-        stat=goy.err,
-        syst=syst_goy,
-        free=free.mu_c,
-        free_err=math.hypot(free.err, syst_free),
-        g_free=free.g,
-        g_free_err=free.g_err,
-        fit_goy=goy,
-        fit_free=free,
+        **located_fields(where, goy, free, syst_goy, syst_free),
         subranges_goy=sub_goy,
         subranges_free=sub_free,
         goy_exponent=g,

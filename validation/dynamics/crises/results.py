@@ -10,6 +10,7 @@ branches, the laminar statistics), as ``data/dynamics/crises.json`` of the repor
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -153,6 +154,28 @@ class CrisisResult(_Result):
         return {k: named[k] for k in self.KEYS}
 
 
+def located_fields(where: Located, goy: CrisisFit, free: CrisisFit, syst_goy: float, syst_free: float) -> dict:
+    """The located values of a :class:`CrisisResult` (``value`` to ``fit_free``): the reported location
+    ``where``, the GOY fit ``goy`` and the free fit ``free``, each fit's total error with its fit-range
+    systematic (``syst_goy``, ``syst_free``) added in quadrature."""
+    return dict(
+        value=where.value,
+        err=where.err,
+        method=where.method,
+        located=where,
+        goy=goy.mu_c,
+        goy_err=math.hypot(goy.err, syst_goy),
+        stat=goy.err,
+        syst=syst_goy,
+        free=free.mu_c,
+        free_err=math.hypot(free.err, syst_free),
+        g_free=free.g,
+        g_free_err=free.g_err,
+        fit_goy=goy,
+        fit_free=free,
+    )
+
+
 def _old_names(cls: type[CrisisResult]) -> type[CrisisResult]:
     """``cls`` with the old names of its located values (``r1_goy`` for ``goy``, ...) as deprecated
     read-only properties."""
@@ -228,6 +251,7 @@ __all__ = [
     "R2Result",
     "PREFIXED",
     "CrisisResult",
+    "located_fields",
     "R1Result",
     "Alpha1Result",
 ]
