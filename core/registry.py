@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # (core.results imports numpy; this module is imported by ``i
 
 #: The tracks that compute an orbit: the closed-form map (:mod:`gear_rattle.mapimpl`) and two numerical
 #: integrations of Eq. (3) (:mod:`gear_rattle.reference`); :func:`gear_rattle.mapimpl.tracks.get` returns one.
-#: (Also :data:`gear_rattle.core.results.TRACKS`, the same tuple.)
+#: (``gear_rattle.core.results.TRACKS`` and ``gear_rattle.TRACKS`` are the same tuple.)
 TRACKS = ("map", "scipy", "diffrax")
 
 _LOADERS: dict[str, Callable[[], Track]] = {}
@@ -27,7 +27,7 @@ _LOADERS: dict[str, Callable[[], Track]] = {}
 
 def register_track(name: str, load: Callable[[], Track]) -> None:
     """Register ``load()``, which returns the :class:`~core.results.Track` named ``name`` (one of
-    :data:`~core.results.TRACKS` other than the closed-form ``"map"``); ``ValueError`` for another
+    :data:`TRACKS` other than the closed-form ``"map"``); ``ValueError`` for another
     name, ``TypeError`` for a ``load`` that is not callable."""
     if name not in TRACKS or name == "map":
         raise ValueError(f"name={name!r} is out of range: allowed one of {[t for t in TRACKS if t != 'map']}")
@@ -50,7 +50,7 @@ def load_track(name: str) -> Track:
 
 
 def registered_tracks() -> tuple[str, ...]:
-    """The names with a registered loader, in the order of :data:`~core.results.TRACKS`."""
+    """The names with a registered loader, in the order of :data:`TRACKS`."""
     return tuple(t for t in TRACKS if t in _LOADERS)
 
 

@@ -97,7 +97,7 @@ class OrbitResidual:
         return G, np.asarray(J, dtype=np.float64), good
 
     def dG_dmu(self, y, G0=None):
-        """``dG/dmu`` at ``y``: forward-mode autodiff of the p-fold map (:data:`_extended_jacobian`, the
+        """``dG/dmu`` at ``y``: forward-mode autodiff of the p-fold map (``_extended_jacobian``, the
         Jacobian :func:`locate` compiles for the same number of impacts), central differences where it
         is not finite or the step is not valid (one-sided at ``r = 1``)."""
         base = np.array([self.params.alpha, self.params.beta, self.params.gamma, self.params.r], dtype=np.float64)

@@ -183,7 +183,7 @@ class DeviceJob:
     of its orbits in queue order; ``queue`` (padded to a power of two with copies of its last entry, never
     loaded), the run constants ``consts`` and the initial carry ``start`` (idle lanes, empty results, the
     next initial condition 0), all placed on the device.  Read-only: the thread that drives it keeps the
-    carry (:func:`_drive`), and its progress goes to the reporter (:class:`JobProgress`)."""
+    carry (``_drive``), and its progress goes to the reporter (:class:`JobProgress`)."""
 
     sel: np.ndarray
     queue: Queue

@@ -35,7 +35,7 @@ class StepRules:
     """How every orbit of a run is computed: ``stick_time`` -- the sticking policy's chatter threshold
     (:data:`mapimpl.sticking.STICK_TIME`, ``0 <= stick_time <= 1e-2``); ``t_max`` and ``max_steps`` -- the
     impact finder's caps on one flight (``0 < t_max <= 1e6`` time units, ``1 <= max_steps <= 1e6`` safe
-    steps; :data:`mapimpl.finder.T_MAX`, :data:`~mapimpl.finder.MAX_STEPS`).  Checked when made."""
+    steps; :data:`gear_rattle.core.horizons.T_MAX`, :data:`~gear_rattle.mapimpl.finder.MAX_STEPS`).  Checked when made."""
 
     stick_time: float = STICK_TIME
     t_max: float = T_MAX

@@ -119,7 +119,7 @@ class CrisisResult(_Result):
 
     #: The crisis (``"r1"``, ``"alpha1"``): the name of its located values in a file.
     NAME: ClassVar[str] = ""
-    #: The keys of :meth:`as_dict`, in the file's order.
+    #: The keys of :meth:`CrisisResult.as_dict`, in the file's order.
     KEYS: ClassVar[tuple[str, ...]] = ()
 
     value: float
@@ -148,8 +148,8 @@ class CrisisResult(_Result):
     profile: str
 
     def as_dict(self) -> dict:
-        """The data of :meth:`_Result.as_dict`, the located values named after the crisis, in the order
-        :data:`KEYS`."""
+        """The data of the result (its fields but the objects that are not data), the located values named
+        after the crisis, in the order :data:`KEYS`."""
         named = {(self.NAME + PREFIXED[k] if k in PREFIXED else k): v for k, v in super().as_dict().items()}
         return {k: named[k] for k in self.KEYS}
 
@@ -180,7 +180,8 @@ def _old_names(cls: type[CrisisResult]) -> type[CrisisResult]:
     """``cls`` with the old names of its located values (``r1_goy`` for ``goy``, ...) as deprecated
     read-only properties."""
     for new, suffix in PREFIXED.items():
-        setattr(cls, cls.NAME + suffix, renamed_attribute(cls.NAME + suffix, new))
+        old = renamed_attribute(cls.NAME + suffix, new)
+        setattr(cls, cls.NAME + suffix, property(old.fget, doc=f"Deprecated: the old name of ``{new}``."))
     return cls
 
 
