@@ -117,7 +117,7 @@ def options_from_keywords(
     old spelling, deprecated: one DeprecationWarning naming the new one); a keyword that is neither is a
     ``TypeError`` as Python gives it, and a field given both ways is an error.  ``rule_fields``: the
     fields of :class:`StepRules` that ``function`` took as keywords; ``stacklevel``: the warning's, as
-    :func:`warnings.warn` counts it from here (3: the caller of the function that calls this one)."""
+    ``warnings.warn`` counts it from here (3: the caller of the function that calls this one)."""
     import warnings
 
     from ...core.checks import InputTypeError
