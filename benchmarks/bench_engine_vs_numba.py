@@ -49,6 +49,7 @@ import jax.numpy as jnp
 import numba
 from scipy import stats
 
+from gear_rattle.mapimpl.engine.options import Execution
 from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
 from gear_rattle.core.paper import PAPER_BOX, PAPER_PARAMS
 
@@ -97,7 +98,8 @@ def run_engine(tau, sd, deltas, delta, cap, devices=None):
     load = _load()
     comp0 = _COMPILE_S[0]
     c0, w0 = time.process_time(), time.perf_counter()
-    r = transient_times(P, tau, sd, cap=cap, delta=delta, deltas=deltas, progress=False, devices=devices)
+    ex = Execution(devices=devices)
+    r = transient_times(P, tau, sd, cap=cap, delta=delta, deltas=deltas, progress=False, execution=ex)
     c, w = time.process_time() - c0, time.perf_counter() - w0
     ndev = int(r.meta.get("devices", NCORES if devices is None else devices))
     imp = int(r.n.sum())

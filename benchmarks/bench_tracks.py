@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from gear_rattle.core import _jax  # noqa: F401
+from gear_rattle.core import jax_config  # noqa: F401
 import jax
 
 from gear_rattle.mapimpl.batch import batch_iterate, states

@@ -4,7 +4,7 @@ Measures map iterations (impacts) per second:
 
 * engine: :func:`mapimpl.engine.transients.transient_times` on random ICs of the paper's box,
   once on all devices of the default backend (on the CPU one XLA device per core, see
-  ``core/_jax.py``) and once on one device (steady state: compilation is done by a warm-up on
+  ``core/jax_config.py``) and once on one device (steady state: compilation is done by a warm-up on
   the same shapes);
 * baseline: ``jax.jit(mapimpl.impact_map.step)`` in a Python loop, one orbit at a time (one core).
 
@@ -30,7 +30,8 @@ use_cpu_devices()
 
 from gear_rattle.mapimpl.impact_map import step
 from gear_rattle.core.state import make_state
-from gear_rattle.mapimpl.engine.transients import engine_devices, periodic_target, transient_times
+from gear_rattle.mapimpl.engine.options import Execution
+from gear_rattle.mapimpl.engine.transients import periodic_target, transient_times
 from gear_rattle.core.paper import PAPER_PARAMS
 
 
@@ -38,11 +39,12 @@ def bench_engine(n_ic, cap, lanes, devices=None, seed=0):
     rng = np.random.default_rng(seed)
     tau, sd = rng.uniform(3.0, 3.5, n_ic), rng.uniform(1e-9, 0.5, n_ic)
     tg = periodic_target()
-    ndev = len(engine_devices(devices))
+    ex = Execution(lanes=lanes, devices=devices)
+    ndev = len(ex.device_list())
     # compile the same shapes (tail blocks included) first
-    transient_times(None, tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
+    transient_times(None, tau, sd, cap=cap, execution=ex, progress=False, target=tg)
     c0, w0 = time.process_time(), time.perf_counter()
-    r = transient_times(None, tau, sd, cap=cap, lanes=lanes, progress=False, target=tg, devices=devices)
+    r = transient_times(None, tau, sd, cap=cap, execution=ex, progress=False, target=tg)
     c, w = time.process_time() - c0, time.perf_counter() - w0
     return {
         "devices": ndev,

@@ -258,3 +258,30 @@ def is_traced(*values) -> bool:
     import jax
 
     return any(isinstance(v, jax.core.Tracer) for v in values)
+
+
+__all__ = [
+    "MAX_IMPACTS",
+    "MAX_AVERAGED",
+    "MAX_VALUES",
+    "MAX_ORBITS",
+    "MAX_PERIOD",
+    "MAX_ITER",
+    "MAX_RESAMPLES",
+    "MAX_TOTAL",
+    "TOL_FLOOR",
+    "InputTypeError",
+    "check_real",
+    "check_int",
+    "check_tol",
+    "TAU0_MAX",
+    "TAU0_RANGE",
+    "check_tau0",
+    "check_start",
+    "WALLS",
+    "check_wall",
+    "start_wall",
+    "check_array",
+    "check_choice",
+    "is_traced",
+]

@@ -47,4 +47,18 @@ def renamed_attribute(old: str, new: str):
     return property(get, doc=f"Deprecated: the old name of :attr:`{new}`.")
 
 
-__all__ = ["UNSET", "renamed_argument", "renamed_attribute", "warn_renamed"]
+def renamed_names(module: str, names: dict[str, str], namespace: dict):
+    """A module's ``__getattr__`` (PEP 562) for the old names of its objects: ``names`` maps an old name to
+    the object's name today in ``namespace`` (the module's ``globals()``); the old name returns that object
+    with a DeprecationWarning naming the new one, any other name raises ``AttributeError``."""
+
+    def __getattr__(name: str):
+        if name in names:
+            warn_renamed(f"{module}.{name}", f"{module}.{names[name]}")
+            return namespace[names[name]]
+        raise AttributeError(f"module {module!r} has no attribute {name!r}")
+
+    return __getattr__
+
+
+__all__ = ["UNSET", "renamed_argument", "renamed_attribute", "renamed_names", "warn_renamed"]

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from . import _jax  # noqa: F401  (enables float64)
+from . import jax_config  # noqa: F401  (enables float64)
 
 if TYPE_CHECKING:  # JAX is imported where arrays are made, not on import (``gear-rattle check``: numpy only)
     import jax.numpy as jnp
@@ -182,3 +182,18 @@ def param_arrays(base: Params, name: str, values) -> ParamArrays:
     d = {k: np.full(v.shape, getattr(base, k)) for k in PARAM_NAMES}
     d[name] = v
     return validate_arrays(*(d[k] for k in PARAM_NAMES))
+
+
+__all__ = [
+    "PARAM_NAMES",
+    "PARAM_MAX",
+    "RANGES",
+    "check_value",
+    "check_param",
+    "check_params",
+    "ParamArrays",
+    "Params",
+    "validate_arrays",
+    "DIAGRAM_PARAMS",
+    "param_arrays",
+]

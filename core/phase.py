@@ -6,7 +6,7 @@ phase's digits; :func:`reduce_phase` is the one reduction (three-term Cody-Waite
 
 from __future__ import annotations
 
-from . import _jax  # noqa: F401  (float64)
+from . import jax_config  # noqa: F401  (float64)
 import jax.numpy as jnp
 
 TWO_PI = 2.0 * jnp.pi
@@ -33,3 +33,12 @@ def reduce_phase(theta, cycles):
     # (where, not clip: the derivative stays 1 at theta = 0 for autodiff)
     th = jnp.where(th < 0.0, 0.0, jnp.where(th >= TWO_PI, jnp.nextafter(TWO_PI, 0.0), th))
     return th, cycles + (m + adj).astype(cycles.dtype)
+
+
+__all__ = [
+    "TWO_PI",
+    "TWO_PI_HI",
+    "TWO_PI_MID",
+    "TWO_PI_LO",
+    "reduce_phase",
+]

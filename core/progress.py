@@ -153,3 +153,14 @@ class Bar:
     def __exit__(self, *exc):
         self.abort() if exc[0] is not None else self.close()
         return False
+
+
+__all__ = [
+    "TERMINAL",
+    "ANYWHERE",
+    "View",
+    "set_display",
+    "wanted",
+    "sink",
+    "Bar",
+]

@@ -1,4 +1,4 @@
-"""Where the numerical tracks are found: a loader per name of :data:`core.results.TRACKS`.
+"""Where the numerical tracks are found: the tracks' names (:data:`TRACKS`) and a loader per numerical one.
 
 The registry of tracks (:mod:`gear_rattle.mapimpl.tracks`) sits below the numerical tracks
 (:mod:`gear_rattle.reference`), which it may not import (docs/architecture.md).  The layer above both,
@@ -12,15 +12,22 @@ diffrax is imported only by a program that uses it.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
-from .results import TRACKS, Track
+if TYPE_CHECKING:  # (core.results imports numpy; this module is imported by ``import gear_rattle``: stdlib only)
+    from .results import Track
+
+#: The tracks that compute an orbit: the closed-form map (:mod:`gear_rattle.mapimpl`) and two numerical
+#: integrations of Eq. (3) (:mod:`gear_rattle.reference`); :func:`gear_rattle.mapimpl.tracks.get` returns one.
+#: (``gear_rattle.core.results.TRACKS`` and ``gear_rattle.TRACKS`` are the same tuple.)
+TRACKS = ("map", "scipy", "diffrax")
 
 _LOADERS: dict[str, Callable[[], Track]] = {}
 
 
 def register_track(name: str, load: Callable[[], Track]) -> None:
     """Register ``load()``, which returns the :class:`~core.results.Track` named ``name`` (one of
-    :data:`~core.results.TRACKS` other than the closed-form ``"map"``); ``ValueError`` for another
+    :data:`TRACKS` other than the closed-form ``"map"``); ``ValueError`` for another
     name, ``TypeError`` for a ``load`` that is not callable."""
     if name not in TRACKS or name == "map":
         raise ValueError(f"name={name!r} is out of range: allowed one of {[t for t in TRACKS if t != 'map']}")
@@ -43,5 +50,13 @@ def load_track(name: str) -> Track:
 
 
 def registered_tracks() -> tuple[str, ...]:
-    """The names with a registered loader, in the order of :data:`~core.results.TRACKS`."""
+    """The names with a registered loader, in the order of :data:`TRACKS`."""
     return tuple(t for t in TRACKS if t in _LOADERS)
+
+
+__all__ = [
+    "TRACKS",
+    "register_track",
+    "load_track",
+    "registered_tracks",
+]

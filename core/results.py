@@ -28,11 +28,9 @@ import numpy as np
 from .checks import InputTypeError
 from .outcome import Outcome, short_repr, check_lengths, check_status, describe, is_ok, status_codes
 from .params import Params
+from .registry import TRACKS
 from .status import TRACK_STATUSES, Status
 
-#: The tracks that compute an orbit: the closed-form map (:mod:`gear_rattle.mapimpl`) and two numerical
-#: integrations of Eq. (3) (:mod:`gear_rattle.reference`); :func:`gear_rattle.mapimpl.tracks.get` returns one.
-TRACKS = ("map", "scipy", "diffrax")
 #: Event kinds of an :class:`ImpactSequence` row.
 KINDS = ("impact", "stick", "release")
 #: Columns of the CSV form of an :class:`ImpactSequence` (and of the golden suite's files).

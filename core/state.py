@@ -13,11 +13,11 @@ from typing import NamedTuple, TypeAlias
 
 import numpy as np
 
-from . import _jax  # noqa: F401  (float64)
+from . import jax_config  # noqa: F401  (float64)
 import jax
 import jax.numpy as jnp
 
-from ._jax import positive
+from .jax_config import positive
 from .params import Params
 from .phase import TWO_PI, reduce_phase
 from .results import ImpactSequence
@@ -62,7 +62,7 @@ class StepInfo(NamedTuple):
 
 def make_state(tau, sdot, wall=None, status=Status.ACTIVE) -> MapState:
     """Map state from an elapsed time and pre-impact velocity; the wall follows the sign of ``sdot``
-    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1; a subnormal ``sdot`` too, :func:`._jax.positive`)
+    (``sdot > 0``: wall 0; ``sdot < 0``: wall -1; a subnormal ``sdot`` too, :func:`.jax_config.positive`)
     unless given."""
     tau = jnp.asarray(tau, jnp.float64)
     sdot = jnp.asarray(sdot, jnp.float64)
@@ -187,3 +187,16 @@ def run_in_chunks(run, first: MapState, params: Params, n: int, chunk: int, prog
         shapes = jax.eval_shape(lambda s: run(s, pa, 0), first)
         return jax.tree_util.tree_map(lambda a: np.zeros(a.shape, a.dtype), shapes)
     return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs), *parts)
+
+
+__all__ = [
+    "Array",
+    "MapState",
+    "StepInfo",
+    "make_state",
+    "Trajectory",
+    "sequence_from_states",
+    "SHORT",
+    "chunk_length",
+    "run_in_chunks",
+]

@@ -32,31 +32,42 @@ same way: ``ok``, ``status`` and ``message``, built on :class:`~gear_rattle.core
 DeprecationWarning naming the new one.
 
 Importing it switches JAX to float64 and changes nothing else (no device split, no matplotlib
-backend): :func:`use_cpu_devices` opts in to one XLA CPU device per core before JAX starts.  It does
-not import JAX itself (numpy only): the functions and result types that need JAX are loaded on first
-use, so that ``gear-rattle check`` runs with numpy alone (docs/golden.md, "Using the suite in CI").
+backend, no signal handler): :func:`use_cpu_devices` opts in to one XLA CPU device per core before JAX
+starts.  It imports neither JAX nor numpy, nor the command line: every public name but
+:func:`use_cpu_devices`, :data:`TRACKS` and :class:`Status` is loaded on first use (PEP 562), and so is
+the display of progress bars (:mod:`gear_rattle.validation.progress`, when the first bar is drawn).
+``import gear_rattle`` loads seven small modules and no other package; ``gear-rattle check`` runs with
+numpy alone (docs/golden.md, "Using the suite in CI").
 """
 
 from __future__ import annotations
 
-# first: in the command line, validation.interrupt takes over Ctrl-C before anything slow is imported
-from .validation import interrupt as _interrupt  # noqa: F401
-from .core._jax import use_cpu_devices
-from .core.params import Params
-from .core.results import TRACKS, ImpactSequence, StepJacobian
+from typing import TYPE_CHECKING
+
+from .core.jax_config import use_cpu_devices
+from .core.progress import set_display as _set_display
+from .core.registry import TRACKS
 from .core.status import Status
 from . import _tracks  # noqa: F401  (registers the numerical tracks' loaders: core.registry)
 
-from importlib import metadata as _metadata
+if TYPE_CHECKING:  # what the names loaded on first use are, for type checkers
+    from .core.params import Params
+    from .core.results import ImpactSequence, StepJacobian
+    from .mapimpl.certified.track import CertifiedSequence
+    from .mapimpl.engine.transients import TransientResult, transient_times
+    from .mapimpl.lyapunov import LyapunovResult, lyapunov
+    from .mapimpl.periodic import PeriodicOrbit, find_periodic
+    from .mapimpl.tracks import orbit
+    from .validation.transient.results import SurvivalResult
 
-try:
-    #: The installed distribution's version (``gear-rattle --version``).
-    __version__ = _metadata.version("gear-rattle")
-except _metadata.PackageNotFoundError:  # a source tree on sys.path without an install
-    __version__ = "0+unknown"
+    __version__: str
 
-#: The public names loaded on first use (they import JAX or the analyses): see :func:`_module`.
+#: The public names loaded on first use (they import numpy, JAX or the analyses): see :func:`_module`.
 _LAZY = (
+    "__version__",
+    "Params",
+    "ImpactSequence",
+    "StepJacobian",
     "orbit",
     "find_periodic",
     "lyapunov",
@@ -88,8 +99,38 @@ __all__ = [
 ]
 
 
+def _display(label: str, **kw):
+    """The display of every progress bar (:func:`gear_rattle.validation.progress.display`), imported when
+    the first bar is drawn: importing it registers it in place of this function (core.progress)."""
+    from .validation.progress import display
+
+    return display(label, **kw)
+
+
+_set_display(_display)
+
+
+def _version() -> str:
+    """The installed distribution's version (``gear-rattle --version``): ``importlib.metadata``, read on
+    first use of ``gear_rattle.__version__``."""
+    from importlib import metadata
+
+    try:
+        return metadata.version("gear-rattle")
+    except metadata.PackageNotFoundError:  # a source tree on sys.path without an install
+        return "0+unknown"
+
+
 def _module(name: str):
-    """The module that defines the public ``name`` of :data:`_LAZY`."""
+    """The module that defines the public ``name`` of :data:`_LAZY` (``__version__``: :func:`_version`)."""
+    if name == "Params":
+        from .core import params
+
+        return params
+    if name in ("ImpactSequence", "StepJacobian"):
+        from .core import results as core_results
+
+        return core_results
     if name == "orbit":
         from .mapimpl import tracks
 
@@ -119,7 +160,7 @@ def __getattr__(name: str):
     """A public name of :data:`_LAZY`, imported on first use (PEP 562)."""
     if name not in _LAZY:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(_module(name), name)
+    value = _version() if name == "__version__" else getattr(_module(name), name)
     globals()[name] = value
     return value
 

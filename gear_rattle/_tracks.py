@@ -10,8 +10,12 @@ see -- and returns its ``TRACK``.  A new track adds its loader here (docs/archit
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from .core.registry import register_track
-from .core.results import Track
+
+if TYPE_CHECKING:  # (core.results imports numpy; this module runs on ``import gear_rattle``: no numpy)
+    from .core.results import Track
 
 
 def _scipy() -> Track:

@@ -3,7 +3,7 @@
 Importing this package switches JAX to float64 (``jax_enable_x64``).
 """
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 from ..core.params import ParamArrays, Params, validate_arrays
 from ..core.paper import PAPER_FIG3
 

@@ -10,7 +10,7 @@ from functools import partial
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -54,3 +54,11 @@ def params_batch(params: list[Params] | None = None, **arrays) -> ParamArrays:
     if params is not None:
         arrays = {k: np.array([getattr(q, k) for q in params]) for k in PARAM_NAMES}
     return validate_arrays(*(arrays[k] for k in PARAM_NAMES))
+
+
+__all__ = [
+    "states",
+    "batch_iterate",
+    "batch_advance",
+    "params_batch",
+]

@@ -18,6 +18,7 @@ from ..core.checks import check_int
 from ..core.params import Params
 from .continuation import Branch, continue_orbit
 from .engine.driver import run
+from .engine.options import Execution
 from .periodic import PeriodicOrbit, find_periodic
 
 #: Starting guesses on the attractors of the paper (any nearby guess works).
@@ -31,7 +32,8 @@ def attractor_point(params: Params, n: int = 5000, tau0: float = 0.0, sdot0: flo
     n = check_int("n", n, 1, 100_000_000)
     if not (np.isfinite(tau0) and np.isfinite(sdot0) and sdot0 != 0):
         raise ValueError(f"sdot0={sdot0!r} is out of range: allowed finite, nonzero")
-    r = run([tau0], [sdot0], [0 if sdot0 > 0 else -1], params, (), cap=n, lanes=8, devices=1, progress=False)
+    one = Execution(lanes=8, devices=1)
+    r = run([tau0], [sdot0], [0 if sdot0 > 0 else -1], params, (), cap=n, execution=one, progress=False)
     return float(r.theta[0]), float(r.sdot[0])
 
 
@@ -76,3 +78,13 @@ def orbit_on_branch(branch: Branch, mu: float, part: str = "saddle") -> Periodic
     if not o.converged:
         raise ValueError(f"Newton did not converge on the {part} branch at {branch.param}={mu!r}")
     return o
+
+
+__all__ = [
+    "R2_START",
+    "ALPHA1_START",
+    "attractor_point",
+    "six_impact_branch",
+    "four_impact_branch",
+    "orbit_on_branch",
+]

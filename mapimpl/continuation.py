@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -76,7 +76,7 @@ def closed_form_det(params: Params, impacts: int, turns: int = 1) -> float:
     return float(params.r ** (2 * impacts) * np.exp(-_TWO_PI * turns * params.beta))
 
 
-class _Problem:
+class OrbitResidual:
     """The periodic-orbit residual for one base parameter set, one continued parameter, p, m."""
 
     def __init__(self, params: Params, name: str, impacts: int, turns: int, wall: int):
@@ -97,7 +97,7 @@ class _Problem:
         return G, np.asarray(J, dtype=np.float64), good
 
     def dG_dmu(self, y, G0=None):
-        """``dG/dmu`` at ``y``: forward-mode autodiff of the p-fold map (:data:`_extended_jacobian`, the
+        """``dG/dmu`` at ``y``: forward-mode autodiff of the p-fold map (``_extended_jacobian``, the
         Jacobian :func:`locate` compiles for the same number of impacts), central differences where it
         is not finite or the step is not valid (one-sided at ``r = 1``)."""
         base = np.array([self.params.alpha, self.params.beta, self.params.gamma, self.params.r], dtype=np.float64)
@@ -227,7 +227,7 @@ def _extended_residual(y, base, mu_index, turns, wall, sign, impacts):
     """The extended system of :func:`locate` in ``jax.numpy``: ``(G, det(M + sign I))`` at
     ``y = (tau, sdot, mu)``, with ``mu`` at position ``mu_index`` of ``base = (alpha, beta, gamma, r)``;
     aux output: the p-fold map is valid (active, no sticking).  Used for its Jacobian only: the residual
-    of :func:`locate` stays the NumPy one of :meth:`_Problem.test_fn` (the two agree to rounding)."""
+    of :func:`locate` stays the NumPy one of :meth:`OrbitResidual.test_fn` (the two agree to rounding)."""
     tau, sdot, mu = y[0], y[1], y[2]
     pa = ParamArrays(*jnp.asarray(base, jnp.float64).at[mu_index].set(mu))
     tp, sp, M, _walls, stuck, ok = pfold(tau, sdot, pa, impacts, wall)
@@ -259,7 +259,7 @@ def locate(
     ~2 ms per Jacobian afterwards)."""
     if kind not in ("fold", "flip"):
         raise ValueError(f"kind={kind!r} is out of range: allowed 'fold' or 'flip'")
-    prob = _Problem(params, param, impacts, turns, 0 if sdot > 0 else -1)
+    prob = OrbitResidual(params, param, impacts, turns, 0 if sdot > 0 else -1)
 
     def fun(y):
         G, d, ok = prob.test_fn(y, kind)
@@ -319,7 +319,7 @@ def _check_continuation(
     return lo, hi
 
 
-def _correct(prob: _Problem, y: np.ndarray, yp: np.ndarray, t: np.ndarray, h: float) -> np.ndarray | None:
+def _correct(prob: OrbitResidual, y: np.ndarray, yp: np.ndarray, t: np.ndarray, h: float) -> np.ndarray | None:
     """The corrector of :func:`continue_orbit`: Newton on ``(G(z), t . (z - yp)) = 0`` from the predicted
     point ``yp`` (at most 12 steps); the new point ``z``, or None where it does not converge or lands
     farther than ``3 h`` from the last point ``y``."""
@@ -401,7 +401,7 @@ def continue_orbit(
             f"(tau0={tau0!r}, sdot0={sdot0!r}) at {name}={mu0!r}"
         )
     x0 = (float(orb.theta[0]), float(orb.sdot[0]))
-    prob = _Problem(params, name, impacts, turns, int(orb.walls[0]))
+    prob = OrbitResidual(params, name, impacts, turns, int(orb.walls[0]))
     br = Branch(params, name, impacts, turns)
     y = np.array([x0[0], x0[1], mu0])
 
@@ -455,3 +455,17 @@ def orbit_states(params: Params, tau: float, sdot: float, impacts: int) -> tuple
         th.append(float(s.theta))
         sd.append(float(s.sdot))
     return np.array(th), np.array(sd)
+
+
+__all__ = [
+    "CONTINUATION_PARAMS",
+    "closed_form_det",
+    "OrbitResidual",
+    "OrbitPoint",
+    "BifurcationPoint",
+    "Branch",
+    "POLISH_STEPS",
+    "locate",
+    "continue_orbit",
+    "orbit_states",
+]

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -108,3 +108,10 @@ def dense(seq: ImpactSequence, points_per_unit: float = 40.0, t_end: float | Non
     if not taus:
         return np.empty(0), np.empty(0), np.empty(0)
     return np.concatenate(taus), np.concatenate(ss), np.concatenate(vs)
+
+
+__all__ = [
+    "BLOCK",
+    "flight_samples",
+    "dense",
+]

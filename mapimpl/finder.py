@@ -38,7 +38,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -52,9 +52,11 @@ from ..core.horizons import T_MAX  # the orbit horizon: NO_IMPACT beyond it (eve
 
 #: Most safe-step iterations per flight before giving up with STEP_CAP.
 MAX_STEPS = 4000
-_H0, _H_MAX = 0.5, 2.0
+#: The first safe step's window (time units); the window grows to at most ``_H_MAX``.
+H0, _H_MAX = 0.5, 2.0
 _EPS = 2.220446049250313e-16
-_NEWTON_ITERS = 80
+#: Most safeguarded root iterations on a certified bracket (:func:`root_step`).
+NEWTON_ITERS = 80
 
 
 class Hit(NamedTuple):
@@ -110,7 +112,7 @@ def safe_time(d, u, A):
     return jnp.where(tiny & ~none, h_tiny, h)
 
 
-def _gaps(s0, ds):
+def wall_gaps(s0, ds):
     """Gaps to the upper and lower wall; exact (= ds) for the wall the flight starts on."""
     return -s0 - ds, (s0 + 1.0) + ds
 
@@ -173,7 +175,7 @@ def safe_step(ds, v, a, m2, m3, t_a, H, it, t_dep, s0, t_max, max_steps) -> Safe
     Eq. 3); ``m2, m3``: bounds of ``|s''|``, ``|s'''|`` for times ``>= t_a``; ``H``: the current window;
     ``it``: steps so far; ``t_dep``: departure certificate of the flight.
     """
-    du, dl = _gaps(s0, ds)
+    du, dl = wall_gaps(s0, ds)
     on_top, on_bot = s0 == 0.0, s0 == -1.0
     du, dl = jnp.maximum(du, 0.0), jnp.maximum(dl, 0.0)
     hu = safe_time(du, v, jnp.minimum(a + m3 * H, m2))
@@ -255,7 +257,7 @@ def root_step(x, g, dg, d2g, lo, hi, m2, m3, k):
     ``(x_new, lo, hi, done, k + 1)``; ``done`` when ``x_new`` is the root to rounding: ``x`` itself, or a
     point whose error, at most ``m3 d^3 / (6 |dg|)`` after a model step (``m2 d^2 / (2 |dg|)`` after a
     Newton step), is far below an ulp -- it is accepted without evaluating there -- or after
-    ``_NEWTON_ITERS`` iterations.  Near a transversal root the error goes from ``e`` to
+    ``NEWTON_ITERS`` iterations.  Near a transversal root the error goes from ``e`` to
     ``~ e^3 m3 / |dg|`` per step: one evaluation past a good start suffices.
     """
     lo_n = jnp.where(g > 0.0, x, lo)
@@ -278,7 +280,7 @@ def root_step(x, g, dg, d2g, lo, hi, m2, m3, k):
     conv = (g == 0.0) | tiny | (step <= 2.0 * _EPS * jnp.abs(x)) | (hi_n - lo_n <= 2.0 * _EPS * hi_n) | bound_ok
     xn = jnp.where(g == 0.0, x, xn)
     k_new = k + 1
-    return xn, lo_n, hi_n, conv | (k_new >= _NEWTON_ITERS), k_new
+    return xn, lo_n, hi_n, conv | (k_new >= NEWTON_ITERS), k_new
 
 
 def check_flight(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_STEPS) -> None:
@@ -350,7 +352,7 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
 
     def gap_of(t, wall_top):
         fp = flight(t, tau0, v0, alpha, beta, gamma)
-        du, dl = _gaps(s0, fp.ds)
+        du, dl = wall_gaps(s0, fp.ds)
         return jnp.where(wall_top, du, dl), jnp.where(wall_top, -fp.v, fp.v), fp
 
     # ---- phase 1: certified safe steps until a bracket [lo, hi] with one root ----
@@ -387,7 +389,7 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
 
     init = dict(
         t=jnp.zeros_like(v0),
-        H=jnp.asarray(_H0, jnp.float64),
+        H=jnp.asarray(H0, jnp.float64),
         it=jnp.asarray(0, jnp.int32),
         done=jnp.asarray(False),
         hi=jnp.zeros_like(v0),
@@ -421,3 +423,23 @@ def first_impact(tau0, s0, v0, alpha, beta, gamma, t_max=T_MAX, max_steps=MAX_ST
         status=status.astype(jnp.int32),
         steps=c["it"],
     )
+
+
+__all__ = [
+    "MAX_STEPS",
+    "H0",
+    "NEWTON_ITERS",
+    "Hit",
+    "quadratic_time",
+    "safe_time",
+    "wall_gaps",
+    "departure_time_sc",
+    "departure_time",
+    "SafeStep",
+    "safe_step",
+    "bracket_unique",
+    "bracket_test",
+    "root_step",
+    "check_flight",
+    "first_impact",
+]

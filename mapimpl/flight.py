@@ -29,15 +29,17 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 
-_SERIES_X = 1.0  # below this argument phi1 / phi2 use their Taylor series (direct form: < 2 ulp)
+#: Below this argument phi1 / phi2 use their Taylor series (direct form: < 2 ulp).
+SERIES_X = 1.0
 _SIGMA_T = 1.5  # below this |t| sigma uses its Taylor series
 
 
-def _horner(x, coeffs):
+def horner(x, coeffs):
+    """The polynomial ``sum_k coeffs[k] x^k`` by Horner's rule (the Taylor series of Eqs. 7-8's functions)."""
     acc = jnp.zeros_like(x) + coeffs[-1]
     for c in coeffs[-2::-1]:
         acc = acc * x + c
@@ -56,7 +58,8 @@ def _inv_factorials(start: int, n: int) -> list[float]:
 # phi2(x) = sum_k (-x)^k / (k+2)!, 18 terms for x < 1 (the next, x^18/20!, is below 0.01 ulp of phi2 >= 1/e);
 # sigma(t) = sum_k (-t^2)^k / (2k+3)!
 _PHI2_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(2, 18))]
-_SIGMA_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:14])]
+#: Taylor coefficients of ``sigma(t) = (t - sin t)/t^3`` in ``t^2``.
+SIGMA_COEFFS = [((-1.0) ** k) * c for k, c in enumerate(_inv_factorials(3, 30)[::2][:14])]
 
 
 def phi12(x, e):
@@ -66,10 +69,10 @@ def phi12(x, e):
     Below ``x = 1``: one Taylor series for ``phi2`` and ``phi1 = 1 - x phi2`` (an identity; ``x phi2 <=
     1/e``, so no cancellation).  Above: the direct forms with ``expm1(-x) = e - 1`` (exact to rounding:
     ``e <= 1/e``).  Both within 2 ulp (tested against 50-digit values)."""
-    big = x >= _SERIES_X
+    big = x >= SERIES_X
     xb = jnp.where(big, x, 1.0)
     em1 = e - 1.0
-    p2 = _horner(jnp.where(big, 0.0, x), _PHI2_COEFFS)
+    p2 = horner(jnp.where(big, 0.0, x), _PHI2_COEFFS)
     return (jnp.where(big, -em1 / xb, 1.0 - x * p2), jnp.where(big, ((xb - 1.0) + e) / (xb * xb), p2))
 
 
@@ -89,7 +92,7 @@ def sigma(t):
     tb = jnp.where(big, t, 1.0)
     direct = (tb - jnp.sin(tb)) / (tb * tb * tb)
     ts = jnp.where(big, 0.0, t)
-    series = _horner(ts * ts, _SIGMA_COEFFS)
+    series = horner(ts * ts, SIGMA_COEFFS)
     return jnp.where(big, direct, series)
 
 
@@ -154,3 +157,19 @@ def derivative_bounds(t, tau0, sdot0, alpha, beta, gamma):
     """
     b = jnp.abs(beta * (sdot0 - alpha * jnp.cos(tau0)) - gamma) * jnp.exp(-beta * t)
     return alpha + b, alpha + beta * b, alpha + beta * beta * b
+
+
+__all__ = [
+    "SERIES_X",
+    "horner",
+    "SIGMA_COEFFS",
+    "phi12",
+    "phi1",
+    "phi2",
+    "sigma",
+    "sinc",
+    "FlightPoint",
+    "flight",
+    "flight_textbook",
+    "derivative_bounds",
+]

@@ -44,11 +44,13 @@ def float64_release_duration(params: Params, wall: int = 0, delta: float = DELTA
     state that sticks at once (:func:`stick_at_once_state`; iteration 0 sticks, so the capture
     iteration is ``T_post``).  Returns ``{"value", "status", "tau0", "sdot0", "nstick"}`` (``value``
     None when the orbit is not captured within ``cap``)."""
+    from .engine.options import Execution
     from .engine.transients import transient_times
     from ..core.status import Status
 
     tau0, sdot0 = stick_at_once_state(params, wall)
-    res = transient_times(params, [tau0], [sdot0], delta=delta, cap=cap, lanes=1, devices=1, progress=False)
+    one = Execution(lanes=1, devices=1)
+    res = transient_times(params, [tau0], [sdot0], delta=delta, cap=cap, execution=one, progress=False)
     dur, censored = res.duration(delta)
     return {
         "value": None if censored[0] else int(dur[0]),
@@ -112,7 +114,7 @@ def transient_lyapunov(
     Returns ``{"lambda1", "impacts_used", "orbits", "orbits_reaching_target"}``."""
     import numpy as np
 
-    from ..core import _jax  # noqa: F401
+    from ..core import jax_config  # noqa: F401
     import jax
     import jax.numpy as jnp
 
@@ -172,6 +174,7 @@ def sticking_walls(
     """
     import numpy as np
 
+    from .engine.options import Execution
     from .engine.transients import transient_times
 
     res = transient_times(
@@ -182,7 +185,7 @@ def sticking_walls(
         deltas=(delta,),
         cap=int(cap),
         sticking="compose",
-        lanes=lanes,
+        execution=Execution(lanes=lanes),
         progress=progress,
         label="sticking walls",
     )
@@ -193,3 +196,13 @@ def sticking_walls(
         "status": np.asarray(res.status),
         "n": np.asarray(res.n),
     }
+
+
+__all__ = [
+    "stick_at_once_state",
+    "float64_release_duration",
+    "float64_horizon",
+    "float64_departure",
+    "transient_lyapunov",
+    "sticking_walls",
+]

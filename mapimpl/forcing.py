@@ -8,7 +8,7 @@ pyproject.toml).
 
 from __future__ import annotations
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 
@@ -34,3 +34,11 @@ def forcing_rate(tau, alpha, beta):
 def forcing_rate_sc(sin_t, cos_t, alpha, beta):
     """:func:`forcing_rate` from ``sin(tau), cos(tau)``."""
     return -alpha * cos_t - alpha * beta * sin_t
+
+
+__all__ = [
+    "forcing",
+    "forcing_sc",
+    "forcing_rate",
+    "forcing_rate_sc",
+]

@@ -26,7 +26,7 @@ All kernels take scalars; :mod:`mapimpl.batch` vmaps them.
 
 from __future__ import annotations
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -229,3 +229,11 @@ def raw_product_overflow(
     fin = np.asarray(run(st, p))
     bad = np.nonzero(~fin)[0]
     return int(bad[0]) + 1 if bad.size else None
+
+
+__all__ = [
+    "LyapunovResult",
+    "check_arguments",
+    "lyapunov",
+    "raw_product_overflow",
+]

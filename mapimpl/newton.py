@@ -74,3 +74,9 @@ def newton(fun, y0, max_iter=30, tol=1e-12, fd_h=None, polish_steps=0, jac=None)
     F = fun(y)
     res = float(np.max(np.abs(F))) if F is not None else np.inf
     return y, res, it, res < tol
+
+
+__all__ = [
+    "fd_jacobian",
+    "newton",
+]

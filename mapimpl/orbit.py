@@ -12,7 +12,7 @@ analysis and the CLI run on any track.
 from __future__ import annotations
 
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 
 from .impact_map import free_flight_start, iterate
@@ -46,7 +46,7 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
         return make_state(tau0, sdot0)
     if (s0 == 0.0 and sdot0 > 0.0) or (s0 == -1.0 and sdot0 < 0.0):
         # on a wall moving into it: the pre-impact state itself (the flight from it hits at t = 0), decided
-        # here on the host, where a subnormal sdot0 keeps its sign (XLA would see 0: _jax.positive)
+        # here on the host, where a subnormal sdot0 keeps its sign (XLA would see 0: jax_config.positive)
         return make_state(tau0, sdot0, wall=0 if s0 == 0.0 else -1)
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
@@ -130,3 +130,12 @@ def map_orbit(
     return sequence_from_states(
         params, first, traj, track="map", meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)}
     )
+
+
+__all__ = [
+    "CHUNK",
+    "MAX_CHUNK",
+    "initial_state",
+    "iterate_chunked",
+    "map_orbit",
+]

@@ -15,7 +15,7 @@ from functools import partial
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -282,3 +282,12 @@ def find_periodic(
 def _multipliers(J: np.ndarray) -> np.ndarray:
     """Eigenvalues of the monodromy matrix; NaN where it is not finite (the orbit ended or overflowed)."""
     return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(J.shape[0], np.nan)
+
+
+__all__ = [
+    "pfold",
+    "PeriodicOrbit",
+    "MAX_TOL",
+    "check_newton",
+    "find_periodic",
+]

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 from .forcing import forcing_rate_sc, forcing_sc
@@ -139,3 +139,17 @@ def decide_stick_sc(
     delay = jnp.where(never, jnp.inf, jnp.mod(phase - theta, TWO_PI))
     stick = pressing & (t_acc <= stick_time) & (delay > t_acc)
     return StickDecision(stick, t_acc, delay, phase)
+
+
+__all__ = [
+    "STICK_TIME",
+    "MAX_STICK_TIME",
+    "wall_direction",
+    "release_phase",
+    "release_delay",
+    "released_turns",
+    "StickDecision",
+    "check_stick",
+    "decide_stick",
+    "decide_stick_sc",
+]

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import jax
 
 from ..core.deprecation import warn_renamed

@@ -35,7 +35,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401
+from ..core import jax_config  # noqa: F401
 import diffrax
 import jax
 import jax.numpy as jnp
@@ -50,7 +50,7 @@ from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
 from ..mapimpl.sticking import decide_stick, released_turns
 from . import events as ev
-from ._common import StepInfo, Trajectory, check_option, forcing_rhs, validate_start
+from .common import StepInfo, Trajectory, check_option, forcing_rhs, validate_start
 from .events import MAX_SEGMENTS, T_MAX
 
 #: Default tolerances, step bound and per-segment step cap of this track.
@@ -349,7 +349,9 @@ def _free_start(theta0, s0, v0, p: ParamArrays, opts: Options) -> MapState:
     return MapState(th1, cyc1, jnp.where(hit, fl.v, v0), jnp.where(hit, fl.wall, 0).astype(jnp.int32), status)
 
 
-def _initial(params: Params, tau0: float, sdot0: float, s0: float | None, opts: Options) -> MapState:
+def start_state(params: Params, tau0: float, sdot0: float, s0: float | None, opts: Options) -> MapState:
+    """The orbit's first pre-impact state: ``(tau0, sdot0)`` itself, or for a free state at ``s0`` the
+    first impact of its flight (found by this track's own event solve)."""
     if s0 is None:
         return make_state(tau0, sdot0)
     theta, cycles = reduce_phase(jnp.asarray(float(tau0)), jnp.asarray(0, jnp.int64))
@@ -382,7 +384,7 @@ def orbit(
     """
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
     opts = options(rtol, atol, dtmax, t_max, max_steps)
-    first = _initial(params, tau0, sdot0, s0, opts)
+    first = start_state(params, tau0, sdot0, s0, opts)
     # in chunks of CHUNK impacts (Ctrl-C acts between them), bitwise the same as one scan of n steps
     traj = run_in_chunks(
         lambda s, p, length: iterate(s, p, length, opts),

@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401  (float64)
+from ..core import jax_config  # noqa: F401  (float64)
 from ..core.horizons import T_MAX  # (a flight longer than it ends the orbit with "no_impact")
 import jax.numpy as jnp
 

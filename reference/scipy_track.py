@@ -1,6 +1,6 @@
 """Reference track 1: Eq. (3) integrated with :func:`scipy.integrate.solve_ivp` (DOP853) as a hybrid ODE.
 
-Only the right-hand side of Eq. (3) is used (see :mod:`reference._common`); the impacts are the
+Only the right-hand side of Eq. (3) is used (see :mod:`reference.common`); the impacts are the
 events ``s = 0`` (reached upward) and ``s = -1`` (reached downward) with the reset of Eqs. (9)-(11),
 ``sdot -> -r sdot``, followed by a restart.  The events are those of :mod:`reference.events`, the
 specification shared with the diffrax track.  After every impact the shared chatter/sticking policy
@@ -70,7 +70,7 @@ from ..core.progress import Bar, wanted
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
 from . import events as ev
-from ._common import (
+from .common import (
     TWO_PI,
     TrajectoryRecorder,
     check_option,
@@ -146,7 +146,7 @@ def _make_rhs(theta0: float, p: Params, variational: bool) -> Callable:
     return rhs_var
 
 
-def _events(sigma: float, rhs: Callable | None = None, offset: float = 0.0):
+def segment_events(sigma: float, rhs: Callable | None = None, offset: float = 0.0):
     """The event functions of a segment of direction ``sigma`` (:mod:`reference.events`) as scipy
     events: the wall ahead first, then the velocity reversal (both terminal), and, given the vector
     field ``rhs``, the speed minimum (not terminal: :func:`reference.events.dip_condition`).  The state's
@@ -225,7 +225,7 @@ def flight(
             rtol=opts.rtol,
             atol=opts.atol,
             max_step=opts.max_step,
-            events=_events(sigma, rhs, offset),
+            events=segment_events(sigma, rhs, offset),
             dense_output=samples is not None,
         )
         t_dip = _hidden_dip(sol, sigma, opts.atol) if sol.status >= 0 else None
@@ -240,7 +240,7 @@ def flight(
                 rtol=opts.rtol,
                 atol=opts.atol,
                 max_step=opts.max_step,
-                events=_events(sigma, offset=offset),
+                events=segment_events(sigma, offset=offset),
                 dense_output=samples is not None,
             )
             if redo.status == 1:  # else the dip was a rounding-level tangency: keep the first solve
@@ -268,7 +268,7 @@ def flight(
                 rtol=opts.rtol,
                 atol=opts.atol,
                 max_step=opts.max_step,
-                events=_events(sigma, offset=offset)[:1],
+                events=segment_events(sigma, offset=offset)[:1],
             )
             if sol2.status == 1 and len(sol2.t_events[0]):
                 hit = True

@@ -257,7 +257,7 @@ def test_cli_serial_run_resume_and_mismatch(tmp_path, capsys):
     from gear_rattle.validation import cliutil  # on a terminal: lines for a person, no 'nan' rate
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(cliutil, "_is_terminal", lambda stream: True)
+        mp.setattr(cliutil, "is_terminal", lambda stream: True)
         assert main(CLI_SMALL + ["--scheduler", "serial", "--quiet", "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "nothing to compute, all 4 tiles found in the store" in text and "nan" not in text
@@ -478,7 +478,7 @@ def test_local_cluster_with_port_8787_taken_says_nothing():
     import socket
     import warnings
 
-    from gear_rattle.validation.atlas.run import _local_cluster
+    from gear_rattle.validation.atlas.run import local_cluster
 
     holder = socket.socket()
     try:
@@ -489,7 +489,7 @@ def test_local_cluster_with_port_8787_taken_says_nothing():
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            cluster, client = _local_cluster(1)
+            cluster, client = local_cluster(1)
             try:
                 assert cluster.scheduler.http_server.port != 8787
             finally:

@@ -232,7 +232,7 @@ def test_human_summary_on_a_terminal_json_elsewhere(monkeypatch, capsys):
 
     cliutil.print_result({"x": math.nan}, ["x is not a number"], ["out/x.json"])
     assert strict_json(capsys.readouterr().out) == {"x": None}
-    monkeypatch.setattr(cliutil, "_is_terminal", lambda stream: True)
+    monkeypatch.setattr(cliutil, "is_terminal", lambda stream: True)
     cliutil.print_result({"x": 1.0}, ["x is one"], ["out/x.npz", "out/x.json"])
     out = capsys.readouterr().out
     assert out.startswith("x is one\n") and "out/x.json" in out and "out/x.npz" not in out and "{" not in out
@@ -388,7 +388,7 @@ def test_find_periodic_singular_step_and_divergence(monkeypatch):
 
 def test_basins_mesh_keeps_the_profile_ratio():
     """basins --nx 120 gave 120 x 60 and --nx 121 gave 121 x 121."""
-    from gear_rattle.validation.transient.experiments import basins_mesh
+    from gear_rattle.validation.transient.settings import basins_mesh
 
     assert basins_mesh("quick", None, None) == (120, 60)
     assert basins_mesh("quick", 121, None) == (121, 60)

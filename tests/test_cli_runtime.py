@@ -17,7 +17,7 @@ import warnings
 
 import numpy as np
 
-from gear_rattle.core import _jax
+from gear_rattle.core import jax_config
 from gear_rattle.validation.cli import main
 
 
@@ -42,24 +42,24 @@ def test_library_import_leaves_the_cache_off():
 
 
 def test_cache_default_place_and_opt_out(monkeypatch, tmp_path):
-    monkeypatch.delenv(_jax.JAX_CACHE_ENV, raising=False)
+    monkeypatch.delenv(jax_config.JAX_CACHE_ENV, raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
-    assert _jax.compilation_cache_dir() == str(tmp_path / "xdg" / "gear-rattle" / "jax")
+    assert jax_config.compilation_cache_dir() == str(tmp_path / "xdg" / "gear-rattle" / "jax")
     monkeypatch.delenv("XDG_CACHE_HOME")
     monkeypatch.setenv("HOME", str(tmp_path / "home"))
-    assert _jax.compilation_cache_dir() == str(tmp_path / "home" / ".cache" / "gear-rattle" / "jax")
+    assert jax_config.compilation_cache_dir() == str(tmp_path / "home" / ".cache" / "gear-rattle" / "jax")
     for off in ("0", "off", ""):
-        monkeypatch.setenv(_jax.JAX_CACHE_ENV, off)
-        assert _jax.compilation_cache_dir() is None and _jax.use_compilation_cache() is None
-    monkeypatch.setenv(_jax.JAX_CACHE_ENV, str(tmp_path / "mine"))
-    assert _jax.compilation_cache_dir() == str(tmp_path / "mine")
+        monkeypatch.setenv(jax_config.JAX_CACHE_ENV, off)
+        assert jax_config.compilation_cache_dir() is None and jax_config.use_compilation_cache() is None
+    monkeypatch.setenv(jax_config.JAX_CACHE_ENV, str(tmp_path / "mine"))
+    assert jax_config.compilation_cache_dir() == str(tmp_path / "mine")
 
 
 def test_unwritable_cache_is_one_note(tmp_path):
     notes = []
     blocker = tmp_path / "a-file"
     blocker.write_text("")
-    assert _jax.use_compilation_cache(str(blocker / "jax"), note=notes.append) is None
+    assert jax_config.use_compilation_cache(str(blocker / "jax"), note=notes.append) is None
     assert len(notes) == 1 and "cache off" in notes[0] and "GEAR_RATTLE_JAX_CACHE=0" in notes[0]
     r = _cli(["simulate", "--impacts", "3"], tmp_path, blocker / "jax")
     assert r.returncode == 0 and r.stdout.startswith("n,tau,")

@@ -4,6 +4,7 @@ answers: censored exponential lifetimes, exact Poisson intervals, the crisis-law
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -163,16 +164,16 @@ def test_crisis_results_are_typed_and_write_as_strict_json(tmp_path):
     loc = locate(goy.mu_c, goy.err, brk)
     none = mean_time([0, 0], [1e6, 1e6])
     res = R1Result(
-        r1=loc.value,
-        r1_err=loc.err,
+        value=loc.value,
+        err=loc.err,
         method=loc.method,
         located=loc,
-        r1_goy=goy.mu_c,
-        r1_goy_err=goy.err,
-        r1_stat=goy.err,
-        r1_syst=0.0,
-        r1_free=goy.mu_c,
-        r1_free_err=goy.err,
+        goy=goy.mu_c,
+        goy_err=goy.err,
+        stat=goy.err,
+        syst=0.0,
+        free=goy.mu_c,
+        free_err=goy.err,
         g_free=1.0,
         g_free_err=0.0,
         fit_goy=goy,
@@ -196,6 +197,18 @@ def test_crisis_results_are_typed_and_write_as_strict_json(tmp_path):
     )
     d = res.as_dict()
     assert "saddle" not in d and d["bracket"] == brk.as_dict() and d["located"] == loc.as_dict()
+    # one crisis result type (issue 39): the fields r1 and alpha1 share have one name each, and the file keeps
+    # its layout: the located values named after the crisis, in the order of before
+    assert list(d)[:8] == ["r1", "r1_err", "method", "located", "r1_goy", "r1_goy_err", "r1_stat", "r1_syst"]
+    assert list(d)[-4:] == ["paper_fig7", "ics", "cost", "profile"] and d["r1"] == res.value == loc.value
+    with pytest.warns(DeprecationWarning, match=r"R1Result.r1_goy is deprecated: use .goy"):
+        assert res.r1_goy == res.goy
+    # the located values r1 and alpha1 build alike (one function): the shared fields, in their order
+    from gear_rattle.validation.dynamics.crises.results import CrisisResult, located_fields
+
+    shared = located_fields(loc, goy, goy, 0.0, 0.0)
+    assert list(shared) == [f.name for f in dataclasses.fields(CrisisResult)][: len(shared)]
+    assert shared["value"] == res.value and shared["goy_err"] == res.goy_err and shared["fit_free"] is goy
     assert d["fit_goy"]["mu_c"] == goy.mu_c and d["near"]["T"] == math.inf
     write_crises(tmp_path, "quick", types_ns(as_dict=lambda: {}), res, types_ns(as_dict=lambda: {"x": math.nan}))
     back = json.loads((tmp_path / "crises.json").read_text(), parse_constant=lambda c: pytest.fail(c))

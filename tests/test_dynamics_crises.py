@@ -36,9 +36,9 @@ def test_r1_interior_crisis_bracketed_by_direct_observation():
     b = res.bracket
     assert np.isfinite(b.clear) and b.clear_exposure >= 5e7
     assert res.clear_lyapunov["chaotic"] and res.clear_lyapunov["r"] == b.clear
-    assert b.seen - res.r1_err <= res.r1 <= b.clear + res.r1_err
-    assert res.r1_err <= 2e-6
-    assert res.r1 > PAPER_R1_FIG7
+    assert b.seen - res.err <= res.value <= b.clear + res.err
+    assert res.err <= 2e-6
+    assert res.value > PAPER_R1_FIG7
 
 
 @pytest.mark.slow
@@ -48,12 +48,12 @@ def test_alpha1_boundary_crisis_from_escape_times():
     res = locate_alpha1("paper")
     # issue 10: >= 200 orbits per value, mean lifetimes measured down to >= 1e6 impacts, +-1e-5
     assert res.ics["n"] >= 200 and res.T_max_measured >= 1e6
-    assert res.alpha1_err <= 1e-5
+    assert res.err <= 1e-5
     b = res.bracket
-    assert b.clear - res.bracket_margin - res.alpha1_err <= res.alpha1 <= b.seen + res.alpha1_err
+    assert b.clear - res.bracket_margin - res.err <= res.value <= b.seen + res.err
     assert res.node.stable and res.node.impacts == 4
     # where the paper's value lies: if it is above our alpha1 (beyond the error), escapes must have been
     # observed there (a finite measured mean lifetime): the chaotic set is already transient at 1.24370
     assert res.paper["measured_at"] == PAPER_ALPHA1
-    if PAPER_ALPHA1 > res.alpha1 + 3 * res.alpha1_err:
+    if PAPER_ALPHA1 > res.value + 3 * res.err:
         assert np.isfinite(res.paper["T"]) and res.paper["T"] > 0

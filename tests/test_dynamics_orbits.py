@@ -110,10 +110,10 @@ def test_dG_dmu_by_autodiff_agrees_with_central_differences(orbit6, name):
     """The continuation's tangent column dG/dmu (Eqs. 12-13 composed 6 times, Fig. 4a's orbit) comes from
     forward-mode autodiff; central differences (step 1e-7, truncation error of order h^2) agree to
     their own accuracy: measured 6.4e-8 (r) and 2.2e-7 (alpha) relative, bound 1e-6."""
-    from gear_rattle.mapimpl.continuation import _Problem
+    from gear_rattle.mapimpl.continuation import OrbitResidual
 
     p, o = orbit6
-    prob = _Problem(p, name, 6, 1, int(o.walls[0]))
+    prob = OrbitResidual(p, name, 6, 1, int(o.walls[0]))
     y = np.array([o.theta[0], o.sdot[0], getattr(p, name)])
     ad, fd = prob.dG_dmu(y), prob._dG_dmu_fd(y)
     assert np.all(np.isfinite(ad))

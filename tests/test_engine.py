@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from gear_rattle.mapimpl.engine.options import Execution
 from gear_rattle.mapimpl import Params
 from gear_rattle.core.params import ParamArrays
 from gear_rattle.mapimpl.engine import kernel as K
@@ -21,7 +22,7 @@ from gear_rattle.mapimpl.engine.observers import (
     Laminar,
     Sample,
     Tangent,
-    _givens_qr,
+    givens_qr,
     orbit_distance,
 )
 from gear_rattle.mapimpl.engine.transients import grid, periodic_target, transient_times
@@ -74,7 +75,7 @@ def test_engine_states_and_turns_equal_the_map_orbit():
     equal the map's (the orbit is chaotic: ulp-level differences grow ~10x per 3 impacts, so the first
     10 impacts agree to 1e-13 and all 40 to 1e-6) and exactly in walls and turns; the final state too."""
     th, sd, w, cyc, _ = _ref_states(P, 3.2, 0.3, 40)
-    r = run([3.2], [0.3], [0], P, Sample(keep=41), cap=40, lanes=8, devices=1, progress=False)
+    r = run([3.2], [0.3], [0], P, Sample(keep=41), cap=40, execution=Execution(lanes=8, devices=1), progress=False)
     s = r.obs[0]
     dth = np.abs(np.angle(np.exp(1j * (s["theta"][0] - th))))
     dsd = np.abs(s["sdot"][0] - sd)
@@ -91,17 +92,17 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
     rng = np.random.default_rng(3)
     tau0, sdot0 = rng.uniform(3.0, 3.5, 300), rng.uniform(1e-6, 0.5, 300)
     kw = dict(cap=8000, progress=False, target=target)
-    ref = transient_times(None, tau0, sdot0, lanes=LANES, devices=1, **kw)
+    ref = transient_times(None, tau0, sdot0, execution=Execution(lanes=LANES, devices=1), **kw)
     sizes = []
     compact = K.compact
     monkeypatch.setattr(K, "compact", lambda lanes, size: (sizes.append(size), compact(lanes, size=size))[1])
     runs = [
-        transient_times(None, tau0, sdot0, lanes=256, devices=1, **kw),
-        transient_times(None, tau0, sdot0, lanes=1, devices=1, chunk=100, **kw),
+        transient_times(None, tau0, sdot0, execution=Execution(lanes=256, devices=1), **kw),
+        transient_times(None, tau0, sdot0, execution=Execution(lanes=1, devices=1, chunk=100), **kw),
     ]
     assert 32 in sizes  # the tail ran on 32 lanes
     if len(jax.devices()) >= 2:
-        runs.append(transient_times(None, tau0, sdot0, lanes=LANES, devices=2, **kw))
+        runs.append(transient_times(None, tau0, sdot0, execution=Execution(lanes=LANES, devices=2), **kw))
     for r in runs:
         for name in ("hit", "n", "status", "nstick", "first_stick"):
             assert np.array_equal(getattr(r, name), getattr(ref, name)), name
@@ -112,8 +113,10 @@ def test_results_do_not_depend_on_lanes_devices_chunks_or_compaction(target, mon
 def test_single_orbit_equals_batch(target):
     """A queue of one orbit (the block is padded to LANE_QUANTUM lanes) gives the same duration as the
     same orbit in a batch: (3.2, 0.3) was 4666 vs 364 before the padding."""
-    one = transient_times(None, [3.2], [0.3], lanes=1, devices=1, progress=False, target=target)
-    many = transient_times(None, [3.2] * 3, [0.3] * 3, lanes=LANES, devices=1, progress=False, target=target)
+    one = transient_times(None, [3.2], [0.3], execution=Execution(lanes=1, devices=1), progress=False, target=target)
+    many = transient_times(
+        None, [3.2] * 3, [0.3] * 3, execution=Execution(lanes=LANES, devices=1), progress=False, target=target
+    )
     assert np.array_equal(one.hit[0], many.hit[0]) and np.array_equal(many.hit[0], many.hit[2])
     assert one.duration()[0][0] == many.duration()[0][0] == many.duration()[0][2]  # hit is raw: the durations too
 
@@ -123,7 +126,7 @@ def test_composed_release_equals_following_every_orbit(target):
     continues on one post-release orbit; stopping at the first stick and adding that orbit's duration
     gives bit-identical durations (Fig. 11 setting, ICs near sdot0 = 0 that chatter and stick)."""
     T, S = grid(nx=12, ny=12, box=(3.0, 3.5, 0.0, 0.1))
-    kw = dict(cap=20000, lanes=LANES, devices=1, progress=False, target=target)
+    kw = dict(cap=20000, execution=Execution(lanes=LANES, devices=1), progress=False, target=target)
     comp = transient_times(None, T.ravel(), S.ravel(), sticking="compose", **kw)
     foll = transient_times(None, T.ravel(), S.ravel(), sticking="follow", **kw)
     assert comp.n_stuck_orbits >= 10 and comp.post_release and comp.post_release[0].wall == 0
@@ -138,9 +141,9 @@ def test_composed_release_equals_following_every_orbit(target):
     assert late.any() and np.all(comp.hit[late, comp.column()] == -1)
     assert np.all(comp.duration()[0][late] == comp.first_stick[late] + tp)
     # another T_post (e.g. a certified one) replaces the float64 one for exactly those orbits
-    from gear_rattle.mapimpl.engine.release import Release, ReleaseSource, WallTPost
+    from gear_rattle.mapimpl.engine.release import TPost, ReleaseSource, WallTPost
 
-    seven = Release(ReleaseSource.CERTIFIED, comp.delta, {0: WallTPost(0, 7, ReleaseSource.CERTIFIED, tp)})
+    seven = TPost(ReleaseSource.CERTIFIED, comp.delta, {0: WallTPost(0, 7, ReleaseSource.CERTIFIED, tp)})
     d2, _ = comp.duration(release=seven)
     assert np.all(d2[late] == comp.first_stick[late] + 7) and np.array_equal(d2[~late], comp.duration()[0][~late])
     with pytest.warns(DeprecationWarning, match="t_post"):
@@ -186,12 +189,13 @@ def test_per_orbit_parameters_equal_separate_runs():
         ParamArrays(alpha=[3.0, 1.245], beta=0.1, gamma=0.1, r=[0.8, 0.9]),
         Sample(keep=41),
         cap=40,
-        lanes=8,
-        devices=1,
+        execution=Execution(lanes=8, devices=1),
         progress=False,
     )
     for i, p in enumerate((pa, P)):
-        one = run([3.2], [0.3], [0], p, Sample(keep=41), cap=40, lanes=8, devices=1, progress=False)
+        one = run(
+            [3.2], [0.3], [0], p, Sample(keep=41), cap=40, execution=Execution(lanes=8, devices=1), progress=False
+        )
         assert np.array_equal(both.obs[0]["theta"][i], one.obs[0]["theta"][0])
 
 
@@ -233,7 +237,7 @@ def test_interrupt_stops_every_device_thread_promptly(target):
             P,
             Capture(target.theta, target.sdot, target.wall, [1e-3]),
             cap=10**7,
-            lanes=LANES,
+            execution=Execution(lanes=LANES),
             progress=progress,
         )
     assert fired.is_set()
@@ -344,7 +348,7 @@ def test_givens_qr_reconstructs_and_keeps_a_positive_diagonal():
     rng = np.random.default_rng(5)
     for _ in range(20):
         Z = rng.normal(size=(2, 2))
-        Q, R = _givens_qr(jnp.asarray(Z))
+        Q, R = givens_qr(jnp.asarray(Z))
         Q, R = np.asarray(Q), np.asarray(R)
         assert np.allclose(Q @ R, Z, atol=1e-14) and np.allclose(Q.T @ Q, np.eye(2), atol=1e-14)
         assert abs(R[1, 0]) < 1e-15 and R[0, 0] >= 0 and R[1, 1] >= 0
@@ -363,7 +367,16 @@ def test_tangent_lyapunov_equals_the_qr_method_and_the_floquet_rate():
     th, sd, w, _, _ = _ref_states(p, 0.0, 0.5, 3000)
     po = find_periodic(p, th[-1], sd[-1], 6)
     N = 6000
-    r = run([th[-1]], [sd[-1]], [w[-1]], p, Tangent(n_start=0), cap=N, lanes=8, devices=1, progress=False)
+    r = run(
+        [th[-1]],
+        [sd[-1]],
+        [w[-1]],
+        p,
+        Tangent(n_start=0),
+        cap=N,
+        execution=Execution(lanes=8, devices=1),
+        progress=False,
+    )
     t = r.obs[0]
     lam = t["log_r"][0] / t["n_free"][0]
     assert int(t["n_free"][0]) == N and int(t["n_stuck"][0]) == 0
@@ -406,15 +419,15 @@ def test_bad_inputs_name_the_argument(target):
 def test_engine_xla_options_only_on_tested_jaxlib_and_can_be_turned_off(monkeypatch):
     """use_cpu_devices adds ENGINE_XLA_FLAGS only on the jaxlib versions they were tested with (XLA aborts
     on a flag it does not know) and not with GEAR_RATTLE_XLA_TUNING=0."""
-    from gear_rattle.core import _jax as J
+    from gear_rattle.core import jax_config as J
 
     monkeypatch.delenv(J.XLA_TUNING_ENV, raising=False)
-    monkeypatch.setattr(J, "_jaxlib_version", lambda: J.ENGINE_XLA_TESTED[0])
+    monkeypatch.setattr(J, "jaxlib_version", lambda: J.ENGINE_XLA_TESTED[0])
     assert J.engine_xla_flags() == J.ENGINE_XLA_FLAGS
     monkeypatch.setenv(J.XLA_TUNING_ENV, "0")
     assert J.engine_xla_flags() == ()
     monkeypatch.delenv(J.XLA_TUNING_ENV)
-    monkeypatch.setattr(J, "_jaxlib_version", lambda: (99, 0))
+    monkeypatch.setattr(J, "jaxlib_version", lambda: (99, 0))
     assert J.engine_xla_flags() == ()
 
 
@@ -430,13 +443,13 @@ def test_durations_without_the_xla_options_agree(target):
     import subprocess
     import sys
 
-    from gear_rattle.core._jax import xla_tuning_active
+    from gear_rattle.core.jax_config import xla_tuning_active
 
     rng = np.random.default_rng(5)
     tau0, sdot0 = rng.uniform(0, 2 * np.pi, 800), rng.uniform(1e-3, 0.5, 800)
     code = (
         "import json, sys, numpy as np; import gear_rattle as gr; gr.use_cpu_devices(); "
-        "from gear_rattle.core._jax import xla_tuning_active; "
+        "from gear_rattle.core.jax_config import xla_tuning_active; "
         "from gear_rattle.mapimpl.engine.transients import PeriodicTarget, transient_times; "
         "t, s, th, sd, w, mr, mi, res = (np.array(x) for x in json.loads(sys.stdin.read())); "
         "tg = PeriodicTarget(th, sd, w.astype(np.int32), mr + 1j * mi, float(res)); "

@@ -6,7 +6,7 @@ orbit status on every track, and subnormal numbers do not change a decision.
   subnormal to 1; tau0 at +-1e6 -- through the engine, the map track, the scipy track and the command
   line.  Beyond the box one line names the parameter and the range.
 * Subnormal inputs: XLA on the CPU flushes subnormals to zero; the wall a subnormal pre-impact
-  velocity points to is decided on its bits (:func:`core._jax.positive`), and the tracks agree.
+  velocity points to is decided on its bits (:func:`core.jax_config.positive`), and the tracks agree.
 
 Tolerance of the track comparisons: a velocity error ``eps M / |v|`` is the conditioning of the
 impact velocity, ``v^2 = v_0^2 - 2 (work of a force of size M)``, where the orbit slows down to
@@ -23,6 +23,7 @@ import math
 import numpy as np
 import pytest
 
+from gear_rattle.mapimpl.engine.options import Execution
 from gear_rattle.mapimpl.engine.driver import max_kernel_calls, run
 from gear_rattle.mapimpl.engine.observers import Sample
 from gear_rattle.mapimpl.orbit import map_orbit
@@ -143,7 +144,7 @@ def test_engine_guard_counts_the_longest_flights():
         (1e-3, 0.1, 0.0, 0.9),
         cap=1,
         progress=False,
-        devices=1,
+        execution=Execution(devices=1),
     )
     assert set(Status(int(s)).label for s in res.status) == {"no_impact"}
     # the bound: every orbit's cap + 1 flights of at most 2 max_steps + 86 micro-steps, one after another

@@ -47,6 +47,46 @@ def test_importing_the_facade_imports_no_jax():
     assert out.stdout.strip() == "False"
 
 
+def _loaded(code: str) -> set[str]:
+    """The modules a fresh interpreter has loaded after running ``code``."""
+    code += "\nimport sys; print(' '.join(sorted(sys.modules)), file=sys.stderr)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    mods = set(out.stderr.strip().splitlines()[-1].split())
+    assert "gear_rattle" in mods and "sys" in mods, out.stderr[-2000:]
+    return mods
+
+
+def test_importing_the_facade_loads_neither_numpy_nor_the_command_line():
+    """Issue 39: ``import gear_rattle`` loaded the command line's signal module first (and numpy); the
+    names that need more are loaded on first use, the progress display when a bar is first drawn."""
+    mods = _loaded("import gear_rattle as gr; gr.TRACKS, gr.Status, gr.use_cpu_devices")
+    ours = {m for m in mods if m.startswith("gear_rattle")}
+    assert "numpy" not in mods and "jax" not in mods, sorted(ours)
+    assert not any(m.startswith("gear_rattle.validation") for m in ours), sorted(ours)
+    assert len(ours) <= 8, sorted(ours)
+    # what is loaded on first use is the library's own object, and the progress display is registered
+    mods = _loaded("import gear_rattle as gr; from gear_rattle.core import progress as P; P.Bar('x', enabled=True)")
+    assert "gear_rattle.validation.progress" in mods
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["check", "--help"], ["check", "DIR"]])
+def test_the_command_line_loads_only_the_command_it_runs(argv, tmp_path):
+    """Issue 39: building the parser imported every command (54 modules, the report builder among them, for
+    ``gear-rattle check``); the parser lists the others from a table and imports the chosen one's module."""
+    argv = [str(tmp_path) if a == "DIR" else a for a in argv]
+    code = (
+        f"import sys; sys.argv = ['gear-rattle', *{argv!r}]\n"
+        "from gear_rattle.validation.cli import _run\n"
+        "try:\n    _run(None)\nexcept SystemExit:\n    pass"
+    )
+    mods = _loaded(code)
+    assert "gear_rattle.validation.cli" in mods
+    commands = {m.rsplit(".", 1)[1] for m in mods if m.startswith("gear_rattle.validation.commands.")}
+    assert commands <= ({"check", "_check_scoring"} if argv[0] == "check" else set()), commands
+    assert not any(m.startswith("gear_rattle.validation.report") for m in mods)
+    assert ("numpy" in mods) == (argv[0] == "check") and "jax" not in mods
+
+
 @pytest.mark.parametrize("name", FUNCTIONS)
 def test_functions_are_the_library_s_own_with_params_first(name):
     """No renaming shim: gr.find_periodic took ``period`` where the library took ``impacts``, gr.lyapunov

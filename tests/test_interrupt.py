@@ -2,7 +2,7 @@
 
 * Item 9: the console script runs the command in a worker thread with SIGINT blocked; the main thread
   takes the signal at once, whatever the command is doing (JAX loading, XLA compiling, computing), and
-  ends the process with one line and status 130 (validation/cli.py, core/_jax.py).  Before, a Ctrl-C
+  ends the process with one line and status 130 (validation/cli.py, core/jax_config.py).  Before, a Ctrl-C
   while JAX loaded printed a traceback (an ImportError from jaxlib, or a segfault), and one landing in
   JAX's garbage-collection callback was printed and ignored: the command ran to its end with status 0.
 * Item 3: the diffrax track runs in chunks of impacts (core.state.run_in_chunks, the map track's
@@ -121,7 +121,7 @@ def test_diffrax_chunked_orbit_is_bitwise_one_scan(monkeypatch):
 
     p = Params(2.0, 0.1, 0.5, 0.3)
     opts = D.options()
-    first = D._initial(p, 0.0, 0.5, None, opts)
+    first = D.start_state(p, 0.0, 0.5, None, opts)
     one = sequence_from_states(p, first, D.iterate(first, p.arrays(), 20, opts), track="diffrax")
     monkeypatch.setattr(D, "CHUNK", 8)
     chunked = D.orbit(p, 0.0, 0.5, 20)

@@ -238,6 +238,19 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
             devices="count?",
         ),
     ),
+    # the engine's settings as objects (issue 39): checked when made
+    "gear_rattle.mapimpl.engine.options:StepRules": (
+        dict(),
+        dict(stick_time="real", t_max="real", max_steps="count"),
+    ),
+    "gear_rattle.mapimpl.engine.options:Execution": (
+        dict(),
+        dict(lanes="count?", block="count", chunk="count?", devices="count?"),
+    ),
+    "gear_rattle.mapimpl.engine.transients:TransientSettings": (
+        dict(),
+        dict(ic_mode="choice", delta="real", deltas="array", cap="count", sticking="choice", stick_time="real"),
+    ),
     "gear_rattle.mapimpl.certified.contact:certified_flight": (
         dict(model=_model, tau0=arb(0), s0=-0.5, v0=arb(0.3)),
         dict(s0="real", prec="prec", t_max="real", max_evals="count"),
@@ -404,6 +417,12 @@ EXTRA = [
     ("gear_rattle.mapimpl.engine.driver:run", dict(sdot=[0.0]), V, "sdot"),
     ("gear_rattle.mapimpl.engine.driver:run", dict(cap=3 * 10**9), V, "cap"),
     ("gear_rattle.mapimpl.engine.driver:run", dict(devices=[]), V, "devices"),
+    ("gear_rattle.mapimpl.engine.driver:run", dict(rules=dict(stick_time=1e-6)), T, "rules"),
+    ("gear_rattle.mapimpl.engine.driver:run", dict(execution=3), T, "execution"),
+    ("gear_rattle.mapimpl.engine.transients:transient_times", dict(settings=dict(cap=3)), T, "settings"),
+    ("gear_rattle.mapimpl.engine.transients:TransientSettings", dict(ic_mode="free", s0=None), V, "s0"),
+    ("gear_rattle.mapimpl.engine.transients:TransientSettings", dict(ic_mode="free", s0=0.5), V, "s0"),
+    ("gear_rattle.mapimpl.engine.options:Execution", dict(devices=[]), V, "devices"),
     ("gear_rattle.mapimpl.certified.contact:certified_flight", dict(model=P), T, "model"),
     ("gear_rattle.mapimpl.certified.contact:certified_flight", dict(tau0=0.0), T, "tau0"),
     ("gear_rattle.mapimpl.certified.contact:certified_flight", dict(tau0=arb("nan")), V, "tau0"),

@@ -260,7 +260,7 @@ def test_scipy_events_are_the_spec():
 
     y = np.array([-0.25, 0.6])
     for sigma in (UP, DOWN):
-        wall_ev, rev_ev = S._events(sigma)
+        wall_ev, rev_ev = S.segment_events(sigma)
         assert wall_ev(0.0, y) == ev.wall_condition(y[0], sigma)
         assert rev_ev(0.0, y) == ev.reversal_condition(y[1], sigma)
         assert wall_ev.direction == rev_ev.direction == ev.DIRECTION

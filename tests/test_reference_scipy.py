@@ -294,7 +294,7 @@ def test_release_at_a_rounding_level_forcing_leaves_the_wall():
     1.5e-14 in time, 2.2e-14 in velocity), and the orbit has the map's events (2 sticking episodes in
     40 impacts)."""
     from gear_rattle.reference import events as ev
-    from gear_rattle.reference._common import forcing_rhs, stick_decision
+    from gear_rattle.reference.common import forcing_rhs, stick_decision
 
     p = Params(2.0, 0.125, 0.0, 0.375)
     _check_invariants(p, 0.0, 1.0, 20)
@@ -320,7 +320,7 @@ def test_release_that_turns_back_inside_the_first_step():
     (reference.events.start_velocity) the reversal is found at 0.03 and the return agrees with the map
     to the one-step bound tau_tol(v) = 7.5e-7 of this slow return (measured 6.9e-11 in time, i.e. a
     displacement error 9e-17 at |v| = 1.3e-6, and 1.4e-14 in velocity)."""
-    from gear_rattle.reference._common import stick_decision
+    from gear_rattle.reference.common import stick_decision
 
     p = Params(0.5, 0.01, -0.5, 0.3527672616988371)
     _check_invariants(p, 6.0, 0.01, 20)

@@ -85,5 +85,9 @@ def test_the_command_and_section_lists_are_the_modules_themselves():
 
     mods = cli.command_modules()
     assert all(m.__name__.startswith(commands.__name__ + ".") for m in mods) and len({m.NAME for m in mods}) == 13
+    # the light table the parser lists the commands from is the modules' names, in order (issue 39): a
+    # module that still states its own help says the table's
+    assert [m.NAME for m in mods] == list(cli.SUBCOMMANDS)
+    assert all(getattr(m, "HELP", cli.SUBCOMMANDS[m.NAME]) == cli.SUBCOMMANDS[m.NAME] for m in mods)
     secs = builder.section_modules()
     assert [m.KEY for m in secs] == builder.SECTION_KEYS == [m.__name__.rsplit(".sec_", 1)[1] for m in secs]

@@ -3,12 +3,15 @@ per-orbit ones, survival curve, Eq. (14) and uncertainty-exponent fits on synthe
 validation.  The engine itself is tested in test_engine.py.  Paper-scale comparisons (Figs. 10 and
 11) are opt-in: ``pytest -m slow``."""
 
+import contextlib
 import json
+import warnings
 
 import jax
 import numpy as np
 import pytest
 
+from gear_rattle.mapimpl.engine.options import Execution
 from gear_rattle.mapimpl.impact_map import iterate
 from gear_rattle.core.state import make_state
 from gear_rattle.validation.transient import analysis as A
@@ -58,7 +61,7 @@ def test_engine_durations_equal_per_orbit_durations(target):
     rng = np.random.default_rng(7)
     tau0 = rng.uniform(0.0, 2 * np.pi, 256)  # the whole Fig. 9 window: tongues of short transients
     sdot0 = rng.uniform(0.0, 0.5, 256)
-    res = transient_times(None, tau0, sdot0, cap=150, lanes=LANES, progress=False, target=target)
+    res = transient_times(None, tau0, sdot0, cap=150, execution=Execution(lanes=LANES), progress=False, target=target)
     dur, cens = res.duration()
     short = np.flatnonzero(~cens & (dur < 60))[:6]
     assert short.size >= 3
@@ -86,7 +89,13 @@ def test_sticking_orbits_use_the_certified_post_release_duration(tmp_path):
     from gear_rattle.validation.transient.experiments import transients
 
     res = transients(
-        profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES, float64_rounding=True
+        profile="quick",
+        nx=18,
+        deltas=(1e-3,),
+        n_boot=5,
+        progress=False,
+        execution=Execution(lanes=LANES),
+        float64_rounding=True,
     )
     write_survival(tmp_path, res)
     s = json.loads((tmp_path / "transients.json").read_text())
@@ -121,13 +130,20 @@ def test_fig11_away_from_the_papers_parameters_compares_nothing_and_certifies_on
     report it.  Away from the paper's parameters the JSON, the terminal lines and the title say that no
     comparison is made, the title names the parameters, and the rounding's certification is opt-in."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.commands.transient_common import human_lines
     from gear_rattle.validation.plots.transients import survival_figure
     from gear_rattle.validation.transient.experiments import transients
 
     p = Params(alpha=1.25, beta=0.1, gamma=0.1, r=0.9)
     res = transients(
-        profile="quick", nx=6, box=(3.0, 3.5, 0.0, 0.1), deltas=(1e-3,), params=p, n_boot=0, progress=False, lanes=LANES
+        profile="quick",
+        nx=6,
+        box=(3.0, 3.5, 0.0, 0.1),
+        deltas=(1e-3,),
+        params=p,
+        n_boot=0,
+        progress=False,
+        execution=Execution(lanes=LANES),
     )
     s = res.summary()
     assert res.engine.n_stuck_orbits > 0 and s["release"]["0.001"]["0"]["source"] == "certified"
@@ -147,12 +163,12 @@ def test_figs9_10_away_from_the_papers_parameters_compare_nothing():
     (which name alpha, beta, gamma, r) say so, by the one rule of the Fig. 11 result (``paper_setting``);
     at the paper's parameters the paper's exponents stay."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.commands._transient_common import human_lines
+    from gear_rattle.validation.commands.transient_common import human_lines
     from gear_rattle.validation.plots.transients import basins_figure, uncertainty_figure
     from gear_rattle.validation.transient.experiments import basins, uncertainty
 
     p = Params(alpha=1.25, beta=0.1, gamma=0.1, r=0.9)
-    kw = dict(progress=False, lanes=LANES)
+    kw = dict(progress=False, execution=Execution(lanes=LANES))
     b = basins(nx=6, ny=6, window=(3.0, 3.5, 0.0, 0.1), ns=(90,), params=p, **kw)
     u = uncertainty(n_points=10, eps=[1e-9, 1e-6, 1e-3], ns=(90,), params=p, n_boot=0, **kw)
     for res, fig in ((b, basins_figure(b)), (u, uncertainty_figure(u))):
@@ -175,7 +191,7 @@ def test_old_spellings_of_the_release_warn_and_still_work(target):
     """Issue 32 item 1: ``release=`` means the source of T_post everywhere; the engine's own mode of
     handling orbits that stick is ``sticking=``.  The old spellings -- ``transient_times(release=)``,
     ``TransientResult.release`` -- still work, with a DeprecationWarning."""
-    kw = dict(cap=300, lanes=LANES, progress=False, target=target)
+    kw = dict(cap=300, execution=Execution(lanes=LANES), progress=False, target=target)
     new = transient_times(None, [3.2, 3.3], [1e-4, 2e-4], sticking="compose", **kw)
     with pytest.warns(DeprecationWarning, match="sticking="):
         old = transient_times(None, [3.2, 3.3], [1e-4, 2e-4], release="compose", **kw)
@@ -207,8 +223,12 @@ def test_stick_time_sensitivity_takes_the_fig11_result_not_a_file(tmp_path, monk
     from gear_rattle.validation.transient import experiments as E
 
     monkeypatch.chdir(tmp_path)
-    fig11 = E.transients(profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, lanes=LANES)
-    sens = E.stick_time_sensitivity(fig11, stick_times=(1e-5,), n_boot=5, lanes=LANES, progress=False)
+    fig11 = E.transients(
+        profile="quick", nx=18, deltas=(1e-3,), n_boot=5, progress=False, execution=Execution(lanes=LANES)
+    )
+    sens = E.stick_time_sensitivity(
+        fig11, stick_times=(1e-5,), n_boot=5, execution=Execution(lanes=LANES), progress=False
+    )
     assert [r.stick_time for r in sens.rows] == [1e-6, 1e-5] and (sens.nx, sens.ny, sens.stride) == (18, 18, 1)
     base = sens.rows[0]
     assert base.base and base.n_ic == 324 and not sens.notes
@@ -220,7 +240,13 @@ def test_stick_time_sensitivity_takes_the_fig11_result_not_a_file(tmp_path, monk
     with pytest.raises(ValueError, match="certified"):
         E.stick_time_sensitivity(
             E.transients(
-                profile="quick", nx=4, deltas=(1e-3,), n_boot=0, progress=False, lanes=LANES, release="float64"
+                profile="quick",
+                nx=4,
+                deltas=(1e-3,),
+                n_boot=0,
+                progress=False,
+                execution=Execution(lanes=LANES),
+                release="float64",
             )
         )
     with pytest.raises(ValueError, match="release='sample' is out of range"):
@@ -282,9 +308,11 @@ def test_uncertain_fraction_definition():
 
 def test_bad_devices(target):
     with pytest.raises(ValueError, match="devices"):
-        transient_times(None, [3.2], [0.3], progress=False, target=target, devices=0)
+        transient_times(None, [3.2], [0.3], progress=False, target=target, execution=Execution(devices=0))
     with pytest.raises(ValueError, match="devices"):
-        transient_times(None, [3.2], [0.3], progress=False, target=target, devices=len(jax.devices()) + 1)
+        transient_times(
+            None, [3.2], [0.3], progress=False, target=target, execution=Execution(devices=len(jax.devices()) + 1)
+        )
 
 
 def test_bad_cpu_device_env_var():
@@ -342,7 +370,8 @@ def test_library_import_changes_neither_devices_nor_matplotlib_backend():
     ],
 )
 def test_bad_engine_inputs(kwargs, word, target):
-    with pytest.raises(ValueError, match=word):
+    old = {"lanes", "block"} & set(kwargs)  # the deprecated keywords of Execution's fields: checked as well
+    with pytest.raises(ValueError, match=word), pytest.warns(DeprecationWarning) if old else contextlib.nullcontext():
         transient_times(None, [3.2], [0.3], progress=False, target=target, **kwargs)
 
 
@@ -446,3 +475,85 @@ def test_fig10_paper_scale(tmp_path):
     s = uncertainty(profile="paper", progress=False).summary()
     for n in ("500", "1000"):
         assert abs(s["fits"][n]["phi"]) < 0.05
+
+
+# ------------------------------------------------------------------ issue 39: options as objects, defect
+
+
+def test_free_starts_that_never_reach_a_wall_are_no_impact_orbits(target):
+    """Issue 39 item 5: free initial conditions none of whose flights reaches a wall (no forcing, no
+    torque, at rest between the walls) are each NO_IMPACT -- the engine has nothing to run.  Before, the
+    call raised "theta is empty", naming an argument the caller never passed."""
+    from gear_rattle.core.params import Params
+    from gear_rattle.core.status import Status
+
+    still = Params(alpha=0.0, beta=0.1, gamma=0.0, r=0.9)
+    res = transient_times(
+        still, [1.0, 2.0, 3.0], [0.0, 0.0, 0.0], ic_mode="free", s0=-0.5, target=target, progress=False
+    )
+    assert res.status.tolist() == [int(Status.NO_IMPACT)] * 3 and res.ok  # no impact is an answer
+    assert res.n.tolist() == [0, 0, 0] and np.all(res.hit == -1) and res.post_release == ()
+    dur, censored = res.duration()
+    assert np.all(censored) and np.all(dur == res.cap) and res.impacts == 0
+
+
+def test_transient_settings_are_checked_once_when_made(target):
+    """TransientSettings checks every field when made (a ValueError naming it); transient_times takes one
+    as it is, and its keywords stand for the fields (the same result either way)."""
+    from gear_rattle.mapimpl.engine.transients import TransientSettings
+
+    for bad, word in ((dict(cap=0), "cap"), (dict(ic_mode="post"), "ic_mode"), (dict(ic_mode="free"), "s0")):
+        with pytest.raises(ValueError, match=word):
+            TransientSettings(**bad)
+    s = TransientSettings(deltas=(1e-2,), delta=1e-3, cap=150)
+    assert s.deltas == (1e-2, 1e-3) and s.replace(cap=200).cap == 200 and s.rules.stick_time == s.stick_time
+    kw = dict(target=target, execution=Execution(lanes=LANES), progress=False)
+    a = transient_times(None, [3.2, 3.3], [0.3, 0.2], settings=s, **kw)
+    b = transient_times(None, [3.2, 3.3], [0.3, 0.2], deltas=(1e-2,), cap=150, **kw)
+    c = transient_times(None, [3.2, 3.3], [0.3, 0.2], settings=s.replace(cap=10), cap=150, **kw)  # keyword wins
+    for other in (b, c):
+        assert np.array_equal(a.hit, other.hit) and np.array_equal(a.deltas, other.deltas) and a.cap == other.cap
+    with pytest.raises(TypeError, match="settings"):
+        transient_times(None, [3.2], [0.3], settings={"cap": 3}, **kw)
+
+
+def test_the_engine_s_old_keywords_warn_and_mean_the_same(target):
+    """lanes/block/chunk/devices became fields of Execution (issue 39): the old keywords still work, with
+    a DeprecationWarning naming the new spelling, and give the same result; both spellings at once is an
+    error."""
+    from gear_rattle.mapimpl.engine.driver import run
+    from gear_rattle.mapimpl.engine.observers import Sample
+
+    new = transient_times(None, [3.2], [0.3], cap=150, target=target, progress=False, execution=Execution(lanes=LANES))
+    with pytest.warns(DeprecationWarning, match=r"execution=Execution\(lanes=\.\.\.\)"):
+        old = transient_times(None, [3.2], [0.3], cap=150, target=target, progress=False, lanes=LANES)
+    assert np.array_equal(new.hit, old.hit) and np.array_equal(new.n, old.n)
+    with pytest.warns(DeprecationWarning, match=r"rules=StepRules\(stick_time=\.\.\.\)"):
+        r = run([3.2], [0.3], [0], P, Sample(keep=3), cap=3, stick_time=1e-6, progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = run([3.2], [0.3], [0], P, Sample(keep=3), cap=3, progress=False)
+    assert np.array_equal(r.obs[0]["sdot"], s.obs[0]["sdot"])
+    with pytest.raises(ValueError, match="not both"):
+        run([3.2], [0.3], [0], P, cap=3, lanes=8, execution=Execution(lanes=8), progress=False)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'lane'"):
+        run([3.2], [0.3], [0], P, cap=3, lane=8, progress=False)
+
+
+def test_execution_and_step_rules_check_their_fields():
+    from gear_rattle.mapimpl.engine.options import StepRules
+
+    for kw, word in ((dict(lanes=0), "lanes"), (dict(block=2**17), "block"), (dict(chunk=-1), "chunk")):
+        with pytest.raises(ValueError, match=word):
+            Execution(**kw)
+    with pytest.raises(ValueError, match="devices"):
+        Execution(devices=[])
+    assert Execution(devices=list(jax.devices())[:1]).devices == tuple(jax.devices()[:1])
+    for kw, word in (
+        (dict(stick_time=0.1), "stick_time"),
+        (dict(t_max=0.0), "t_max"),
+        (dict(max_steps=0), "max_steps"),
+    ):
+        with pytest.raises(ValueError, match=word):
+            StepRules(**kw)
+    assert StepRules(max_steps=4000.0).max_steps == 4000 and isinstance(StepRules().t_max, float)

@@ -1,7 +1,9 @@
 """The ``gear-rattle`` command line.
 
-Every subcommand lives in its own module (see :mod:`validation.commands`).  Errors in the input
-are reported as one line on stderr with exit status 2, never as a traceback.
+Every subcommand lives in its own module (see :mod:`validation.commands`); :data:`SUBCOMMANDS` lists
+their names and one-line help, so that the parser imports the module of the command that runs and no
+other (``gear-rattle --version`` and ``--help`` import none).  Errors in the input are reported as one
+line on stderr with exit status 2, never as a traceback.
 """
 
 from __future__ import annotations
@@ -15,27 +17,95 @@ import threading
 import warnings
 from types import ModuleType
 
-from ..core import _jax
+from ..core import jax_config
 from . import interrupt, progress
-from ..core._jax import use_compilation_cache, use_cpu_devices
-from .cliutil import COMMAND, CliError, CommandFailed, output_fault
+from ..core.jax_config import use_compilation_cache, use_cpu_devices
+from .clierror import COMMAND, CliError, CommandFailed
 from .extras import FULL_INSTALL, MissingExtra, require_full_install
-from .io.atomic import outputs
+
+#: The subcommands, in the order ``gear-rattle --help`` shows them, with their one-line help: the parser
+#: lists them from here and imports the module of the one that runs (:func:`command_module`).
+SUBCOMMANDS = {
+    "simulate": "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)",
+    "report": "generate the validation report (HTML + Markdown)",
+    "bifurcation": "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure",
+    "lyapunov": "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method",
+    "orbit": "periodic orbits: find, continue in r or alpha, fold and flip points",
+    "timeseries": "discrete and stroboscopic velocity time series (Figs. 5-7)",
+    "basins": "Fig. 9: transient basins for n = 90, 500, 1000, 2000",
+    "uncertainty": "Fig. 10: uncertain fraction f(eps) and uncertainty exponents",
+    "transients": "Fig. 11: survival N(n) of transients and the Eq. (14) fit",
+    "atlas": "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable",
+    "check": "score another implementation's output against the golden conformance suite",
+    "case": "build a certified golden-format case (or a whole suite, --from) for your own input",
+    "fuzz": "differential fuzzing of another implementation against certified cases (finds and shrinks failures)",
+}
+
+
+def command_module(name: str) -> ModuleType:
+    """The module of the subcommand ``name`` (a key of :data:`SUBCOMMANDS`), imported by an import
+    statement, which the import contract and tests/test_import_cycles.py see (a module named in a string
+    is an edge neither sees).  Each is light to import (numpy at most; its ``add_arguments`` and ``run``
+    import what the command computes with)."""
+    match name:
+        case "simulate":
+            from .commands import simulate
+
+            return simulate
+        case "report":
+            from .commands import report
+
+            return report
+        case "bifurcation":
+            from .commands import bifurcation
+
+            return bifurcation
+        case "lyapunov":
+            from .commands import lyapunov
+
+            return lyapunov
+        case "orbit":
+            from .commands import orbitcmd
+
+            return orbitcmd
+        case "timeseries":
+            from .commands import timeseries
+
+            return timeseries
+        case "basins":
+            from .commands import basins
+
+            return basins
+        case "uncertainty":
+            from .commands import uncertainty
+
+            return uncertainty
+        case "transients":
+            from .commands import transients
+
+            return transients
+        case "atlas":
+            from .commands import atlas
+
+            return atlas
+        case "check":
+            from .commands import check
+
+            return check
+        case "case":
+            from .commands import case
+
+            return case
+        case "fuzz":
+            from .commands import fuzz
+
+            return fuzz
+    raise ValueError(f"name={name!r} is out of range: allowed one of {list(SUBCOMMANDS)}")
 
 
 def command_modules() -> list[ModuleType]:
-    """The subcommand modules, in the order shown by ``gear-rattle --help``.  Imported by import
-    statements, which the import contract and tests/test_import_cycles.py see (a module named in a
-    string is an edge neither sees), when the parser is built: each is light to import (numpy at most;
-    its ``add_arguments`` and ``run`` import what the command computes with), so that ``gear-rattle
-    --help`` and the light install's ``check`` load no heavy package."""
-    from .commands import atlas, basins, bifurcation, case, check, fuzz, lyapunov, orbitcmd, report, simulate
-    from .commands import timeseries, transients, uncertainty
-
-    return [
-        simulate, report, bifurcation, lyapunov, orbitcmd, timeseries, basins, uncertainty, transients, atlas,
-        check, case, fuzz,
-    ]  # fmt: skip
+    """Every subcommand's module, in the order of :data:`SUBCOMMANDS` (imports all of them)."""
+    return [command_module(name) for name in SUBCOMMANDS]
 
 
 #: A negative number in any float notation (``-1``, ``-1.5``, ``-.5``, ``-1e-2``, ``-3E+1``, ``-inf``):
@@ -70,10 +140,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser(only: list[str] | None = None) -> argparse.ArgumentParser:
-    """The argument parser with every registered subcommand; with ``only`` (subcommand names), the
-    options of those subcommands alone are added (:func:`command_word`: the command line adds the
-    options of the command it runs -- some import JAX to state their limits).  A subcommand whose options
-    need a package that a light install lacks is one line naming it (:func:`extras.require_full_install`)."""
+    """The argument parser with every subcommand of :data:`SUBCOMMANDS`; with ``only`` (subcommand
+    names), the modules of those subcommands alone are imported and their options added, the others
+    listed by name and help (:func:`command_word`: the command line adds the options of the command it
+    runs -- some import JAX to state their limits).  A subcommand whose options need a package that a
+    light install lacks is one line naming it (:func:`extras.require_full_install`)."""
     parser = _Parser(
         prog="gear-rattle",
         description="Gear-rattling impact model (de Souza et al. 2004): "
@@ -86,10 +157,12 @@ def build_parser(only: list[str] | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"gear-rattle {__version__} ({version_line()})")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    for mod in command_modules():
-        p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.__doc__)
-        if only is not None and mod.NAME not in only:
+    for name, text in SUBCOMMANDS.items():
+        if only is not None and name not in only:
+            sub.add_parser(name, help=text)
             continue
+        mod = command_module(name)
+        p = sub.add_parser(name, help=text, description=mod.__doc__)
         try:
             mod.add_arguments(p)
         except ModuleNotFoundError as e:
@@ -135,7 +208,7 @@ def main(argv: list[str] | None = None) -> int:
     processes from their nanny), so the main thread takes it at its next 0.1 s wake-up at the latest.
     The command's files are renamed into place together when it returns (:func:`.io.atomic.outputs`;
     the signal handler waits for those renames).  The console script also turns on the persistent
-    compilation cache (:func:`core._jax.use_compilation_cache`).  Called with ``argv`` (tests, other
+    compilation cache (:func:`core.jax_config.use_compilation_cache`).  Called with ``argv`` (tests, other
     programs), the command runs in the calling thread, a KeyboardInterrupt returns 130, and JAX's
     configuration is left as the caller has it (no cache).  Python warnings become one-line notes on
     stderr in both (:class:`_WarningNotes`)."""
@@ -191,8 +264,8 @@ class _WarningNotes:
         text = " ".join(str(message).split())
         if "persistent compilation cache" in text:  # JAX recompiled: say where the cache is
             text += (
-                f" (recompiled; the cache is {_jax.compilation_cache_dir()!r}: delete it to rebuild it, or "
-                f"set {_jax.JAX_CACHE_ENV}=0)"
+                f" (recompiled; the cache is {jax_config.compilation_cache_dir()!r}: delete it to rebuild it, or "
+                f"set {jax_config.JAX_CACHE_ENV}=0)"
             )
         print(f"{label}: note: {category.__name__}: {text}", file=sys.stderr)
 
@@ -210,6 +283,8 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         if not getattr(args, "quiet", False):  # until the first bar, note or result (a terminal only)
             progress.status(f"gear-rattle {command}: starting (loading libraries)")
         _start_jax(args, console)
+        from .io.atomic import outputs
+
         # every file the command writes is renamed into place at the end, together (io.atomic)
         with outputs(command, _out_folder(args), None if argv is None else ["gear-rattle", *argv]):
             rc = int(args._run(args) or 0)
@@ -232,6 +307,8 @@ def _run_command(argv: list[str] | None, console: bool) -> int:
         os.dup2(devnull, sys.stdout.fileno())
         return 141
     except OSError as e:  # a file system fault outside the writers' own messages: one line as well
+        from .cliutil import output_fault
+
         progress.clear_status()
         fault = output_fault(e)
         print(f"gear-rattle {command}: error: {fault}", file=sys.stderr)
@@ -247,3 +324,14 @@ def _out_folder(args: argparse.Namespace) -> str | None:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+__all__ = [
+    "SUBCOMMANDS",
+    "command_module",
+    "command_modules",
+    "NEGATIVE_NUMBER",
+    "build_parser",
+    "command_word",
+    "main",
+]

@@ -25,15 +25,7 @@ from ..core.checks import (
 )  # re-exported
 from ..core.paper import PAPER_FIG3
 from ..core.params import PARAM_NAMES, Params
-
-
-class CliError(Exception):
-    """A user error on the command line: printed as one line, exit status 2."""
-
-
-class CommandFailed(Exception):
-    """The computation did not give the result asked for (e.g. Newton did not converge): printed as
-    one line, exit status 1, nothing written."""
+from .clierror import COMMAND, CliError, CommandFailed  # (the command line's errors; re-exported)
 
 
 # --------------------------------------------------------------------------------- upper bounds
@@ -242,9 +234,6 @@ def check_start_args(args: argparse.Namespace) -> None:
 
 # ---------------------------------------------------------------------------------- messages
 
-#: The command running (``gear-rattle simulate``), set by :mod:`validation.cli`: the label of notes.
-COMMAND = ["gear-rattle"]
-
 
 def note(text: str) -> None:
     """A note for the person running the command: one line on stderr, ``gear-rattle COMMAND: note: text``.
@@ -255,7 +244,7 @@ def note(text: str) -> None:
     print(f"{COMMAND[0]}: note: {' '.join(str(text).split())}", file=sys.stderr)  # noqa: T201 - the one note writer
 
 
-def _is_terminal(stream) -> bool:
+def is_terminal(stream) -> bool:
     try:
         return bool(stream.isatty())
     except (AttributeError, ValueError, OSError):  # no isatty, or a closed stream
@@ -272,7 +261,7 @@ def print_result(result: dict, human: list[str], files: list | None = None) -> N
 
     commit_pending()  # the files are in place before the result says where they are
     clear_status()
-    if not _is_terminal(sys.stdout):
+    if not is_terminal(sys.stdout):
         to_stdout(json_text(result) + "\n")
         return
     lines = list(human)
@@ -525,7 +514,7 @@ def add_output_options(
     data file, its format from the extension, default stdout) with ``--format csv|json`` (the format on
     stdout), ``--plot FILE.png`` (a figure), ``--out DIR`` (``out = (default, help)``: an output
     directory) and ``--quiet`` (no progress bars; every command has it).  Checked together by
-    :func:`check_outputs`, written by :func:`write_output` and :func:`write_plot`."""
+    :func:`check_outputs`, written by :func:`write_result` and :func:`write_plot`."""
     if output is not None:
         p.add_argument(
             "--output",
@@ -561,7 +550,7 @@ def check_outputs(args: argparse.Namespace) -> None:
         check_output_dir(args.out, "--out")
 
 
-def write_output(args: argparse.Namespace, result=None, *, arrays=None, table=None, data=None) -> None:
+def write_result(args: argparse.Namespace, result=None, *, arrays=None, table=None, data=None) -> None:
     """``--output`` of a result in the format of :func:`output_format`, through the one writer of each
     format (:mod:`validation.io`): NPZ of ``result.arrays()``, CSV of ``result.table()`` (``(header,
     rows)``), JSON of ``result.as_dict()`` (else of its arrays); or of the callables ``arrays``,
@@ -646,3 +635,45 @@ def suite_writer(suite: Path, option: str, value: str):
         if not existed:
             with contextlib.suppress(OSError):
                 suite.rmdir()  # only if empty: nothing was written
+
+
+__all__ = [
+    "MAX_MESH",
+    "MAX_SEED",
+    "add_param_args",
+    "given_params",
+    "params_from",
+    "check_scan",
+    "progress_arg",
+    "int_range",
+    "positive_int",
+    "nonneg_int",
+    "seed_int",
+    "real",
+    "tau0_type",
+    "START",
+    "add_s0_arg",
+    "add_start_args",
+    "check_start_args",
+    "note",
+    "is_terminal",
+    "print_result",
+    "to_stdout",
+    "plot_formats",
+    "DATA_FORMATS",
+    "output_format",
+    "check_output_file",
+    "check_output_dir",
+    "check_input_path",
+    "check_distinct",
+    "writing",
+    "output_fault",
+    "write_text",
+    "write_file",
+    "add_output_options",
+    "check_outputs",
+    "write_result",
+    "write_plot",
+    "add_renamed",
+    "suite_writer",
+]

@@ -148,3 +148,13 @@ def jacobian_agreement(n: int = 8, seed: int = 2, graze_depth: float = 1e-4) -> 
     return JacobianCheck(
         len(cs), skipped, float(max(cs)) if cs else float("nan"), float(max(cd)) if cd else float("nan")
     )
+
+
+__all__ = [
+    "DOMAIN",
+    "random_cases",
+    "OneStep",
+    "one_step_agreement",
+    "JacobianCheck",
+    "jacobian_agreement",
+]

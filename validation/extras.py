@@ -55,3 +55,12 @@ def require_full_install(what: str) -> None:
             f"{what} needs {', '.join(missing)} (not installed; this install scores files with "
             "`gear-rattle check` only): pip install gear-rattle"
         )
+
+
+__all__ = [
+    "EXTRAS",
+    "MissingExtra",
+    "require",
+    "FULL_INSTALL",
+    "require_full_install",
+]

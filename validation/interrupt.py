@@ -113,3 +113,15 @@ def _guard_command_line_start() -> None:
 
 
 _guard_command_line_start()
+
+
+__all__ = [
+    "command_line_process",
+    "INTERRUPTED",
+    "CLEANUP",
+    "CLEANUP_LOCK",
+    "CLEANUP_WAIT_S",
+    "CLEAR_LINE",
+    "EXIT_SIGNALS",
+    "exit_interrupted",
+]

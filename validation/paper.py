@@ -302,3 +302,13 @@ PAPER_SCANS: dict[str, Scan] = {
 }
 #: The scan of each parameter: r -> Fig. 4, alpha -> Fig. 8.
 SCAN_OF = {s.param: s for s in PAPER_SCANS.values()}
+
+
+__all__ = [
+    "KINDS",
+    "PaperValue",
+    "PAPER",
+    "Scan",
+    "PAPER_SCANS",
+    "SCAN_OF",
+]

@@ -199,3 +199,13 @@ def get_profile(profile: str, part: str, sizes: dict | None = None) -> Any:
 def label(profile: str, sizes: dict | None) -> str:
     """The profile a result records: ``profile``, or ``"<profile>+sizes"`` where ``sizes`` replaced run sizes."""
     return f"{profile}+sizes" if sizes else profile
+
+
+__all__ = [
+    "PROFILES",
+    "PROFILE_NAMES",
+    "OPTIONAL",
+    "ZERO_ALLOWED",
+    "get_profile",
+    "label",
+]

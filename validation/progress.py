@@ -11,7 +11,8 @@
 
 What ``progress=`` means is :mod:`gear_rattle.core.progress` (the library's side: it reports, this
 module draws); importing this module registers :func:`display` there (``gear_rattle.validation``
-imports it, and the package's facade imports that).  :func:`status` shows a line that the next bar,
+imports it; the package's facade registers a stand-in that imports this module when the first bar is
+drawn, so that ``import gear_rattle`` does not load it).  :func:`status` shows a line that the next bar,
 note or result replaces (the command line's start-up).  A Ctrl-C in the command line clears the bar's
 line before its one line (:func:`gear_rattle.validation.interrupt.exit_interrupted`).
 """
@@ -333,3 +334,18 @@ def display(
 
 
 _core.set_display(display)
+
+
+__all__ = [
+    "MIN_INTERVAL",
+    "PHASE_FORMAT",
+    "stderr_is_terminal",
+    "status",
+    "clear_status",
+    "TerminalBar",
+    "LINES_ENV",
+    "LOG_FIRST_S",
+    "LOG_INTERVAL_S",
+    "LogLines",
+    "display",
+]

@@ -165,3 +165,13 @@ def suite_lock(suite: str | Path, command: str | None = None) -> StoreLock:
     """The lock of the golden suite folder ``suite`` (``SUITE/suite.lock``, :data:`SUITE_LOCK_NAME`), not
     yet taken: every writer of a suite (``case``, ``fuzz``'s findings) holds it while it writes."""
     return StoreLock(str(suite), command, path=Path(suite) / SUITE_LOCK_NAME, what="suite")
+
+
+__all__ = [
+    "StoreBusy",
+    "lock_path",
+    "holder_text",
+    "StoreLock",
+    "SUITE_LOCK_NAME",
+    "suite_lock",
+]

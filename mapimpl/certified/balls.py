@@ -120,3 +120,20 @@ def decimal_interval(x: arb, digits: int = 20) -> tuple[str, str]:
     check_int("digits", digits, 1, 1000, strict=True)
     check_ball("x", x)
     return _decimal(x.lower(), digits, decimal.ROUND_FLOOR), _decimal(x.upper(), digits, decimal.ROUND_CEILING)
+
+
+__all__ = [
+    "PREC",
+    "MAX_PREC",
+    "CertificationError",
+    "check_prec",
+    "check_ball",
+    "precision",
+    "exact",
+    "span",
+    "upper_float",
+    "float_bounds",
+    "nearest_float",
+    "mod_two_pi",
+    "decimal_interval",
+]

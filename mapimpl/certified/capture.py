@@ -64,3 +64,10 @@ def capture_decision(distance: arb | None, delta: float) -> bool:
     if distance >= dl:
         return False
     raise CertificationError(f"capture decision not definite: distance {distance.str(5)} straddles delta={delta:g}")
+
+
+__all__ = [
+    "Target",
+    "certified_distance",
+    "capture_decision",
+]

@@ -396,3 +396,17 @@ def mean_value_impact(
     if not (mv_tau.overlaps(crude_tau) and mv_v.overlaps(crude_v)):  # pragma: no cover - would be a bug
         raise CertificationError("mean-value and direct enclosures are disjoint")
     return mv_tau.intersection(crude_tau), mv_v.intersection(crude_v)
+
+
+__all__ = [
+    "T_MAX",
+    "MAX_EVALS",
+    "NoContactError",
+    "FlightCertificate",
+    "check_flight_args",
+    "certified_flight",
+    "NEWTON_START_PREC",
+    "refine_from",
+    "LEAN_START_PREC",
+    "mean_value_impact",
+]

@@ -341,3 +341,13 @@ def _release_duration(
         attempts=attempts,
         **common,
     )
+
+
+__all__ = [
+    "PRECISIONS",
+    "ROUNDINGS",
+    "ReleaseDuration",
+    "model_params",
+    "certified_release_duration",
+    "certified_release_durations",
+]

@@ -129,3 +129,15 @@ def jacobian(fun, balls) -> tuple[list[arb], list[list[arb]]]:
     vals = [value(y) for y in out]
     rows = [list(y.der) if isinstance(y, Jet) else [arb(0)] * n for y in out]
     return vals, rows
+
+
+__all__ = [
+    "Jet",
+    "sin",
+    "cos",
+    "exp",
+    "expm1",
+    "value",
+    "variables",
+    "jacobian",
+]

@@ -166,3 +166,15 @@ def krawczyk(fun, x0, *, radius_bits: int | None = None, tries: int = 6) -> Kraw
             if bits < 8:
                 break
     raise CertificationError(f"no Krawczyk box around the Newton point: {last}")
+
+
+__all__ = [
+    "MAX_NEWTON",
+    "KrawczykResult",
+    "CANONICAL_DROP",
+    "canonical",
+    "newton",
+    "verify_box",
+    "refine",
+    "krawczyk",
+]

@@ -158,3 +158,10 @@ class Flight:
         sign = -1 if wall == 0 else 1
         s_enc = self.s(m) + self.v(m) * d + self.a(span(ta, tb)) * q
         return sign * s_enc + (0 if wall == 0 else 1)
+
+
+__all__ = [
+    "parameter_ball",
+    "Model",
+    "Flight",
+]

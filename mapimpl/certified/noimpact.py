@@ -140,3 +140,11 @@ def certify_no_impact_orbit(
         f"t = {proof['tail_from']:.3g})"
     )
     return orb
+
+
+__all__ = [
+    "T_TAIL_MAX",
+    "MAX_EVALS",
+    "certify_never_lands",
+    "certify_no_impact_orbit",
+]

@@ -257,3 +257,14 @@ def _flight_record(n: int, c: FlightCertificate) -> dict:
         "evals": c.evals,
         "departure": c.departure,
     }
+
+
+__all__ = [
+    "Event",
+    "CertifiedOrbit",
+    "CertifiedStep",
+    "Departure",
+    "certified_departure",
+    "certified_step",
+    "certify_orbit",
+]

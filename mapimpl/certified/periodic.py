@@ -314,3 +314,15 @@ def certify_bifurcation(
         if not any(z.contains(acb(sigma)) for z in orbit.multipliers):  # pragma: no cover - would be a bug
             raise CertificationError(f"no multiplier encloses {sigma:+d} at the {kind}")
         return CertifiedBifurcation(kind, name, value, orbit)
+
+
+__all__ = [
+    "CertifiedPeriodicOrbit",
+    "CertifiedBifurcation",
+    "unwrap",
+    "closed_form_det",
+    "floquet",
+    "prove_flights",
+    "certify_periodic_orbit",
+    "certify_bifurcation",
+]

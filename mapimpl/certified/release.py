@@ -343,3 +343,14 @@ def certify_post_release_deltas(
         except CertificationError as e:
             done(list(pending), "failed", f"{e} (impact {trace.n + 1} undecided)")
             return out
+
+
+__all__ = [
+    "MAX_IMPACTS",
+    "RADIUS_LIMIT",
+    "DEFINITE",
+    "Attempt",
+    "check_deltas",
+    "certify_post_release",
+    "certify_post_release_deltas",
+]

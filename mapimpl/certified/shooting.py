@@ -143,3 +143,15 @@ def extended_residual(y, model: Model, shape: Shape, mu_name: str, kind: str) ->
     x, mu = y[:-1], y[-1]
     P = Numbers(model, mu_name, mu)
     return orbit_residual(x, P, shape) + [det_shift(monodromy(x, P, shape), SIGMA[kind])]
+
+
+__all__ = [
+    "MU_NAMES",
+    "SIGMA",
+    "Shape",
+    "Numbers",
+    "orbit_residual",
+    "monodromy",
+    "det_shift",
+    "extended_residual",
+]

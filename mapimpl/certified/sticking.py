@@ -175,3 +175,13 @@ def certify_release(model: Model, tau_impact: arb, tau_rel: arb, wall: int, prec
         if h < arb(2) ** (-(prec - 40)):
             raise CertificationError("cannot prove the contact force keeps pressing before the release")
     return span(lo, hi), pieces
+
+
+__all__ = [
+    "stick_decision",
+    "release_phase",
+    "release_delay",
+    "release_time",
+    "certify_zero",
+    "certify_release",
+]

@@ -28,20 +28,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
-from ...core._jax import xla_tuning_active
-from ..finder import MAX_STEPS, T_MAX
-from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_int, check_real
+from ...core.jax_config import xla_tuning_active
+from ...core.checks import TAU0_MAX, TAU0_RANGE, InputTypeError, check_array, check_int
 from ...core.params import ParamArrays, Params, validate_arrays
 from ...core.progress import Bar, sink, wanted
 from ...core.status import Status
-from ..sticking import MAX_STICK_TIME, STICK_TIME
 from . import kernel as K
-from .lanes import RESULT_DTYPES, Lane, Results
+from .lanes import RESULT_DTYPES, Lane, Queue, Results, RunConsts
 from .observers import Observer
+from .options import Execution, StepRules, options_from_keywords
 
 #: Tail of a run: once the queue is empty and at most 1/TAIL_SHRINK of the lanes are busy, the busy
 #: ones move to a block TAIL_SHRINK times smaller (not below TAIL_MIN_LANES lanes).
@@ -87,15 +86,8 @@ class EngineResult:
 
 def engine_devices(devices=None) -> list:
     """Devices the engine spreads its queue over: ``devices`` (a count or a list of JAX devices),
-    default all devices of JAX's default backend."""
-    avail = jax.devices()
-    if devices is None:
-        return list(avail)
-    if isinstance(devices, (list, tuple)):
-        if not devices or not all(isinstance(d, jax.Device) for d in devices):
-            raise ValueError(f"devices={devices!r} is out of range: allowed a count or a non-empty list of JAX devices")
-        return list(devices)
-    return list(avail[: check_int("devices", devices, 1, len(avail))])
+    default all devices of JAX's default backend (:meth:`.options.Execution.device_list`)."""
+    return Execution(devices=devices).device_list()
 
 
 def default_lanes(n_per_device: int) -> int:
@@ -109,19 +101,20 @@ def default_lanes(n_per_device: int) -> int:
 
 def cpu_lanes() -> int:
     """The widest CPU block: where the working set of a device's micro-step stays in its core's cache.
-    With the engine's XLA options (:func:`gear_rattle.core._jax.xla_tuning_active`) 256 lanes: Fig. 11's
+    With the engine's XLA options (:func:`gear_rattle.core.jax_config.xla_tuning_active`) 256 lanes: Fig. 11's
     200 x 200 grid on 2 cores did 4.3e6, 5.4e6 and 4.6e6 impacts/s at 512, 256 and 128 lanes
     (2026-11-24); without them the kernel keeps more intermediate arrays and 512 lanes was best
     (Fig. 11 on 2 cores: 140 s at 512 lanes, 164 s at 2048, 2026-11-22)."""
     return 256 if xla_tuning_active() else 512
 
 
-def _params_arrays(params, n: int) -> ParamArrays:
+def params_arrays(params, n: int) -> ParamArrays:
     """The parameters in the engine's one form: a :class:`~gear_rattle.core.params.ParamArrays` of
-    ``n`` float64 values per field (validated), from a :class:`~gear_rattle.core.params.Params` or a
-    ``ParamArrays`` (or a mapping or sequence with its fields) of one value or one per orbit."""
+    ``n`` float64 values per field (validated), from a :class:`~gear_rattle.core.params.Params` (valid
+    when made: not checked again) or a ``ParamArrays`` (or a mapping or sequence with its fields) of one
+    value or one per orbit."""
     if isinstance(params, Params):
-        vals = params.arrays()
+        return ParamArrays(*(np.full(n, float(v), np.float64) for v in params.as_dict().values()))
     else:
         try:
             vals = ParamArrays(**params) if isinstance(params, dict) else ParamArrays(*params)
@@ -158,27 +151,84 @@ def _impacts_done(lanes_s: Lane, res_s: Results) -> tuple[int, int]:
     return (int(jnp.sum(res_s.n, dtype=jnp.int64)), int(jnp.sum(jnp.where(busy, lanes_s.n, 0), dtype=jnp.int64)))
 
 
-def _drive(jb: dict, cap: int, block: int, report, stop_event: threading.Event, observers) -> None:
-    """Run one device's queue to the end: blocks of micro-steps, progress, and the tail compaction."""
+@dataclass(frozen=True)
+class Orbits:
+    """The engine's input, checked: ``n`` initial pre-impact states (``theta`` float64 of any finite phase,
+    ``|theta| <= 1e6``; ``sdot`` float64, nonzero; ``wall`` int32, 0 or -1) and their parameters
+    (``params``, a :class:`~gear_rattle.core.params.ParamArrays` of ``n`` float64 values per field).  Made
+    by :meth:`checked` (the checks of :func:`run`) or by a caller that built the arrays itself from
+    checked inputs (:func:`.transients.transient_times`)."""
+
+    theta: np.ndarray
+    sdot: np.ndarray
+    wall: np.ndarray
+    params: ParamArrays
+
+    @classmethod
+    def checked(cls, theta, sdot, wall, params) -> Orbits:
+        """The states and parameters checked (:func:`core.checks.check_array`: 1-D, at most
+        ``MAX_ORBITS``; :func:`params_arrays`): ``ValueError`` naming the argument otherwise."""
+        th, sd, w = _check_states(theta, sdot, wall)
+        return cls(th, sd, w, params_arrays(params, th.size))
+
+    @property
+    def size(self) -> int:
+        """The number of orbits."""
+        return int(self.theta.size)
+
+
+@dataclass(frozen=True)
+class DeviceJob:
+    """One device's share of a chunk of initial conditions: ``sel``, the indices (into the run's orbits)
+    of its orbits in queue order; ``queue`` (padded to a power of two with copies of its last entry, never
+    loaded), the run constants ``consts`` and the initial carry ``start`` (idle lanes, empty results, the
+    next initial condition 0), all placed on the device.  Read-only: the thread that drives it keeps the
+    carry (``_drive``), and its progress goes to the reporter (:class:`JobProgress`)."""
+
+    sel: np.ndarray
+    queue: Queue
+    consts: RunConsts
+    start: tuple
+
+    @property
+    def m(self) -> int:
+        """The orbits of this job."""
+        return int(self.sel.size)
+
+
+@dataclass
+class JobProgress:
+    """What one device's thread reported last (written under the reporter's lock): orbits finished,
+    ``impacts`` (of the finished orbits, of the busy ones) and the lanes of its tail block (0: none)."""
+
+    done: int = 0
+    impacts: tuple[int, int] = (0, 0)
+    tail: int = 0
+
+
+def _drive(job: DeviceJob, j: int, cap: int, block: int, report, stop: threading.Event, observers, count: bool):
+    """Run device job ``j`` to the end and return its final carry: blocks of micro-steps, progress
+    (``report(j, finished orbits, impacts, tail lanes)``; impacts counted when ``count``), and the tail
+    compaction.  None when ``stop`` is set."""
     # every orbit ends within cap map iterations of bounded finder work, so the loop is bounded
     # (max_kernel_calls); the guard only turns an engine bug into an error instead of a hang
-    max_calls = max_kernel_calls(jb["m"], cap, block, int(jb["k"].max_steps))
-    for _call in range(max_calls):
-        if stop_event.is_set():
-            return
-        jb["carry"], _ = K.run_blocks(jb["carry"], jb["q"], jb["k"], observers, block=block, max_blocks=64)
-        lanes_s, res_s, next_ic = jb["carry"]
+    carry, tail = job.start, 0
+    for _call in range(max_kernel_calls(job.m, cap, block, int(job.consts.max_steps))):
+        if stop.is_set():
+            return None
+        carry, _ = K.run_blocks(carry, job.queue, job.consts, observers, block=block, max_blocks=64)
+        lanes_s, res_s, next_ic = carry
         n_busy = int(jnp.sum(lanes_s.mode != K.MODE_IDLE))
-        drained = int(next_ic) >= jb["m"]
-        report(jb, int(next_ic) - n_busy, _impacts_done(lanes_s, res_s) if jb["count_impacts"] else (0, 0))
+        drained = int(next_ic) >= job.m
+        report(j, int(next_ic) - n_busy, _impacts_done(lanes_s, res_s) if count else (0, 0), tail)
         if drained and n_busy == 0:
-            return
+            return carry
         size = lanes_s.mode.shape[0]
         while drained and n_busy <= size // TAIL_SHRINK and size // TAIL_SHRINK >= TAIL_MIN_LANES:
             size //= TAIL_SHRINK
         if size < lanes_s.mode.shape[0]:
-            jb["carry"] = (K.compact(lanes_s, size=K.padded_lanes(size)), res_s, next_ic)
-            jb["tail"] = K.padded_lanes(size)
+            tail = K.padded_lanes(size)
+            carry = (K.compact(lanes_s, size=tail), res_s, next_ic)
     raise RuntimeError("engine made no progress (bug): queue not drained")
 
 
@@ -197,30 +247,12 @@ def _check_states(theta, sdot, wall) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return th, sd, w.astype(np.int32)
 
 
-def check_engine_options(
-    cap,
-    lanes=None,
-    block=32,
-    chunk=None,
-    stick_time=STICK_TIME,
-    devices=None,
-    *,
-    max_cap: int = MAX_CAP,
-    t_max=T_MAX,
-    max_steps=MAX_STEPS,
-) -> tuple:
-    """The engine's settings, checked (:mod:`core.checks`) before any work and returned as
-    ``(cap, lanes, block, chunk, stick_time, devices, t_max, max_steps)`` (``devices`` as the list of
-    :func:`engine_devices`): ``1 <= cap <= max_cap``, ``1 <= lanes <= 2**22``, ``1 <= block <= 2**16``,
-    ``1 <= chunk <= 2**26``, ``0 <= stick_time <= 1e-2``, ``0 < t_max <= 1e6``, ``1 <= max_steps <= 1e6``."""
-    cap = check_int("cap", cap, 1, max_cap)
-    block = check_int("block", block, 1, 1 << 16)
-    lanes = None if lanes is None else check_int("lanes", lanes, 1, 1 << 22)
-    chunk = None if chunk is None else check_int("chunk", chunk, 1, 1 << 26)
-    stick_time = check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
-    t_max = check_real("t_max", t_max, 0.0, 1e6, lo_open=True)
-    max_steps = check_int("max_steps", max_steps, 1, 1_000_000)
-    return cap, lanes, block, chunk, stick_time, engine_devices(devices), t_max, max_steps
+def check_observers(observers) -> tuple[Observer, ...]:
+    """``observers`` (an :class:`~.observers.Observer` or a sequence of them) as a tuple, checked."""
+    obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
+    if not all(isinstance(o, Observer) for o in obs):
+        raise InputTypeError("observers is out of range: allowed an Observer or a tuple of Observer instances")
+    return obs
 
 
 class _Reporter:
@@ -233,29 +265,36 @@ class _Reporter:
     not shrink with its age, and the mean is estimated as for censored exponential data, all the impacts
     done over the orbits finished (the mean of the finished ones alone is biased low: the short ones
     finish first); at most ``orbits x cap``.  It shows "compiling" until the first kernel call returns, and the lanes of the
-    tail once the busy orbits move to a narrower block."""
+    tail once the busy orbits move to a narrower block.  Each device's thread reports into its own
+    :class:`JobProgress`, under one lock."""
 
     def __init__(self, progress, label: str, n: int, cap: int):
         self.bar = Bar(label, enabled=wanted(progress), phase="compiling")
         self.sink, self.n, self.cap = sink(progress), n, cap
         self.lock = threading.Lock()
         self.base = [0, 0]  # orbits and impacts of the chunks done
+        self.jobs: list[JobProgress] = []
 
-    def chunk(self, jobs: list[dict]):
-        """The ``report(jb, finished orbits, (impacts finished, impacts busy))`` of one chunk's jobs."""
-        for jb in jobs:
-            jb.update(done=0, impacts=(0, 0), count_impacts=self.bar.drawn)
+    @property
+    def count_impacts(self) -> bool:
+        """Whether the devices' threads count impacts (for the bar)."""
+        return self.bar.drawn
 
-        def report(jb, n_done, impacts):
+    def chunk(self, jobs: list[DeviceJob]):
+        """The ``report(j, finished orbits, (impacts finished, impacts busy), tail lanes)`` of one chunk's
+        jobs."""
+        self.jobs = [JobProgress() for _ in jobs]
+
+        def report(j: int, n_done: int, impacts: tuple[int, int], tail: int) -> None:
             with self.lock:
-                jb["done"], jb["impacts"] = n_done, impacts
-                fin = self.base[0] + sum(x["done"] for x in jobs)
+                self.jobs[j] = JobProgress(n_done, impacts, tail)
+                fin = self.base[0] + sum(x.done for x in self.jobs)
                 if self.bar.drawn:
-                    imp_fin = self.base[1] + sum(x["impacts"][0] for x in jobs)
-                    done = imp_fin + sum(x["impacts"][1] for x in jobs)
+                    imp_fin = self.base[1] + sum(x.impacts[0] for x in self.jobs)
+                    done = imp_fin + sum(x.impacts[1] for x in self.jobs)
                     most = self.n * self.cap
                     est = most if fin == 0 else min(most, done + (self.n - fin) * done / fin)
-                    tails = [x["tail"] for x in jobs if x.get("tail")]
+                    tails = [x.tail for x in self.jobs if x.tail]
                     if tails:
                         self.bar.postfix(f"tail: {sum(tails)} lanes")
                     self.bar.update(done, max(est, done))
@@ -264,72 +303,64 @@ class _Reporter:
 
         return report
 
-    def chunk_done(self, jobs: list[dict]) -> None:
-        self.base[0] += sum(x["m"] for x in jobs)
-        self.base[1] += sum(x["impacts"][0] + x["impacts"][1] for x in jobs)
+    def chunk_done(self, jobs: list[DeviceJob]) -> None:
+        self.base[0] += sum(jb.m for jb in jobs)
+        self.base[1] += sum(x.impacts[0] + x.impacts[1] for x in self.jobs)
 
 
-def _device_jobs(idx, devs, k_dev, lanes: int, obs, thr, sd, w, pa: ParamArrays) -> list[dict]:
-    """One job per device for the initial conditions ``idx`` of a chunk (every ``ndev``-th one): its queue
-    padded to a power of two (with copies of its last entry, never loaded), idle lanes and empty results,
-    placed on the device."""
+def _device_jobs(idx: np.ndarray, orbits: Orbits, thr: np.ndarray, placed: list, lanes: int, obs) -> list[DeviceJob]:
+    """One job per device (``placed``: ``(device, the run constants on it)`` pairs) for the initial
+    conditions ``idx`` of a chunk (every ``ndev``-th one; ``thr``: their phases reduced to ``[0, 2 pi)``):
+    its queue padded to a power of two (with copies of its last entry, never loaded), idle lanes and
+    empty results, placed on the device."""
     jobs = []
-    for j, dv in enumerate(devs):
-        sel = idx[j :: len(devs)]
+    for j, (dv, k) in enumerate(placed):
+        sel = idx[j :: len(placed)]
         m = sel.size
         if m == 0:
             continue
         mp = _pow2(max(m, lanes))
         pad = lambda a: np.pad(a[sel], (0, mp - m), mode="edge")  # noqa: E731
-        q = K.prepare_queue(pad(thr), pad(sd), pad(w), ParamArrays(*map(pad, pa)), n_ic=m)
+        q = K.prepare_queue(pad(thr), pad(orbits.sdot), pad(orbits.wall), ParamArrays(*map(pad, orbits.params)), n_ic=m)
         carry = (K.idle_lanes(min(lanes, K.padded_lanes(m)), obs), K.empty_results(mp, obs), jnp.asarray(0, jnp.int32))
-        jobs.append(
-            {
-                "sel": sel,
-                "m": m,
-                "q": jax.device_put(q, dv),
-                "k": k_dev[j],
-                "carry": jax.device_put(carry, dv),
-                "done": 0,
-            }
-        )
+        jobs.append(DeviceJob(sel, jax.device_put(q, dv), k, jax.device_put(carry, dv)))
     return jobs
 
 
-def _run_jobs(jobs: list[dict], cap: int, block: int, obs, report, stop_event: threading.Event, bar) -> None:
-    """Drive every device's job in its own thread to the end; on any exception (Ctrl-C) stop them all
-    within one kernel call and re-raise."""
+def _run_jobs(jobs: list[DeviceJob], cap: int, block: int, obs, reporter: _Reporter, stop: threading.Event) -> list:
+    """Drive every device's job in its own thread to the end and return their final carries; on any
+    exception (Ctrl-C) stop them all within one kernel call and re-raise."""
+    report, count = reporter.chunk(jobs), reporter.count_impacts
     pool = ThreadPoolExecutor(max_workers=len(jobs))
-    futures = [pool.submit(_drive, jb, cap, block, report, stop_event, obs) for jb in jobs]
+    futures = [pool.submit(_drive, jb, j, cap, block, report, stop, obs, count) for j, jb in enumerate(jobs)]
+    carries = []
     try:
         for f in futures:
             while True:
                 try:
-                    f.result(timeout=0.2)
+                    carries.append(f.result(timeout=0.2))
                     break
                 except TimeoutError:
                     continue
     except BaseException:
-        stop_event.set()
+        stop.set()
         pool.shutdown(wait=True, cancel_futures=True)
-        bar.abort()
+        reporter.bar.abort()
         raise
     pool.shutdown(wait=True)
+    return carries
 
 
-def _gather(jobs: list[dict], out: dict, out_obs: tuple) -> int:
-    """Copy the jobs' per-orbit results into ``out`` and ``out_obs`` (input order); returns the orbits."""
-    done = 0
-    for jb in jobs:
-        res, sel = jb["carry"][1], jb["sel"]
-        m = jb["m"]
-        done += m
+def _gather(jobs: list[DeviceJob], carries: list, out: dict, out_obs: tuple) -> None:
+    """Copy the jobs' per-orbit results (from their final ``carries``) into ``out`` and ``out_obs`` (input
+    order)."""
+    for jb, carry in zip(jobs, carries):
+        res, sel, m = carry[1], jb.sel, jb.m
         for name in out:
             out[name][sel] = np.asarray(getattr(res, name))[:m]
         for o_out, r_o in zip(out_obs, res.obs):
             for nm in o_out:
                 o_out[nm][sel] = np.asarray(r_o[nm])[:m]
-    return done
 
 
 def run(
@@ -341,15 +372,11 @@ def run(
     *,
     cap: int,
     stop_at_stick: bool = False,
-    lanes: int | None = None,
-    block: int = 32,
-    chunk: int | None = None,
-    devices=None,
+    rules: StepRules | None = None,
+    execution: Execution | None = None,
     progress=None,
     label: str = "engine",
-    stick_time: float = STICK_TIME,
-    t_max: float = T_MAX,
-    max_steps: int = MAX_STEPS,
+    **renamed,
 ) -> EngineResult:
     """Iterate the impact map from every initial condition until its observers stop it, it reaches
     ``cap`` impacts, or it ends (stuck forever, no impact, step cap); see the module docstring.
@@ -369,29 +396,27 @@ def run(
     stop_at_stick : bool, optional
         Stop an orbit at its first sticking episode (status ``STUCK``: every orbit that sticks continues
         on one post-release orbit, which the caller runs once).
-    lanes : int, optional
-        Orbits advanced together per device (default :func:`default_lanes`, padded to a multiple of
-        :data:`kernel.LANE_QUANTUM`).
-    block : int, optional
-        Micro-steps between refills.
-    chunk : int, optional
-        Initial conditions per kernel launch (default: bounded by memory).
-    devices : int or list, optional
-        A count or list of JAX devices (default all of the default backend).
+    rules : StepRules, optional
+        The sticking policy's threshold and the impact finder's caps (:class:`.options.StepRules`;
+        default its defaults).  Results depend on them.
+    execution : Execution, optional
+        Lanes, block, chunk and devices (:class:`.options.Execution`; default its defaults).  Results do
+        not depend on them.
     progress : bool or callable, optional
         None (a bar in impacts when stderr is a terminal), True (the bar, or lines where stderr is not
         a terminal), False, or a callable ``(orbits done, orbits)`` instead of the bar
         (:mod:`gear_rattle.core.progress`).
     label : str, optional
         The progress bar's label.
-    stick_time, t_max, max_steps : optional
-        The sticking policy's and the impact finder's caps (:mod:`mapimpl.sticking`, :mod:`mapimpl.finder`).
+    **renamed
+        The old keywords ``lanes``, ``block``, ``chunk``, ``devices`` (fields of ``execution``) and
+        ``stick_time``, ``t_max``, ``max_steps`` (fields of ``rules``): deprecated, same meaning.
 
     Returns
     -------
     EngineResult
         Per initial condition, in input order: impacts done, status, sticking episodes, the last state
-        and the observers' outputs.  Results do not depend on ``lanes``, ``block``, ``chunk`` or ``devices``.
+        and the observers' outputs.  Results do not depend on ``execution``.
 
     Examples
     --------
@@ -420,69 +445,91 @@ def run(
     >>> bool(abs(short.theta[3] - seq.theta[-1]) < 1e-9 and abs(short.sdot[3] - seq.sdot[-1]) < 1e-9)
     True
     """
-    obs = (observers,) if isinstance(observers, Observer) else tuple(observers)
-    if not all(isinstance(o, Observer) for o in obs):
-        raise InputTypeError("observers is out of range: allowed an Observer or a tuple of Observer instances")
-    th, sd, w = _check_states(theta, sdot, wall)
-    cap, lanes, block, chunk, stick_time, devs, t_max, max_steps = check_engine_options(
-        cap, lanes, block, chunk, stick_time, devices, t_max=t_max, max_steps=max_steps
-    )
-    pa = _params_arrays(params, th.size)
+    rules, execution = options_from_keywords("run", renamed, rules, execution)
+    obs = check_observers(observers)
+    orbits = Orbits.checked(theta, sdot, wall, params)
+    cap = check_int("cap", cap, 1, MAX_CAP)
+    return run_orbits(orbits, obs, cap, stop_at_stick, rules, execution, progress=progress, label=label)
+
+
+def run_orbits(
+    orbits: Orbits,
+    observers: tuple[Observer, ...],
+    cap: int,
+    stop_at_stick: bool,
+    rules: StepRules,
+    execution: Execution,
+    *,
+    progress=None,
+    label: str = "engine",
+) -> EngineResult:
+    """:func:`run` of checked inputs -- :class:`Orbits`, a tuple of observers, ``1 <= cap <=``
+    :data:`MAX_CAP`, the option objects -- which it does not check again (the callers inside the library
+    that have checked their own inputs call it: :func:`.transients.transient_times`)."""
     from ...core.phase import reduce_phase
 
+    th = orbits.theta
     thr = np.asarray(reduce_phase(jnp.asarray(th), jnp.zeros(th.size, jnp.int32))[0])
     cyc_start = np.floor_divide(th - thr + np.pi, 2 * np.pi).astype(np.int64)  # turns removed by the reduction
-
+    devs = execution.device_list()
     devs = devs[: max(1, min(len(devs), th.size))]
-    per_ic = 48 + sum(int(np.prod(o.fields()[nm][1], dtype=np.int64)) * 8 for o in obs for nm in o.outputs())
-    if chunk is None:
-        chunk = int(max(4096, min(1 << 18, CHUNK_BYTES // per_ic)))
-    if lanes is None:
-        lanes = default_lanes(min(th.size, chunk) // len(devs))
-    lanes = K.padded_lanes(lanes)
+    per_ic = 48 + sum(int(np.prod(o.fields()[nm][1], dtype=np.int64)) * 8 for o in observers for nm in o.outputs())
+    chunk = execution.chunk or int(max(4096, min(1 << 18, CHUNK_BYTES // per_ic)))
+    lanes = K.padded_lanes(execution.lanes or default_lanes(min(th.size, chunk) // len(devs)))
+    pa = orbits.params
     uniform = all(np.all(a == a[0]) for a in pa)
     k = K.make_consts(
-        cap,
-        obs,
-        stop_at_stick,
-        stick_time,
-        t_max,
-        max_steps,
-        params=ParamArrays(*(a[0] for a in pa)) if uniform else None,
+        cap, observers, stop_at_stick, rules, params=ParamArrays(*(a[0] for a in pa)) if uniform else None
     )
-    k_dev = [jax.device_put(k, dv) for dv in devs]
+    placed = [(dv, jax.device_put(k, dv)) for dv in devs]
     n = th.size
     out = {name: np.zeros(n, np.dtype(dt)) for name, dt in RESULT_DTYPES._asdict().items() if name != "obs"}
     out["cycles"] = out["cycles"].astype(np.int64)
     out_obs = tuple(
-        {nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()} for o in obs
+        {nm: np.zeros((n,) + tuple(o.fields()[nm][1]), o.fields()[nm][0]) for nm in o.outputs()} for o in observers
     )
-    progress_ = _Reporter(progress, label, n, cap)
-    stop_event = threading.Event()
+    reporter = _Reporter(progress, label, n, cap)
+    stop = threading.Event()
     t0 = time.perf_counter()
     for c0 in range(0, n, chunk):
-        jobs = _device_jobs(np.arange(c0, min(n, c0 + chunk)), devs, k_dev, lanes, obs, thr, sd, w, pa)
-        _run_jobs(jobs, cap, block, obs, progress_.chunk(jobs), stop_event, progress_.bar)
-        _gather(jobs, out, out_obs)
-        progress_.chunk_done(jobs)
+        jobs = _device_jobs(np.arange(c0, min(n, c0 + chunk)), orbits, thr, placed, lanes, observers)
+        _gather(jobs, _run_jobs(jobs, cap, execution.block, observers, reporter, stop), out, out_obs)
+        reporter.chunk_done(jobs)
     elapsed = time.perf_counter() - t0
-    progress_.bar.update(int(np.sum(out["n"], dtype=np.int64)), int(np.sum(out["n"], dtype=np.int64)))
-    progress_.bar.close()
+    total = int(np.sum(out["n"], dtype=np.int64))
+    reporter.bar.update(total, total)
+    reporter.bar.close()
     out["cycles"] = out["cycles"] + cyc_start
-    return EngineResult(
-        **out,
-        obs=out_obs,
-        elapsed=elapsed,
-        meta={
-            "lanes": int(lanes),
-            "block": int(block),
-            "chunk": int(chunk),
-            "backend": jax.default_backend(),
-            "devices": len(devs),
-            "cap": cap,
-            "uniform_params": bool(uniform),
-            "xla_tuning": xla_tuning_active(),
-            "stop_at_stick": bool(stop_at_stick),
-            "observers": [type(o).__name__ for o in obs],
-        },
-    )
+    meta = {
+        "lanes": int(lanes),
+        "block": int(execution.block),
+        "chunk": int(chunk),
+        "backend": jax.default_backend(),
+        "devices": len(devs),
+        "cap": cap,
+        "uniform_params": bool(uniform),
+        "xla_tuning": xla_tuning_active(),
+        "stop_at_stick": bool(stop_at_stick),
+        "observers": [type(o).__name__ for o in observers],
+    }
+    return EngineResult(**out, obs=out_obs, elapsed=elapsed, meta=meta)
+
+
+__all__ = [
+    "TAIL_SHRINK",
+    "TAIL_MIN_LANES",
+    "MAX_CAP",
+    "CHUNK_BYTES",
+    "EngineResult",
+    "Orbits",
+    "DeviceJob",
+    "JobProgress",
+    "engine_devices",
+    "default_lanes",
+    "cpu_lanes",
+    "params_arrays",
+    "max_kernel_calls",
+    "check_observers",
+    "run",
+    "run_orbits",
+]

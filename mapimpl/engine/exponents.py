@@ -89,3 +89,11 @@ def exponents(res: EngineResult, obs: int = 0) -> Exponents:
     lam = np.where(n_stuck[:, None] > 0, -np.inf, lam_free)
     lam = np.where(ran[:, None], lam, np.nan)
     return Exponents(lam, lam_free, n_free, n_stuck, ran)
+
+
+__all__ = [
+    "RAN_TO_END",
+    "ran_to_end",
+    "Exponents",
+    "exponents",
+]

@@ -11,7 +11,7 @@ flight times ``<= T_MAX / 2``.
 
 from __future__ import annotations
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 _INVPIO2 = 6.36619772367581382433e-01
@@ -53,3 +53,8 @@ def sincos(x):
     s_out = jnp.where(q == 0, sn, jnp.where(q == 1, cs, jnp.where(q == 2, -sn, -cs)))
     c_out = jnp.where(q == 0, cs, jnp.where(q == 1, -sn, jnp.where(q == 2, -cs, sn)))
     return s_out, c_out
+
+
+__all__ = [
+    "sincos",
+]

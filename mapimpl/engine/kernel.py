@@ -49,7 +49,7 @@ their order, the block, the chunk, the number of devices of one backend, or on w
 is processed.  One exception was found and is designed out: XLA compiles a one-lane block into scalar
 code whose floating-point contraction differs from the vectorised code of wider blocks, so lane
 blocks are always a multiple of :data:`LANE_QUANTUM` lanes (padded with idle lanes; tested).  The
-compiler and its options (:data:`gear_rattle.core._jax.ENGINE_XLA_FLAGS`) decide where
+compiler and its options (:data:`gear_rattle.core.jax_config.ENGINE_XLA_FLAGS`) decide where
 multiply-adds are fused, so float64 samples of chaotic orbits depend on them.
 """
 
@@ -58,28 +58,27 @@ from __future__ import annotations
 from functools import partial
 from typing import Any, NamedTuple
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
 from ..finder import (
-    _H0,
-    _NEWTON_ITERS,
+    H0,
+    NEWTON_ITERS,
     MAX_STEPS,
-    T_MAX,
-    _gaps,
+    wall_gaps,
     bracket_test,
     bracket_unique,
     departure_time_sc,
     root_step,
     safe_step,
 )
-from ..flight import _SERIES_X, _SIGMA_COEFFS, _horner, phi12
+from ..flight import SERIES_X, SIGMA_COEFFS, horner, phi12
 from ..forcing import forcing_rate_sc, forcing_sc
 from ...core.phase import reduce_phase
 from ..impact_map import jacobian_sc
 from ...core.status import Status
-from ..sticking import STICK_TIME, decide_stick_sc, release_phase, released_turns
+from ..sticking import decide_stick_sc, release_phase, released_turns
 from .fastmath import sincos
 from ...core.params import ParamArrays
 from .lanes import (
@@ -89,7 +88,7 @@ from .lanes import (
     LaneParams,
     Point,
     Queue,
-    Release,
+    ReleasePhase,
     Results,
     RunConsts,
     Search,
@@ -97,6 +96,7 @@ from .lanes import (
     lane_dtypes,
 )
 from .observers import Impact, Observer
+from .options import DEFAULT_RULES, StepRules
 
 # lane modes: searching (A: safe step, B: bracket test, N: root iteration), pending arrival (L: a loaded
 # initial condition, H: an impact found), idle
@@ -109,7 +109,7 @@ LANE_QUANTUM = 8
 
 def _barrier(x, pred):
     """Materialise ``x`` once, where that pays: on the CPU without the engine's XLA options
-    (:data:`gear_rattle.core._jax.ENGINE_XLA_FLAGS`).  There XLA:CPU fuses a value that several
+    (:data:`gear_rattle.core.jax_config.ENGINE_XLA_FLAGS`).  There XLA:CPU fuses a value that several
     results need (the flight evaluation: cheap multiply-adds) into each result's loop -- 2.6x the work
     of the search step -- and ``optimization_barrier`` is removed before fusion, but the operands and
     results of a ``lax.cond`` on a run-time predicate (always true here) are real buffers.  With the
@@ -127,13 +127,13 @@ _BARRIERS = None
 def _decide_barriers() -> None:
     global _BARRIERS
     if _BARRIERS is None:
-        from ...core._jax import xla_tuning_active
+        from ...core.jax_config import xla_tuning_active
 
         _BARRIERS = jax.default_backend() == "cpu" and not xla_tuning_active()
 
 
 #: The Taylor series of sigma below |t| = 1 needs 9 terms (the next, t^18/21!, is below 2e-20 of 1/6).
-_SIGMA_COEFFS_1 = _SIGMA_COEFFS[:9]
+_SIGMA_COEFFS_1 = SIGMA_COEFFS[:9]
 
 
 def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
@@ -149,12 +149,12 @@ def flight_sc(t, sn0, cs0, v0, alpha, beta, gamma):
     p1, p2 = phi12(bt, e)
     half = 0.5 * t
     small = jnp.abs(half) < 1e-8
-    big = jnp.abs(t) >= _SERIES_X
+    big = jnp.abs(t) >= SERIES_X
     inv_t = 1.0 / jnp.where(small, 1.0, t)
     sc = jnp.where(small, 1.0 - half * half * (1.0 / 6.0), 2.0 * sh * inv_t)
     st, ct = 2.0 * sh * ch, 1.0 - 2.0 * sh * sh
     ts = jnp.where(big, 0.0, t)
-    sig = jnp.where(big, (t - st) * (inv_t * inv_t * inv_t), _horner(ts * ts, _SIGMA_COEFFS_1))
+    sig = jnp.where(big, (t - st) * (inv_t * inv_t * inv_t), horner(ts * ts, _SIGMA_COEFFS_1))
     q = -0.5 * alpha * sn0 * sc * sc + alpha * cs0 * (beta * p2 - t * sig) + gamma * p2
     ds = t * v0 * p1 + t * t * q
     sin_mid = sn0 * ch + cs0 * sh
@@ -169,22 +169,20 @@ def make_consts(
     cap,
     observers: tuple[Observer, ...],
     stop_at_stick=False,
-    stick_time=STICK_TIME,
-    t_max=T_MAX,
-    max_steps=MAX_STEPS,
+    rules: StepRules = DEFAULT_RULES,
     params: ParamArrays | None = None,
 ) -> RunConsts:
-    """The run constants (:class:`~.lanes.RunConsts`, JAX arrays): caps, the sticking threshold, the
-    observers' constants (one dict per observer) and, when every orbit of the run has the same
-    parameters ``params`` (a :class:`~gear_rattle.core.params.ParamArrays` of scalars), those parameters
-    and their release constants (``uniform``, a :class:`~.lanes.LaneParams` of scalars: the lanes then
-    read them from here instead of from their own fields, which saves memory traffic; same arithmetic,
-    same results)."""
+    """The run constants (:class:`~.lanes.RunConsts`, JAX arrays): caps, the sticking threshold and the
+    finder's caps of ``rules`` (:class:`~.options.StepRules`), the observers' constants (one dict per
+    observer) and, when every orbit of the run has the same parameters ``params`` (a
+    :class:`~gear_rattle.core.params.ParamArrays` of scalars), those parameters and their release
+    constants (``uniform``, a :class:`~.lanes.LaneParams` of scalars: the lanes then read them from here
+    instead of from their own fields, which saves memory traffic; same arithmetic, same results)."""
     return RunConsts(
         cap=jnp.asarray(cap, jnp.int32),
-        stick_time=jnp.asarray(stick_time, jnp.float64),
-        t_max=jnp.asarray(t_max, jnp.float64),
-        max_steps=jnp.asarray(max_steps, jnp.int32),
+        stick_time=jnp.asarray(rules.stick_time, jnp.float64),
+        t_max=jnp.asarray(rules.t_max, jnp.float64),
+        max_steps=jnp.asarray(rules.max_steps, jnp.int32),
         stop_at_stick=jnp.asarray(bool(stop_at_stick)),
         true=jnp.asarray(True),
         obs=tuple(o.consts() for o in observers),
@@ -257,7 +255,7 @@ def prepare_queue(theta, sdot, wall, params: ParamArrays, n_ic=None) -> Queue:
     def release(w):
         ph, never = release_phase(jnp.full(jnp.shape(theta), w, _I32), pa.alpha, pa.beta, pa.gamma)
         s, c = sincos(ph)
-        return Release(phase=ph, sin=s, cos=c, never=never)
+        return ReleasePhase(phase=ph, sin=s, cos=c, never=never)
 
     n = jnp.asarray(jnp.shape(theta)[0] if n_ic is None else n_ic, _I32)
     return Queue(start=start, par=LaneParams(params=pa, top=release(0), bottom=release(-1)), n_ic=n)
@@ -320,7 +318,7 @@ def search_step(s, k):
     te, p1, p2, top = S.t, S.p1, S.p2, S.top
     ds, v, a, e, sin_t, cos_t = _barrier(flight_sc(te, f.sin0, f.cos0, f.v0, alpha, beta, gamma), k.true)
     b = f.bound * e
-    du, dl = _gaps(f.s0, ds)
+    du, dl = wall_gaps(f.s0, ds)
     g = jnp.where(top, du, dl)
     dg = jnp.where(top, -v, v)
     # A: one safe step from te = t_a
@@ -481,7 +479,7 @@ def _first_safe_step(s: Lane, k: RunConsts, new: _FlightStart, s0_new):
             alpha + new.bound,
             alpha + beta * new.bound,
             0.0,
-            _H0,
+            H0,
             0,
             new.t_depart,
             s0_new,
@@ -754,9 +752,9 @@ def trace(queue1: Queue, k: RunConsts, n_impacts: int, observers=()):
 def flight_micro_steps(max_steps: int = MAX_STEPS, every: int = ARRIVE_EVERY) -> int:
     """An upper bound on the search micro-steps of one flight, from the finder's caps: at most
     ``max_steps`` safe steps (mode ``A``), each followed by at most one bracket test (``B``), then at
-    most ``mapimpl.finder._NEWTON_ITERS`` root iterations (``N``) and a wait of at most ``every``
+    most ``mapimpl.finder.NEWTON_ITERS`` root iterations (``N``) and a wait of at most ``every``
     micro-steps for the arrival pass (``H``).  (Python integers, or a traced ``max_steps``.)"""
-    return 2 * max_steps + _NEWTON_ITERS + every + 2
+    return 2 * max_steps + NEWTON_ITERS + every + 2
 
 
 def padded_lanes(lanes: int) -> int:

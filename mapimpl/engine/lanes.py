@@ -16,16 +16,17 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
+from ...core.deprecation import renamed_names
 from ...core.params import ParamArrays
 
 _F64, _I32, _BOOL = jnp.float64, jnp.int32, jnp.bool_
 
 
-class Release(NamedTuple):
+class ReleasePhase(NamedTuple):
     """The canonical release from one wall (:func:`mapimpl.sticking.release_phase`): its phase, the
     phase's sin and cos, and whether the tooth never leaves that wall."""
 
@@ -41,8 +42,8 @@ class LaneParams(NamedTuple):
     ``s = -1`` (``bottom``)."""
 
     params: ParamArrays
-    top: Release
-    bottom: Release
+    top: ReleasePhase
+    bottom: ReleasePhase
 
 
 class Point(NamedTuple):
@@ -154,9 +155,9 @@ class RunConsts(NamedTuple):
     uniform: LaneParams | None
 
 
-_RELEASE = Release(_F64, _F64, _F64, _BOOL)
+_RELEASE_PHASE = ReleasePhase(_F64, _F64, _F64, _BOOL)
 #: The dtype of every field of :class:`LaneParams`.
-PARAMS_DTYPES = LaneParams(ParamArrays(_F64, _F64, _F64, _F64), _RELEASE, _RELEASE)
+PARAMS_DTYPES = LaneParams(ParamArrays(_F64, _F64, _F64, _F64), _RELEASE_PHASE, _RELEASE_PHASE)
 #: The dtype of every field of :class:`Point`.
 POINT_DTYPES = Point(_F64, _F64, _I32, _F64, _F64)
 
@@ -189,8 +190,11 @@ def fill(dtypes, shape, value=0):
     return jax.tree_util.tree_map(lambda dt: jnp.full(shape, value, dt), dtypes)
 
 
+#: The old name of :class:`ReleasePhase`, kept with a DeprecationWarning.
+__getattr__ = renamed_names(__name__, {"Release": "ReleasePhase"}, globals())
+
 __all__ = [
-    "Release",
+    "ReleasePhase",
     "LaneParams",
     "Point",
     "Flight",

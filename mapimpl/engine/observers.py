@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 from ...core.checks import MAX_AVERAGED, MAX_PERIOD, check_int
@@ -352,7 +352,7 @@ class Sample(Observer):
         return new, i >= int(self.keep) - 1
 
 
-def _givens_qr(Z):
+def givens_qr(Z):
     """``Q, R`` of a 2x2 matrix with ``R`` upper triangular and ``R[1, 1] >= 0``, ``R[0, 0] >= 0``
     (a Givens rotation; exact for ``Z[1, 0] = 0``)."""
     a, c = Z[0, 0], Z[1, 0]
@@ -417,7 +417,7 @@ class Tangent(Observer):
         J = ev.jac
         stuck = step & jnp.all(J == 0.0)
         free = step & ~stuck
-        Qn, R = _givens_qr(J @ o["Q"])
+        Qn, R = givens_qr(J @ o["Q"])
         d = jnp.abs(jnp.diagonal(R))
         new = {
             "Q": jnp.where(free, Qn, jnp.where(at0 | stuck, jnp.eye(2), o["Q"])),
@@ -429,3 +429,17 @@ class Tangent(Observer):
             "cycles0": jnp.where(at0, ev.cycles, o["cycles0"]),
         }
         return new, jnp.asarray(False)
+
+
+__all__ = [
+    "Impact",
+    "orbit_distance",
+    "euclidean_distance",
+    "Observer",
+    "Capture",
+    "BandEscape",
+    "Laminar",
+    "Sample",
+    "givens_qr",
+    "Tangent",
+]

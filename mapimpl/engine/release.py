@@ -5,8 +5,8 @@ Every orbit that sticks to a wall is released at that wall's canonical phase wit
 (:func:`mapimpl.sticking.release_phase`), so all of them continue on ONE post-release orbit per wall.
 The engine (:func:`.transients.transient_times`) returns raw facts: ``hit`` (the first iteration within
 each capture distance before the orbit first stuck), ``first_stick`` and ``stick_wall``, and per wall
-the float64 post-release orbit it ran once (:class:`PostRelease`).  A duration is composed from them by
-ONE function, :func:`compose_durations`, with a :class:`Release`: the post-release duration ``T_post``
+the float64 post-release orbit it ran once (:class:`PostReleaseOrbit`).  A duration is composed from them by
+ONE function, :func:`compose_durations`, with a :class:`TPost`: the post-release duration ``T_post``
 of every wall at one capture distance, each with the :class:`ReleaseSource` it came from -- the float64
 engine's own post-release orbit (a sample of a chaotic orbit) or a value certified in ball arithmetic
 (:mod:`.t_post` builds either).  The rule itself, ``first_stick + T_post`` censored beyond the cap, is
@@ -21,6 +21,8 @@ from enum import StrEnum
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from ...core.deprecation import renamed_names
 
 if TYPE_CHECKING:
     from ..certified.duration import ReleaseDuration
@@ -56,7 +58,7 @@ class ReleaseSource(StrEnum):
 
 
 @dataclass(frozen=True, eq=False)
-class PostRelease:
+class PostReleaseOrbit:
     """One wall's post-release orbit as the float64 engine ran it, once: followed from initial
     condition ``ic`` (which first stuck at impact ``first_stick``); ``t_post[j]``: its duration within
     ``deltas[j]`` counted from the release (its first impact is 1; -1: beyond the cap); ``impacts``:
@@ -131,7 +133,7 @@ class WallTPost:
 
 
 @dataclass(frozen=True)
-class Release:
+class TPost:
     """What the orbits that stick are composed with at capture distance ``delta``: one
     :class:`WallTPost` per wall stuck to (``walls``), asked from ``source``."""
 
@@ -166,7 +168,7 @@ def composed_mask(hit: np.ndarray, first_stick: np.ndarray) -> np.ndarray:
 
 
 def compose_durations(
-    hit: np.ndarray, first_stick: np.ndarray, stick_wall: np.ndarray, cap: int, release: Release
+    hit: np.ndarray, first_stick: np.ndarray, stick_wall: np.ndarray, cap: int, release: TPost
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(durations, censored)`` at ``release.delta`` -- THE composition of a duration, used by every
     caller: ``hit`` (the raw first iteration within ``release.delta``, one column), or for an orbit
@@ -181,11 +183,33 @@ def compose_durations(
     return np.where(censored, int(cap), h), censored
 
 
-def float64_release(post_release, deltas: np.ndarray, delta: float, column: int) -> Release:
-    """The :class:`Release` of the float64 engine's own post-release orbits (``post_release``, a
-    sequence of :class:`PostRelease`) at ``delta = deltas[column]`` (-1: beyond the cap, never captured)."""
+def float64_t_post(post_release, deltas: np.ndarray, delta: float, column: int) -> TPost:
+    """The :class:`TPost` of the float64 engine's own post-release orbits (``post_release``, a
+    sequence of :class:`PostReleaseOrbit`) at ``delta = deltas[column]`` (-1: beyond the cap, never captured)."""
     walls = {}
     for pr in post_release:
         sample = int(np.asarray(pr.t_post)[column])
         walls[int(pr.wall)] = WallTPost(int(pr.wall), sample if sample >= 0 else None, ReleaseSource.FLOAT64, sample)
-    return Release(ReleaseSource.FLOAT64, float(deltas[column]), walls)
+    return TPost(ReleaseSource.FLOAT64, float(deltas[column]), walls)
+
+
+#: The old names (one word, "release", named six things: issue 39), kept with a DeprecationWarning.
+__getattr__ = renamed_names(
+    __name__,
+    {"Release": "TPost", "PostRelease": "PostReleaseOrbit", "float64_release": "float64_t_post"},
+    globals(),
+)
+
+__all__ = [
+    "WALLS",
+    "ReleaseSource",
+    "PostReleaseOrbit",
+    "CERTIFIED_FIELDS",
+    "certified_dict",
+    "WallTPost",
+    "TPost",
+    "compose_release",
+    "composed_mask",
+    "compose_durations",
+    "float64_t_post",
+]

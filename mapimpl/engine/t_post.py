@@ -3,7 +3,7 @@ post-release orbit (a sample) or certified in ball arithmetic (:mod:`mapimpl.cer
 
 :func:`float64_target` is the capture target the certified runs are given: the engine's float64
 periodic orbit (the certified track itself imports nothing of the float64 kernels).
-:func:`release_for` gives the :class:`~.release.Release` of a transient run at one capture distance
+:func:`release_for` gives the :class:`~.release.TPost` of a transient run at one capture distance
 from a :class:`~.release.ReleaseSource`; :func:`certified_t_post` runs (once per setting in a process)
 the schedule of certified runs that decides ``T_post`` of one wall at every capture distance asked for.
 The composition itself is :func:`.release.compose_durations`.
@@ -21,7 +21,7 @@ from ...core.progress import Bar, wanted
 from ..certified.capture import Target
 from ..certified.duration import ReleaseDuration, certified_release_durations, model_params
 from ..sticking import STICK_TIME
-from .release import Release, ReleaseSource, WallTPost, float64_release
+from .release import TPost, ReleaseSource, WallTPost, float64_t_post
 
 #: The certified outcomes that decide ``T_post``: a capture (its value), or never captured.
 NEVER_CAPTURED = ("periodic", "stuck_forever", "no_capture")
@@ -131,8 +131,8 @@ def release_for(
     confirm: bool = True,
     stick_time: float = STICK_TIME,
     progress=None,
-) -> Release:
-    """The :class:`~.release.Release` of the transient run ``res`` (a
+) -> TPost:
+    """The :class:`~.release.TPost` of the transient run ``res`` (a
     :class:`~.transients.TransientResult`) at ``delta`` (default its main one) from ``source``: the
     engine's own post-release orbit of every wall stuck to, or its certified ``T_post``
     (:func:`certified_t_post` in one schedule for ``deltas``, default all the run's capture distances,
@@ -140,7 +140,7 @@ def release_for(
     text must say so)."""
     source = ReleaseSource.of(source)
     j = res.column(delta)
-    sample = float64_release(res.post_release, res.deltas, delta=float(res.deltas[j]), column=j)
+    sample = float64_t_post(res.post_release, res.deltas, delta=float(res.deltas[j]), column=j)
     if source is ReleaseSource.FLOAT64:
         return sample
     d = float(res.deltas[j])
@@ -162,4 +162,15 @@ def release_for(
             if decided
             else WallTPost(w, s.value, ReleaseSource.FLOAT64, s.float64_sample, c, undecided=True)
         )
-    return Release(source, d, walls)
+    return TPost(source, d, walls)
+
+
+__all__ = [
+    "NEVER_CAPTURED",
+    "decimal_params",
+    "float64_target",
+    "CertifiedKey",
+    "certified_t_post",
+    "certified_value",
+    "release_for",
+]

@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401  (float64)
+from ...core import jax_config  # noqa: F401  (float64)
 
 from ...mapimpl.engine.driver import run
 from ...mapimpl.engine.exponents import exponents
@@ -173,3 +173,11 @@ def compute_tile(alpha: np.ndarray, r: np.ndarray, spec: AtlasSpec) -> dict[str,
     status = np.where(ended, res.status, int(Status.ACTIVE)).astype(np.int8)
     out = {"lambda1": lam[:, 0], "lambda2": lam[:, 1], "period_p": p, "period_m": m, "status": status}
     return {k: np.asarray(v).astype(FIELDS[k][0]).reshape(shape) for k, v in out.items()}
+
+
+__all__ = [
+    "ENGINE",
+    "FIELDS",
+    "period",
+    "compute_tile",
+]

@@ -138,3 +138,15 @@ def forget(root: str, group, tile: tuple[int, int], names: tuple[str, ...]) -> N
         rd = group[k]
         idx = tile + (0,) * (rd.ndim - 2)
         (Path(root) / k / rd.metadata.encode_chunk_key(idx)).unlink(missing_ok=True)
+
+
+__all__ = [
+    "META",
+    "DIGEST_BYTES",
+    "tile_digest",
+    "meta_digest",
+    "Damage",
+    "short_error",
+    "verify",
+    "forget",
+]

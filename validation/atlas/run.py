@@ -115,7 +115,7 @@ def _timed(compute: ComputeFn, alpha, r, spec):
 
 def _worker_task(compute: ComputeFn, alpha, r, spec):
     """Runs on a Dask worker: float64 JAX on one XLA CPU device per worker process, then the tile."""
-    from ...core._jax import use_cpu_devices  # importing gear_rattle enables float64
+    from ...core.jax_config import use_cpu_devices  # importing gear_rattle enables float64
 
     use_cpu_devices(1)  # a no-op once JAX has started in this worker
     return _timed(compute, alpha, r, spec)
@@ -283,7 +283,7 @@ def run_atlas(
             return run
         if client is None:
             run.workers = workers or default_workers()
-            cluster, client = _local_cluster(run.workers)
+            cluster, client = local_cluster(run.workers)
         else:
             run.workers = len(client.scheduler_info().get("workers", {}))
         _run_dask(spec, tile, todo, client, compute, run, store_one, timeout, note)
@@ -377,7 +377,7 @@ def _quiet_dask():
             lg.setLevel(lv)
 
 
-def _local_cluster(n_workers: int):
+def local_cluster(n_workers: int):
     """An embedded LocalCluster of ``n_workers`` processes (one thread each) and its client.  Its threads
     and worker processes start with SIGINT blocked (the mask is inherited): a Ctrl-C at the terminal,
     which reaches the whole process group, interrupts this process only, which closes the cluster (or,
@@ -503,3 +503,20 @@ def _run_dask(spec, tile, todo, client, compute, run: AtlasRun, store_one, timeo
         finally:
             for fut in futures:
                 fut.cancel()
+
+
+__all__ = [
+    "ComputeFn",
+    "CONNECT_TIMEOUT_S",
+    "WORKER_TIMEOUT_S",
+    "POLL_S",
+    "ClusterLost",
+    "import_distributed",
+    "default_workers",
+    "check_scheduler",
+    "tile_points",
+    "crop",
+    "AtlasRun",
+    "run_atlas",
+    "local_cluster",
+]

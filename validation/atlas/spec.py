@@ -129,3 +129,12 @@ class AtlasSpec:
         if extra:
             raise ValueError(f"atlas spec has unknown fields {sorted(extra)}: allowed {sorted(names)}")
         return cls(**d)
+
+
+__all__ = [
+    "MAX_GRID",
+    "MAX_IMPACTS",
+    "MAX_PERIOD",
+    "PAPER_LINES",
+    "AtlasSpec",
+]

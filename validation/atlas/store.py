@@ -372,3 +372,21 @@ def load_store(path: str) -> AtlasStore:
     _check_meta(p, zarr, attrs, None)
     g = zarr.open_group(str(path), mode="r")
     return AtlasStore(str(path), AtlasSpec.from_dict(attrs["spec"]), tuple(attrs["tile"]), g)
+
+
+__all__ = [
+    "TIMING",
+    "FORMAT",
+    "OLD_FORMATS",
+    "CHECKED",
+    "StoreWriteError",
+    "import_zarr",
+    "check_tile",
+    "MAX_TILE_POINTS",
+    "fit_tile",
+    "tile_grid",
+    "tile_slices",
+    "AtlasStore",
+    "open_store",
+    "load_store",
+]

@@ -203,3 +203,15 @@ def tile_throughput(data: dict[str, np.ndarray], spec: AtlasSpec, run: AtlasRun)
         "median tile throughput per worker (points x impacts / s, wall)": float(np.median(pts / wall)),
         "median tile throughput per worker (points x impacts / CPU s)": float(np.median(pts / cpu)),
     }
+
+
+__all__ = [
+    "MAX_CLASSES",
+    "period_classes",
+    "paper_plane",
+    "no_paper_lines",
+    "paper_lines",
+    "AtlasSummary",
+    "summarise",
+    "tile_throughput",
+]

@@ -1,6 +1,10 @@
-"""CLI subcommands: each module defines NAME, HELP, add_arguments(parser) and run(args) -> int.
+"""CLI subcommands: each module defines NAME, add_arguments(parser) and run(args) -> int (and, optionally,
+needs_jax(args) -> bool).
 
-Register a new module in :func:`validation.cli.command_modules` (an import statement, not a name).  One module is not a subcommand:
-:mod:`.release` is the ``python -m gear_rattle.validation.commands.release`` entry of the certified
-post-release duration (docs/release.md), with its own ``main(argv)``.
+Register a new module in :data:`validation.cli.SUBCOMMANDS` (its name and one-line help: the parser lists
+every command from there without importing it) and :func:`validation.cli.command_module` (an import
+statement, not a name).  Modules that are not subcommands: :mod:`.release`, the ``python -m
+gear_rattle.validation.commands.release`` entry of the certified post-release duration (docs/release.md),
+with its own ``main(argv)``; :mod:`.trackimpl` (run as a command by ``--impl``); the helpers
+:mod:`.transient_common` and ``_check_scoring``/``_check_orbits``.
 """

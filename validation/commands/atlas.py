@@ -24,7 +24,6 @@ if TYPE_CHECKING:
     from ..atlas.spec import AtlasSpec
 
 NAME = "atlas"
-HELP = "Lyapunov/period atlas over (alpha, r) in tiles on Dask, stored in Zarr, resumable"
 
 _FIELD = re.compile(
     r"^(alpha_lo|alpha_hi|n_alpha|r_lo|r_hi|n_r|tau0|sdot0|transient|impacts|period_max|"
@@ -273,3 +272,11 @@ def _run_line(spec, ru: dict, scheduler: str) -> str:
         f"{ru['throughput (points x impacts / s, wall, start-up and compile included)']:.3g} "
         f"points x impacts/s (start-up and compile included; median tile: {tile_rate:.3g} per worker)"
     )
+
+
+__all__ = [
+    "EXIT_CLUSTER_LOST",
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -13,10 +13,9 @@ import math
 from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, MAX_MESH, CliError, positive_int, progress_arg, real
-from ._transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "basins"
-HELP = "Fig. 9: transient basins for n = 90, 500, 1000, 2000"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -61,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io.transients import write_basins
     from ..plots.transients import basins_figure
     from ..transient.experiments import basins
+    from ..transient.settings import BasinsSettings
 
     params = params_from(args)
     t_lo, t_hi, s_lo, s_hi = args.window
@@ -70,19 +70,19 @@ def run(args: argparse.Namespace) -> int:
             f"({TAU0_RANGE.replace('tau0', 'tau')}) and SDOT_LO < SDOT_HI"
         )
     check_common(args)
-    res = basins(
-        profile=args.profile,
-        nx=args.nx,
-        ny=args.ny,
-        window=tuple(args.window),
-        ns=tuple(args.ns),
-        delta=args.delta,
-        params=params,
-        progress=progress_arg(args),
-        lanes=args.lanes,
+    settings = BasinsSettings.of_profile(
+        args.profile, nx=args.nx, ny=args.ny, window=tuple(args.window), ns=tuple(args.ns), delta=args.delta
     )
+    res = basins(params=params, settings=settings, execution=execution_of(args), progress=progress_arg(args))
     files = write_basins(args.out, res)
     fig = Path(args.out) / "fig9_basins.png"
     save_figure(basins_figure(res), fig)
     print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -25,7 +25,7 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 from ..paper import SCAN_OF
@@ -34,7 +34,6 @@ if TYPE_CHECKING:
     from ..dynamics.bifurcation import Diagram, DiagramLyapunov
 
 NAME = "bifurcation"
-HELP = "bifurcation diagram in r (Fig. 4a) or alpha (Fig. 8a), NPZ/CSV and figure"
 #: Most recorded points of a diagram (values x keep), ~1.6 GB of float64 with the phases.
 MAX_RECORDED = 100_000_000
 #: Most impacts recorded per value.
@@ -139,9 +138,18 @@ def run(args: argparse.Namespace) -> int:
             progress=progress_arg(args),
         )
         lyap, result = (res.values, res.lam_free), DiagramLyapunov(d, res)  # --output carries the exponents
-    write_output(args, result)
+    write_result(args, result)
     if args.plot:
         from ..plots import diagram_figure
 
         write_plot(args, diagram_figure(d, lyap))
     return 0
+
+
+__all__ = [
+    "NAME",
+    "MAX_RECORDED",
+    "MAX_KEEP",
+    "add_arguments",
+    "run",
+]

@@ -24,12 +24,11 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
 NAME = "lyapunov"
-HELP = "Lyapunov exponents against r or alpha (Figs. 4b, 8b), QR method"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -95,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
             args.param,
             title=f"Lyapunov exponents (free steps): {params_text(base, args.param, values)}",
         )
-    write_output(args, res)
+    write_result(args, res)
     ended = ~np.asarray(res.active)
     if ended.any():
         at = ", ".join(f"{v:g}" for v in values[ended][:5]) + (", ..." if ended.sum() > 5 else "")
@@ -105,3 +104,10 @@ def run(args: argparse.Namespace) -> int:
         )
     write_plot(args, fig)
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -29,14 +29,13 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
 NAME = "orbit"
 #: Most impacts (and turns) per periodic orbit.
 MAX_PERIOD = 1000
-HELP = "periodic orbits: find, continue in r or alpha, fold and flip points"
 #: The options of 'continue' only, with their defaults (None: from the orbit's parameter value).
 CONTINUATION = {"param": "r", "lo": None, "hi": None, "direction": 1, "ds": 2e-3, "max_points": 200}
 
@@ -161,7 +160,7 @@ def _find(args, base, tau0: float, sdot0: float) -> int:
     from ...mapimpl.continuation import closed_form_det
 
     o = _converged(args, base, tau0, sdot0)
-    write_output(args, o)
+    write_result(args, o)
     note(
         f"converged (residual {o.residual:.2e}, {o.iterations} iterations); multipliers "
         + ", ".join(f"{complex(m):.12g}" for m in o.multipliers)
@@ -191,7 +190,7 @@ def _continue(args, base, tau0: float, sdot0: float, bounds: tuple[float, float]
         ds_max=max(2e-2, args.ds),
         max_points=args.max_points,
     )
-    write_output(
+    write_result(
         args,
         table=br.table,
         arrays=lambda: {
@@ -209,3 +208,12 @@ def _continue(args, base, tau0: float, sdot0: float, bounds: tuple[float, float]
 
         write_plot(args, branch_figure(br, args.param))
     return 0
+
+
+__all__ = [
+    "NAME",
+    "MAX_PERIOD",
+    "CONTINUATION",
+    "add_arguments",
+    "run",
+]

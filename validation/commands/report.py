@@ -10,7 +10,6 @@ from ..cliutil import add_output_options, check_outputs, note, print_result, see
 from ..report.builder import SECTION_KEYS
 
 NAME = "report"
-HELP = "generate the validation report (HTML + Markdown)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -66,3 +65,10 @@ def run(args: argparse.Namespace) -> int:
     if not ok:
         note("some sections FAILED (see the report)")
     return 0 if ok else 1
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -30,12 +30,11 @@ from ..cliutil import (
     real,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
 NAME = "simulate"
-HELP = "simulate one orbit (impact sequence, CSV/JSON, optional Figs. 2-3 plot)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -96,7 +95,7 @@ def _finish(args: argparse.Namespace, seq) -> None:
         from ..plots import time_series_figure
 
         fig = time_series_figure(seq, span=args.plot_span)
-    write_output(args, seq)
+    write_result(args, seq)
     if seq.status != "active":
         why = {
             "no_impact": "no wall is reached within the flight horizon T_MAX",
@@ -122,10 +121,17 @@ def _run_certified(args: argparse.Namespace, params) -> int:
     if run.complete:
         _finish(args, seq)
         return 0
-    write_output(args, seq)  # the certified prefix only (no plot of a partial orbit)
+    write_result(args, seq)  # the certified prefix only (no plot of a partial orbit)
     commit_pending()  # a whole file, kept although the command fails (io.atomic discards on failure)
     k = run.impacts_certified
     raise CommandFailed(
         f"impact {run.first_uncertified} not certified: {run.reason}; the output holds the "
         f"{k} certified impact{'' if k == 1 else 's'} before it"
     )
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -20,12 +20,11 @@ from ..cliutil import (
     progress_arg,
     add_start_args,
     check_start_args,
-    write_output,
+    write_result,
     write_plot,
 )
 
 NAME = "timeseries"
-HELP = "discrete and stroboscopic velocity time series (Figs. 5-7)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -74,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
             "span less than one forcing period (2 pi), so there is no stroboscopic sample; "
             "allowed: enough impacts to span a period (the orbit may chatter or stick)"
         )
-    write_output(args, ts)
+    write_result(args, ts)
     if args.plot:
         from ..plots import velocity_series_figure
 
@@ -83,3 +82,10 @@ def run(args: argparse.Namespace) -> int:
         title = f"{args.figure}: {params_text(base)}" if args.figure else None  # default: the parameters
         write_plot(args, velocity_series_figure(ts, title=title))
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

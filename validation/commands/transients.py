@@ -15,10 +15,9 @@ from pathlib import Path
 
 from ...core.paper import recorded_deltas
 from ..cliutil import MAX_IMPACTS, MAX_MESH, add_renamed, add_s0_arg, nonneg_int, positive_int, progress_arg, seed_int
-from ._transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "transients"
-HELP = "Fig. 11: survival N(n) of transients and the Eq. (14) fit"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -66,27 +65,33 @@ def run(args: argparse.Namespace) -> int:
     from ..io.transients import write_survival
     from ..plots.transients import survival_figure
     from ..transient.experiments import transients
+    from ..transient.settings import SurvivalSettings
 
     params = params_from(args)
     check_common(args)
-    res = transients(
-        profile=args.profile,
+    settings = SurvivalSettings.of_profile(
+        args.profile,
         nx=args.nx,
         ny=args.ny,
         cap=args.cap,
         delta=args.delta,
         deltas=recorded_deltas(args.delta),
-        params=params,
         ic_mode="pre-impact" if args.s0 is None else "free",
         s0=args.s0,
         n_lo=args.n_lo,
         seed=args.seed,
-        progress=progress_arg(args),
-        lanes=args.lanes,
         float64_rounding=args.float64_rounding,
     )
+    res = transients(params=params, settings=settings, execution=execution_of(args), progress=progress_arg(args))
     files = write_survival(args.out, res)
     fig = Path(args.out) / "fig11_survival.png"
     save_figure(survival_figure(res), fig)
     print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0
+
+
+__all__ = [
+    "NAME",
+    "add_arguments",
+    "run",
+]

@@ -15,10 +15,9 @@ import argparse
 from pathlib import Path
 
 from ..cliutil import MAX_IMPACTS, CliError, int_range, positive_int, progress_arg, real, seed_int
-from ._transient_common import add_common, check_common, print_summary
+from .transient_common import add_common, check_common, execution_of, print_summary
 
 NAME = "uncertainty"
-HELP = "Fig. 10: uncertain fraction f(eps) and uncertainty exponents"
 #: Most random points (each costs 1 + 2 x n-eps orbits).
 MAX_POINTS = 1_000_000
 
@@ -64,7 +63,8 @@ def run(args: argparse.Namespace) -> int:
     from ..io import save_figure
     from ..io.transients import write_uncertainty
     from ..plots.transients import uncertainty_figure
-    from ..transient.experiments import default_eps, uncertainty
+    from ..transient.experiments import uncertainty
+    from ..transient.settings import UncertaintySettings, default_eps
 
     params = params_from(args)
     if not args.eps_min < args.eps_max:
@@ -74,19 +74,20 @@ def run(args: argparse.Namespace) -> int:
         )
     check_common(args)
     eps = default_eps(args.profile, args.n_eps, args.eps_min, args.eps_max)
-    res = uncertainty(
-        profile=args.profile,
-        n_points=args.points,
-        eps=eps,
-        ns=tuple(args.ns),
-        seed=args.seed,
-        delta=args.delta,
-        params=params,
-        progress=progress_arg(args),
-        lanes=args.lanes,
+    settings = UncertaintySettings.of_profile(
+        args.profile, n_points=args.points, eps=eps, ns=tuple(args.ns), seed=args.seed, delta=args.delta
     )
+    res = uncertainty(params=params, settings=settings, execution=execution_of(args), progress=progress_arg(args))
     files = write_uncertainty(args.out, res)
     fig = Path(args.out) / "fig10_uncertainty.png"
     save_figure(uncertainty_figure(res), fig)
     print_summary(res.summary(), getattr(res, "notes", ()), [*files, fig])
     return 0
+
+
+__all__ = [
+    "NAME",
+    "MAX_POINTS",
+    "add_arguments",
+    "run",
+]

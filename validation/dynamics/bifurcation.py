@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax
 import jax.numpy as jnp
 
@@ -242,3 +242,15 @@ def raw_product_horizon(lam1: float) -> float:
     pass the largest float64: ``ln(float64 max) / lambda1`` (the measured step:
     :func:`gear_rattle.mapimpl.lyapunov.raw_product_overflow`)."""
     return LN_FLOAT_MAX / lam1
+
+
+__all__ = [
+    "MAX_POINTS",
+    "MAX_IMPACTS",
+    "Diagram",
+    "bifurcation_diagram",
+    "LN_FLOAT_MAX",
+    "DiagramLyapunov",
+    "diagram_with_lyapunov",
+    "raw_product_horizon",
+]

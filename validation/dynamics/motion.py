@@ -81,3 +81,15 @@ def motion(params: Params, profile: str = "quick") -> Motion:
         po = find_periodic(params, theta[-per], sd[-per], per)
         turns = round((tau[-1] - tau[-1 - per]) / (2 * np.pi))
     return Motion(params, seq, per, turns, l1, l2, float(lam.det_mean[0]), size["lyap_n"], po)
+
+
+__all__ = [
+    "TAIL",
+    "MAX_PERIOD",
+    "PERIOD_ATOL",
+    "LYAP_TRANSIENT",
+    "START",
+    "velocity_period",
+    "Motion",
+    "motion",
+]

@@ -10,3 +10,9 @@ from ..paper import PAPER_SCANS
 SCANS = {k: (s.param, s.lo, s.hi, Params(*s.fixed)) for k, s in PAPER_SCANS.items()}
 #: Transient discarded before the time series of Figs. 5-7 (Fig. 5 shows the approach from the start).
 TS_TRANSIENT = {"fig5": 0, "fig6": 2000, "fig7": 2000}
+
+
+__all__ = [
+    "SCANS",
+    "TS_TRANSIENT",
+]

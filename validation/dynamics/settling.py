@@ -198,3 +198,18 @@ def local_slopes(dr, mean, sem) -> list[tuple[float, float, float, float]]:
         e = math.hypot(sem[i] / mean[i], sem[i + 1] / mean[i + 1]) / abs(dx)
         out.append((float(dr[i]), float(dr[i + 1]), s, e))
     return out
+
+
+__all__ = [
+    "SETTLE_TAIL",
+    "SETTLE_MAX_P",
+    "SETTLE_TOL",
+    "MIN_LAMINAR",
+    "SDOT0_RANGE",
+    "period_of",
+    "Settling",
+    "runs",
+    "settle",
+    "laminar_in_series",
+    "local_slopes",
+]

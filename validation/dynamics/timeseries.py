@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core import _jax  # noqa: F401
+from ...core import jax_config  # noqa: F401
 import jax.numpy as jnp
 
 from ...mapimpl.flight import flight
@@ -99,3 +99,11 @@ def time_series(
     k, v = stroboscopic(sub)
     m = sub.kind == "impact"
     return TimeSeries(params, sub.n[m], sub.sdot[m], k - k[0] if k.size else k, v)  # no sample: span < 2 pi
+
+
+__all__ = [
+    "FIGURE_R",
+    "TimeSeries",
+    "stroboscopic",
+    "time_series",
+]

@@ -18,3 +18,8 @@ def write_crises(outdir, profile: str, r2, r1, a1) -> list[Path]:
             {"profile": profile, "r2": r2.as_dict(), "r1": r1.as_dict(), "alpha1": a1.as_dict()},
         )
     ]
+
+
+__all__ = [
+    "write_crises",
+]

@@ -92,3 +92,14 @@ def save_figure(fig, path) -> Path:
     writer of a figure.  Returns the path."""
     fmt = Path(path).suffix[1:].lower() or None
     return write_atomic(path, lambda fh: fig.savefig(fh, format=fmt, dpi=FIGURE_DPI))
+
+
+__all__ = [
+    "write_json",
+    "csv_text",
+    "csv_columns",
+    "write_csv",
+    "write_npz",
+    "FIGURE_DPI",
+    "save_figure",
+]

@@ -56,3 +56,11 @@ def read_json(path):
 def nan_from_null(x):
     """A numeric value read from strict JSON: ``None`` (a NaN or infinity written as ``null``) as NaN."""
     return math.nan if x is None else x
+
+
+__all__ = [
+    "jsonable",
+    "json_text",
+    "read_json",
+    "nan_from_null",
+]

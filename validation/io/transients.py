@@ -50,3 +50,12 @@ def write_stick_time_sensitivity(outdir, res) -> list[Path]:
     """The chatter-threshold sensitivity
     (:class:`~gear_rattle.validation.transient.results.StickTimeSensitivity`)."""
     return [write_json(out_dir(outdir) / "stick_time_sensitivity.json", res.summary())]
+
+
+__all__ = [
+    "out_dir",
+    "write_basins",
+    "write_uncertainty",
+    "write_survival",
+    "write_stick_time_sensitivity",
+]

@@ -97,3 +97,8 @@ def atlas_figure(data: dict[str, np.ndarray], spec: AtlasSpec, title: str | None
     )
     fig.tight_layout(rect=(0, 0.05, 1, 1))
     return fig
+
+
+__all__ = [
+    "atlas_figure",
+]

@@ -42,3 +42,10 @@ def params_text(params, swept: str | None = None, values=None) -> str:
         else:
             out.append(f"{f.name}={getattr(params, f.name):g}")
     return ", ".join(out)
+
+
+__all__ = [
+    "subplots",
+    "legend_outside",
+    "params_text",
+]

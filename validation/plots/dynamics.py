@@ -48,7 +48,7 @@ def diagram_lyapunov_figure(dl, fig: str, marks=()):
 
 
 def _crisis_panel(axis, res, key: str, rows: list, name: str) -> None:
-    mu_c = getattr(res, key + "_goy")
+    mu_c = res.goy
     side = -1.0 if key == "r1" else 1.0
     x = np.array([side * (row_[name] - mu_c) for row_ in rows])
     T = np.array([row_["T"] for row_ in rows], float)
@@ -74,8 +74,7 @@ def _crisis_panel(axis, res, key: str, rows: list, name: str) -> None:
     axis.set_xlabel("r1 - r" if key == "r1" else "alpha - alpha1")
     axis.set_ylabel("mean time (impacts)")
     axis.set_title(
-        f"GOY fit {key} = {mu_c:.7g} +- {getattr(res, key + '_goy_err'):.1g}; reported "
-        f"{getattr(res, key):.7g} +- {getattr(res, key + '_err'):.1g}",
+        f"GOY fit {key} = {mu_c:.7g} +- {res.goy_err:.1g}; reported {res.value:.7g} +- {res.err:.1g}",
         fontsize=8,
     )
     axis.legend(fontsize=7)
@@ -109,3 +108,10 @@ def laminar_law_figure(r2, theory: float):
     ax.legend(fontsize=8)
     fg.tight_layout()
     return fg
+
+
+__all__ = [
+    "diagram_lyapunov_figure",
+    "crisis_laws_figure",
+    "laminar_law_figure",
+]

@@ -133,3 +133,12 @@ def branch_figure(branch, param: str, title: str | None = None):
     )
     fig.tight_layout()
     return fig
+
+
+__all__ = [
+    "time_series_figure",
+    "velocity_series_figure",
+    "diagram_figure",
+    "lyapunov_figure",
+    "branch_figure",
+]

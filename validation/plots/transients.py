@@ -139,3 +139,11 @@ def survival_figure(res):
     ax.legend(fontsize=8, loc="upper right")  # N(n) falls from the upper left: the upper right is empty
     fig.tight_layout()
     return fig
+
+
+__all__ = [
+    "NO_COMPARISON",
+    "basins_figure",
+    "uncertainty_figure",
+    "survival_figure",
+]

@@ -253,3 +253,19 @@ def rerender(out_dir: str | Path) -> Path:
     header, sections = sections_from_json(read_json(src), out)
     with outputs("report", out, merge=True):  # the four files together, the manifest updated
         return write_report(out, {**header, "rerendered": {"git_commit": git_commit()}}, sections)
+
+
+__all__ = [
+    "SECTION_KEYS",
+    "section_modules",
+    "PROFILES",
+    "Context",
+    "speed_reference",
+    "environment",
+    "git_commit",
+    "summary_json",
+    "build_report",
+    "compose",
+    "write_report",
+    "rerender",
+]

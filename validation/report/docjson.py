@@ -91,3 +91,10 @@ def sections_from_json(data: dict, out_dir: Path) -> tuple[dict, list[Section]]:
             sec.numbers.append(row(**{k: (_dec(v) if k in _NUMERIC_SPEC else v) for k, v in spec.items()}))
         sections.append(sec)
     return data["header"], sections
+
+
+__all__ = [
+    "DOCUMENT_FORMAT",
+    "document_json",
+    "sections_from_json",
+]

@@ -504,3 +504,29 @@ def render_html(doc: Document) -> str:
         parts += [_html_block(b) for b in s.blocks]
     parts.append("</body></html>")
     return "\n".join(parts)
+
+
+__all__ = [
+    "Outcome",
+    "Number",
+    "Section",
+    "fmt",
+    "check_keys",
+    "verdict_counts",
+    "Mark",
+    "mark",
+    "ours_text",
+    "reason_text",
+    "VERDICT_HEADER",
+    "VERDICT_TITLE",
+    "DETAILS_TITLE",
+    "ABOUT_TITLE",
+    "LEGEND",
+    "verdict_rows",
+    "counts_line",
+    "details_items",
+    "Document",
+    "md_slug",
+    "render_markdown",
+    "render_html",
+]

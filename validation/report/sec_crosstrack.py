@@ -84,3 +84,13 @@ def build(ctx) -> Section:
         )
     )
     return sec
+
+
+__all__ = [
+    "KEY",
+    "TITLE",
+    "TAU_TOL",
+    "JAC_TOL",
+    "GRAZE_DEPTH",
+    "build",
+]

@@ -123,8 +123,8 @@ def build(ctx) -> Section:
     ctx.say("alpha1: escape times from the pre-crisis chaotic set (engine)")
     a1 = locate_alpha1(ctx.profile)
     write_crises(ctx.out_dir / "data" / "dynamics", ctx.profile, r2, r1, a1)
-    dl4 = _diagram(ctx, sec, "Fig. 4", sizes, [("r1", r1.r1), ("r2", r2.r2)])
-    dl8 = _diagram(ctx, sec, "Fig. 8", sizes, [("alpha1", a1.alpha1)])
+    dl4 = _diagram(ctx, sec, "Fig. 4", sizes, [("r1", r1.value), ("r2", r2.r2)])
+    dl8 = _diagram(ctx, sec, "Fig. 8", sizes, [("alpha1", a1.value)])
     l1max = max(dl4.lam1_max, dl8.lam1_max)
     sum_err = float(np.nanmax([dl4.sum_error, dl8.sum_error]))
     sec.p(
@@ -219,7 +219,7 @@ def _time_series(ctx, sec: Section, st: dict, r2, r1, eps: float) -> None:
             )
         else:
             what = (
-                f"r - r1 = {P.r - r1.r1:+.3g} (our r1 = {r1.r1:.7f} +- {r1.r1_err:.7f}); the largest r "
+                f"r - r1 = {P.r - r1.value:+.3g} (our r1 = {r1.value:.7f} +- {r1.err:.7f}); the largest r "
                 f"with band hops observed in the r1 analysis is {r1.lower_bound:.7f}"
             )
         pv = PAPER["r2" if fig == "fig5" else "r2_fig6" if fig == "fig6" else "r1"]
@@ -243,11 +243,11 @@ def _table(sec: Section, branch, r2, r1, a1, a_f9: float) -> None:
                 f"type-I intermittency: slope of mean laminar length vs r - r2 (theory {theory:g})",
                 f"{r2.slope:.3f} +- {r2.slope_err:.3f}",
             ],
-            ["r1: interior crisis (reported: " + _method_text(r1.located) + ")", f"{r1.r1:.7f} +- {r1.r1_err:.7f}"],
-            ["r1: GOY fit of the mean time between band hops", f"{r1.r1_goy:.7f} +- {r1.r1_goy_err:.7f}"],
+            ["r1: interior crisis (reported: " + _method_text(r1.located) + ")", f"{r1.value:.7f} +- {r1.err:.7f}"],
+            ["r1: GOY fit of the mean time between band hops", f"{r1.goy:.7f} +- {r1.goy_err:.7f}"],
             [
                 "r1: fit with the exponent free (exponent)",
-                f"{r1.r1_free:.7f} +- {r1.r1_free_err:.7f} (g = {r1.g_free:.2f} +- {r1.g_free_err:.2f})",
+                f"{r1.free:.7f} +- {r1.free_err:.7f} (g = {r1.g_free:.2f} +- {r1.g_free_err:.2f})",
             ],
             ["r1: GOY exponent of the mediating saddle 6-impact orbit", f"{r1.goy_exponent:.4f}"],
             ["r1: bracket by direct observation (hops seen at / none at)", _bracket_text(r1.bracket, 7)],
@@ -256,14 +256,14 @@ def _table(sec: Section, branch, r2, r1, a1, a_f9: float) -> None:
                 "bound r1)",
                 _window_text(r1.clear_lyapunov),
             ],
-            ["alpha1: crisis (reported: " + _method_text(a1.located) + ")", f"{a1.alpha1:.6f} +- {a1.alpha1_err:.6f}"],
+            ["alpha1: crisis (reported: " + _method_text(a1.located) + ")", f"{a1.value:.6f} +- {a1.err:.6f}"],
             [
                 "alpha1: GOY fit of the mean escape time from the chaotic set",
-                f"{a1.alpha1_goy:.6f} +- {a1.alpha1_goy_err:.6f}",
+                f"{a1.goy:.6f} +- {a1.goy_err:.6f}",
             ],
             [
                 "alpha1: fit with the exponent free (exponent)",
-                f"{a1.alpha1_free:.6f} +- {a1.alpha1_free_err:.6f} (g = {a1.g_free:.2f} +- {a1.g_free_err:.2f})",
+                f"{a1.free:.6f} +- {a1.free_err:.6f} (g = {a1.g_free:.2f} +- {a1.g_free_err:.2f})",
             ],
             ["alpha1: GOY exponent of the saddle 4-impact orbit", f"{a1.goy_exponent:.4f}"],
             ["alpha1: bracket by direct observation (escapes seen at / none at)", _bracket_text(a1.bracket, 6)],
@@ -390,14 +390,14 @@ def _crisis_rows(sec: Section, r1, a1, settle4, a_f9: float) -> None:
         row(
             "r1",
             "r1 (interior crisis, six bands merge, alpha = 3)",
-            float(r1.r1),
-            float(r1.r1_err),
+            float(r1.value),
+            float(r1.err),
             paper="r1",
-            computed_text=f"{r1.r1:.7f}",
+            computed_text=f"{r1.value:.7f}",
             explanation=f"reported: {_method_text(r1.located)}. GOY law T ~ (r1 - r)^(-g) fitted by maximum likelihood to "
             f"the band-hop counts at r = {hop_rs} (g = {r1.goy_exponent:.4f} of the saddle 6-impact orbit): "
-            f"{r1.r1_goy:.7f} +- {r1.r1_goy_err:.1e}, error: statistical {r1.r1_stat:.1e} and fit-range "
-            f"systematic {r1.r1_syst:.1e}; exponent free: {r1.r1_free:.7f} +- {r1.r1_free_err:.1e}; bracket by "
+            f"{r1.goy:.7f} +- {r1.goy_err:.1e}, error: statistical {r1.stat:.1e} and fit-range "
+            f"systematic {r1.syst:.1e}; exponent free: {r1.free:.7f} +- {r1.free_err:.1e}; bracket by "
             f"direct observation {_bracket_text(r1.bracket, 7)}; {_window_text(r1.clear_lyapunov)}; the "
             f"paper's r = {r1.paper_fig7['r']:g} of Fig. 7 lies {r1.paper_fig7['below_r1_by']:.2e} below our r1",
             where=PAPER["r1"].where,
@@ -410,8 +410,8 @@ def _crisis_rows(sec: Section, r1, a1, settle4, a_f9: float) -> None:
         f"{ics.get('probe_n', ics['n'])} in the bracket runs, settled on the attractor at alpha = "
         f"{ics['alpha_ref']:g}) at {len(a1.lifetimes)} values of alpha, mean lifetimes up to "
         f"{a1.T_max_measured:.3g} impacts (g = {a1.goy_exponent:.4f} of the saddle 4-impact orbit): "
-        f"{a1.alpha1_goy:.6f} +- {a1.alpha1_goy_err:.1e}, error: statistical {a1.alpha1_stat:.1e} and fit-range "
-        f"systematic {a1.alpha1_syst:.1e}; exponent free: {a1.alpha1_free:.6f} +- {a1.alpha1_free_err:.1e}; "
+        f"{a1.goy:.6f} +- {a1.goy_err:.1e}, error: statistical {a1.stat:.1e} and fit-range "
+        f"systematic {a1.syst:.1e}; exponent free: {a1.free:.6f} +- {a1.free_err:.1e}; "
         f"bracket by direct observation {_bracket_text(a1.bracket, 6)}. At the paper's alpha1 = {pa['alpha']:g} "
         f"the measured mean lifetime is {pa['T']:.3g} impacts (95%: {pa['lo']:.3g}-{pa['hi']:.3g}): a diagram of "
         f"fewer impacts per parameter value than that sees no escape there. A diagram of "
@@ -422,10 +422,10 @@ def _crisis_rows(sec: Section, r1, a1, settle4, a_f9: float) -> None:
         row(
             "alpha1",
             "alpha1 (crisis of Fig. 8, r = 0.9)",
-            float(a1.alpha1),
-            float(a1.alpha1_err),
+            float(a1.value),
+            float(a1.err),
             paper="alpha1",
-            computed_text=f"{a1.alpha1:.6f}",
+            computed_text=f"{a1.value:.6f}",
             explanation=ex_a1,
             where=PAPER["alpha1"].where,
         )
@@ -434,10 +434,10 @@ def _crisis_rows(sec: Section, r1, a1, settle4, a_f9: float) -> None:
         row(
             "alpha1_fig9",
             "alpha1 against the alpha of Figs. 9-11",
-            float(a1.alpha1),
-            float(a1.alpha1_err),
+            float(a1.value),
+            float(a1.err),
             paper="alpha1_fig9",
-            computed_text=f"{a1.alpha1:.6f}",
+            computed_text=f"{a1.value:.6f}",
             explanation=ex_a1,
             where=PAPER["alpha1_fig9"].where,
         )
@@ -453,3 +453,11 @@ def _crisis_rows(sec: Section, r1, a1, settle4, a_f9: float) -> None:
             where=PAPER["alpha1_impacts_per_period"].where,
         )
     )
+
+
+__all__ = [
+    "KEY",
+    "TITLE",
+    "SUM_RULE_TOL",
+    "build",
+]

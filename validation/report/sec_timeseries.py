@@ -83,3 +83,10 @@ def build(ctx) -> Section:
         "det J = r^2 exp(-beta dt) sdot_n / sdot_{n+1} (docs/model.md); the last column but one checks it."
     )
     return sec
+
+
+__all__ = [
+    "KEY",
+    "TITLE",
+    "build",
+]

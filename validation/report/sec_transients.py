@@ -530,3 +530,13 @@ def release_row(dec: dict, f64: dict, sample, delta: float):
         explanation=expl,
         where="Figs. 9-11 (Section 4)",
     )
+
+
+__all__ = [
+    "KEY",
+    "TITLE",
+    "PHI_KEYS",
+    "WALL_NAMES",
+    "build",
+    "release_row",
+]

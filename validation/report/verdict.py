@@ -301,3 +301,24 @@ def row(
         outcome=v,
         spec=spec,
     )
+
+
+__all__ = [
+    "AGREES",
+    "DISAGREES",
+    "NOT_COMPARED",
+    "VERDICTS",
+    "Z_AGREE",
+    "PASS",
+    "FAIL",
+    "Verdict",
+    "compare_value",
+    "SATISFIED",
+    "VIOLATED",
+    "BOUND_OUTCOMES",
+    "compare_bound",
+    "compare_category",
+    "internal_check",
+    "compare",
+    "row",
+]

@@ -316,3 +316,15 @@ def fit_uncertainty(eps, unc: np.ndarray, n_threshold: int, n_boot: int = 200, s
 
     se_boot = float(_boot_se(_bootstrap(unc, stat, n_boot, seed))[0]) if n_boot >= 2 and P >= 2 else math.nan
     return UncertaintyFit(int(n_threshold), eps, f, float(b), float(se_b), se_boot, float(a), int(P))
+
+
+__all__ = [
+    "survival",
+    "linear_fit",
+    "SurvivalFit",
+    "fit_survival",
+    "UncertaintyFit",
+    "uncertain_fraction",
+    "uncertain_mask",
+    "fit_uncertainty",
+]

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...mapimpl.engine.release import Release, ReleaseSource
+from ...mapimpl.engine.release import TPost, ReleaseSource
 from ...mapimpl.engine.t_post import release_for
 from ..paper import PAPER
 from .analysis import SurvivalFit, fit_survival
@@ -60,7 +60,7 @@ class StickingConventions:
         return next((r for r in self.rows if r.name == SAMPLE), None)
 
 
-def rounding_release(fig11) -> Release:
+def rounding_t_post(fig11) -> TPost:
     """The certified ``T_post`` for the float64-rounded parameters that the Fig. 11 run ``fig11`` was
     given (``transients(float64_rounding=True)``), or certified now at its main delta (the float64 sample
     where that certification is undecided, as for every certified source)."""
@@ -84,8 +84,8 @@ def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> Sticking
     dur, cens = fig11.durations(delta)
     stuck = fig11.composed
     variants = [(OURS, dur, cens)]
-    if fig11.main_release.walls:
-        variants.append((FLOAT64_ROUNDING, *res.duration(release=rounding_release(fig11))))
+    if fig11.main_t_post.walls:
+        variants.append((FLOAT64_ROUNDING, *res.duration(release=rounding_t_post(fig11))))
         variants.append((SAMPLE, *res.duration(delta)))
     variants += [(DECAYED, np.where(stuck, 0, dur), cens & ~stuck), (LEFT_OUT, dur[~stuck], cens[~stuck])]
     rows = [
@@ -105,3 +105,17 @@ def sticking_conventions(fig11, seed: int = 0, n_boot: int = N_BOOT) -> Sticking
     }
     rel_spans = {name: (hi - lo) / lo if lo else float("nan") for name, (lo, hi) in spans.items()}
     return StickingConventions(rows, float(stuck.mean()), spans, rel_spans, between)
+
+
+__all__ = [
+    "OURS",
+    "FLOAT64_ROUNDING",
+    "SAMPLE",
+    "DECAYED",
+    "LEFT_OUT",
+    "N_BOOT",
+    "ConventionFit",
+    "StickingConventions",
+    "rounding_t_post",
+    "sticking_conventions",
+]

@@ -10,17 +10,18 @@ A fit that fails is ``None`` in the result, with its reason in ``notes``.  Run s
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from ...core.checks import MAX_AVERAGED, MAX_ORBITS, check_int
-from ...core.paper import DELTA, DELTAS, PAPER_BOX, PAPER_PARAMS
+import math
+from functools import partial
+
+from ...core.checks import MAX_ORBITS, check_int
+from ...core.paper import DELTA, PAPER_PARAMS
 from ...core.params import Params
+from ...mapimpl.engine.options import EXECUTION_FIELDS, Execution, options_from_keywords
 from ...mapimpl.engine.release import ReleaseSource
 from ...mapimpl.engine.t_post import certified_t_post, release_for
-from ...mapimpl.engine.transients import grid, transient_times
-from ...mapimpl.sticking import STICK_TIME
+from ...mapimpl.engine.transients import TransientSettings, grid, transient_times
 from . import analysis as A
 from ..profiles import get_profile
 from .results import (
@@ -32,12 +33,7 @@ from .results import (
     UncertaintyResult,
     stick_counts,
 )
-
-BASIN_NS = (90, 500, 1000, 2000)
-#: Fig. 9 window: the whole phase circle, 0 < sdot0 < 0.5 (contains the paper's box).
-BASIN_WINDOW = (0.0, 2.0 * math.pi, 0.0, 0.5)
-#: The eps range of Fig. 10 (log-spaced; the number of values is the profile's ``n_eps``).
-EPS_RANGE = (1e-9, 1e-3)
+from .settings import BasinsSettings, SurvivalSettings, UncertaintySettings, settings_from
 
 
 def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
@@ -53,104 +49,84 @@ def _fit_or_note(notes: list, label: str, fit, *args, **kwargs):
 # ------------------------------------------------------------------------------------- Fig. 9
 
 
-def basins_mesh(profile: str, nx: int | None, ny: int | None) -> tuple[int, int]:
-    """The Fig. 9 mesh ``(nx, ny)``: the profile's, ``ny`` with ``nx`` given keeping the profile's ratio
-    ``ny/nx`` (quick 120 x 60: ``nx=121`` gives 121 x 60)."""
-    size = get_profile(profile, "basins")
-    if ny is None:
-        ny = size["ny"] if nx is None else max(1, round(int(nx) * size["ny"] / size["nx"]))
-    return (size["nx"] if nx is None else int(nx)), int(ny)
-
-
 def basins(
-    profile="quick",
-    nx=None,
-    ny=None,
-    window=BASIN_WINDOW,
-    ns=BASIN_NS,
-    delta=DELTA,
+    profile: str = "quick",
     params: Params = PAPER_PARAMS,
-    ic_mode="pre-impact",
-    s0=None,
+    *,
+    settings: BasinsSettings | None = None,
+    execution: Execution | None = None,
     progress=None,
-    lanes=None,
+    **fields,
 ) -> BasinsResult:
     """Fig. 9: durations on an ``nx`` x ``ny`` mesh computed once (cap = max(ns)), thresholded at each
-    n: black = duration < n ("short" transients).  Defaults: the profile's mesh; ``ny`` with ``nx``
-    given keeps the profile's ratio ``ny/nx`` (quick: 120 x 60, so ``nx=121`` gives 121 x 60)."""
-    nx, ny = basins_mesh(profile, nx, ny)
-    ns = tuple(sorted(check_int("ns", n, 1, MAX_AVERAGED) for n in ns))
-    if not ns:
-        raise ValueError(f"ns=() is out of range: allowed one or more integers 1 <= n <= {MAX_AVERAGED}")
-    T, S = grid(window, nx, ny)
+    n: black = duration < n ("short" transients).  ``settings`` (a :class:`~.settings.BasinsSettings`),
+    default :meth:`~.settings.BasinsSettings.of_profile` of ``profile``; its fields may be given as
+    keywords instead or besides (``nx=121``: the profile's ratio ``ny/nx`` kept, 121 x 60 in the quick
+    profile).  ``execution``: lanes, block, chunk, devices (:class:`~gear_rattle.mapimpl.engine.options.Execution`;
+    the old keyword ``lanes`` still works, deprecated)."""
+    s, execution = _settings_and_execution(BasinsSettings, settings, profile, execution, fields, "basins")
+    T, S = grid(s.window, s.nx, s.ny)
     res = transient_times(
-        params,
-        T.ravel(),
-        S.ravel(),
-        ic_mode=ic_mode,
-        s0=s0,
-        delta=delta,
-        deltas=(delta,),
-        cap=ns[-1],
-        progress=progress,
-        label="basins",
-        lanes=lanes,
+        params, T.ravel(), S.ravel(), settings=s.transient, execution=execution, progress=progress, label="basins"
     )
-    rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=get_profile(profile, "confirm"), progress=progress)
+    rel = release_for(res, s.delta, ReleaseSource.CERTIFIED, confirm=s.confirm, progress=progress)
     dur, cens = res.duration(release=rel)
     D = dur.reshape(T.shape)
-    fractions = {int(n): float(np.mean(D < n)) for n in ns}
+    fractions = {int(n): float(np.mean(D < n)) for n in s.ns}
     return BasinsResult(
         params,
-        tuple(window),
-        nx,
-        ny,
-        ns,
-        delta,
-        ic_mode,
+        tuple(s.window),
+        s.nx,
+        s.ny,
+        s.ns,
+        s.delta,
+        s.transient.ic_mode,
         T,
         S,
         D,
         cens.reshape(T.shape),
         fractions,
-        stick_counts(res, delta),
+        stick_counts(res, s.delta),
         rel.info(),
         res,
     )
 
 
+def _settings_and_execution(cls, settings, profile: str, execution, fields: dict, function: str):
+    """The settings (a ``cls``: :func:`.settings.settings_from`) and the execution (:func:`_execution`) of
+    an experiment's call."""
+    execution = _execution(function, execution, fields)
+    return settings_from(cls, settings, profile, fields), execution
+
+
+def _execution(function: str, execution: Execution | None, fields: dict, stacklevel: int = 5) -> Execution:
+    """The execution of an experiment's call: ``execution``, or made from its old keywords ``lanes``,
+    ``block``, ``chunk``, ``devices`` (deprecated; taken out of ``fields``; ``lanes=None`` is the default)."""
+    old = {k: fields.pop(k) for k in EXECUTION_FIELDS if k in fields}
+    if "lanes" in old and old["lanes"] is None:
+        old.pop("lanes")
+    return options_from_keywords(function, old, None, execution, rule_fields=(), stacklevel=stacklevel)[1]
+
+
 # ------------------------------------------------------------------------------------ Fig. 10
 
 
-def default_eps(profile: str, n_eps: int | None = None, lo: float = EPS_RANGE[0], hi: float = EPS_RANGE[1]):
-    """``n_eps`` (default: the profile's) log-spaced eps values from ``lo`` to ``hi``."""
-    n_eps = get_profile(profile, "uncertainty")["n_eps"] if n_eps is None else int(n_eps)
-    return np.logspace(np.log10(lo), np.log10(hi), n_eps)
-
-
 def uncertainty(
-    profile="quick",
-    n_points=None,
-    eps=None,
-    ns=(500, 1000),
-    seed=0,
-    box=PAPER_BOX,
-    delta=DELTA,
+    profile: str = "quick",
     params: Params = PAPER_PARAMS,
-    n_boot=200,
+    *,
+    settings: UncertaintySettings | None = None,
+    execution: Execution | None = None,
     progress=None,
-    lanes=None,
+    **fields,
 ) -> UncertaintyResult:
     """Fig. 10: fraction f(eps) of eps-uncertain points among ``n_points`` random points of ``box``
-    (deterministic ``seed``); B, C = (tau0 +- eps, sdot0).  Fits f ~ eps^phi for each n."""
-    n_points = get_profile(profile, "uncertainty")["n_points"] if n_points is None else int(n_points)
-    eps = default_eps(profile) if eps is None else np.asarray(eps, float)
-    if n_points < 10:
-        raise ValueError(f"n_points={n_points} is out of range: allowed n_points >= 10")
-    if eps.ndim != 1 or eps.size < 3 or np.any(~np.isfinite(eps)) or np.any(eps <= 0) or np.any(eps > 0.1):
-        raise ValueError("eps is out of range: allowed at least 3 values with 0 < eps <= 0.1")
-    ns = tuple(sorted(int(n) for n in ns))
-    rng = np.random.default_rng(seed)
+    (deterministic ``seed``); B, C = (tau0 +- eps, sdot0).  Fits f ~ eps^phi for each n.  ``settings``
+    (a :class:`~.settings.UncertaintySettings`), default :meth:`~.settings.UncertaintySettings.of_profile`
+    of ``profile``, its fields given as keywords instead or besides; ``execution`` as :func:`basins`."""
+    s, execution = _settings_and_execution(UncertaintySettings, settings, profile, execution, fields, "uncertainty")
+    n_points, eps, box = s.n_points, np.asarray(s.eps, float), s.box
+    rng = np.random.default_rng(s.seed)
     tA = rng.uniform(box[0], box[1], n_points)
     sA = rng.uniform(box[2], box[3], n_points)
     sA = np.where(sA == 0.0, box[3] * 1e-12, sA)
@@ -158,9 +134,9 @@ def uncertainty(
     tau = np.concatenate([tA, (tA[:, None] + eps).ravel(), (tA[:, None] - eps).ravel()])
     sd = np.concatenate([sA, np.repeat(sA, E), np.repeat(sA, E)])
     res = transient_times(
-        params, tau, sd, delta=delta, deltas=(delta,), cap=ns[-1], progress=progress, label="uncertainty", lanes=lanes
+        params, tau, sd, settings=s.transient, execution=execution, progress=progress, label="uncertainty"
     )
-    rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=get_profile(profile, "confirm"), progress=progress)
+    rel = release_for(res, s.delta, ReleaseSource.CERTIFIED, confirm=s.confirm, progress=progress)
     dur = res.duration(release=rel)[0]
     dA = dur[:n_points]
     dB = dur[n_points : n_points * (1 + E)].reshape(n_points, E)
@@ -174,40 +150,33 @@ def uncertainty(
             eps,
             A.uncertain_mask(dA, dB, dC, n),
             n,
-            n_boot=n_boot,
-            seed=seed,
+            n_boot=s.n_boot,
+            seed=s.seed,
         )
-        for n in ns
+        for n in s.ns
     }
-    return UncertaintyResult(params, n_points, eps, seed, delta, ns, tA, sA, dA, dB, dC, fits, rel.info(), res, notes)
+    return UncertaintyResult(
+        params, n_points, eps, s.seed, s.delta, s.ns, tA, sA, dA, dB, dC, fits, rel.info(), res, notes
+    )
 
 
 # ------------------------------------------------------------------------------------ Fig. 11
 
 
 def transients(
-    profile="quick",
-    nx=None,
-    ny=None,
-    cap=None,
-    box=PAPER_BOX,
-    delta=DELTA,
-    deltas=DELTAS,
+    profile: str = "quick",
     params: Params = PAPER_PARAMS,
-    ic_mode="pre-impact",
-    s0=None,
-    n_lo=None,
-    n_hi=None,
-    n_boot=200,
-    seed=0,
+    *,
+    settings: SurvivalSettings | None = None,
+    execution: Execution | None = None,
     progress=None,
-    lanes=None,
-    stick_time: float = STICK_TIME,
-    release: ReleaseSource | str = ReleaseSource.CERTIFIED,
-    float64_rounding: bool = False,
+    **fields,
 ) -> SurvivalResult:
     """Fig. 11: survival N(n) on an ``nx`` x ``ny`` mesh of ``box``; Eq. (14) fit for every recorded
-    delta (the dependence on delta).
+    delta (the dependence on delta).  ``settings`` (a :class:`~.settings.SurvivalSettings`), default
+    :meth:`~.settings.SurvivalSettings.of_profile` of ``profile``, its fields given as keywords instead or
+    besides (``nx``, ``cap``, ``deltas``, ``ic_mode``, ``s0``, ``seed``, ``release``, ...); ``execution``
+    as :func:`basins`.
 
     The orbits that stick are composed with their wall's post-release duration, ``first_stick +
     T_post`` (:meth:`~gear_rattle.mapimpl.engine.transients.TransientResult.duration`), from the source
@@ -218,66 +187,37 @@ def transients(
     ``fit_float64_sample`` is the Eq. (14) fit with the sample instead.  ``float64_rounding``: also
     certify ``T_post`` for the float64 roundings of the parameters at the main ``delta`` (reported
     beside, not used for the durations; the report's conventions refit with it)."""
-    release = ReleaseSource.of(release)
-    size = get_profile(profile, "transients")
-    nx = size["n"] if nx is None else int(nx)
-    ny = nx if ny is None else int(ny)
-    cap = size["cap"] if cap is None else int(cap)
-    confirm = get_profile(profile, "confirm")
-    T, S = grid(box, nx, ny)
+    s, execution = _settings_and_execution(SurvivalSettings, settings, profile, execution, fields, "transients")
+    T, S = grid(s.box, s.nx, s.ny)
     res = transient_times(
-        params,
-        T.ravel(),
-        S.ravel(),
-        ic_mode=ic_mode,
-        s0=s0,
-        delta=delta,
-        deltas=deltas,
-        cap=cap,
-        progress=progress,
-        label="transients",
-        lanes=lanes,
-        stick_time=stick_time,
+        params, T.ravel(), S.ravel(), settings=s.transient, execution=execution, progress=progress, label="transients"
     )
-    fit_kw = dict(cap=cap, n_lo=n_lo, n_hi=n_hi, n_boot=n_boot, seed=seed)
     notes: list = []
-    t_post = {
-        float(d): release_for(res, d, release, confirm=confirm, stick_time=stick_time, progress=progress)
-        for d in res.deltas
-    }
+    certify = partial(release_for, res, confirm=s.confirm, stick_time=s.stick_time, progress=progress)
+    t_post = {float(d): certify(d, s.release) for d in res.deltas}
     composed = {d: res.duration(release=r) for d, r in t_post.items()}
     fits = {
-        d: _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **fit_kw)
+        d: _fit_or_note(notes, f"transients: delta={d:g}", A.fit_survival, dur, cens, **s.fit_keywords())
         for d, (dur, cens) in composed.items()
     }
     hit = np.stack([np.where(cens, -1, dur) for dur, cens in composed.values()], axis=1)
     rounding = (
-        release_for(
-            res,
-            delta,
-            ReleaseSource.CERTIFIED_FLOAT64_ROUNDING,
-            deltas=(delta,),
-            confirm=confirm,
-            stick_time=stick_time,
-            progress=progress,
-        )
-        if float64_rounding
-        else None
+        certify(s.delta, ReleaseSource.CERTIFIED_FLOAT64_ROUNDING, deltas=(s.delta,)) if s.float64_rounding else None
     )
-    fit_sample = _fit_or_note([], "", A.fit_survival, *res.duration(delta), **fit_kw)
-    n, N = A.survival(composed[float(res.deltas[res.column(delta)])][0], cap)
+    fit_sample = _fit_or_note([], "", A.fit_survival, *res.duration(s.delta), **s.fit_keywords())
+    n, N = A.survival(composed[float(res.deltas[res.column(s.delta)])][0], s.cap)
     return SurvivalResult(
         params,
-        tuple(box),
-        nx,
-        ny,
-        cap,
-        delta,
-        ic_mode,
-        s0,
-        stick_time,
-        release,
-        confirm,
+        tuple(s.box),
+        s.nx,
+        s.ny,
+        s.cap,
+        s.delta,
+        s.ic_mode,
+        s.s0,
+        s.stick_time,
+        s.release,
+        s.confirm,
         T,
         S,
         hit,
@@ -316,7 +256,8 @@ def stick_time_sensitivity(
     n_boot=100,
     seed=0,
     progress=None,
-    lanes=None,
+    execution: Execution | None = None,
+    **old,
 ) -> StickTimeSensitivity:
     """<n>, kappa and the sticking fraction of Eq. (14) for other values of the chatter threshold
     ``stick_time`` (the predicted accumulation time below which chatter is replaced by sticking,
@@ -324,7 +265,11 @@ def stick_time_sensitivity(
     the certified T_post; every ``stride``-th row and column of its mesh; default: the profile's, 1 in
     the quick profile, 4 in the paper profile -- a 100 x 100 sub-mesh -- to bound the cost).  The run's
     own threshold is taken from its durations (not recomputed); every threshold uses its own certified
-    ``T_post`` (the post-release orbit's sticking decisions depend on it too)."""
+    ``T_post`` (the post-release orbit's sticking decisions depend on it too).  ``execution`` as
+    :func:`basins` (the old keyword ``lanes`` still works, deprecated)."""
+    execution = _execution("stick_time_sensitivity", execution, old, stacklevel=4)
+    if old:
+        raise TypeError(f"stick_time_sensitivity() got an unexpected keyword argument {next(iter(old))!r}")
     stride = (
         get_profile(profile, "stick_time")["stride"] if stride is None else check_int("stride", stride, 1, MAX_ORBITS)
     )
@@ -343,17 +288,15 @@ def stick_time_sensitivity(
         if st == base:
             dur, cens, comp, counts = _base_row_data(fig11, stride, k)
         else:
+            at_st = TransientSettings(delta=delta, deltas=(delta,), cap=cap, stick_time=st)
             res = transient_times(
                 p,
                 T.ravel(),
                 S.ravel(),
-                delta=delta,
-                deltas=(delta,),
-                cap=cap,
+                settings=at_st,
+                execution=execution,
                 progress=progress,
                 label=f"stick_time={st:g}",
-                lanes=lanes,
-                stick_time=st,
             )
             rel = release_for(res, delta, ReleaseSource.CERTIFIED, confirm=confirm, stick_time=st, progress=progress)
             dur, cens = res.duration(release=rel)
@@ -397,3 +340,13 @@ def float64_horizon(
         REL.float64_horizon(lam, delta),
         REL.float64_horizon(lam, 1.0),
     )
+
+
+__all__ = [
+    "basins",
+    "uncertainty",
+    "transients",
+    "STICK_TIMES",
+    "stick_time_sensitivity",
+    "float64_horizon",
+]

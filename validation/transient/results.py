@@ -11,7 +11,7 @@ import numpy as np
 from ...core.outcome import Outcome
 from ...core.params import Params
 from ...core.paper import PAPER_PARAMS
-from ...mapimpl.engine.release import WALLS, Release, ReleaseSource, certified_dict
+from ...mapimpl.engine.release import WALLS, TPost, ReleaseSource, certified_dict
 from ...mapimpl.engine.t_post import decimal_params
 from ...mapimpl.engine.transients import TransientResult
 from ..paper import PAPER
@@ -164,7 +164,7 @@ class SurvivalResult(ComparedWithPaper, Outcome):
     """Fig. 11: the transient durations on an ``nx`` x ``ny`` mesh of ``box`` (``tau0``, ``sdot0`` of
     shape ``(ny, nx)``); ``hit[:, j]``: the duration within ``engine.deltas[j]`` (-1: censored at
     ``cap``), the orbits that stick composed with the post-release duration from ``release`` (the
-    source asked for) -- ``t_post[delta]``: the :class:`~gear_rattle.mapimpl.engine.release.Release`
+    source asked for) -- ``t_post[delta]``: the :class:`~gear_rattle.mapimpl.engine.release.TPost`
     each column was composed with (per wall the value used, its source, the float64 sample);
     ``float64_rounding``: the certified ``T_post`` for the float64 roundings of the parameters at
     ``delta`` (None unless asked for; reported, not used); ``fits[delta]``: the Eq. (14) fit (None if
@@ -188,8 +188,8 @@ class SurvivalResult(ComparedWithPaper, Outcome):
     hit: np.ndarray
     fits: dict
     fit_float64_sample: A.SurvivalFit | None
-    t_post: dict[float, Release]
-    float64_rounding: Release | None
+    t_post: dict[float, TPost]
+    float64_rounding: TPost | None
     n: np.ndarray
     N: np.ndarray
     engine: TransientResult
@@ -201,8 +201,8 @@ class SurvivalResult(ComparedWithPaper, Outcome):
         return self.engine.composed(self.delta)
 
     @property
-    def main_release(self) -> Release:
-        """The :class:`~gear_rattle.mapimpl.engine.release.Release` of the main ``delta``."""
+    def main_t_post(self) -> TPost:
+        """The :class:`~gear_rattle.mapimpl.engine.release.TPost` of the main ``delta``."""
         return self.t_post[float(self.engine.deltas[self.engine.column(self.delta)])]
 
     @property
@@ -398,3 +398,19 @@ class Float64Horizon:
     def fraction_beyond(self, durations) -> float:
         """The fraction of ``durations`` longer than the horizon at ``delta``: samples, not values."""
         return float(np.mean(np.asarray(durations) > self.horizon_delta))
+
+
+__all__ = [
+    "SURVIVAL_ROWS",
+    "stick_counts",
+    "ComparedWithPaper",
+    "BasinsResult",
+    "UncertaintyResult",
+    "SurvivalResult",
+    "paper_setting",
+    "no_comparison",
+    "paper_comparison",
+    "StickTimeRow",
+    "StickTimeSensitivity",
+    "Float64Horizon",
+]

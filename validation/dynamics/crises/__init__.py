@@ -25,7 +25,7 @@ from ....mapimpl.branches import (
 )
 from .r1 import PAPER_R1_FIG7, locate_r1
 from .r2 import PAPER_R2_FIG5, LaminarStats, laminar_statistics, locate_r2
-from .results import Alpha1Result, R1Result, R2Result
+from .results import Alpha1Result, CrisisResult, R1Result, R2Result
 from .stats import (
     Bracket,
     CrisisFit,
@@ -48,6 +48,7 @@ __all__ = [
     "locate_r1",
     "locate_alpha1",
     "R2Result",
+    "CrisisResult",
     "R1Result",
     "Alpha1Result",
     "PAPER_R2_FIG5",

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 from ....mapimpl.engine.observers import Capture
 from ....core.params import Params
 from ....core.status import Status
@@ -44,7 +44,7 @@ from ....mapimpl.branches import ALPHA1_START, four_impact_branch, orbit_on_bran
 from .orbits import Cost, Timer, box_ics, engine_run, orbit_points, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
-from .results import Alpha1Result
+from .results import Alpha1Result, located_fields
 from .stats import LEVEL, bracket, censored_lifetimes, fit_crisis, goy_exponent, locate, next_probes, range_systematic
 from ....core.paper import DELTA, PAPER_PARAMS
 from ...paper import PAPER
@@ -294,7 +294,7 @@ def locate_alpha1(
     ...     "T_deep": 1e3,
     ... }
     >>> res = locate_alpha1(sizes=tiny)
-    >>> bool(1.2420 < res.alpha1 < 1.2450), bool(res.alpha_sn < res.alpha1)
+    >>> bool(1.2420 < res.value < 1.2450), bool(res.alpha_sn < res.value)
     (True, True)
     """
     pr = get_profile(profile, "alpha1", sizes)
@@ -322,20 +322,7 @@ def locate_alpha1(
     table = _lifetime_table(rows)
     finite_T = [x["T"] for x in table if x["events"] > 0]
     return Alpha1Result(
-        alpha1=where.value,
-        alpha1_err=where.err,
-        method=where.method,
-        located=where,
-        alpha1_goy=goy.mu_c,
-        alpha1_goy_err=total,
-        alpha1_stat=goy.err,
-        alpha1_syst=syst_goy,
-        alpha1_free=free.mu_c,
-        alpha1_free_err=math.hypot(free.err, syst_free),
-        g_free=free.g,
-        g_free_err=free.g_err,
-        fit_goy=goy,
-        fit_free=free,
+        **located_fields(where, goy, free, syst_goy, syst_free),
         subranges_goy=sub_goy,
         subranges_free=sub_free,
         goy_exponent=g,
@@ -355,3 +342,16 @@ def locate_alpha1(
         cost=cost.as_dict(),
         profile=_label(profile, sizes),
     )
+
+
+__all__ = [
+    "PAPER_ALPHA1",
+    "APPROACH",
+    "N0",
+    "DIAGRAM_IMPACTS",
+    "DEEP_AIM",
+    "nodes",
+    "attractor_ics",
+    "lifetimes",
+    "locate_alpha1",
+]

@@ -178,3 +178,16 @@ def locate(fit_mu: float, fit_err: float, brk: Bracket, margin: float = 0.0) -> 
     if half < fit_err:
         return Located(mid, half, "bracket", float(outside), interval, WHY_BRACKET_NARROWER)
     return Located(float(fit_mu), float(fit_err), "fit", float(outside), interval, WHY_FIT_NARROWER)
+
+
+__all__ = [
+    "Bracket",
+    "bracket",
+    "next_probes",
+    "Located",
+    "WHY_NO_BRACKET",
+    "WHY_FIT_NARROWER",
+    "WHY_BRACKET_NARROWER",
+    "WHY_FIT_OUTSIDE",
+    "locate",
+]

@@ -276,3 +276,12 @@ def fit_power_law(x, y, yerr) -> tuple[float, float, float, float]:
     p, cov = optimize.curve_fit(lambda t, a, b: a + b * t, lx, ly, p0=(ly.mean(), 0.0), sigma=s, absolute_sigma=True)
     chi2 = float(np.sum(((ly - p[0] - p[1] * lx) / s) ** 2) / max(ok.sum() - 2, 1))
     return float(p[1]), float(np.sqrt(cov[1, 1] * max(chi2, 1.0))), float(p[0]), chi2
+
+
+__all__ = [
+    "CrisisFit",
+    "fit_crisis",
+    "fit_crisis_fixed",
+    "range_systematic",
+    "fit_power_law",
+]

@@ -184,3 +184,18 @@ def goy_exponent(multipliers) -> float:
     if m.size != 2 or not (0.0 < m[0] < 1.0 < m[1]):
         raise ValueError(f"multipliers {multipliers!r} are out of range: allowed a saddle (0 < |m_s| < 1 < |m_u|)")
     return float(0.5 + np.log(m[1]) / abs(np.log(m[0])))
+
+
+__all__ = [
+    "LEVEL",
+    "SIDES",
+    "check_level",
+    "check_side",
+    "check_counts",
+    "MeanTime",
+    "lifetime_lower_bound",
+    "pearson_dispersion",
+    "mean_time",
+    "censored_lifetimes",
+    "goy_exponent",
+]

@@ -18,9 +18,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 import jax
 from ....mapimpl.engine.driver import EngineResult, run
+from ....mapimpl.engine.options import Execution
 from ....core.params import ParamArrays, Params, param_arrays
 from ....mapimpl.periodic import PeriodicOrbit
 from ....core.checks import check_int
@@ -91,7 +92,8 @@ def engine_run(
     if lanes is None:
         lanes = 512 if jax.default_backend() == "cpu" else 65536
     w0, c0 = time.perf_counter(), time.process_time()
-    res = run(theta, sdot, wall, params, observers, cap=cap, lanes=lanes, progress=progress, label=label)
+    execution = Execution(lanes=lanes)
+    res = run(theta, sdot, wall, params, observers, cap=cap, execution=execution, progress=progress, label=label)
     if cost is not None:
         cost.add(label, res.impacts, time.perf_counter() - w0, time.process_time() - c0)
     return res
@@ -120,3 +122,14 @@ def orbit_points(orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     th = np.concatenate([np.mod(np.asarray(o.theta, float), 2 * np.pi) for o in orbits])
     sd = np.concatenate([np.asarray(o.sdot, float) for o in orbits])
     return th, sd, np.where(sd > 0, 0, -1).astype(np.int32)
+
+
+__all__ = [
+    "BOX",
+    "Cost",
+    "Timer",
+    "engine_run",
+    "per_orbit",
+    "box_ics",
+    "orbit_points",
+]

@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 from ....mapimpl.engine.exponents import exponents
 from ....mapimpl.engine.observers import BandEscape, Sample, Tangent
 from ....core.params import Params
@@ -39,7 +39,7 @@ from ....mapimpl.branches import R2_START, orbit_on_branch, six_impact_branch
 from .orbits import Cost, Timer, box_ics, engine_run, per_orbit
 from ....core.checks import check_int
 from ...profiles import get_profile, label as _label
-from .results import R1Result
+from .results import R1Result, located_fields
 from .stats import LEVEL, Bracket, bracket, fit_crisis, goy_exponent, locate, mean_time, next_probes, range_systematic
 from ...paper import PAPER
 
@@ -221,7 +221,7 @@ def locate_r1(
     ...     "lyap_n": 1000,
     ... }
     >>> res = locate_r1(sizes=tiny)
-    >>> bool(0.740 < res.r1 < 0.742), res.method in ("fit", "bracket"), len(res.hops) >= 3
+    >>> bool(0.740 < res.value < 0.742), res.method in ("fit", "bracket"), len(res.hops) >= 3
     (True, True, True)
     """
     pr = get_profile(profile, "r1", sizes)
@@ -284,20 +284,7 @@ def locate_r1(
         np.concatenate([x["hops"] for x in seen]), np.concatenate([x["exposure"] for x in seen]), overdispersed=True
     )
     return R1Result(
-        r1=where.value,
-        r1_err=where.err,
-        method=where.method,
-        located=where,
-        r1_goy=goy.mu_c,
-        r1_goy_err=total,
-        r1_stat=goy.err,
-        r1_syst=syst_goy,
-        r1_free=free.mu_c,
-        r1_free_err=math.hypot(free.err, syst_free),
-        g_free=free.g,
-        g_free_err=free.g_err,
-        fit_goy=goy,
-        fit_free=free,
+        **located_fields(where, goy, free, syst_goy, syst_free),
         subranges_goy=sub_goy,
         subranges_free=sub_free,
         goy_exponent=g,
@@ -315,3 +302,16 @@ def locate_r1(
         cost=cost.as_dict(),
         profile=_label(profile, sizes),
     )
+
+
+__all__ = [
+    "PAPER_R1_FIG7",
+    "BANDS",
+    "THRESHOLD",
+    "MIN_INSIDE",
+    "N0",
+    "band_ics",
+    "hop_counts",
+    "lyapunov_at",
+    "locate_r1",
+]

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ....core import _jax  # noqa: F401
+from ....core import jax_config  # noqa: F401
 from ....mapimpl.engine.observers import Laminar
 from ....core.params import Params
 from ....mapimpl.continuation import orbit_states
@@ -187,3 +187,15 @@ def certified_r2(fold) -> CertifiedR2:
         lo_f = lo_f if lo_f <= lo else math.nextafter(lo_f, -math.inf)
         hi_f = hi_f if hi_f >= hi else math.nextafter(hi_f, math.inf)
         return CertifiedR2(lo_f, hi_f, float(b.value.mid()), float(hi - lo), decimal_interval(b.value, DIGITS))
+
+
+__all__ = [
+    "PAPER_R2_FIG5",
+    "EPS",
+    "MIN_LENGTH",
+    "laminar_statistics",
+    "locate_r2",
+    "CertifiedR2",
+    "DIGITS",
+    "certified_r2",
+]

@@ -42,6 +42,13 @@ def check_common(args: argparse.Namespace) -> None:
     check_outputs(args)
 
 
+def execution_of(args: argparse.Namespace):
+    """The engine's :class:`~gear_rattle.mapimpl.engine.options.Execution` of ``--lanes``."""
+    from ...mapimpl.engine.options import Execution
+
+    return Execution(lanes=args.lanes)
+
+
 def _fmt(x, spec: str = ".4g") -> str:
     return "n/a" if x is None else format(x, spec)
 
@@ -98,3 +105,13 @@ def print_summary(summary: dict, notes=(), files=()) -> None:
         f"impacts/s), orbits with sticking: {e.get('orbits_with_sticking')}"
     )
     print_result({k: v for k, v in summary.items() if k != "engine"}, human_lines(summary), files)
+
+
+__all__ = [
+    "MAX_LANES",
+    "add_common",
+    "check_common",
+    "execution_of",
+    "human_lines",
+    "print_summary",
+]

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..core import _jax  # noqa: F401  (float64)
+from ..core import jax_config  # noqa: F401  (float64)
 import jax
 
 from ..core.state import Array, MapState
@@ -165,3 +165,17 @@ class TrajectoryRecorder:
             ),
         )
         return sequence_from_states(params, self.first, traj, track=track, meta=meta)
+
+
+__all__ = [
+    "TWO_PI",
+    "forcing_rhs",
+    "reduce_phase",
+    "check_option",
+    "validate_start",
+    "stick_decision",
+    "release_start",
+    "StepInfo",
+    "Trajectory",
+    "TrajectoryRecorder",
+]
