@@ -31,6 +31,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from .errors import InputTypeError
+
 #: Impacts of one orbit kept in memory (``gr.orbit``, ``map_orbit``, the numerical tracks, the certified
 #: orbit): ~1 GB of events at most.
 MAX_IMPACTS = 10_000_000
@@ -58,12 +60,6 @@ MAX_TOTAL = 2**53
 
 #: Smallest tolerance accepted: a residual of float64 states of size ~2 pi cannot be asked below ~1e-15.
 TOL_FLOOR = 1e-15
-
-
-class InputTypeError(TypeError, ValueError):
-    """A value of the wrong type (a str, None or a bool where a number is meant; a nested list where a
-    scalar is meant).  A ``TypeError``, and also a ``ValueError`` so that a caller which reports bad
-    input by catching ``ValueError`` (the command line) reports it too."""
 
 
 def _range(lo: float, hi: float, name: str, lo_open: bool = False, hi_open: bool = False) -> str:

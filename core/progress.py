@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from .checks import InputTypeError
+from .errors import InputTypeError
 
 #: :func:`wanted`'s answer for ``progress=None``: a bar on a terminal only.
 TERMINAL = "terminal"

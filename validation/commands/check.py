@@ -251,11 +251,13 @@ def run(args: argparse.Namespace) -> int:
         read_sequence,
         score_sequence,
     )
-    from ._check_suite import export_suite, suite_version
-
     if args.suite_version:
+        from ._check_suite import suite_version
+
         return suite_version(args, suite_header)
     if args.export_suite is not None:
+        from ._check_suite import export_suite
+
         return export_suite(args, suite_header)
     _run_options(args)
     if args.orbits:
