@@ -48,7 +48,7 @@ from ..core.checks import TAU0_MAX, check_array, check_int, start_wall
 from ..core.params import ParamArrays, Params
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
-from ..mapimpl.sticking import decide_stick, released_turns
+from ..mapimpl.sticking import STICK_TIME, check_stick_time, decide_stick, released_turns, stick_time_meta
 from . import events as ev
 from ._common import StepInfo, Trajectory, check_option, forcing_rhs, validate_start
 from .events import MAX_SEGMENTS, T_MAX
@@ -278,12 +278,13 @@ def _start(wall, stick, sd, r):
     return v0, ev.restart_direction(wall, v0)
 
 
-def step(state: MapState, p: ParamArrays, opts: Options = Options()):
-    """One impact-to-impact step by integration (reset Eq. 11 or the shared sticking policy, then a
-    numerically integrated flight).  Scalar state; terminal states are returned unchanged."""
+def step(state: MapState, p: ParamArrays, opts: Options = Options(), stick_time=STICK_TIME):
+    """One impact-to-impact step by integration (reset Eq. 11 or the shared sticking policy with the
+    threshold ``stick_time``, traced, then a numerically integrated flight).  Scalar state; terminal states
+    are returned unchanged."""
     alpha, beta, gamma, r = p
     th, wall, sd = state.theta, state.wall, state.sdot
-    dec = decide_stick(th, wall, sd, alpha, beta, gamma, r)
+    dec = decide_stick(th, wall, sd, alpha, beta, gamma, r, stick_time)
     never = dec.stick & ~jnp.isfinite(dec.delay)
     released = dec.stick & ~never
     delay = jnp.where(released, dec.delay, 0.0)
@@ -316,9 +317,9 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     return new, info
 
 
-def _scan(state: MapState, p: ParamArrays, n: int, opts: Options) -> Trajectory:
+def _scan(state: MapState, p: ParamArrays, n: int, opts: Options, stick_time=STICK_TIME) -> Trajectory:
     def body(s, _):
-        s1, info = step(s, p, opts)
+        s1, info = step(s, p, opts, stick_time)
         return s1, (s1, info)
 
     _, (states, infos) = jax.lax.scan(body, state, None, length=n)
@@ -326,9 +327,10 @@ def _scan(state: MapState, p: ParamArrays, n: int, opts: Options) -> Trajectory:
 
 
 @partial(jax.jit, static_argnums=(2, 3))
-def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
-    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled."""
-    return _scan(state, p, n, opts)
+def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options(), stick_time=STICK_TIME) -> Trajectory:
+    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled (``stick_time``
+    traced: one compilation serves every threshold)."""
+    return _scan(state, p, n, opts, stick_time)
 
 
 @partial(jax.jit, static_argnums=(2, 3))
@@ -373,19 +375,21 @@ def orbit(
     t_max: float = T_MAX,
     max_steps: int = MAX_STEPS,
     progress=None,
+    stick_time: float = STICK_TIME,
 ) -> ImpactSequence:
     """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
 
-    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`; runs in chunks of
-    :data:`CHUNK` impacts like it (interruptible with Ctrl-C, the same result as one scan), with the
-    same ``progress``.
+    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit` (``stick_time``: the
+    sticking policy's threshold, ``0 <= stick_time <= 1e-2``); runs in chunks of :data:`CHUNK` impacts
+    like it (interruptible with Ctrl-C, the same result as one scan), with the same ``progress``.
     """
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
+    stick_time = check_stick_time(stick_time)
     opts = options(rtol, atol, dtmax, t_max, max_steps)
     first = _initial(params, tau0, sdot0, s0, opts)
     # in chunks of CHUNK impacts (Ctrl-C acts between them), bitwise the same as one scan of n steps
     traj = run_in_chunks(
-        lambda s, p, length: iterate(s, p, length, opts),
+        lambda s, p, length: iterate(s, p, length, opts, stick_time),
         first,
         params,
         n,
@@ -403,6 +407,7 @@ def orbit(
         "atol": opts.atol,
         "dtmax": opts.dtmax,
         "t_max": opts.t_max,
+        **stick_time_meta(stick_time),
     }
     return sequence_from_states(params, first, traj, track="diffrax", meta=meta)
 

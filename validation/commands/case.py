@@ -25,6 +25,7 @@ HELP = "build a certified golden-format case (or a whole suite, --from) for your
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..golden.ondemand import MAX_CASE_IMPACTS, TOLERANCE_LIMIT
+    from ...mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 
     g = p.add_argument_group("one input (or --from)")
     g.add_argument(
@@ -80,10 +81,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--stick-time",
-        type=real("--stick-time", lo=0.0, hi=1.0),
+        type=real("--stick-time", lo=0.0, hi=MAX_STICK_TIME),
         default=None,
         metavar="T",
-        help="the sticking policy's threshold STICK_TIME, 0 <= T <= 1 (default 1e-6)",
+        help=f"the sticking policy's threshold, 0 <= T <= {MAX_STICK_TIME:g} (default {STICK_TIME:g}; "
+        "every track takes it)",
     )
     g.add_argument(
         "--id", default=None, help="case id: the folder name under SUITE (no default: required without --from)"

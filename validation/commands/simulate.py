@@ -43,6 +43,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     # command line imports every command's module to list it)
     from ...mapimpl.certified.balls import MAX_PREC
     from ...mapimpl.certified.track import MAX_TRACK_PREC
+    from ...mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 
     add_param_args(p)
     add_start_args(p, s0="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
@@ -57,6 +58,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         choices=("map", "scipy", "diffrax", "certified"),
         default="map",
         help="which track computes the orbit (default map; certified: every row proven, with float64 bounds)",
+    )
+    p.add_argument(
+        "--stick-time",
+        type=real("--stick-time", lo=0.0, hi=MAX_STICK_TIME),
+        default=STICK_TIME,
+        metavar="T",
+        help=f"the sticking policy's threshold: a chatter whose predicted accumulation time is at most T sticks "
+        f"to the wall, 0 <= T <= {MAX_STICK_TIME:g} (default {STICK_TIME:g}; every track)",
     )
     p.add_argument(
         "--max-precision",
@@ -84,7 +93,16 @@ def run(args: argparse.Namespace) -> int:
     check_start_args(args)
     if args.track == "certified":
         return _run_certified(args, params)
-    seq = orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, track=args.track, progress=progress_arg(args))
+    seq = orbit(
+        params,
+        args.tau0,
+        args.sdot0,
+        args.impacts,
+        s0=args.s0,
+        track=args.track,
+        stick_time=args.stick_time,
+        progress=progress_arg(args),
+    )
     _finish(args, seq)
     return 0
 
@@ -116,7 +134,14 @@ def _run_certified(args: argparse.Namespace, params) -> int:
 
     limit = MAX_TRACK_PREC if args.max_precision is None else args.max_precision
     run = certified_orbit(
-        params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit, progress=progress_arg(args)
+        params,
+        args.tau0,
+        args.sdot0,
+        args.impacts,
+        s0=args.s0,
+        stick_time=args.stick_time,
+        max_prec=limit,
+        progress=progress_arg(args),
     )
     seq = run.sequence()
     if run.complete:

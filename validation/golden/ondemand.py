@@ -42,7 +42,7 @@ from pathlib import Path
 from ...core.checks import check_int, check_real
 from ...core.params import PARAM_NAMES, RANGES, Params, check_value
 from ...mapimpl import certified as cert
-from ...mapimpl.sticking import STICK_TIME
+from ...mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 from . import generate
 from .catalog import INDEX_NAME, build_index
 from .conditioning import round_up_1
@@ -132,7 +132,13 @@ def case_input(id: str, alpha, beta, gamma, r, tau0, sdot0, impacts, s0=None, st
     st = (
         STICK_TIME
         if stick_time is None
-        else _finite("stick_time", stick_time, 0.0, 1.0, "a finite number 0 <= stick_time <= 1")
+        else _finite(
+            "stick_time",
+            stick_time,
+            0.0,
+            MAX_STICK_TIME,
+            f"a finite number 0 <= stick_time <= {MAX_STICK_TIME:g} (mapimpl.sticking.MAX_STICK_TIME)",
+        )
     )
     return CaseInput(id, params, tau0, sdot0, n, s0, st)
 
