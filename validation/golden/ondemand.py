@@ -40,6 +40,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ...core.checks import check_int, check_real
+from ...core.horizons import T_MAX
 from ...core.params import PARAM_NAMES, RANGES, Params, check_value
 from ...mapimpl import certified as cert
 from ...mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
@@ -280,7 +281,7 @@ TURN_SAMPLES = 257
 _FLIGHT: list = []  # the flight's (ds, v) at TURN_SAMPLES times, compiled once
 
 
-def _turns(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float:
+def turning_gap(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float:
     """The smallest distance to a wall at which the flight from ``(th0, s_start, v0)`` turns back before
     ``dt`` (interior extrema of ``s``, located by three rounds of :data:`TURN_SAMPLES` samples: the float64
     closed form, Eqs. 7-8); ``inf`` without a turning point."""
@@ -336,7 +337,7 @@ def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int,
             )
         if start is not None:
             dt = tau - start[2]
-            gap = _turns(p, start[0], start[1], start[3], dt)
+            gap = turning_gap(p, start[0], start[1], start[3], dt)
             e = POSITION_STEP + FLIGHT_ERROR * flight_height(p, start[0], start[1], dt)
             if gap < NEAR_MISS_SAFETY * e:
                 return int(rows.n[i]), (
@@ -389,6 +390,7 @@ def _certify(inp: CaseInput, n: int, prec: int) -> tuple[cert.CertifiedOrbit | N
         prec=run.precision,
         stick_time=inp.stick_time,
         radius_limit=generate.RADIUS_FRACTION * generate.TOL["tau"]["abs"],
+        t_max=T_MAX,  # the orbit's horizon, the certified track's (a flight of 400 ... 2000 lands: a row)
     )
     if last < 0:
         return None, run.reason
