@@ -21,7 +21,9 @@ the correct one's by more than that factor fails.  An impact that cannot be cert
 balls cannot separate, a flight longer than ``T_MAX`` that is not proven to never land) ends the case
 in the same way, at the last certified impact; so does a flight that turns back closer to a wall than
 :data:`NEAR_MISS_SAFETY` times the gap error of a correct implementation (:func:`near_miss_limit`: it may
-take such a near miss for a contact).
+take such a near miss for a contact).  A case does not ask a sticking decision that an output within its own
+tolerances could take the other way either: it stops at that impact (the sticking-decision rule,
+:func:`decisions.doubtful_decision`).
 
 :func:`build_user_cases` builds many (``--from FILE``: one process, the JAX functions of the
 amplification rule compiled once), :func:`write_user_case` writes a folder and :func:`update_index`
@@ -48,6 +50,7 @@ from . import generate
 from .catalog import INDEX_NAME, build_index
 from .conditioning import round_up_1
 from .contacts import GAP_BUDGET
+from .decisions import doubtful_decision
 
 #: Every tolerance of a generated case lies below this (module docstring).
 TOLERANCE_LIMIT = 1e-6
@@ -480,6 +483,11 @@ def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
     kept = _last_impact(orb) if reason else inp.impacts
     # the rules do not depend on the length asked for: the orbit's spec serves unless it was cut since
     spec = replace(ruled, n_impacts=kept) if not over else ruled_spec(_spec(inp, kept), orb)
+    doubt = doubtful_decision(spec, orb)
+    if doubt is not None:  # the sticking-decision rule: the longest prefix whose decisions are clear
+        kept, reason = _clear_prefix(inp, orb, doubt, _last_impact(orb))
+        orb = _prefix(orb, kept)
+        spec = ruled_spec(_spec(inp, kept), orb)
     truncation = None
     if reason:
         truncation = {
@@ -500,6 +508,24 @@ def build_user_case(inp: CaseInput, prec: int = cert.PREC) -> UserCase:
     prov = generate.provenance_json(spec, orb, radii, None)
     prov["generator"] = "gear-rattle case"
     return UserCase(inp, settings, text, prov, truncation)
+
+
+def _clear_prefix(inp: CaseInput, orb: cert.CertifiedOrbit, doubt: tuple[int, str], hi: int) -> tuple[int, str]:
+    """The longest prefix ``doubt[0] <= k <= hi`` (``hi``: the orbit's last impact) of ``orb`` whose asked
+    sticking decisions are clear under its own tolerances (:func:`decisions.doubtful_decision`), and the note
+    of the decision that ends it.  Prefix ``doubt[0]`` is clear (its tolerances are at most the whole case's,
+    under which every decision before that impact was), the whole orbit is not, and a longer prefix has
+    larger tolerances and more decisions: bisection.  (With a tolerance per row, set by the rows before it,
+    the first doubt would be final.)"""
+    lo, note = doubt
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        d = doubtful_decision(ruled_spec(_spec(inp, mid), _prefix(orb, mid)), _prefix(orb, mid))
+        if d is None:
+            lo = mid
+        else:
+            hi, note = mid, d[1]
+    return lo, note
 
 
 def _level_and_catches(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int, list[str]]:
