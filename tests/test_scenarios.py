@@ -170,3 +170,13 @@ def test_velocity_scale():
     assert S.velocity_scale(Params(3.0, 0.1, 0.1, 0.9)) == 3.0
     assert S.velocity_scale(Params(0.0, 1e4, 0.0, 0.9)) == 1e4
     assert S.velocity_scale(Params(0.0, 0.1, -2e6, 0.9)) == 2e3
+
+
+def test_the_wide_scenarios_draw_no_stiff_long_flight():
+    """Heavy damping and a slow drift: a first flight of 781 time units at beta = 3010 (our scipy track took
+    189 s on it, found by a fuzz run) is stiff; the wide scenarios skip such inputs, and build others."""
+    slow = ondemand.case_input("s", 0.01259, 3010.0, -0.02913, 0.464, 2.3071071, -191.0, 36, stick_time=3.03e-6)
+    assert S.stiff(slow)
+    assert not S.stiff(ondemand.case_input("f", 3.0, 1e4, 0.1, 0.9, 1.0, 5e4, 40))
+    built = [S.construct(r, f"w{k}") for k, r in enumerate(S.draw_recipes(4500137, 12, ["wide-chatter"]))]
+    assert any(b is not None for b in built) and not any(S.stiff(b) for b in built if b is not None)

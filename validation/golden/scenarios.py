@@ -198,6 +198,28 @@ def _input(id: str, p: Params | tuple, tau0: float, sdot0: float, g: dict, s0: f
         return None
 
 
+#: Largest ``beta`` times the longest flight of a ``wide-*`` input (the orbit of the map track): Eq. (3) is stiff
+#: where that is large -- an explicit integrator needs ~``beta`` steps per unit of time -- and such an orbit
+#: took our scipy track minutes (beta = 3010, alpha = 0.0126, gamma = -0.029: a first flight of 781 time
+#: units, 189 s; diffrax 55 s).  Not drawn: docs/golden.md, "What it cannot reach".
+STIFFNESS_LIMIT = 1e4
+
+
+def stiff(inp: CaseInput) -> bool:
+    """Whether a flight of the input's orbit (the map track's) lasts longer than ``STIFFNESS_LIMIT / beta``."""
+    from ...mapimpl.orbit import map_orbit
+
+    seq = map_orbit(inp.params, inp.tau0, inp.sdot0, inp.impacts, s0=inp.s0, progress=False, stick_time=inp.stick_time)
+    taus = [inp.tau0, *seq.tau.tolist()] if inp.s0 is not None else seq.tau.tolist()
+    longest = max((b - a for a, b in zip(taus, taus[1:])), default=0.0)
+    return inp.params.beta * longest > STIFFNESS_LIMIT
+
+
+def _tractable(inp: CaseInput | None) -> CaseInput | None:
+    """``inp`` unless it is :func:`stiff` (or ``None``)."""
+    return None if inp is None or stiff(inp) else inp
+
+
 _FIRST: list[Callable] = []  # the jitted first-impact finder, compiled on first use
 
 
@@ -415,7 +437,7 @@ def _wide_generic(g: dict, id: str) -> CaseInput | None:
     """Any parameters of the box, a start at any phase up to ``tau0 = 1e6``, speeds scaled to the model's."""
     p = _wide_params(g)
     sdot0 = _g(g["sign"] * g["speed"] * velocity_scale(Params(*p)), 4)
-    return _input(id, p, _g(g["tau0"], 6), sdot0, g)
+    return _tractable(_input(id, p, _g(g["tau0"], 6), sdot0, g))
 
 
 def _wide_graze(g: dict, id: str) -> CaseInput | None:
@@ -424,7 +446,7 @@ def _wide_graze(g: dict, id: str) -> CaseInput | None:
     scale = velocity_scale(p)
     # post-impact speeds 1e-4 ... 7e3 times the model's (a scan of 40 speeds): where it lies varies most here
     sdot0 = graze_sdot0(p, tau0, g["sign"], g["target"] * scale, 0.01 * scale / p.r, 40)
-    return None if sdot0 is None else _input(id, p, tau0, sdot0, g)
+    return None if sdot0 is None else _tractable(_input(id, p, tau0, sdot0, g))
 
 
 def _wide_chatter(g: dict, id: str) -> CaseInput | None:
@@ -435,7 +457,7 @@ def _wide_chatter(g: dict, id: str) -> CaseInput | None:
     phase = pressing_phase(p, wall, g["frac"])
     if phase is None:
         return None
-    return _input(id, p, phase, (1 if wall == 0 else -1) * _g(g["speed"] * velocity_scale(p), 3), g)
+    return _tractable(_input(id, p, phase, (1 if wall == 0 else -1) * _g(g["speed"] * velocity_scale(p), 3), g))
 
 
 def _long_flight(g: dict, id: str) -> CaseInput | None:
@@ -752,5 +774,7 @@ __all__ = [
     "threshold",
     "pressing_phase",
     "velocity_scale",
+    "stiff",
+    "STIFFNESS_LIMIT",
     "describe",
 ]
