@@ -277,17 +277,32 @@ def ruled_spec(spec: generate.Spec, orb: cert.CertifiedOrbit) -> generate.Spec:
 #: case stops before the impact that ends such a flight (the near-miss rule; the shipped near misses lie at
 #: 20 000 e, 1000 e and 9.9 e).
 NEAR_MISS_SAFETY = 10.0
-#: Samples of a flight per refinement when its turning points are searched (three refinements).
-TURN_SAMPLES = 257
+#: Samples of a flight per refinement when its turning points are searched (three refinements), and per unit of
+#: time in the first round (at least :data:`TURN_SAMPLES`; the forcing's period is 2 pi).
+TURN_SAMPLES, TURN_SAMPLES_PER_UNIT = 257, 64
 
 
 _FLIGHT: list = []  # the flight's (ds, v) at TURN_SAMPLES times, compiled once
 
 
+def turn_grid(dt: float, departure: bool = True):
+    """The first round's sample times of a flight of ``dt``: :data:`TURN_SAMPLES_PER_UNIT` per unit of time (a
+    long flight oscillates with the forcing) and, for a ``departure`` with a speed (after an impact), ``dt 2^-k``
+    for k = 1 ... 64 (a slow departure against a weakening force turns back twice within 1e-6 of its start: a
+    257-point grid saw neither turning point of a flight that came back within 1.6e-19 of its start wall,
+    found by ``gear-rattle fuzz``).  Not after a release from rest: there the force vanishes to rounding and
+    ``sdot`` dips to ~-1e-31 just after the start, no turning point of the model."""
+    import numpy as np
+
+    n = max(TURN_SAMPLES, int(math.ceil(dt * TURN_SAMPLES_PER_UNIT)))
+    early = dt * 2.0 ** -np.arange(64.0, 0.0, -1.0) if departure else np.zeros(0)
+    return np.unique(np.concatenate([early, np.linspace(0.0, dt, n)]))
+
+
 def turning_gap(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float:
     """The smallest distance to a wall at which the flight from ``(th0, s_start, v0)`` turns back before
-    ``dt`` (interior extrema of ``s``, located by three rounds of :data:`TURN_SAMPLES` samples: the float64
-    closed form, Eqs. 7-8); ``inf`` without a turning point."""
+    ``dt`` (interior extrema of ``s``, located on :func:`turn_grid` and two refinements of
+    :data:`TURN_SAMPLES` samples: the float64 closed form, Eqs. 7-8); ``inf`` without a turning point."""
     import numpy as np
 
     if not _FLIGHT:
@@ -297,17 +312,24 @@ def turning_gap(p: Params, th0: float, v0: float, s_start: float, dt: float) -> 
 
         _FLIGHT.append(jax.jit(lambda t, th, v, a, b, g: (flight(t, th, v, a, b, g).ds, flight(t, th, v, a, b, g).v)))
 
-    def sample(a: float, b: float):
-        t = np.linspace(a, b, TURN_SAMPLES)
-        ds, v = _FLIGHT[0](t, th0, v0, p.alpha, p.beta, p.gamma)
-        return t, s_start + np.asarray(ds), np.asarray(v)
+    def at(t):
+        """``(t, s, v)`` at the times ``t``, in chunks of TURN_SAMPLES (one compiled shape)."""
+        ds, vs = [], []
+        for k in range(0, len(t), TURN_SAMPLES):
+            chunk = t[k : k + TURN_SAMPLES]
+            d, w = _FLIGHT[0](
+                np.pad(chunk, (0, TURN_SAMPLES - len(chunk)), mode="edge"), th0, v0, p.alpha, p.beta, p.gamma
+            )
+            ds.append(np.asarray(d)[: len(chunk)])
+            vs.append(np.asarray(w)[: len(chunk)])
+        return t, s_start + np.concatenate(ds), np.concatenate(vs)
 
-    t, s, v = sample(0.0, dt)
+    t, s, v = at(turn_grid(dt, v0 != 0))
     best = math.inf
     for i in np.nonzero(np.sign(v[1:-1]) != np.sign(v[2:]))[0] + 1:
         a, b = t[i], t[i + 1]
         for _ in range(2):
-            tt, ss, vv = sample(a, b)
+            tt, ss, vv = at(np.linspace(a, b, TURN_SAMPLES))
             k = int(np.argmax(ss) if v[i] > 0 else np.argmin(ss))
             a, b = tt[max(k - 1, 0)], tt[min(k + 1, TURN_SAMPLES - 1)]
         gap = -float(ss[k]) if v[i] > 0 else float(ss[k]) + 1.0

@@ -1,6 +1,7 @@
-"""The sticking-decision rule of ``gear-rattle case`` (validation/golden/decisions.py; docs/golden.md, "Asking
-the oracle"): a case does not ask a sticking decision that an output within its own tolerances could take the
-other way."""
+"""Rules of ``gear-rattle case`` found by ``gear-rattle fuzz`` on the whole input box (issue 36 item 4;
+docs/golden.md, "Asking the oracle"): the sticking-decision rule (validation/golden/decisions.py: a case does not
+ask a sticking decision that an output within its own tolerances could take the other way) and the near-miss
+rule's search for turning points right after a slow departure."""
 
 from __future__ import annotations
 
@@ -50,3 +51,25 @@ def test_an_exact_start_is_asked_whatever_its_margin():
         case = ondemand.build_user_case(ondemand.case_input("t", 2.0, 0.1, 1.0, 0.5, 0.0, sdot0, 5))
         assert case.truncation is None and case.settings["n_impacts"] == 5
         assert ("stick" in case.expected.splitlines()[2]) == (ratio < 1)  # the row after impact 0
+
+
+def test_a_near_miss_right_after_a_slow_departure_ends_the_case():
+    """Found by ``gear-rattle fuzz`` (diffrax, seed 53, release-delay, shrunk): alpha = 2.789, beta = 0.00102,
+    gamma = -1.28, r = 0.4 from (3.6194199, -2e-12), just before the force stops pressing into s = -1: the
+    flight leaves at 8e-13, turns back at 5.8e-7 and again at 1.1e-6, 1.6e-19 above the wall (certified: it
+    lands on s = 0 at 5.12); our diffrax track took it for a contact.  The near-miss rule's 257-point grid saw
+    neither turning point (on the old code the case kept its impact 1); its grid now has ``dt 2^-k`` samples
+    near the start: the case stops before impact 1."""
+    inp = ondemand.case_input("nm", 2.789, 0.00102, -1.28, 0.4, 3.6194199, -2e-12, 1, stick_time=1.97e-6)
+    assert ondemand.turning_gap(inp.params, 3.6194199, 0.4 * 2e-12, -1.0, 1.5) < 1e-15
+    case = ondemand.build_user_case(inp)
+    assert case.settings["n_impacts"] == 0 and "turns back" in case.truncation["reason"]
+
+
+def test_the_turning_point_grid_follows_a_long_flight():
+    """A flight of 2000 time units oscillates with the forcing (period 2 pi): the first round samples it at
+    64 per unit of time, not 257 in all (one every 7.8)."""
+    from gear_rattle.validation.golden.ondemand import turn_grid
+
+    grid = turn_grid(2000.0)
+    assert len(grid) >= 64 * 2000 and grid[0] == 0.0 and grid[-1] == 2000.0 and grid[1] < 1e-15
