@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import pytest
 
+from gear_rattle.core.params import Params
+
 from gear_rattle.validation.golden import ondemand
 from gear_rattle.validation.golden.suite import load_case, run_settings, score_file
 from gear_rattle.validation.io import write_csv
@@ -53,15 +55,24 @@ def test_an_exact_start_is_asked_whatever_its_margin():
         assert ("stick" in case.expected.splitlines()[2]) == (ratio < 1)  # the row after impact 0
 
 
-def test_a_near_miss_right_after_a_slow_departure_ends_the_case():
-    """Found by ``gear-rattle fuzz`` (diffrax, seed 53, release-delay, shrunk): alpha = 2.789, beta = 0.00102,
-    gamma = -1.28, r = 0.4 from (3.6194199, -2e-12), just before the force stops pressing into s = -1: the
-    flight leaves at 8e-13, turns back at 5.8e-7 and again at 1.1e-6, 1.6e-19 above the wall (certified: it
-    lands on s = 0 at 5.12); our diffrax track took it for a contact.  The near-miss rule's 257-point grid saw
-    neither turning point (on the old code the case kept its impact 1); its grid now has ``dt 2^-k`` samples
-    near the start: the case stops before impact 1."""
-    inp = ondemand.case_input("nm", 2.789, 0.00102, -1.28, 0.4, 3.6194199, -2e-12, 1, stick_time=1.97e-6)
-    assert ondemand.turning_gap(inp.params, 3.6194199, 0.4 * 2e-12, -1.0, 1.5) < 1e-15
+@pytest.mark.parametrize(
+    "params, tau0, sdot0",
+    [
+        ((2.789, 0.00102, -1.28, 0.4), 3.6194199, -2e-12),  # seed 53: turns back at 5.8e-7, 1.1e-6
+        ((2.622, 0.033, -1.09, 0.333), 3.603058748, -3.58e-14),  # seed 56: a dip of sdot to -1.8e-17 near 1e-7
+    ],
+)
+def test_a_near_miss_right_after_a_slow_departure_ends_the_case(params, tau0, sdot0):
+    """Found by ``gear-rattle fuzz`` (diffrax, seeds 53 and 56, release-delay, shrunk): just before the force
+    stops pressing into s = -1 the flight leaves at ``r |sdot0|`` (8e-13, 1.2e-14), turns back twice within
+    1e-6 of its start, 1.6e-19 and 4e-22 above the wall (certified: it lands on s = 0 at 5.1); our diffrax
+    track took it for a contact.  The near-miss rule's 257-point grid saw neither turning point (on the old
+    code the cases kept their impact 1); its grid now has ``dt 2^-k`` samples near the start, and a dip of
+    ``sdot`` through 0 and back between two samples is found where the acceleration changes sign: the case
+    stops before impact 1."""
+    p = Params(*params)
+    inp = ondemand.case_input("nm", *params, tau0, sdot0, 1, stick_time=1.97e-6)
+    assert ondemand.turning_gap(p, tau0, p.r * abs(sdot0), -1.0, 1.5) < 1e-15
     case = ondemand.build_user_case(inp)
     assert case.settings["n_impacts"] == 0 and "turns back" in case.truncation["reason"]
 

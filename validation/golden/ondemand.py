@@ -324,16 +324,29 @@ def turning_gap(p: Params, th0: float, v0: float, s_start: float, dt: float) -> 
             vs.append(np.asarray(w)[: len(chunk)])
         return t, s_start + np.concatenate(ds), np.concatenate(vs)
 
+    def zoom(a: float, b: float, pick) -> tuple[float, float]:
+        """``(s, v)`` at the sample ``pick(s, v)`` of ``[a, b]`` after two refinements around it."""
+        for _ in range(2):
+            tt, ss, vv = at(np.linspace(a, b, TURN_SAMPLES))
+            k = int(pick(ss, vv))
+            a, b = tt[max(k - 1, 0)], tt[min(k + 1, TURN_SAMPLES - 1)]
+        return float(ss[k]), float(vv[k])
+
     t, s, v = at(turn_grid(dt, v0 != 0))
     best = math.inf
     for i in np.nonzero(np.sign(v[1:-1]) != np.sign(v[2:]))[0] + 1:
-        a, b = t[i], t[i + 1]
-        for _ in range(2):
-            tt, ss, vv = at(np.linspace(a, b, TURN_SAMPLES))
-            k = int(np.argmax(ss) if v[i] > 0 else np.argmin(ss))
-            a, b = tt[max(k - 1, 0)], tt[min(k + 1, TURN_SAMPLES - 1)]
-        gap = -float(ss[k]) if v[i] > 0 else float(ss[k]) + 1.0
-        best = min(best, gap)
+        up = v[i] > 0
+        s_k, _ = zoom(t[i], t[i + 1], lambda ss, vv: np.argmax(ss) if up else np.argmin(ss))
+        best = min(best, -s_k if up else s_k + 1.0)
+    # two turning points inside one interval (a dip of v through 0 and back, unseen at the samples): where the
+    # acceleration changes sign, the extremum of v; after a departure with a speed only (:func:`turn_grid`)
+    if v0 != 0:
+        acc = p.gamma - p.alpha * np.sin(th0 + t) + p.alpha * p.beta * np.cos(th0 + t) - p.beta * v
+        for i in np.nonzero((np.sign(acc[:-1]) != np.sign(acc[1:])) & (np.sign(v[:-1]) == np.sign(v[1:])))[0]:
+            up = v[i] > 0
+            s_k, v_k = zoom(t[i], t[i + 1], lambda ss, vv: np.argmin(vv) if up else np.argmax(vv))
+            if (v_k < 0) == up and v_k != 0:
+                best = min(best, -s_k, s_k + 1.0)
     return best
 
 
