@@ -180,3 +180,31 @@ def test_the_wide_scenarios_draw_no_stiff_long_flight():
     assert not S.stiff(ondemand.case_input("f", 3.0, 1e4, 0.1, 0.9, 1.0, 5e4, 40))
     built = [S.construct(r, f"w{k}") for k, r in enumerate(S.draw_recipes(4500137, 12, ["wide-chatter"]))]
     assert any(b is not None for b in built) and not any(S.stiff(b) for b in built if b is not None)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("track, seed", [("map", 61), ("scipy", 62), ("diffrax", 63)])
+def test_our_tracks_are_never_blamed_on_the_whole_box(track, seed, tmp_path, capsys):
+    """Our tracks under the fuzz protocol, 120 s each, on the scenarios of the whole box and of other sticking
+    thresholds (the long runs: benchmarks/results/fuzz_whole_box_2026-12-04.json): no failure."""
+    import json
+    import shlex
+    import sys
+
+    impl = f"{shlex.quote(sys.executable)} -m gear_rattle.validation.commands.trackimpl --track {track}"
+    scen = [
+        "wide-generic",
+        "wide-graze",
+        "wide-chatter",
+        "long-orbit",
+        "long-flight",
+        "stick-threshold",
+        "release-delay",
+    ]
+    capsys.readouterr()
+    rc = main(
+        ["fuzz", "--quiet", "--impl", impl, "--budget", "120", "--seed", str(seed), "--keep-going"]
+        + ["--scenarios", *scen, "--out", str(tmp_path / "f")]
+    )
+    s = json.loads(capsys.readouterr().out)
+    assert rc == 0 and s["failures"] == [] and s["cases"] > 0, s
