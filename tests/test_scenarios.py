@@ -105,7 +105,7 @@ def _recipe(name: str, **numbers) -> dict:
     rec = {"scenario": name, **simple}
     for k, d in S.SCENARIOS[name].draws.items():
         if k not in rec:
-            rec[k] = d.lo if isinstance(d, (S.Uniform, S.LogUniform, S.Integers)) else None
+            rec[k] = d.lo if isinstance(d, S.Uniform) else None
     return {**rec, **numbers}
 
 

@@ -17,7 +17,7 @@ import argparse
 from pathlib import Path
 
 from ...core.params import PARAM_NAMES
-from ..cliutil import CliError, CommandFailed, nonneg_int, note, progress_arg, real, tau0_type
+from ..cliutil import CliError, CommandFailed, add_stick_time_arg, nonneg_int, note, progress_arg, real, tau0_type
 
 NAME = "case"
 HELP = "build a certified golden-format case (or a whole suite, --from) for your own input"
@@ -25,7 +25,6 @@ HELP = "build a certified golden-format case (or a whole suite, --from) for your
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from ..golden.ondemand import MAX_CASE_IMPACTS, TOLERANCE_LIMIT
-    from ...mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 
     g = p.add_argument_group("one input (or --from)")
     g.add_argument(
@@ -79,14 +78,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help=f"impacts after impact 0, 0 <= N <= {MAX_CASE_IMPACTS} (the case may stop earlier: "
         f"no tolerance reaches {TOLERANCE_LIMIT:g}) (no default: required without --from)",
     )
-    g.add_argument(
-        "--stick-time",
-        type=real("--stick-time", lo=0.0, hi=MAX_STICK_TIME),
-        default=None,
-        metavar="T",
-        help=f"the sticking policy's threshold, 0 <= T <= {MAX_STICK_TIME:g} (default {STICK_TIME:g}; "
-        "every track takes it)",
-    )
+    add_stick_time_arg(g, None)
     g.add_argument(
         "--id", default=None, help="case id: the folder name under SUITE (no default: required without --from)"
     )

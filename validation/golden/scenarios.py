@@ -4,7 +4,7 @@ scenarios, what each draws and why, and the construction of an input from a draw
 A **scenario** (:class:`Scenario`, one object per hard place, in the registry :data:`SCENARIOS`) has a
 name, a weight (how often it is drawn), ``why`` (the hard place it reaches: what an implementation gets
 wrong there), its **draws** (the numbers it needs, each a distribution: :class:`Uniform`,
-:class:`LogUniform`, ...) and its **build** (the numbers to an input, :class:`ondemand.CaseInput`, or
+:class:`Choice`, ...) and its **build** (the numbers to an input, :class:`ondemand.CaseInput`, or
 ``None`` where the hard place does not exist for them, e.g. no switch of the first contact's wall to
 graze).  A **recipe** is ``{"scenario": name, ...its numbers}``: :func:`draw_recipes` draws them with
 Hypothesis (the seed reproduces them; each scenario draws from its own distributions, so restricting the
@@ -50,48 +50,26 @@ def _num(x: float) -> str:
 
 @dataclass(frozen=True)
 class Uniform:
-    """A float uniform in ``[lo, hi]`` (Hypothesis also tries the ends)."""
+    """A number uniform in ``[lo, hi]`` (Hypothesis also tries the ends); ``log``: log-uniform (``0 < lo``);
+    ``integer``: an integer (rounded down from the log-uniform float with ``log``)."""
 
     lo: float
     hi: float
-
-    def strategy(self, st):
-        return st.floats(self.lo, self.hi, allow_nan=False, allow_infinity=False)
-
-    def __str__(self) -> str:
-        return f"{_num(self.lo)} ... {_num(self.hi)}"
-
-
-@dataclass(frozen=True)
-class LogUniform:
-    """A float log-uniform in ``[lo, hi]`` (``0 < lo``)."""
-
-    lo: float
-    hi: float
-
-    def strategy(self, st):
-        return st.floats(math.log10(self.lo), math.log10(self.hi)).map(lambda e: 10.0**e)
-
-    def __str__(self) -> str:
-        return f"{_num(self.lo)} ... {_num(self.hi)} (log)"
-
-
-@dataclass(frozen=True)
-class Integers:
-    """An integer in ``[lo, hi]``; ``log``: log-uniform (``1 <= lo``)."""
-
-    lo: int
-    hi: int
     log: bool = False
+    integer: bool = False
 
     def strategy(self, st):
+        if self.integer and not self.log:
+            return st.integers(int(self.lo), int(self.hi))
         if not self.log:
-            return st.integers(self.lo, self.hi)
-        lo, hi = math.log10(self.lo), math.log10(self.hi + 1)
-        return st.floats(lo, hi).map(lambda e: min(self.hi, max(self.lo, int(10.0**e))))
+            return st.floats(self.lo, self.hi, allow_nan=False, allow_infinity=False)
+        top = self.hi + 1 if self.integer else self.hi
+        draw = st.floats(math.log10(self.lo), math.log10(top)).map(lambda e: 10.0**e)
+        return draw.map(lambda x: min(int(self.hi), max(int(self.lo), int(x)))) if self.integer else draw
 
     def __str__(self) -> str:
-        return f"{self.lo} ... {self.hi}" + (" (log)" if self.log else "")
+        ends = (f"{int(self.lo)} ... {int(self.hi)}") if self.integer else f"{_num(self.lo)} ... {_num(self.hi)}"
+        return ends + (" (log)" if self.log else "")
 
 
 @dataclass(frozen=True)
@@ -120,7 +98,7 @@ class OneOf:
         return "either " + ", or ".join(str(o) for o in self.options) + " (as likely)"
 
 
-Draw = Uniform | LogUniform | Integers | Choice | OneOf
+Draw = Uniform | Choice | OneOf
 
 
 # ---------------------------------------------------------------------------------------------
@@ -131,25 +109,29 @@ Draw = Uniform | LogUniform | Integers | Choice | OneOf
 #: the hard places (grazes, chatter, thresholds) are dense, the paper's figures lie inside.
 CORE: dict[str, Draw] = {
     "alpha": Uniform(0.0, 4.0),
-    "beta": LogUniform(1e-3, 1.0),
+    "beta": Uniform(1e-3, 1.0, log=True),
     "gamma": Uniform(-1.5, 1.5),
     "r": Uniform(0.2, 1.0),
 }
 #: The whole box of the ``wide-*`` scenarios (``core.params.RANGES`` cut where the model stays meaningful and
 #: a case tractable; docs/golden.md says why): alpha, beta, |gamma| (its sign drawn apart), r.
 BOX: dict[str, Draw] = {
-    "alpha": LogUniform(1e-3, 1e6),
-    "beta": LogUniform(1e-8, 1e4),
-    "gamma": LogUniform(1e-6, 1e6),
-    "r": LogUniform(1e-6, 1.0),
+    "alpha": Uniform(1e-3, 1e6, log=True),
+    "beta": Uniform(1e-8, 1e4, log=True),
+    "gamma": Uniform(1e-6, 1e6, log=True),
+    "r": Uniform(1e-6, 1.0, log=True),
 }
 #: The sticking threshold: the default half the time, else log-uniform up to the library's limit (below
 #: ~1e-7 a chatter's slowest bounces reach the horizon rule's limit before it sticks).
-STICK: Draw = OneOf((Choice((STICK_TIME,)), LogUniform(1e-8, MAX_STICK_TIME)))
+STICK: Draw = OneOf((Choice((STICK_TIME,)), Uniform(1e-8, MAX_STICK_TIME, log=True)))
 #: Impacts of most cases, and of the ``long-orbit`` scenario.
-IMPACTS, LONG_IMPACTS = Integers(1, 40), Integers(100, 1000, log=True)
+IMPACTS, LONG_IMPACTS = Uniform(1, 40, integer=True), Uniform(100, 1000, log=True, integer=True)
 #: A pre-impact start: phase, wall (the sign of sdot0), speed.
-START: dict[str, Draw] = {"tau0": Uniform(0.0, TWO_PI), "sign": Choice((1.0, -1.0)), "speed": LogUniform(1e-2, 3.0)}
+START: dict[str, Draw] = {
+    "tau0": Uniform(0.0, TWO_PI),
+    "sign": Choice((1.0, -1.0)),
+    "speed": Uniform(1e-2, 3.0, log=True),
+}
 #: The chatter and sticking scenarios' parameters: a force pressing into the wall (|gamma| 0.3 ... 1.8 of
 #: the wall's sign), r 0.3 ... 0.9, the phase ``frac`` of the way through the pressing arc.
 PRESSING: dict[str, Draw] = {
@@ -191,9 +173,10 @@ def velocity_scale(p: Params) -> float:
 def _input(id: str, p: Params | tuple, tau0: float, sdot0: float, g: dict, s0: float | None = None):
     """The validated input of parameters ``p`` (a :class:`Params` or ``alpha, beta, gamma, r``), with the
     recipe's impacts and sticking threshold (``None`` where a number is out of the inputs' ranges)."""
-    vals = (p.alpha, p.beta, p.gamma, p.r) if isinstance(p, Params) else p
+    alpha, beta, gamma, r = (p.alpha, p.beta, p.gamma, p.r) if isinstance(p, Params) else p
     try:
-        return ondemand.case_input(id, *vals, tau0, sdot0, g["impacts"], s0=s0, stick_time=_g(g["stick_time"], 3))
+        st = _g(g["stick_time"], 3)
+        return ondemand.case_input(id, alpha, beta, gamma, r, tau0, sdot0, g["impacts"], s0=s0, stick_time=st)
     except ValueError:
         return None
 
@@ -508,7 +491,7 @@ def _draws(*parts: dict, **more: Draw) -> dict:
     return {**out, "impacts": IMPACTS, "stick_time": STICK, **more}
 
 
-_GRAZE_PAPER = Integers(0, 2)  # 0: the drawn parameters; 1, 2: Fig. 3, Figs. 9-11
+_GRAZE_PAPER = Uniform(0, 2, integer=True)  # 0: the drawn parameters; 1, 2: Fig. 3, Figs. 9-11
 _WIDE_START = {"gsign": Choice((1.0, -1.0)), "tau0": Uniform(0.0, TWO_PI), "sign": START["sign"]}
 
 #: The scenarios, by name (docs/golden.md, "Fuzzing an implementation", lists them with these words).
@@ -522,7 +505,7 @@ SCENARIOS: dict[str, Scenario] = {
             "paper",
             2,
             "the paper's parameter sets (Figs. 2, 3, 9-11) from any start",
-            _draws(START, paper=Integers(0, len(PAPER_SETS) - 1)),
+            _draws(START, paper=Uniform(0, len(PAPER_SETS) - 1, integer=True)),
             _paper,
         ),
         Scenario(
@@ -538,7 +521,7 @@ SCENARIOS: dict[str, Scenario] = {
             3,
             "a first flight that just reaches the other wall (normal speed 1e-4 ... 3e-2, by bisection on sdot0): "
             "a finder with a step or a sign test misses it",
-            _draws(CORE, START, paper=_GRAZE_PAPER, target=LogUniform(1e-4, 3e-2)),
+            _draws(CORE, START, paper=_GRAZE_PAPER, target=Uniform(1e-4, 3e-2, log=True)),
             _graze,
         ),
         Scenario(
@@ -546,21 +529,21 @@ SCENARIOS: dict[str, Scenario] = {
             3,
             "a first flight that turns back 1.5e-11 ... 1e-7 short of the other wall: a contact tolerance takes "
             "it for an impact",
-            _draws(CORE, START, paper=_GRAZE_PAPER, depth=LogUniform(1.5e-11, 1e-7)),
+            _draws(CORE, START, paper=_GRAZE_PAPER, depth=Uniform(1.5e-11, 1e-7, log=True)),
             _near_miss,
         ),
         Scenario(
             "chatter-upper",
             2,
             "a slow impact on s = 0 where the force presses: bounces accumulate, the tooth sticks and is released",
-            _draws(PRESSING, speed=LogUniform(1e-2 / 30, 0.1)),
+            _draws(PRESSING, speed=Uniform(1e-2 / 30, 0.1, log=True)),
             _chatter(0),
         ),
         Scenario(
             "chatter-lower",
             2,
             "the same on s = -1 (the signs of the lower wall's pressing, sticking and release)",
-            _draws(PRESSING, speed=LogUniform(1e-2 / 30, 0.1)),
+            _draws(PRESSING, speed=Uniform(1e-2 / 30, 0.1, log=True)),
             _chatter(-1),
         ),
         Scenario(
@@ -568,7 +551,7 @@ SCENARIOS: dict[str, Scenario] = {
             2,
             "an impact whose accumulation time is stick_time (1 +- 1e-4 ... 0.1), at the default threshold or "
             "another: t_acc or the threshold scaled shows",
-            _draws(PRESSING, sign=START["sign"], side=Choice((1.0, -1.0)), near1=LogUniform(1e-4, 0.1)),
+            _draws(PRESSING, sign=START["sign"], side=Choice((1.0, -1.0)), near1=Uniform(1e-4, 0.1, log=True)),
             _stick_threshold,
         ),
         Scenario(
@@ -576,7 +559,7 @@ SCENARIOS: dict[str, Scenario] = {
             2,
             "an impact just before the force stops pressing (1e-2 ... 0.5 stick_time) whose t_acc is longer: "
             "the policy's release test",
-            _draws(PRESSING, sign=START["sign"], lead=LogUniform(1e-2, 0.5), excess=Uniform(1.0, 3.0)),
+            _draws(PRESSING, sign=START["sign"], lead=Uniform(1e-2, 0.5, log=True), excess=Uniform(1.0, 3.0)),
             _release_delay,
         ),
         Scenario(
@@ -590,7 +573,7 @@ SCENARIOS: dict[str, Scenario] = {
             "small-beta",
             1,
             "beta 1e-8 ... 1: the closed form's (1 - exp(-beta t)) / beta cancels",
-            _draws(CORE, START, small=LogUniform(1e-8, 1.0)),
+            _draws(CORE, START, small=Uniform(1e-8, 1.0, log=True)),
             _small_beta,
         ),
         Scenario(
@@ -630,8 +613,8 @@ SCENARIOS: dict[str, Scenario] = {
             _draws(
                 BOX,
                 _WIDE_START,
-                tau0=OneOf((Uniform(0.0, TWO_PI), LogUniform(10.0, 1e6))),
-                speed=LogUniform(1e-2, 3.0),
+                tau0=OneOf((Uniform(0.0, TWO_PI), Uniform(10.0, 1e6, log=True))),
+                speed=Uniform(1e-2, 3.0, log=True),
             ),
             _wide_generic,
         ),
@@ -639,14 +622,14 @@ SCENARIOS: dict[str, Scenario] = {
             "wide-graze",
             1,
             "a graze at parameters of the whole box (its speeds scaled to the model's)",
-            _draws(BOX, _WIDE_START, target=LogUniform(1e-4, 3e-2)),
+            _draws(BOX, _WIDE_START, target=Uniform(1e-4, 3e-2, log=True)),
             _wide_graze,
         ),
         Scenario(
             "wide-chatter",
             2,
             "chatter and sticking at parameters of the whole box (tiny r, huge forces, heavy damping)",
-            _draws(BOX, _WIDE_START, frac=Uniform(0.0, 1.0), speed=LogUniform(1e-4, 1e-1)),
+            _draws(BOX, _WIDE_START, frac=Uniform(0.0, 1.0), speed=Uniform(1e-4, 1e-1, log=True)),
             _wide_chatter,
         ),
         Scenario(
@@ -654,7 +637,7 @@ SCENARIOS: dict[str, Scenario] = {
             2,
             "100 ... 1000 impacts (the horizon rule truncates a chaotic one): turn counters, repeated sticking, "
             "error accumulation",
-            _draws(CORE, START, paper=Integers(0, len(PAPER_SETS)), impacts=LONG_IMPACTS),
+            _draws(CORE, START, paper=Uniform(0, len(PAPER_SETS), integer=True), impacts=LONG_IMPACTS),
             _long_orbit,
         ),
         Scenario(
@@ -664,12 +647,12 @@ SCENARIOS: dict[str, Scenario] = {
             "with a short horizon, or coarse steps, misses its landing",
             _draws(
                 START,
-                t_flight=LogUniform(10.0, 1950.0),
+                t_flight=Uniform(10.0, 1950.0, log=True),
                 push=Uniform(0.05, 1.0),
-                weak=LogUniform(1e-6, 1e-3),
-                damp=LogUniform(1e-8, 1e-4),
+                weak=Uniform(1e-6, 1e-3, log=True),
+                damp=Uniform(1e-8, 1e-4, log=True),
                 r=Uniform(0.3, 1.0),
-                impacts=Integers(1, 6),
+                impacts=Uniform(1, 6, integer=True),
             ),
             _long_flight,
         ),
