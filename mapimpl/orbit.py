@@ -16,12 +16,14 @@ from ..core import jax_config  # noqa: F401
 import jax
 
 from .impact_map import free_flight_start, iterate
+from .sticking import STICK_TIME, check_stick_time, stick_time_meta
 from ..core.checks import MAX_IMPACTS, check_int, check_start
 from ..core.state import MapState, make_state, run_in_chunks, sequence_from_states
 from ..core.params import Params
 from ..core.results import ImpactSequence
 
-_iterate_jit = jax.jit(iterate, static_argnums=2, static_argnames=("stick_time", "t_max"))
+# ``stick_time`` is traced (one compilation serves every threshold: the fuzzer draws many), ``t_max`` static
+_iterate_jit = jax.jit(iterate, static_argnums=2, static_argnames=("t_max",))
 _free_start_jit = jax.jit(free_flight_start)
 
 
@@ -51,11 +53,17 @@ def initial_state(params: Params, tau0: float, sdot0: float, s0: float | None = 
     return _free_start_jit(tau0, s0, sdot0, params.arrays())
 
 
-def iterate_chunked(first: MapState, params: Params, n: int, chunk: int = CHUNK, progress=None):
-    """:func:`mapimpl.impact_map.iterate` for ``n`` steps, run as a sequence of fixed-length scans
-    (:func:`core.state.run_in_chunks`): Ctrl-C acts between chunks, and the result is bitwise the one
-    of a single scan."""
-    return run_in_chunks(_iterate_jit, first, params, n, chunk, progress=progress, label="map orbit")
+def iterate_chunked(
+    first: MapState, params: Params, n: int, chunk: int = CHUNK, progress=None, stick_time: float = STICK_TIME
+):
+    """:func:`mapimpl.impact_map.iterate` for ``n`` steps with the sticking threshold ``stick_time`` (checked
+    by the caller), run as a sequence of fixed-length scans (:func:`core.state.run_in_chunks`): Ctrl-C acts
+    between chunks, and the result is bitwise the one of a single scan."""
+
+    def run(state: MapState, p, length: int):
+        return _iterate_jit(state, p, length, stick_time=stick_time)
+
+    return run_in_chunks(run, first, params, n, chunk, progress=progress, label="map orbit")
 
 
 def map_orbit(
@@ -67,6 +75,7 @@ def map_orbit(
     *,
     chunk: int = CHUNK,
     progress=None,
+    stick_time: float = STICK_TIME,
 ) -> ImpactSequence:
     """Orbit of the closed-form impact map: impact 0 plus ``n_impacts`` further impacts (Eqs. 12-13).
 
@@ -89,6 +98,9 @@ def map_orbit(
     progress : None, bool or callable, optional
         None (default) or True for a bar of the impacts on a terminal for runs over a second, False for
         none, or a callable ``progress(done, total)`` (:mod:`gear_rattle.core.progress`).
+    stick_time : float, optional
+        The sticking policy's threshold (:mod:`gear_rattle.mapimpl.sticking`), ``0 <= stick_time <= 1e-2``
+        (default :data:`~gear_rattle.mapimpl.sticking.STICK_TIME`, 1e-6).
 
     Returns
     -------
@@ -125,11 +137,11 @@ def map_orbit(
     check_params(params)
     n_impacts = check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
     chunk = check_int("chunk", chunk, 1, MAX_CHUNK)
+    stick_time = check_stick_time(stick_time)
     first = initial_state(params, tau0, sdot0, s0)
-    traj = iterate_chunked(first, params, n_impacts, chunk, progress=progress)
-    return sequence_from_states(
-        params, first, traj, track="map", meta={"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts)}
-    )
+    traj = iterate_chunked(first, params, n_impacts, chunk, progress=progress, stick_time=stick_time)
+    meta = {"tau0": tau0, "sdot0": sdot0, "s0": s0, "n_impacts": int(n_impacts), **stick_time_meta(stick_time)}
+    return sequence_from_states(params, first, traj, track="map", meta=meta)
 
 
 __all__ = [

@@ -41,6 +41,19 @@ STICK_TIME = 1e-6
 MAX_STICK_TIME = 1e-2
 
 
+def check_stick_time(stick_time) -> float:
+    """The policy's threshold as a float, ``0 <= stick_time <= MAX_STICK_TIME`` (1e-2); ``ValueError``
+    (``TypeError`` for a non-number) naming ``stick_time`` and that range (:func:`core.checks.check_real`).
+    Every entry point that takes ``stick_time`` checks it with this one function, once, before any work."""
+    return check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+
+
+def stick_time_meta(stick_time: float) -> dict:
+    """``{"stick_time": stick_time}`` for an orbit's ``meta`` where it is not the default :data:`STICK_TIME`
+    (an orbit under the default writes what it wrote before the threshold was a parameter), else ``{}``."""
+    return {} if stick_time == STICK_TIME else {"stick_time": stick_time}
+
+
 def wall_direction(wall):
     """+1 for the upper wall (``wall == 0``, ``s = 0``), -1 for the lower wall (``wall == -1``)."""
     return jnp.where(wall == 0, 1.0, -1.0)
@@ -112,7 +125,7 @@ def check_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME)
     check_real("sdot", sdot)
     for name, value in (("alpha", alpha), ("beta", beta), ("gamma", gamma), ("r", r)):
         check_param(name, value)
-    check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+    check_stick_time(stick_time)
 
 
 def decide_stick(theta, wall, sdot, alpha, beta, gamma, r, stick_time=STICK_TIME) -> StickDecision:

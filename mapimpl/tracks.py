@@ -27,6 +27,7 @@ from ..core.status import Status
 from .impact_map import step
 from ..core.state import make_state
 from .orbit import map_orbit
+from .sticking import STICK_TIME, check_stick_time
 from ..core.checks import MAX_IMPACTS, check_choice, check_int, check_start, start_wall
 from ..core.params import Params, check_params
 from ..core.progress import check_progress
@@ -42,14 +43,23 @@ _step_jit = jax.jit(step)
 def _no_options(options: dict) -> None:
     if options:
         name = next(iter(options))
-        raise ValueError(f"option {name}={options[name]!r} is out of range: the map track takes no options")
+        raise ValueError(
+            f"option {name}={options[name]!r} is out of range: the map track takes no solver options (only stick_time)"
+        )
 
 
 def _map_orbit(
-    params: Params, tau0: float, sdot0: float, n_impacts: int, s0: float | None = None, progress=None, **options
+    params: Params,
+    tau0: float,
+    sdot0: float,
+    n_impacts: int,
+    s0: float | None = None,
+    progress=None,
+    stick_time: float = STICK_TIME,
+    **options,
 ) -> ImpactSequence:
     _no_options(options)
-    return map_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress)
+    return map_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, stick_time=stick_time)
 
 
 def _map_step_jacobian(params: Params, tau: float, sdot: float, wall: int | None = None, **options) -> StepJacobian:
@@ -91,6 +101,7 @@ def orbit(
     s0: float | None = None,
     *,
     track: str = "map",
+    stick_time: float = STICK_TIME,
     progress=None,
     **solver_options,
 ) -> ImpactSequence:
@@ -117,12 +128,17 @@ def orbit(
         no precision up to its limit certifies every impact).
     s0 : float, optional
         A start in free flight, ``-1 <= s0 <= 0``.
+    stick_time : float, optional
+        The sticking policy's threshold, the same on every track (:mod:`gear_rattle.mapimpl.sticking`): a
+        chatter whose predicted accumulation time is at most ``stick_time`` sticks to the wall;
+        ``0 <= stick_time <= 1e-2`` (:data:`~gear_rattle.mapimpl.sticking.MAX_STICK_TIME`), default
+        :data:`~gear_rattle.mapimpl.sticking.STICK_TIME` (1e-6).
     progress : None, bool or callable, optional
         None (default) or True: a bar when stderr is a terminal; False: none; a callable
         ``progress(done, total)`` (:mod:`gear_rattle.core.progress`).
     **solver_options
         Of the numerical tracks: ``rtol``, ``atol``, ``t_max`` and ``max_step`` (scipy) or ``dtmax``,
-        ``max_steps`` (diffrax); the map track takes none; the certified track ``stick_time``, ``prec``,
+        ``max_steps`` (diffrax); the map track takes none; the certified track ``prec``,
         ``max_prec`` (the precision schedule's start and limit, bits), ``t_max`` and ``time_budget_s``.
 
     Returns
@@ -165,11 +181,16 @@ def orbit(
     check_int("n_impacts", n_impacts, 0, MAX_IMPACTS)
     check_start(tau0, sdot0, s0)
     check_progress(progress)
+    stick_time = check_stick_time(stick_time)
     if track == "certified":
         from .certified.track import track_orbit
 
-        return track_orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
-    return get(track).orbit(params, tau0, sdot0, n_impacts, s0=s0, progress=progress, **solver_options)
+        return track_orbit(
+            params, tau0, sdot0, n_impacts, s0=s0, progress=progress, stick_time=stick_time, **solver_options
+        )
+    return get(track).orbit(
+        params, tau0, sdot0, n_impacts, s0=s0, progress=progress, stick_time=stick_time, **solver_options
+    )
 
 
 def step_jacobian(

@@ -75,16 +75,20 @@ def validate_start(
     return n
 
 
-_decide_jit = jax.jit(decide_stick, static_argnames=("stick_time",))
+# ``stick_time`` traced: one compilation serves every threshold
+_decide_jit = jax.jit(decide_stick)
 
 
-def stick_decision(theta: float, wall: int, sdot: float, p: Params) -> tuple[bool, float, float, float]:
-    """The shared sticking policy (:func:`mapimpl.sticking.decide_stick`) on Python floats.
+def stick_decision(
+    theta: float, wall: int, sdot: float, p: Params, stick_time: float = STICK_TIME
+) -> tuple[bool, float, float, float]:
+    """The shared sticking policy (:func:`mapimpl.sticking.decide_stick`) on Python floats, with the
+    threshold ``stick_time`` (checked by the track's entry point, :func:`mapimpl.sticking.check_stick_time`).
 
     Returns ``(stick, t_acc, delay, phase)`` (``delay = inf``: stuck forever; ``phase``: the canonical
     release phase, where the flight after a release starts).
     """
-    d = _decide_jit(theta, wall, sdot, p.alpha, p.beta, p.gamma, p.r, stick_time=STICK_TIME)
+    d = _decide_jit(theta, wall, sdot, p.alpha, p.beta, p.gamma, p.r, stick_time)
     return bool(d.stick), float(d.t_acc), float(d.delay), float(d.phase)
 
 

@@ -48,7 +48,7 @@ from ..core.checks import TAU0_MAX, check_array, check_int, start_wall
 from ..core.params import ParamArrays, Params
 from ..core.results import ImpactSequence, StepJacobian, TrackFunctions
 from ..core.status import FlightOutcome, Status
-from ..mapimpl.sticking import decide_stick, released_turns
+from ..mapimpl.sticking import STICK_TIME, check_stick_time, decide_stick, released_turns, stick_time_meta
 from . import events as ev
 from .common import StepInfo, Trajectory, check_option, forcing_rhs, validate_start
 from .events import MAX_SEGMENTS, T_MAX
@@ -165,8 +165,10 @@ def _segment(t0, y0, theta0, sigma, alpha, beta, gamma, opts: Options, t_end=Non
     wall_hit, reversal = evt & wall_first, evt & ~wall_first
     t_e = jnp.where(evt, sol.ts[-1], t_end)
     # land exactly on t_e (no event, node value); without an event, on t_end when the state there is
-    # needed (the bounded re-solve of a missed crossing), else a short dummy solve
-    t_land = jnp.where(evt & (t_e > t0), t_e, jnp.where(jnp.asarray(watch), t0 + opts.dtmax, t_end))
+    # needed (the bounded re-solve of a missed crossing, a departure's first bounded segment: t_end before
+    # the horizon), else a short dummy solve
+    bounded = (t_end < opts.t_max) | ~jnp.asarray(watch)
+    t_land = jnp.where(evt & (t_e > t0), t_e, jnp.where(bounded, t_end, t0 + opts.dtmax))
     sol2 = diffrax.diffeqsolve(
         _TERM,
         _SOLVER,
@@ -213,11 +215,33 @@ class FlightResult(NamedTuple):
     segments: jnp.ndarray
 
 
+def departure_bound(theta0, v0, sigma, alpha, beta, gamma, opts: Options):
+    """End of the first segment's solve of a flight that leaves with ``v0`` along ``sigma`` against its
+    acceleration ``a0``: twice the time to the reversal, ``2 |v0 / a0|``, where that is shorter than
+    ``opts.dtmax``; else ``opts.t_max`` (no bound).
+
+    Why: the solver's first step is chosen from the state's scales, not from the reversal ahead.  After a
+    slow impact into a weak pressing force (alpha = 0.5, beta = 0.003, gamma = 0, r = 0.3 from the
+    pre-impact state (0, 1e-7): the flight leaves at 3e-8 against f = 0.0015, which changes sign 0.003
+    later) it was 0.01 long, and inside it ``s`` reversed at 2e-5, came back to the wall at 4e-5 (a bounce
+    3e-13 deep), left it and reversed again at 0.006: both step ends moving down, no event; the track
+    reported an impact on the other wall at t = 2.56 instead of the bounce (found by ``gear-rattle fuzz``,
+    stick-threshold scenario).  Solved on ``[0, 2 |v0 / a0|]`` first, the reversal is a sign change at
+    the end of that interval (the force stays nearly constant over it); without one the segment goes on
+    from its end (:func:`flight`)."""
+    a0 = _vector_field(0.0, jnp.stack([jnp.zeros_like(v0), v0]), (theta0, alpha, beta, gamma))[1]
+    opposed = (sigma * v0 > 0.0) & (sigma * a0 < 0.0)
+    t_rev = jnp.abs(v0) / jnp.where(opposed, jnp.abs(a0), 1.0)
+    return jnp.where(opposed & (2.0 * t_rev < opts.dtmax), 2.0 * t_rev, opts.t_max)
+
+
 def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(), active=True) -> FlightResult:
     """First wall contact of the flight leaving ``(theta0, s0, v0)`` (local time 0), first segment
-    direction ``sigma`` (+-1).  Scalar, jit/vmap/jacfwd-able.  ``active=False`` returns at once."""
+    direction ``sigma`` (+-1).  Scalar, jit/vmap/jacfwd-able.  ``active=False`` returns at once.  A
+    departure against the force is solved on a bounded interval first (:func:`departure_bound`)."""
     dtype = jnp.float64
     t_max = jnp.asarray(opts.t_max, dtype)
+    t_first = departure_bound(theta0, jnp.asarray(v0, dtype), sigma, alpha, beta, gamma, opts)
     init = dict(
         t=jnp.asarray(0.0, dtype),
         y=jnp.stack([jnp.asarray(s0, dtype), jnp.asarray(v0, dtype)]),
@@ -225,7 +249,7 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         seg=jnp.asarray(0, jnp.int32),
         done=~jnp.asarray(active),
         status=jnp.asarray(FlightOutcome.STEP_CAP, jnp.int32),
-        t_end=t_max,
+        t_end=t_first,
         watch=jnp.asarray(True),
     )
 
@@ -243,9 +267,11 @@ def flight(theta0, s0, v0, sigma, alpha, beta, gamma, opts: Options = Options(),
         # wall only; if that finds no crossing (it reaches t1), the extremum is a reversal.
         retry = watch & (end == ev.MISSED_CROSSING)
         turn = (watch & (end == ev.REVERSAL)) | (~watch & ~hit & reached)
+        # the bounded first segment of a departure ended without an event: go on from its end
+        bounded_on = watch & ~hit & ~rev & reached & (c["t_end"] < t_max)
         # resume: the wall event was the interpolant's (ev.false_wall_hit); the segment goes on from the
         # landed node state, still moving along sig, with the same watch and end
-        done = hit | (~retry & ~turn & ~resume)
+        done = hit | (~retry & ~turn & ~resume & ~bounded_on)
         status = jnp.where(
             hit, FlightOutcome.HIT, jnp.where(watch & reached, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP)
         ).astype(jnp.int32)
@@ -278,12 +304,13 @@ def _start(wall, stick, sd, r):
     return v0, ev.restart_direction(wall, v0)
 
 
-def step(state: MapState, p: ParamArrays, opts: Options = Options()):
-    """One impact-to-impact step by integration (reset Eq. 11 or the shared sticking policy, then a
-    numerically integrated flight).  Scalar state; terminal states are returned unchanged."""
+def step(state: MapState, p: ParamArrays, opts: Options = Options(), stick_time=STICK_TIME):
+    """One impact-to-impact step by integration (reset Eq. 11 or the shared sticking policy with the
+    threshold ``stick_time``, traced, then a numerically integrated flight).  Scalar state; terminal states
+    are returned unchanged."""
     alpha, beta, gamma, r = p
     th, wall, sd = state.theta, state.wall, state.sdot
-    dec = decide_stick(th, wall, sd, alpha, beta, gamma, r)
+    dec = decide_stick(th, wall, sd, alpha, beta, gamma, r, stick_time)
     never = dec.stick & ~jnp.isfinite(dec.delay)
     released = dec.stick & ~never
     delay = jnp.where(released, dec.delay, 0.0)
@@ -316,9 +343,9 @@ def step(state: MapState, p: ParamArrays, opts: Options = Options()):
     return new, info
 
 
-def _scan(state: MapState, p: ParamArrays, n: int, opts: Options) -> Trajectory:
+def _scan(state: MapState, p: ParamArrays, n: int, opts: Options, stick_time=STICK_TIME) -> Trajectory:
     def body(s, _):
-        s1, info = step(s, p, opts)
+        s1, info = step(s, p, opts, stick_time)
         return s1, (s1, info)
 
     _, (states, infos) = jax.lax.scan(body, state, None, length=n)
@@ -326,9 +353,10 @@ def _scan(state: MapState, p: ParamArrays, n: int, opts: Options) -> Trajectory:
 
 
 @partial(jax.jit, static_argnums=(2, 3))
-def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options()) -> Trajectory:
-    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled."""
-    return _scan(state, p, n, opts)
+def iterate(state: MapState, p: ParamArrays, n: int, opts: Options = Options(), stick_time=STICK_TIME) -> Trajectory:
+    """``n`` integrated steps (``lax.scan``) recording every pre-impact state; jit-compiled (``stick_time``
+    traced: one compilation serves every threshold)."""
+    return _scan(state, p, n, opts, stick_time)
 
 
 @partial(jax.jit, static_argnums=(2, 3))
@@ -375,19 +403,21 @@ def orbit(
     t_max: float = T_MAX,
     max_steps: int = MAX_STEPS,
     progress=None,
+    stick_time: float = STICK_TIME,
 ) -> ImpactSequence:
     """Orbit of Eq. (3) integrated with diffrax: impact 0 plus ``n_impacts`` impacts (track ``"diffrax"``).
 
-    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`; runs in chunks of
-    :data:`CHUNK` impacts like it (interruptible with Ctrl-C, the same result as one scan), with the
-    same ``progress``.
+    Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit` (``stick_time``: the
+    sticking policy's threshold, ``0 <= stick_time <= 1e-2``); runs in chunks of :data:`CHUNK` impacts
+    like it (interruptible with Ctrl-C, the same result as one scan), with the same ``progress``.
     """
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
+    stick_time = check_stick_time(stick_time)
     opts = options(rtol, atol, dtmax, t_max, max_steps)
     first = start_state(params, tau0, sdot0, s0, opts)
     # in chunks of CHUNK impacts (Ctrl-C acts between them), bitwise the same as one scan of n steps
     traj = run_in_chunks(
-        lambda s, p, length: iterate(s, p, length, opts),
+        lambda s, p, length: iterate(s, p, length, opts, stick_time),
         first,
         params,
         n,
@@ -405,6 +435,7 @@ def orbit(
         "atol": opts.atol,
         "dtmax": opts.dtmax,
         "t_max": opts.t_max,
+        **stick_time_meta(stick_time),
     }
     return sequence_from_states(params, first, traj, track="diffrax", meta=meta)
 

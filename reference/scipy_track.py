@@ -81,6 +81,7 @@ from .common import (
     validate_start,
 )
 from .events import MAX_SEGMENTS, T_MAX
+from ..mapimpl.sticking import STICK_TIME, check_stick_time, stick_time_meta
 
 # flight outcomes by label (``Flight.status``) and the orbit status code after a miss
 _HIT, _NO_IMPACT, _STEP_CAP = (f.label for f in (FlightOutcome.HIT, FlightOutcome.NO_IMPACT, FlightOutcome.STEP_CAP))
@@ -349,11 +350,13 @@ def _run(
     opts: Options,
     points_per_unit: float | None,
     progress=None,
+    stick_time: float = STICK_TIME,
 ):
     n = validate_start(params, tau0, sdot0, n_impacts, s0)
+    stick_time = check_stick_time(stick_time)
     p = params
     s0 = None if s0 is None else float(s0)
-    meta = _meta(tau0, sdot0, s0, n, opts)
+    meta = {**_meta(tau0, sdot0, s0, n, opts), **stick_time_meta(stick_time)}
     dense: list = []
     theta, cycles = reduce_phase(float(tau0), 0)
     flights = 0
@@ -387,7 +390,7 @@ def _run(
     for i in range(n):
         bar.update(i)
         tau_n = cycles * TWO_PI + theta
-        stick, t_acc, delay, phase = stick_decision(theta, wall, sdot, p)
+        stick, t_acc, delay, phase = stick_decision(theta, wall, sdot, p, stick_time)
         stick_tau = release_tau = math.nan
         if stick:
             stick_tau = tau_n + t_acc
@@ -450,14 +453,17 @@ def orbit(
     max_step: float = MAX_STEP,
     t_max: float = T_MAX,
     progress=None,
+    stick_time: float = STICK_TIME,
 ) -> ImpactSequence:
     """Orbit of Eq. (3) integrated numerically: impact 0 plus ``n_impacts`` impacts (track ``"scipy"``).
 
     Same signature, conventions and result type as :func:`mapimpl.orbit.map_orbit`: with ``s0`` None,
     ``(tau0, sdot0)`` is the state just before impact 0 (``sdot0 > 0`` hits ``s = 0``); with
-    ``-1 <= s0 <= 0`` it is a free-flight state.  Raises ``ValueError`` naming a bad argument.
+    ``-1 <= s0 <= 0`` it is a free-flight state; ``stick_time`` is the sticking policy's threshold
+    (``0 <= stick_time <= 1e-2``).  Raises ``ValueError`` naming a bad argument.
     """
-    seq, _ = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), None, progress)
+    opts = Options(rtol, atol, max_step, t_max)
+    seq, _ = _run(params, tau0, sdot0, n_impacts, s0, opts, None, progress, stick_time)
     return seq
 
 
@@ -473,10 +479,13 @@ def dense_orbit(
     atol: float = ATOL,
     max_step: float = MAX_STEP,
     t_max: float = T_MAX,
+    stick_time: float = STICK_TIME,
 ) -> tuple[ImpactSequence, DenseTrajectory]:
     """Like :func:`orbit`, plus the dense trajectory ``s(tau)`` between the impacts (for plots, invariants)."""
     ppu = check_option("points_per_unit", points_per_unit, 0.0, 1e6)
-    seq, parts = _run(params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), ppu)
+    seq, parts = _run(
+        params, tau0, sdot0, n_impacts, s0, Options(rtol, atol, max_step, t_max), ppu, stick_time=stick_time
+    )
     if not parts:
         e = np.empty(0)
         return seq, DenseTrajectory(e, e, e, np.empty(0, dtype=np.int64))

@@ -12,6 +12,7 @@ import pytest
 
 from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden import generate, ondemand
+from gear_rattle.validation.golden.decisions import doubtful_decision
 from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case, load_suite, read_sequence
 
 #: The issue's chaotic orbit (200 impacts: the amplification rule alone gives tau 5e-3).
@@ -72,10 +73,14 @@ def test_long_orbits_become_truncated_cases_with_tight_tolerances(args, impacts,
     assert t["requested_impacts"] == impacts and t["kept_impacts"] == s["n_impacts"] < impacts
     assert "truncated" in s["tags"]
     assert f"case long: stops at impact {s['n_impacts']} of {impacts}" in err and len(err.strip().splitlines()) == 1
-    # the longest such case: a row of the next impact has a tolerance at or above the limit
+    # the longest such case: one impact more would have a row whose tolerance is at or above the limit, or ask a
+    # sticking decision in doubt within its row's tolerances (the sticking-decision rule)
     orb = ondemand._certify(inp, s["n_impacts"] + 1, generate.cert.PREC)[0]
-    longer = generate.row_tolerances(ondemand._spec(inp, s["n_impacts"] + 1), orb)
-    assert max(float(np.nanmax(v)) for v in longer.values.values()) >= ondemand.TOLERANCE_LIMIT
+    spec = ondemand._spec(inp, s["n_impacts"] + 1)
+    longer = generate.row_tolerances(spec, orb)
+    doubt = doubtful_decision(spec, orb, longer.values["tau"], longer.values["sdot"])
+    over = max(float(np.nanmax(v)) for v in longer.values.values()) >= ondemand.TOLERANCE_LIMIT
+    assert over or (doubt is not None and doubt[0] == s["n_impacts"])
 
 
 def test_max_tolerance_trades_length_for_tightness(tmp_path, capsys):

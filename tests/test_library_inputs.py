@@ -378,7 +378,15 @@ FUNCTIONS: dict[str, tuple[dict, dict]] = {
     ),
     "gear_rattle.mapimpl.tracks:orbit": (
         dict(track="map", params=P, tau0=0.0, sdot0=0.5, n_impacts=10),
-        dict(track="choice", params="params", tau0="phase", sdot0="real", n_impacts="count", s0="real?"),
+        dict(
+            track="choice",
+            params="params",
+            tau0="phase",
+            sdot0="real",
+            n_impacts="count",
+            s0="real?",
+            stick_time="real",
+        ),
     ),
     "gear_rattle.mapimpl.tracks:step_jacobian": (
         dict(track="map", params=P, tau=0.0, sdot=0.5),

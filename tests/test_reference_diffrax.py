@@ -100,3 +100,21 @@ def test_bad_options_raise(kw, name):
 def test_bad_start_raises():
     with pytest.raises(ValueError, match="sdot0"):
         D.orbit(Params(3.0, 0.1, 0.1, 0.9), 0.0, 0.0, 2)
+
+
+@pytest.mark.parametrize("sdot0", [1e-10, 1e-7, 1e-6])
+def test_a_slow_bounce_into_a_weak_force_is_found(sdot0):
+    """Found by ``gear-rattle fuzz`` (stick-threshold scenario, seed 44, shrunk): alpha = 0.5, beta = 0.003,
+    gamma = 0, r = 0.3 from the pre-impact state (0, sdot0).  The flight leaves s = 0 at 0.3 sdot0 against
+    f = 0.0015 (which changes sign 0.003 later), turns back at most 3e-11 below the wall and lands on it
+    again after ~400 sdot0 time units.  Diffrax's first step (0.01) hid both reversals and the track
+    reported the lower wall at t = 2.56 (on the old code, for every sdot0 here); the first segment of a
+    departure against the force is now solved on ``[0, 2 |v0 / a0|]`` first (``departure_bound``).  As the
+    map: measured relative differences 1.3e-16 ... 3.4e-16 (time), 2.2e-16 ... 8.9e-16 (velocity); bound 1e-13."""
+    p = Params(0.5, 0.003, 0.0, 0.3)
+    v0 = -p.r * sdot0
+    fl = _fl(0.0, 0.0, v0, -1.0, p)
+    st, t, wall, v = map_first_impact(0.0, 0.0, v0, p)
+    assert st == FlightOutcome.HIT and wall == 0 and t < 1e-3
+    assert int(fl.status) == FlightOutcome.HIT and int(fl.wall) == 0
+    assert abs(float(fl.t) - t) <= 1e-13 * t and abs(float(fl.v) - v) <= 1e-13 * abs(v)

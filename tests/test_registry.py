@@ -66,7 +66,6 @@ def test_the_library_imports_no_module_by_name(tmp_path):
 #: module of gear_rattle, so it hides no edge of the import contract), and why it is not an import statement.
 EXTERNAL_BY_NAME = {
     "validation/extras.py": "an optional extra (zarr, dask) through extras.require: the light install lacks it",
-    "validation/golden/fuzz.py": "hypothesis.strategies, the test extra, only for gear-rattle fuzz",
     "validation/report/builder.py": "each dependency's __version__ for the report's provenance (a loop)",
 }
 

@@ -195,6 +195,21 @@ def add_s0_arg(p, help: str) -> None:
     p.add_argument("--s0", type=real("--s0", lo=-1.0, hi=0.0), default=None, help=help)
 
 
+def add_stick_time_arg(p, default: float | None) -> None:
+    """``--stick-time T``: the sticking policy's threshold, in the library's range ``0 <= T <= MAX_STICK_TIME``
+    (:func:`mapimpl.sticking.check_stick_time`); ``default`` None: the input's own (``case``)."""
+    from ..mapimpl.sticking import MAX_STICK_TIME, STICK_TIME  # JAX: only the commands that compute call this
+
+    p.add_argument(
+        "--stick-time",
+        type=real("--stick-time", lo=0.0, hi=MAX_STICK_TIME),
+        default=default,
+        metavar="T",
+        help="the sticking policy's threshold: a chatter whose predicted accumulation time is at most T sticks "
+        f"to the wall, 0 <= T <= {MAX_STICK_TIME:g} (default {STICK_TIME:g}; every track takes it)",
+    )
+
+
 def add_start_args(
     p, start: tuple[float, float] | None = START, *, what: str = "initial", none: str = "none", s0: str | None = None
 ) -> None:

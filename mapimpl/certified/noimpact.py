@@ -24,7 +24,7 @@ from flint import arb
 
 from ..sticking import STICK_TIME
 from .balls import PREC, CertificationError, exact, mod_two_pi, precision, span
-from .contact import _departure
+from .contact import T_MAX, _departure
 from .model import Flight, Model
 from .orbit import CertifiedOrbit, Event, certify_orbit
 from .sticking import certify_release, release_time, stick_decision
@@ -87,13 +87,23 @@ def certify_no_impact_orbit(
     prec: int = PREC,
     stick_time: float = STICK_TIME,
     radius_limit: float | None = None,
+    t_max: float = T_MAX,
 ) -> CertifiedOrbit:
     """A certified orbit whose impact ``last_impact`` is its last: impacts ``0..last_impact`` by
-    :func:`.orbit.certify_orbit`, then the map step of that impact, the policy in balls (stick and
-    release rows if it sticks) and :func:`certify_never_lands`.  Status ``no_impact``; raises
-    :class:`CertificationError` where the orbit does not end so (e.g. a wrong ``last_impact``)."""
+    :func:`.orbit.certify_orbit` (its flights searched up to ``t_max``), then the map step of that impact,
+    the policy in balls (stick and release rows if it sticks) and :func:`certify_never_lands`.  Status
+    ``no_impact``; raises :class:`CertificationError` where the orbit does not end so (e.g. a wrong
+    ``last_impact``)."""
     orb = certify_orbit(
-        params, tau0, sdot0, last_impact, s0=s0, prec=prec, stick_time=stick_time, radius_limit=radius_limit
+        params,
+        tau0,
+        sdot0,
+        last_impact,
+        s0=s0,
+        prec=prec,
+        stick_time=stick_time,
+        radius_limit=radius_limit,
+        t_max=t_max,
     )
     if orb.status != "active" or orb.events[-1].n != last_impact:
         raise CertificationError(f"the certified orbit ends before impact {last_impact}: {orb.stop_reason}")

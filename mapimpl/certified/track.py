@@ -50,7 +50,7 @@ from ...core.checks import MAX_IMPACTS, check_int, check_real, check_start
 
 # the orbit horizon of every track: a flight proven to reach no wall within it ends the orbit with no_impact
 from ...core.horizons import T_MAX
-from ..sticking import MAX_STICK_TIME, STICK_TIME
+from ..sticking import STICK_TIME, check_stick_time
 from .balls import (
     PREC,
     check_prec,
@@ -542,7 +542,7 @@ def certified_orbit(
     tau0, sdot0, s0 = check_start(tau0, sdot0, s0)
     if s0 is not None and ((s0 == 0.0 and sdot0 > 0.0) or (s0 == -1.0 and sdot0 < 0.0)):
         s0 = None  # on a wall moving into it: the pre-impact state itself (as the map track)
-    stick_time = check_real("stick_time", stick_time, 0.0, MAX_STICK_TIME)
+    stick_time = check_stick_time(stick_time)
     prec, max_prec = check_prec(prec, "prec"), check_prec(max_prec, "max_prec")
     prec = min(prec, max_prec)
     t_max = check_real("t_max", t_max, 0.0, 1e6, lo_open=True)

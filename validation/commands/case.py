@@ -32,6 +32,7 @@ from ..cliutil import (
     COMMAND,
     CliError,
     CommandFailed,
+    add_stick_time_arg,
     nonneg_int,
     note,
     progress_arg,
@@ -142,13 +143,7 @@ def _add_input_arguments(g) -> None:
         help=f"impacts after impact 0, 0 <= N <= {MAX_CASE_IMPACTS} (the case may stop earlier: "
         f"no tolerance reaches {TOLERANCE_LIMIT:g}) (no default: required without --from)",
     )
-    g.add_argument(
-        "--stick-time",
-        type=real("--stick-time", lo=0.0, hi=1.0),
-        default=None,
-        metavar="T",
-        help="the sticking policy's threshold STICK_TIME, 0 <= T <= 1 (default 1e-6)",
-    )
+    add_stick_time_arg(g, None)
     g.add_argument(
         "--id", default=None, help="case id: the folder name under SUITE (no default: required without --from)"
     )

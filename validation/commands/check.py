@@ -251,6 +251,7 @@ def run(args: argparse.Namespace) -> int:
         read_sequence,
         score_sequence,
     )
+
     if args.suite_version:
         from ._check_suite import suite_version
 

@@ -2,9 +2,10 @@
 
 COMMAND is called as `COMMAND CASES_DIR OUT_DIR`: it must run every case folder of CASES_DIR (settings.json in
 the golden suite's layout; expected.csv is not given) and write OUT_DIR/<case-id>.csv, as for the shipped
-suite. The fuzzer draws inputs with Hypothesis (grazes, near misses, chatter and sticking on both walls,
-thresholds, release delays, r = 1, small beta, negative gamma, free-flight starts, orbits that end stuck or
-with no_impact), builds each certified case as `gear-rattle case` does, runs the implementation on batches
+suite. The fuzzer draws inputs with Hypothesis from a registry of scenarios (grazes, near misses, chatter and
+sticking on both walls, thresholds at any stick_time, release delays, r = 1, small beta, negative gamma,
+free-flight starts, orbits that end stuck or with no_impact, the whole parameter box, long orbits and long
+flights), builds each certified case as `gear-rattle case` does, runs the implementation on batches
 of cases (one process per batch), scores them as `gear-rattle check` does, and shrinks every failure
 (fewer impacts, simpler numbers, the paper's parameters) to a small failing case written to --out as a
 golden-format case folder: keep it as a regression test (`gear-rattle check OUT --suite DIR`).
@@ -40,7 +41,15 @@ HELP = "differential fuzzing of another implementation against certified cases (
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..golden.fuzz import BATCH, SCENARIOS, TIMEOUT
+    from ..golden.fuzz import BATCH, TIMEOUT
+    from ..golden.scenarios import SCENARIOS, check_scenarios
+
+    def scenario(text: str) -> str:
+        """argparse type: a name of the registry (one line naming the allowed ones otherwise)."""
+        try:
+            return check_scenarios([text])[0]
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
 
     p.add_argument(
         "--impl",
@@ -84,7 +93,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--scenarios",
         nargs="+",
-        choices=sorted(SCENARIOS),
+        type=scenario,
         default=None,
         metavar="NAME",
         help="draw only these scenarios (default: all): " + ", ".join(sorted(SCENARIOS)),

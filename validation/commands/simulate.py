@@ -20,6 +20,7 @@ from ..cliutil import (
     CliError,
     CommandFailed,
     add_output_options,
+    add_stick_time_arg,
     int_range,
     add_param_args,
     check_outputs,
@@ -42,6 +43,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     # command line imports every command's module to list it)
     from ...mapimpl.certified.balls import MAX_PREC
     from ...mapimpl.certified.track import MAX_TRACK_PREC
+    from ...mapimpl.sticking import STICK_TIME
 
     add_param_args(p)
     add_start_args(p, s0="start in free flight at -1 <= s0 <= 0 (default: none, start at an impact)")
@@ -57,6 +59,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default="map",
         help="which track computes the orbit (default map; certified: every row proven, with float64 bounds)",
     )
+    add_stick_time_arg(p, STICK_TIME)
     p.add_argument(
         "--max-precision",
         type=int_range("--max-precision", 64, MAX_PREC),
@@ -83,9 +86,14 @@ def run(args: argparse.Namespace) -> int:
     check_start_args(args)
     if args.track == "certified":
         return _run_certified(args, params)
-    seq = orbit(params, args.tau0, args.sdot0, args.impacts, s0=args.s0, track=args.track, progress=progress_arg(args))
+    seq = orbit(params, args.tau0, args.sdot0, args.impacts, track=args.track, **_start(args))
     _finish(args, seq)
     return 0
+
+
+def _start(args: argparse.Namespace) -> dict:
+    """The options every track's orbit takes from the command line: ``s0``, ``stick_time``, ``progress``."""
+    return {"s0": args.s0, "stick_time": args.stick_time, "progress": progress_arg(args)}
 
 
 def _finish(args: argparse.Namespace, seq) -> None:
@@ -114,9 +122,7 @@ def _run_certified(args: argparse.Namespace, params) -> int:
     from ..io.atomic import commit_pending
 
     limit = MAX_TRACK_PREC if args.max_precision is None else args.max_precision
-    run = certified_orbit(
-        params, args.tau0, args.sdot0, args.impacts, s0=args.s0, max_prec=limit, progress=progress_arg(args)
-    )
+    run = certified_orbit(params, args.tau0, args.sdot0, args.impacts, max_prec=limit, **_start(args))
     seq = run.sequence()
     if run.complete:
         _finish(args, seq)

@@ -19,6 +19,8 @@ shorter case.  An impact that cannot be certified (a tangency the balls cannot s
 does a flight that turns back closer to a wall than :data:`NEAR_MISS_SAFETY` times the gap error of a correct
 implementation (:func:`near_miss_limit`: it may take such a near miss for a contact), and a graze whose
 excursion beyond the wall lies within 10 gap errors (:attr:`conditioning.RowErrors.fragile`: it may miss it).
+A case does not ask a sticking decision that an output within the tolerances of its row could take the other
+way either: it stops at that impact (the sticking-decision rule, :func:`decisions.doubtful_decision`).
 
 :func:`build_user_cases` builds many (``--from FILE``: one process, the JAX functions of the tolerance rule
 compiled once), :func:`write_user_case` writes a folder and :func:`update_index` the suite's ``index.json``
@@ -37,15 +39,17 @@ from pathlib import Path
 from typing import Any
 
 from ...core.checks import check_int, check_real
+from ...core.horizons import T_MAX
 from ...core.params import PARAM_NAMES, RANGES, Params, check_value
 from ...mapimpl import certified as cert
-from ...mapimpl.sticking import STICK_TIME
+from ...mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 from . import generate
 from .boundary import MAX_CASE_IMPACTS, MAX_CASES, check_id, shown
 from .catalog import INDEX_NAME, build_index
 from .csvformat import Record, check_header, split_line, text_lines
 from .jsonformat import parse_json, read_json
 from .textformat import MAX_BYTES, MAX_LINES, MalformedFile, position, read_text
+from .decisions import doubtful_decision
 
 import numpy as np
 
@@ -137,7 +141,13 @@ FIELD_CHECKS: dict[str, Callable[[object], object]] = {
     "sdot0": lambda v: _number("sdot0", v, -SDOT0_MAX, SDOT0_MAX, f"a finite number with |sdot0| <= {SDOT0_MAX:g}"),
     "impacts": _impacts,
     "s0": _s0,
-    "stick_time": lambda v: _number("stick_time", v, 0.0, 1.0, "a finite number 0 <= stick_time <= 1"),
+    "stick_time": lambda v: _number(
+        "stick_time",
+        v,
+        0.0,
+        MAX_STICK_TIME,
+        f"a finite number 0 <= stick_time <= {MAX_STICK_TIME:g} (mapimpl.sticking.MAX_STICK_TIME)",
+    ),
 }
 
 
@@ -396,17 +406,32 @@ def _first_over(tols: generate.RowTolerances, limit: float) -> tuple[int, str] |
 #: taken for a contact by one: a case stops before the impact that ends such a flight (the near-miss rule; the
 #: shipped near misses lie at 6.6e6 e, 3.3e4 e and 330 e).
 NEAR_MISS_SAFETY = 10.0
-#: Samples of a flight per refinement when its turning points are searched (three refinements).
-TURN_SAMPLES = 257
+#: Samples of a flight per refinement when its turning points are searched (three refinements), and per unit of
+#: time in the first round (at least :data:`TURN_SAMPLES`; the forcing's period is 2 pi).
+TURN_SAMPLES, TURN_SAMPLES_PER_UNIT = 257, 64
 
 
 _FLIGHT: list = []  # the flight's (ds, v) at TURN_SAMPLES times, compiled once
 
 
-def _turns(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float:
+def turn_grid(dt: float, departure: bool = True):
+    """The first round's sample times of a flight of ``dt``: :data:`TURN_SAMPLES_PER_UNIT` per unit of time (a
+    long flight oscillates with the forcing) and, for a ``departure`` with a speed (after an impact), ``dt 2^-k``
+    for k = 1 ... 64 (a slow departure against a weakening force turns back twice within 1e-6 of its start: a
+    257-point grid saw neither turning point of a flight that came back within 1.6e-19 of its start wall,
+    found by ``gear-rattle fuzz``).  Not after a release from rest: there the force vanishes to rounding and
+    ``sdot`` dips to ~-1e-31 just after the start, no turning point of the model."""
+    import numpy as np
+
+    n = max(TURN_SAMPLES, int(math.ceil(dt * TURN_SAMPLES_PER_UNIT)))
+    early = dt * 2.0 ** -np.arange(64.0, 0.0, -1.0) if departure else np.zeros(0)
+    return np.unique(np.concatenate([early, np.linspace(0.0, dt, n)]))
+
+
+def turning_gap(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float:
     """The smallest distance to a wall at which the flight from ``(th0, s_start, v0)`` turns back before
-    ``dt`` (interior extrema of ``s``, located by three rounds of :data:`TURN_SAMPLES` samples: the float64
-    closed form, Eqs. 7-8); ``inf`` without a turning point."""
+    ``dt`` (interior extrema of ``s``, located on :func:`turn_grid` and two refinements of
+    :data:`TURN_SAMPLES` samples: the float64 closed form, Eqs. 7-8); ``inf`` without a turning point."""
     if not _FLIGHT:
         import jax
 
@@ -414,21 +439,41 @@ def _turns(p: Params, th0: float, v0: float, s_start: float, dt: float) -> float
 
         _FLIGHT.append(jax.jit(lambda t, th, v, a, b, g: (flight(t, th, v, a, b, g).ds, flight(t, th, v, a, b, g).v)))
 
-    def sample(a: float, b: float):
-        t = np.linspace(a, b, TURN_SAMPLES)
-        ds, v = _FLIGHT[0](t, th0, v0, p.alpha, p.beta, p.gamma)
-        return t, s_start + np.asarray(ds), np.asarray(v)
+    def at(t):
+        """``(t, s, v)`` at the times ``t``, in chunks of TURN_SAMPLES (one compiled shape)."""
+        ds, vs = [], []
+        for k in range(0, len(t), TURN_SAMPLES):
+            chunk = t[k : k + TURN_SAMPLES]
+            d, w = _FLIGHT[0](
+                np.pad(chunk, (0, TURN_SAMPLES - len(chunk)), mode="edge"), th0, v0, p.alpha, p.beta, p.gamma
+            )
+            ds.append(np.asarray(d)[: len(chunk)])
+            vs.append(np.asarray(w)[: len(chunk)])
+        return t, s_start + np.concatenate(ds), np.concatenate(vs)
 
-    t, s, v = sample(0.0, dt)
+    def zoom(a: float, b: float, pick) -> tuple[float, float]:
+        """``(s, v)`` at the sample ``pick(s, v)`` of ``[a, b]`` after two refinements around it."""
+        for _ in range(2):
+            tt, ss, vv = at(np.linspace(a, b, TURN_SAMPLES))
+            k = int(pick(ss, vv))
+            a, b = tt[max(k - 1, 0)], tt[min(k + 1, TURN_SAMPLES - 1)]
+        return float(ss[k]), float(vv[k])
+
+    t, s, v = at(turn_grid(dt, v0 != 0))
     best = math.inf
     for i in np.nonzero(np.sign(v[1:-1]) != np.sign(v[2:]))[0] + 1:
-        a, b = t[i], t[i + 1]
-        for _ in range(2):
-            tt, ss, vv = sample(a, b)
-            k = int(np.argmax(ss) if v[i] > 0 else np.argmin(ss))
-            a, b = tt[max(k - 1, 0)], tt[min(k + 1, TURN_SAMPLES - 1)]
-        gap = -float(ss[k]) if v[i] > 0 else float(ss[k]) + 1.0
-        best = min(best, gap)
+        up = v[i] > 0
+        s_k, _ = zoom(t[i], t[i + 1], lambda ss, vv: np.argmax(ss) if up else np.argmin(ss))
+        best = min(best, -s_k if up else s_k + 1.0)
+    # two turning points inside one interval (a dip of v through 0 and back, unseen at the samples): where the
+    # acceleration changes sign, the extremum of v; after a departure with a speed only (:func:`turn_grid`)
+    if v0 != 0:
+        acc = p.gamma - p.alpha * np.sin(th0 + t) + p.alpha * p.beta * np.cos(th0 + t) - p.beta * v
+        for i in np.nonzero((np.sign(acc[:-1]) != np.sign(acc[1:])) & (np.sign(v[:-1]) == np.sign(v[1:])))[0]:
+            up = v[i] > 0
+            s_k, v_k = zoom(t[i], t[i + 1], lambda ss, vv: np.argmin(vv) if up else np.argmax(vv))
+            if (v_k < 0) == up and v_k != 0:
+                best = min(best, -s_k, s_k + 1.0)
     return best
 
 
@@ -457,7 +502,7 @@ def near_miss_limit(spec: generate.Spec, orb: cert.CertifiedOrbit) -> tuple[int,
             )
         if start is not None:
             dt = tau - start[2]
-            gap = _turns(p, start[0], start[1], start[3], dt)
+            gap = turning_gap(p, start[0], start[1], start[3], dt)
             e = gap_error(flight_height(p, start[0], start[1], dt), dt)
             if gap < NEAR_MISS_SAFETY * e:
                 return int(rows.n[i]), (
@@ -517,6 +562,7 @@ def _certify(
         prec=run.precision,
         stick_time=inp.stick_time,
         radius_limit=generate.RADIUS_LIMIT,
+        t_max=T_MAX,  # the orbit's horizon, the certified track's (a flight of 400 ... 2000 lands: a row)
     )
     if last < 0:
         return None, run.reason
@@ -649,6 +695,14 @@ def build_user_case(
     kept = _last_impact(orb) if reason else inp.impacts
     spec = _spec(inp, kept)
     tols = generate.row_tolerances(spec, orb)
+    # the sticking-decision rule: a row's tolerance is set by the rows before it, so the first decision in
+    # doubt within its row's tolerances ends the case there (that impact's decision is then not asked)
+    doubt = doubtful_decision(spec, orb, tols.values["tau"], tols.values["sdot"])
+    if doubt is not None:
+        kept, reason = doubt[0], doubt[1]
+        orb = _prefix(orb, kept)
+        spec = _spec(inp, kept)
+        tols = generate.row_tolerances(spec, orb)
     truncation = None
     notes = {"tolerances": tols.note()}
     if reason:

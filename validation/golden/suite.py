@@ -644,11 +644,21 @@ def run_case(case: Case, track: str = "map"):
 
 
 def run_settings(s: dict, track: str = "map"):
-    """Run one of our tracks on a case's ``settings.json`` data (its parameters, initial state and
-    impacts); returns the :class:`ImpactSequence`."""
+    """Run one of our tracks on a case's ``settings.json`` data (its parameters, initial state, impacts
+    and sticking threshold ``stick_time``, default :data:`mapimpl.sticking.STICK_TIME`); returns the
+    :class:`ImpactSequence`."""
     from ...core.params import Params
+    from ...mapimpl.sticking import STICK_TIME
     from ...mapimpl.tracks import orbit
 
     p = Params(**s["params"])
     ini = s["initial_state"]
-    return orbit(p, ini["tau0"], ini["sdot0"], int(s["n_impacts"]), s0=ini.get("s0"), track=track)
+    return orbit(
+        p,
+        ini["tau0"],
+        ini["sdot0"],
+        int(s["n_impacts"]),
+        s0=ini.get("s0"),
+        track=track,
+        stick_time=s.get("stick_time", STICK_TIME),
+    )
