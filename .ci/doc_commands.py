@@ -48,7 +48,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PAGE_DIRS = ("docs/start", "docs/howto")
 SHELLS = ("bash", "sh", "shell", "console")
 #: fenced blocks in these languages are output or data, not commands: they need no marker
-INERT = ("text", "json", "csv", "toml", "output", "")
+INERT = ("text", "json", "csv", "toml", "yaml", "output", "")
 MARKER = re.compile(r"<!--\s*ci:\s*(.*?)\s*-->", re.S)
 FENCE = re.compile(r"^(```+|~~~+)\s*\{?([\w-]*)\}?.*$")
 MODES = ("run", "shrink", "in .ci/run", "skip")

@@ -11,13 +11,13 @@ date of the page.  The markers:
 * a date: ``2026-11-24`` (any ``20YY-MM``), or the month written ``Nov``/``November``;
 * a machine load: ``load 7``, ``load average 13-15``, ``load average ~5``, ``machine otherwise idle``,
   ``shared with other work`` / ``with ~7 other jobs``;
-* a commit: a word of 7-40 hexadecimal digits with a digit and a letter (``a8c2cf5``), or ``commit``
-  followed by 7-40 hexadecimal digits (``commit 1252113``);
+* a commit: a word of 7-40 hexadecimal digits with a digit and a letter (``a8c2cf5``; not the digits
+  after a decimal point, as in ``1.4858389142989202e-06``), or ``commit`` followed by 7-40 hexadecimal
+  digits (``commit 1252113``);
 * an issue number of this project: ``issue 12``, ``issues 10``; another project's issue (``scipy issue
   9228``) is a citation, not history.
 
-tests/test_docs_layout.py holds the pages outside docs/record/ (the validation record) to zero, except
-the pages another change still has to sort (``PENDING``).
+tests/test_docs_layout.py holds the pages outside docs/record/ (the validation record) to zero.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ LOAD = re.compile(
     r"|\bshared with (?:~?\d+ )?other (?:work|jobs)\b",
     re.I,
 )
-COMMIT = re.compile(r"\b(?=[0-9a-f]*\d)(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}\b|\bcommits? [0-9a-f]{7,40}\b")
+COMMIT = re.compile(r"(?<!\.)\b(?=[0-9a-f]*\d)(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}\b|\bcommits? [0-9a-f]{7,40}\b")
 ISSUE = re.compile(r"(\w+\s+)?\bissues? \d+", re.I)
 OTHER_PROJECTS = ("scipy", "diffrax", "jax", "numpy", "xla", "zarr", "dask")
 INLINE_CODE = re.compile(r"(`+)(?:(?!\1).)+?\1", re.S)

@@ -1,6 +1,7 @@
-"""`gear-rattle check` in another project's CI (issue 30; docs/golden.md, "Using the suite in CI" and
-"Versions of the suite"): the JUnit XML and JSON reports, the aligned table and the summary, the suite's
-version and digest, the light install (numpy alone) and the CI jobs of docs/golden.md, run.
+"""`gear-rattle check` in another project's CI (issue 30; docs/reference/golden_commands.md, "In CI", and
+docs/reference/golden_formats.md, "Versions of the suite"): the JUnit XML and JSON reports, the aligned
+table and the summary, the suite's version and digest against docs/record/golden_changelog.md, the light
+install (numpy alone) and the CI jobs of docs/howto/golden_ci_jobs.md, run.
 
 The JUnit file is validated structurally against the JUnit schema that Jenkins (``junit-10.xsd``),
 Surefire and GitLab read -- no network and no schema library: :func:`validate_junit` checks the
@@ -28,7 +29,9 @@ from gear_rattle.validation.golden import version as V
 
 REPO = Path(__file__).resolve().parents[1]
 GOLDEN = V.GOLDEN
-DOC = REPO / "docs" / "golden.md"
+#: the suite's changelog, and the page of the CI jobs
+CHANGELOG = REPO / "docs" / "record" / "golden_changelog.md"
+JOBS = REPO / "docs" / "howto" / "golden_ci_jobs.md"
 CASES = sorted(p.name for p in (GOLDEN / "cases").iterdir() if (p / "settings.json").is_file())
 RECORDS = sorted(p.stem for p in (GOLDEN / "orbits").glob("*.json"))
 
@@ -225,8 +228,8 @@ def test_the_table_aligns_for_long_ids_and_the_summary_names_the_failures(tmp_pa
 
 
 def test_the_suite_files_the_digest_the_version_and_the_changelog_change_together():
-    """Recompute the digests: they must be those recorded in cases/index.json, and docs/golden.md must
-    have a changelog entry for the recorded version naming that digest -- so a change of any case or
+    """Recompute the digests: they must be those recorded in cases/index.json, and the suite's changelog
+    (docs/record/golden_changelog.md) must have an entry for the recorded version naming that digest -- so a change of any case or
     record file fails here until the index is regenerated, the version raised and its entry written."""
     block = V.recorded()
     files = V.suite_files(GOLDEN / "cases")
@@ -237,9 +240,9 @@ def test_the_suite_files_the_digest_the_version_and_the_changelog_change_togethe
     assert block["orbits_digest"] == orbits, "an orbit record changed: raise SUITE_VERSION, regenerate the index"
     assert block["digest"] == V.combined_digest(cases, orbits)
     assert block["version"] == V.SUITE_VERSION and re.fullmatch(r"\d+\.\d+\.\d+", V.SUITE_VERSION)
-    log = DOC.read_text(encoding="utf-8").split("### Changelog", 1)[1]
+    log = CHANGELOG.read_text(encoding="utf-8")
     entry = re.search(rf"^\* \*\*{re.escape(V.SUITE_VERSION)}\*\* .*?(?=^\* \*\*|\Z)", log, re.S | re.M)
-    assert entry, f"docs/golden.md: no changelog entry for suite {V.SUITE_VERSION}"
+    assert entry, f"{CHANGELOG.relative_to(REPO)}: no entry for suite {V.SUITE_VERSION}"
     assert block["digest"] in " ".join(entry.group(0).split()), "the changelog entry does not name the digest"
     versions = re.findall(r"^\* \*\*(\d+\.\d+\.\d+)\*\*", log, re.M)
     assert versions[0] == V.SUITE_VERSION and len(set(versions)) == len(versions)  # newest first, each once
@@ -358,22 +361,21 @@ def test_import_gear_rattle_does_not_import_jax_and_jax_still_computes_in_float6
 
 
 def _ci_section() -> str:
-    text = DOC.read_text(encoding="utf-8")
-    return text.split("## Using the suite in CI", 1)[1].split("\n## ", 1)[0]
+    return JOBS.read_text(encoding="utf-8")
 
 
 def ci_jobs() -> dict:
-    """The commands of the two YAML jobs of docs/golden.md, in order (GitHub's ``run:`` steps, GitLab's
+    """The commands of the two YAML jobs of docs/howto/golden_ci_jobs.md, in order (GitHub's ``run:`` steps, GitLab's
     ``script:`` items), and the variables each declares (GitHub's ``env:``, GitLab's ``variables:``)."""
     blocks = re.findall(r"```yaml\n(.*?)```", _ci_section(), re.S)
-    assert len(blocks) == 2, "docs/golden.md: expected a GitHub Actions and a GitLab CI job"
+    assert len(blocks) == 2, f"{JOBS.relative_to(REPO)}: expected a GitHub Actions and a GitLab CI job"
     github = [m.strip() for m in re.findall(r"^\s+- run: (.+)$", blocks[0], re.M)]
     script = blocks[1].split("  script:\n", 1)[1]
     gitlab = [m.strip() for m in re.findall(r"^    - (.+)$", script.split("\n  artifacts:", 1)[0], re.M)]
 
     def variables(text: str, key: str) -> dict:
         body = re.search(rf"^( +){key}:\n((?:\1  .*\n)+)", text, re.M)
-        assert body, f"docs/golden.md: a job without {key}:"
+        assert body, f"{JOBS.relative_to(REPO)}: a job without {key}:"
         return dict(re.findall(r'^\s+(\w+): "([^"]*)"$', body.group(2), re.M))
 
     return {

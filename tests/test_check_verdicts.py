@@ -231,7 +231,7 @@ def test_export_suite_copies_the_suite_with_its_format(tmp_path, capsys):
 
 
 def test_the_format_description_is_the_docs_sections():
-    """FORMAT.md ships with the suite: it must be docs/golden.md's sections as they are now."""
+    """FORMAT.md ships with the suite: it must be the docs' sections (.ci/golden_format.py) as they are now."""
     spec = importlib.util.spec_from_file_location("golden_format", REPO / ".ci" / "golden_format.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)

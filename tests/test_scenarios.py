@@ -1,4 +1,4 @@
-"""The fuzzer's scenarios (validation/golden/scenarios.py; docs/golden.md, "Fuzzing an implementation"): a
+"""The fuzzer's scenarios (validation/golden/scenarios.py; docs/reference/golden_commands.md, "Fuzzing an implementation"): a
 registry of objects, each drawing its own numbers and building an input at its hard place, over the model's
 whole input box (issue 36 item 4)."""
 
@@ -16,7 +16,7 @@ from gear_rattle.validation.cli import main
 from gear_rattle.validation.golden import generate, ondemand
 from gear_rattle.validation.golden import scenarios as S
 
-DOCS = Path(__file__).resolve().parents[1] / "docs" / "golden.md"
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "reference" / "golden_commands.md"
 
 
 def _first_input(name: str, seeds=range(6), count: int = 6):
@@ -53,7 +53,7 @@ def test_the_registry_is_objects_with_their_draws_and_why():
 
 
 def test_the_docs_show_the_registry_and_the_box():
-    """docs/golden.md holds the registry's table (name, weight, why) and the box, as :func:`describe` writes
+    """The fuzz reference (docs/reference/golden_commands.md) holds the registry's table (name, weight, why) and the box, as :func:`describe` writes
     them: the page says what the code draws."""
     text = DOCS.read_text()
     missing = [line for line in S.describe() if line not in text]
