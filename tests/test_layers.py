@@ -58,7 +58,7 @@ def test_the_contract_catches_a_library_module_importing_validation(tmp_path):
     src = tmp_path / "b" / "src"
     _installed_layout(src)
     bad = src / "gear_rattle" / "mapimpl" / "sticking.py"
-    bad.write_text(bad.read_text() + "\nfrom ..validation.golden import suite  # noqa\n")
+    bad.write_text(bad.read_text() + "\nfrom ..validation.golden.formats import cases  # noqa\n")
     code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
     r = subprocess.run(
         [sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"],
@@ -79,7 +79,7 @@ def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions
     _installed_layout(src)
     pkg = src / "gear_rattle" / "validation"
     for rel, line in (
-        ("golden/suite.py", "\ndef _f():\n    from ..transient import experiments  # noqa\n"),
+        ("golden/formats/cases.py", "\ndef _f():\n    from ...transient import experiments  # noqa\n"),
         ("io/transients.py", "\nfrom ..plots import base  # noqa\n"),
         (
             "../mapimpl/certified/capture.py",
