@@ -40,11 +40,10 @@ def _rate_in(p, tau: float) -> float:
     return abs(-p.alpha * math.cos(tau) - p.alpha * p.beta * math.sin(tau))
 
 
-def doubtful_decision(spec: Spec, orb: cert.CertifiedOrbit, tol_tau=None, tol_sdot=None) -> tuple[int, str] | None:
+def doubtful_decision(spec: Spec, orb: cert.CertifiedOrbit, tol_tau, tol_sdot) -> tuple[int, str] | None:
     """``(impact, note)``: the first impact of the case whose sticking decision an output within the given
     tolerances could take the other way (module docstring), or ``None``.  ``tol_tau``, ``tol_sdot``: the
-    absolute tolerance of each row (arrays over the rows of ``orb``, or one number for all; default the case's
-    per-column ``spec.tolerances``, then the rule is conservative: a row's own tolerance is at most that).
+    absolute tolerance of each row (arrays over the rows of ``orb``, or one number for all).
     Only the decisions the case asks count: an impact followed by a row of the case (the last impact of an
     active case is not decided); a pre-impact initial state is exact."""
     p, st = spec.params, float(spec.stick_time)
@@ -52,8 +51,8 @@ def doubtful_decision(spec: Spec, orb: cert.CertifiedOrbit, tol_tau=None, tol_sd
         return None
     rows = certified_rows(orb)
     size = len(rows.kind)
-    tt = np.broadcast_to(spec.tolerances["tau"]["abs"] if tol_tau is None else tol_tau, (size,))
-    tv = np.broadcast_to(spec.tolerances["sdot"]["abs"] if tol_sdot is None else tol_sdot, (size,))
+    tt = np.broadcast_to(tol_tau, (size,))
+    tv = np.broadcast_to(tol_sdot, (size,))
     for i, kind in enumerate(rows.kind):
         n, wall = int(rows.n[i]), int(rows.wall[i])
         if kind != "impact" or (n == 0 and spec.s0 is None) or i == size - 1:

@@ -172,10 +172,10 @@ def skipped_result(id_: str, level: int | None, reason: str, orbits: bool = Fals
     """The result of a case or record that was not selected: not scored, ``reason`` says why."""
     note = f"skipped: {reason}"
     if orbits:
-        digits = {c: None for c in ORBIT_COLUMNS}
+        digits: dict[str, float | None] = {c: None for c in ORBIT_COLUMNS}
         return OrbitResult(id_, level, "skipped", None, digits, None, None, note, reason)
-    digits = {c: None for c in CASE_COLUMNS}
-    return CaseResult(id_, level, "skipped", None, digits, False, None, 0, None, None, None, note, reason)
+    none: dict[str, float | None] = {c: None for c in CASE_COLUMNS}
+    return CaseResult(id_, level, "skipped", None, none, False, None, 0, None, None, None, note, reason)
 
 
 def known_failure(result: Result, reason: str, source: str) -> Result:

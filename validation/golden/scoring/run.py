@@ -43,8 +43,11 @@ class Scorer(Protocol):
     read (a regular file inside the folder ``root``), scored, scored when missing or unreadable, and
     made a result."""
 
-    orbits: bool
-    suffix: str
+    @property
+    def orbits(self) -> bool: ...
+
+    @property
+    def suffix(self) -> str: ...
 
     def read(self, path: Path, item: Any, root: Path) -> Any: ...
 
