@@ -29,8 +29,9 @@ from flint import arb
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl import certified as cert
 from gear_rattle.mapimpl.tracks import orbit
-from gear_rattle.validation.golden import conditioning as C
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids, load_case
+from gear_rattle.validation.golden.rules import conditioning as C
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import case_ids, load_case
 
 
 def suite_inputs() -> list[tuple]:
@@ -43,7 +44,7 @@ def suite_inputs() -> list[tuple]:
 
 
 def fuzz_inputs(seed: int, count: int) -> list[tuple]:
-    from gear_rattle.validation.golden.fuzz import construct, draw_recipes
+    from gear_rattle.validation.golden.fuzzing.scenarios import construct, draw_recipes
 
     out = []
     for k, rec in enumerate(draw_recipes(seed, count)):

@@ -22,14 +22,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from gear_rattle.validation.golden.suite import (
-    DEFAULT_SUITE,
-    TOLERANCE_COLUMNS,
-    circular_distance,
-    load_suite,
-    run_case,
-    sequence_from_impacts,
-)
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import TOLERANCE_COLUMNS, load_suite, sequence_from_impacts
+from gear_rattle.validation.golden.scoring.cases import circular_distance
+from gear_rattle.validation.golden.self_check import run_case
 
 VARIANTS = ("gap-error-late", "gap-error-random")
 

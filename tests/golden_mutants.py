@@ -23,7 +23,7 @@ import jax
 from gear_rattle.core.horizons import T_MAX
 from gear_rattle.mapimpl.finder import first_impact
 from gear_rattle.mapimpl.flight import flight
-from gear_rattle.validation.golden.conditioning import FLIGHT_ERROR, gap_error, largest_force
+from gear_rattle.validation.golden.rules.conditioning import FLIGHT_ERROR, gap_error, largest_force
 
 TWO_PI = 2 * math.pi
 _first_impact = jax.jit(first_impact)

@@ -10,10 +10,16 @@ import time
 import numpy as np
 import pytest
 
+from gear_rattle.mapimpl.certified import PREC
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import generate, ondemand
-from gear_rattle.validation.golden.decisions import doubtful_decision
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case, load_suite, read_sequence
+from gear_rattle.validation.golden.catalog.build import build_case
+from gear_rattle.validation.golden.formats.spec import Spec
+from gear_rattle.validation.golden.rules.tolerances import row_tolerances
+from gear_rattle.validation.golden.oracle.inputs import CaseInput, case_input
+from gear_rattle.validation.golden.oracle.ondemand import TOLERANCE_LIMIT, build_user_case, certify_input, input_spec
+from gear_rattle.validation.golden.rules.decisions import doubtful_decision
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import load_case, load_suite, read_sequence
 
 #: The issue's chaotic orbit (200 impacts: the amplification rule alone gives tau 5e-3).
 CHAOS = ["--alpha", "2.2", "--beta", "0.05", "--gamma", "0.3", "--r", "0.7", "--tau0", "1", "--sdot0", "0.2"]
@@ -44,8 +50,8 @@ def _loosest(settings: dict) -> float:
     return max(v["abs"] for v in settings["tolerances"].values())
 
 
-def _input(args: list[str], impacts: int) -> ondemand.CaseInput:
-    return ondemand.case_input(
+def _input(args: list[str], impacts: int) -> CaseInput:
+    return case_input(
         "x",
         *(float(a) for a in args[1:8:2]),
         float(args[9]),
@@ -61,25 +67,25 @@ def test_long_orbits_become_truncated_cases_with_tight_tolerances(args, impacts,
     1e-5 or more (measured 4.8e-4 and 4.2e-5); the case stops at the last impact whose rows keep every
     tolerance below 1e-6, and says so in settings.json and on stderr."""
     inp = _input(args, impacts)
-    spec = generate.Spec("x", "x", inp.params, inp.tau0, inp.sdot0, impacts, s0=inp.s0)
-    old, _, _ = generate.build_case(spec, tracks=False)
+    spec = Spec("x", "x", inp.params, inp.tau0, inp.sdot0, impacts, s0=inp.s0)
+    old, _, _ = build_case(spec, tracks=False)
     assert _loosest(old) >= before  # the orbit uncut (no horizon for user input)
     capsys.readouterr()
     assert main(["case", *args, "--impacts", str(impacts), "--id", "long", "--out", str(tmp_path)]) == 0
     err = capsys.readouterr().err
     s = _settings(tmp_path / "long")
     t = s["notes"]["truncation"]
-    assert _loosest(s) < ondemand.TOLERANCE_LIMIT
+    assert _loosest(s) < TOLERANCE_LIMIT
     assert t["requested_impacts"] == impacts and t["kept_impacts"] == s["n_impacts"] < impacts
     assert "truncated" in s["tags"]
     assert f"case long: stops at impact {s['n_impacts']} of {impacts}" in err and len(err.strip().splitlines()) == 1
     # the longest such case: one impact more would have a row whose tolerance is at or above the limit, or ask a
     # sticking decision in doubt within its row's tolerances (the sticking-decision rule)
-    orb = ondemand._certify(inp, s["n_impacts"] + 1, generate.cert.PREC)[0]
-    spec = ondemand._spec(inp, s["n_impacts"] + 1)
-    longer = generate.row_tolerances(spec, orb)
+    orb = certify_input(inp, s["n_impacts"] + 1, PREC)[0]
+    spec = input_spec(inp, s["n_impacts"] + 1)
+    longer = row_tolerances(spec, orb)
     doubt = doubtful_decision(spec, orb, longer.values["tau"], longer.values["sdot"])
-    over = max(float(np.nanmax(v)) for v in longer.values.values()) >= ondemand.TOLERANCE_LIMIT
+    over = max(float(np.nanmax(v)) for v in longer.values.values()) >= TOLERANCE_LIMIT
     assert over or (doubt is not None and doubt[0] == s["n_impacts"])
 
 
@@ -108,7 +114,7 @@ def test_max_tolerance_trades_length_for_tightness(tmp_path, capsys):
     inp = _input(CHAOS, 5)
     for value in (0.0, -1.0, 1.0, math.nan, math.inf, 1e-20):
         with pytest.raises(ValueError, match="max_tolerance"):
-            ondemand.build_user_case(inp, max_tolerance=value)
+            build_user_case(inp, max_tolerance=value)
 
 
 @pytest.mark.parametrize("prefix", ["0001", "0002", "0003", "0004", "0007", "0008", "0010", "0016", "0020", "0024"])
@@ -330,15 +336,15 @@ def test_near_miss_within_the_gap_error_ends_the_case(tmp_path, capsys):
     assert s["n_impacts"] == 0 and s["notes"]["truncation"]["requested_impacts"] == 3
     assert "turns back 2.8e-15 from a wall" in capsys.readouterr().err
     # a near miss well outside it (0024: 9.95e-10, 3e4 times the gap error) is kept
-    inp = ondemand.case_input("n", 0.5, 0.1, 0.1, 0.9, 3.0, 0.93996694232023, 10)
-    assert ondemand.build_user_case(inp).settings["n_impacts"] == 10
+    inp = case_input("n", 0.5, 0.1, 0.1, 0.9, 3.0, 0.93996694232023, 10)
+    assert build_user_case(inp).settings["n_impacts"] == 10
 
 
 def test_a_case_is_certified_by_the_tracks_precision_schedule():
     """`case` certifies at the precision the certified track's schedule settles on (one mechanism): started at
     64 bits, too few for float64-tight enclosures, the schedule rises to 128 and the case is the one built
     from 320 bits byte for byte (on the base commit the case was certified at the fixed 64 bits given)."""
-    inp = ondemand.case_input("chaos", 2.2, 0.05, 0.3, 0.7, 1.0, 0.2, 10)
-    low, default = ondemand.build_user_case(inp, prec=64), ondemand.build_user_case(inp)
+    inp = case_input("chaos", 2.2, 0.05, 0.3, 0.7, 1.0, 0.2, 10)
+    low, default = build_user_case(inp, prec=64), build_user_case(inp)
     assert low.provenance["precision_bits"] == 128 and default.provenance["precision_bits"] == 320
     assert low.expected == default.expected and low.settings["tolerances"] == default.settings["tolerances"]

@@ -1,5 +1,5 @@
 """Rules of ``gear-rattle case`` found by ``gear-rattle fuzz`` on the whole input box (issue 36 item 4;
-docs/golden.md, "Asking the oracle"): the sticking-decision rule (validation/golden/decisions.py: a case does not
+docs/golden.md, "Asking the oracle"): the sticking-decision rule (validation/golden/rules/decisions.py: a case does not
 ask a sticking decision that an output within its own tolerances could take the other way) and the near-miss
 rule's search for turning points right after a slow departure."""
 
@@ -9,8 +9,14 @@ import pytest
 
 from gear_rattle.core.params import Params
 
-from gear_rattle.validation.golden import ondemand
-from gear_rattle.validation.golden.suite import load_case, run_settings, score_file
+from gear_rattle.validation.golden.oracle.inputs import case_input
+
+from gear_rattle.validation.golden.oracle.ondemand import build_user_case, write_user_case
+
+from gear_rattle.validation.golden.rules.near_miss import turning_gap
+from gear_rattle.validation.golden.formats.cases import load_case
+from gear_rattle.validation.golden.self_check import run_settings
+from gear_rattle.validation.golden.scoring.cases import score_file
 from gear_rattle.validation.io import write_csv
 
 #: Found by ``gear-rattle fuzz`` (diffrax, seed 44, stick-threshold): a chatter on s = -1 stopped by
@@ -23,11 +29,11 @@ FOUND = ("found", 3.606, 0.003, 1.25, 0.3, 0.0, 1e-7, 16)
 def test_a_doubtful_decision_ends_the_case(tmp_path):
     """The case stops at the first impact whose decision is in doubt (the note says so); its last decision is
     stable under its tolerances; our tracks pass it (on the old code the case kept all 16 impacts)."""
-    inp = ondemand.case_input(*FOUND, stick_time=8.38e-8)
-    case = ondemand.build_user_case(inp)
+    inp = case_input(*FOUND, stick_time=8.38e-8)
+    case = build_user_case(inp)
     t = case.truncation
     assert t is not None and "sticking-decision rule" in t["reason"] and t["kept_impacts"] < 16
-    folder = ondemand.write_user_case(tmp_path, case)
+    folder = write_user_case(tmp_path, case)
     for track in ("map", "scipy"):
         write_csv(tmp_path / f"{track}.csv", *run_settings(case.settings, track).table())
         assert score_file(load_case(folder), tmp_path / f"{track}.csv").passed, track
@@ -36,8 +42,8 @@ def test_a_doubtful_decision_ends_the_case(tmp_path):
 @pytest.mark.parametrize("stick_time", [None, 1e-4])
 def test_a_clear_chatter_is_not_cut(stick_time):
     """Case 0007's chatter (default threshold, and 1e-4) keeps its 40 impacts: its decisions are clear."""
-    inp = ondemand.case_input("c", 2.0, 0.1, 1.0, 0.5, 0.0, 0.5, 40, stick_time=stick_time)
-    case = ondemand.build_user_case(inp)
+    inp = case_input("c", 2.0, 0.1, 1.0, 0.5, 0.0, 0.5, 40, stick_time=stick_time)
+    case = build_user_case(inp)
     assert case.truncation is None and case.settings["n_impacts"] == 40
 
 
@@ -45,12 +51,12 @@ def test_an_exact_start_is_asked_whatever_its_margin():
     """A pre-impact initial state is exact: its decision is asked even at t_acc = (1 + 1e-4) stick_time (the
     stick-threshold scenario's hard place); the case keeps its impacts."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.golden import generate
+    from gear_rattle.validation.golden.rules.thresholds import stick_ratio_sdot0
 
     p = Params(2.0, 0.1, 1.0, 0.5)
     for ratio in (1.0001, 0.9999):
-        sdot0 = generate.stick_ratio_sdot0(p, 0.0, 0, ratio)
-        case = ondemand.build_user_case(ondemand.case_input("t", 2.0, 0.1, 1.0, 0.5, 0.0, sdot0, 5))
+        sdot0 = stick_ratio_sdot0(p, 0.0, 0, ratio)
+        case = build_user_case(case_input("t", 2.0, 0.1, 1.0, 0.5, 0.0, sdot0, 5))
         assert case.truncation is None and case.settings["n_impacts"] == 5
         assert ("stick" in case.expected.splitlines()[2]) == (ratio < 1)  # the row after impact 0
 
@@ -71,16 +77,16 @@ def test_a_near_miss_right_after_a_slow_departure_ends_the_case(params, tau0, sd
     ``sdot`` through 0 and back between two samples is found where the acceleration changes sign: the case
     stops before impact 1."""
     p = Params(*params)
-    inp = ondemand.case_input("nm", *params, tau0, sdot0, 1, stick_time=1.97e-6)
-    assert ondemand.turning_gap(p, tau0, p.r * abs(sdot0), -1.0, 1.5) < 1e-15
-    case = ondemand.build_user_case(inp)
+    inp = case_input("nm", *params, tau0, sdot0, 1, stick_time=1.97e-6)
+    assert turning_gap(p, tau0, p.r * abs(sdot0), -1.0, 1.5) < 1e-15
+    case = build_user_case(inp)
     assert case.settings["n_impacts"] == 0 and "turns back" in case.truncation["reason"]
 
 
 def test_the_turning_point_grid_follows_a_long_flight():
     """A flight of 2000 time units oscillates with the forcing (period 2 pi): the first round samples it at
     64 per unit of time, not 257 in all (one every 7.8)."""
-    from gear_rattle.validation.golden.ondemand import turn_grid
+    from gear_rattle.validation.golden.rules.near_miss import turn_grid
 
     grid = turn_grid(2000.0)
     assert len(grid) >= 64 * 2000 and grid[0] == 0.0 and grid[-1] == 2000.0 and grid[1] < 1e-15

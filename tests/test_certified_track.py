@@ -27,7 +27,9 @@ from gear_rattle.mapimpl.certified.track import (
     working_precision,
 )
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.suite import load_suite, run_case, score_sequence, sequence_from_impacts
+from gear_rattle.validation.golden.formats.cases import load_suite, sequence_from_impacts
+from gear_rattle.validation.golden.self_check import run_case
+from gear_rattle.validation.golden.scoring.cases import score_sequence
 
 from mpref import s_and_v
 

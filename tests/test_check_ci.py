@@ -25,10 +25,10 @@ from pathlib import Path
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import version as V
+from gear_rattle.validation.golden.formats import version as V
+from gear_rattle.validation.golden.paths import GOLDEN
 
 REPO = Path(__file__).resolve().parents[1]
-GOLDEN = V.GOLDEN
 #: the suite's changelog, and the page of the CI jobs
 CHANGELOG = REPO / "docs" / "record" / "golden_changelog.md"
 JOBS = REPO / "docs" / "howto" / "golden_ci_jobs.md"

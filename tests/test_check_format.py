@@ -11,8 +11,10 @@ import time
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.orbit_suite import DEFAULT_ORBITS
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_suite, read_sequence, score_sequence
+from gear_rattle.validation.golden.paths import DEFAULT_ORBITS
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import load_suite, read_sequence
+from gear_rattle.validation.golden.scoring.cases import score_sequence
 
 CID = "0001-regular-fig2"
 RID = "orbit-3-impact-fig2-alpha0.5-r0.9"

@@ -36,8 +36,8 @@ from hypothesis import HealthCheck, given, seed, settings
 from hypothesis import strategies as st
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.orbit_suite import DEFAULT_ORBITS
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE
+from gear_rattle.validation.golden.paths import DEFAULT_ORBITS
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
 
 mpmath = pytest.importorskip("mpmath")
 

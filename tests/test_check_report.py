@@ -15,8 +15,10 @@ import xml.etree.ElementTree as ET
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.orbit_suite import DEFAULT_ORBITS
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case, read_sequence, score_sequence
+from gear_rattle.validation.golden.paths import DEFAULT_ORBITS
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import load_case, read_sequence
+from gear_rattle.validation.golden.scoring.cases import score_sequence
 
 COLUMNS = ["n", "tau", "tau_mod_2pi", "wall", "sdot", "kind"]
 
@@ -225,12 +227,12 @@ def test_an_empty_output_and_a_value_before_the_events_part(tmp_path, capsys):
 def test_our_track_raising_on_a_case_is_an_error_of_that_case(tmp_path, capsys, monkeypatch):
     """check --self: a track that raises on one case (a crash) is an error of that case; the run goes on."""
     import gear_rattle.mapimpl.tracks as tracks
-    import gear_rattle.validation.golden.suite as suite
+    import gear_rattle.validation.golden.self_check as self_check
 
     def boom(case, track="map"):
         raise FloatingPointError(f"boom on {case.id}")
 
-    monkeypatch.setattr(suite, "run_case", boom)
+    monkeypatch.setattr(self_check, "run_case", boom)
     monkeypatch.setattr(tracks, "get", lambda name: None)
     js = tmp_path / "s.json"
     cid = "0001-regular-fig2"

@@ -16,10 +16,10 @@ from pathlib import Path
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import version as V
+from gear_rattle.validation.golden.formats import version as V
+from gear_rattle.validation.golden.paths import GOLDEN
 
 REPO = Path(__file__).resolve().parents[1]
-GOLDEN = V.GOLDEN
 CASES = sorted(p.name for p in (GOLDEN / "cases").iterdir() if (p / "settings.json").is_file())
 RECORDS = sorted(p.stem for p in (GOLDEN / "orbits").glob("*.json"))
 LEVEL = {c: json.loads((GOLDEN / "cases" / c / "settings.json").read_text())["level"] for c in CASES}

@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids, circular_distance, load_case
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import case_ids, load_case
+from gear_rattle.validation.golden.scoring.cases import circular_distance
 
 TWO_PI = 2 * math.pi
 
@@ -206,8 +208,8 @@ def test_utf8_byte_order_mark_is_accepted(tmp_path, capsys):
 
 def test_digits_where_the_golden_value_is_zero():
     """docs/golden.md: where the golden value is 0 the digits are those of the absolute error."""
-    from gear_rattle.validation.golden.suite import DIGITS_CAP, _digits
+    from gear_rattle.validation.golden.scoring.cases import DIGITS_CAP, accuracy_digits
 
-    assert _digits(np.array([1e-10]), np.array([0.0])) == pytest.approx(10.0)
-    assert _digits(np.array([0.0]), np.array([0.0])) == DIGITS_CAP
-    assert _digits(np.array([1e-10, 1e-12]), np.array([0.0, 1e-3])) == pytest.approx(9.0)
+    assert accuracy_digits(np.array([1e-10]), np.array([0.0])) == pytest.approx(10.0)
+    assert accuracy_digits(np.array([0.0]), np.array([0.0])) == DIGITS_CAP
+    assert accuracy_digits(np.array([1e-10, 1e-12]), np.array([0.0, 1e-3])) == pytest.approx(9.0)

@@ -145,7 +145,7 @@ def test_the_checks_catch_what_they_are_for():
     """The names issue 24 found dangling are caught (and real ones pass)."""
     assert not _exists("mapimpl.engine.kernel.distance") and not _exists("validation/dynamics/crises.py")
     assert _exists("mapimpl.engine.observers.orbit_distance") and _exists("validation/dynamics/crises/")
-    assert not _resolves("score_case", "gear_rattle.validation.golden.suite")
-    assert _resolves("score_file", "gear_rattle.validation.golden.suite")
+    assert not _resolves("score_case", "gear_rattle.validation.golden.scoring.cases")
+    assert _resolves("score_file", "gear_rattle.validation.golden.scoring.cases")
     assert _resolves(".krawczyk", "gear_rattle.mapimpl.certified.periodic")
     assert not _resolves("advance", "gear_rattle.validation.dynamics.bifurcation")

@@ -15,8 +15,11 @@ from pathlib import Path
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import ondemand, scenarios, shrink
-from gear_rattle.validation.golden.suite import load_suite
+from gear_rattle.validation.golden.oracle.inputs import case_input
+from gear_rattle.validation.golden.oracle.ondemand import build_user_case, write_user_case
+from gear_rattle.validation.golden.fuzzing import scenarios
+from gear_rattle.validation.golden.fuzzing.shrinker import complexity, shrink_candidates, significant_digits
+from gear_rattle.validation.golden.formats.cases import load_suite
 from test_golden_mutants import SWEEP
 
 HERE = Path(__file__).resolve().parent
@@ -36,9 +39,9 @@ def _fuzz(args: list[str], capsys) -> tuple[int, dict, str]:
 
 
 def test_shrink_candidates_are_simpler():
-    inp = ondemand.case_input("x", 2.3456, 0.1234, -0.876, 0.5432, 1.2345, -0.5678, 30)
-    cands = shrink.shrink_candidates(inp, 12)
-    assert cands and all(shrink.complexity(c) < shrink.complexity(inp) for c in cands)
+    inp = case_input("x", 2.3456, 0.1234, -0.876, 0.5432, 1.2345, -0.5678, 30)
+    cands = shrink_candidates(inp, 12)
+    assert cands and all(complexity(c) < complexity(inp) for c in cands)
     assert {12, 13, 0} <= {c.impacts for c in cands}
     assert any(c.params == scenarios.PAPER_SETS[1] for c in cands)
 
@@ -94,7 +97,9 @@ def test_fuzz_shrinks_a_failure_to_a_minimal_case(tmp_path, capsys):
         runs.append(s["groups"][0])
     f = runs[0]
     assert f["impacts"] == 1 and f["rows"] == 2 and "s0" not in f["input"]
-    assert all(shrink._digits(f["input"][k]) <= 1 for k in ("alpha", "beta", "gamma", "r", "tau0", "sdot0")), f["input"]
+    assert all(significant_digits(f["input"][k]) <= 1 for k in ("alpha", "beta", "gamma", "r", "tau0", "sdot0")), f[
+        "input"
+    ]
     assert runs[1]["input"] == f["input"] and runs[1]["original_input"] == f["original_input"]
     assert [c.id for c in load_suite(tmp_path / "f0")] == [f["id"]]
     assert json.loads((tmp_path / "f0" / "index.json").read_text())["cases"][0]["id"] == f["id"]
@@ -216,10 +221,11 @@ def test_the_fuzzers_graze_draws_defeat_sampled_fixed_step_sizes(tmp_path):
     scenario registry's draws since issue 36) holds, for each sampled step (the sweep's ends, its middle, 0.1), a
     case that the fixed-step finder fails; the base implementation passes them all."""
     from golden_mutants import BASE, Mutant, run, write_csv
-    from gear_rattle.validation.golden.suite import load_case, score_file
+    from gear_rattle.validation.golden.formats.cases import load_case
+    from gear_rattle.validation.golden.scoring.cases import score_file
 
     cases = [
-        ondemand.build_user_case(inp)
+        build_user_case(inp)
         for k, rec in enumerate(scenarios.draw_recipes(0, 8, ["graze"]))
         if (inp := scenarios.construct(rec, f"g{k}")) is not None
     ]
@@ -228,7 +234,7 @@ def test_the_fuzzers_graze_draws_defeat_sampled_fixed_step_sizes(tmp_path):
     def failing(m) -> list[str]:
         bad = []
         for c in cases:
-            folder = ondemand.write_user_case(tmp_path / "suite", c)
+            folder = write_user_case(tmp_path / "suite", c)
             write_csv(run(c.settings, m), tmp_path / f"{m.name}-{c.input.id}.csv", m)
             if not score_file(load_case(folder), tmp_path / f"{m.name}-{c.input.id}.csv").passed:
                 bad.append(c.input.id)
@@ -267,11 +273,11 @@ def test_every_track_resolves_the_fuzzers_near_miss(tmp_path):
     on s = -1.  The diffrax track took it for an impact on s = 0 with sdot < 0 (check exit 1 on the base
     commit); it now judges a wall event on the node state (reference.events.wall_step) and passes like the
     map and scipy tracks (the mechanism at both walls and many depths: tests/test_reference_near_miss.py)."""
-    from gear_rattle.validation.golden.contacts import certified_closest_approach
+    from gear_rattle.validation.golden.catalog.contacts import certified_closest_approach
 
-    inp = ondemand.case_input("near", 0.0, 1.0, -1.12, 1.0, 0.0, -2.2256532866, 1)
+    inp = case_input("near", 0.0, 1.0, -1.12, 1.0, 0.0, -2.2256532866, 1)
     wall, gap = certified_closest_approach(inp.params, inp.tau0, inp.sdot0)
     assert wall == 0 and 2.0e-11 < float(gap.mid()) < 2.1e-11
-    ondemand.write_user_case(tmp_path / "s", ondemand.build_user_case(inp))
+    write_user_case(tmp_path / "s", build_user_case(inp))
     for track in ("map", "scipy", "diffrax"):
         assert main(["check", "--self", "--track", track, "--suite", str(tmp_path / "s"), "--summary"]) == 0, track

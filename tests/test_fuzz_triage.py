@@ -27,8 +27,10 @@ from pathlib import Path
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import ondemand
-from gear_rattle.validation.golden.suite import load_case, load_suite, read_sequence, score_sequence
+from gear_rattle.validation.golden.oracle.inputs import case_input
+from gear_rattle.validation.golden.oracle.ondemand import build_user_case, write_user_case
+from gear_rattle.validation.golden.formats.cases import load_case, load_suite, read_sequence
+from gear_rattle.validation.golden.scoring.cases import score_sequence
 
 HERE = Path(__file__).resolve().parent
 PY = shlex.quote(sys.executable)
@@ -58,15 +60,15 @@ class Late(BaseException):
 def warm(tmp_path_factory):
     """The first draw and the first case of a process take seconds (Hypothesis reads the package's sources,
     the certifier starts): done once here, so that each test's --budget is spent on its own search."""
-    from gear_rattle.validation.golden import fuzz
+    from gear_rattle.validation.golden.fuzzing.scenarios import construct, draw_recipes
 
     try:
-        from gear_rattle.validation.golden.fuzz_runner import hypothesis_home
+        from gear_rattle.validation.golden.fuzzing.runner import hypothesis_home
     except ImportError:  # the code before the fuzzer's runner module (a test run on it fails its own way)
         hypothesis_home = lambda path: contextlib.nullcontext()  # noqa: E731
     with hypothesis_home(tmp_path_factory.mktemp("hypothesis")):
-        recipe = fuzz.draw_recipes(0, 1, ["generic"])[0]
-    ondemand.build_user_case(fuzz.construct(recipe, "warm"))
+        recipe = draw_recipes(0, 1, ["generic"])[0]
+    build_user_case(construct(recipe, "warm"))
 
 
 @contextlib.contextmanager
@@ -260,10 +262,10 @@ def test_the_shrinker_aims_at_the_scores_row_with_blank_lines(tmp_path):
     """An output with blank lines between its rows, one row short, whose row 3 has the wrong wall: the first
     failing impact is that of the expected row at the score's ``first_row`` (impact 3).  Before, it was read
     from the message's line number minus 2: line 8 (blank lines count), so impact 6."""
-    from gear_rattle.validation.golden.shrink import first_failing_impact
+    from gear_rattle.validation.golden.fuzzing.shrinker import first_failing_impact
 
-    case = ondemand.build_user_case(ondemand.case_input("c", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 6))
-    folder = ondemand.write_user_case(tmp_path / "s", case)
+    case = build_user_case(case_input("c", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 6))
+    folder = write_user_case(tmp_path / "s", case)
     header, *rows = case.expected.splitlines()
     f = rows[3].split(",")
     f[3] = "0" if f[3] == "-1" else "-1"
@@ -278,10 +280,10 @@ def test_signatures_come_from_the_scores_fields(tmp_path):
     """The signature of a failing output: a value beyond its tolerance, a wrong wall with as many events, a
     missing last event, a wrong wall with an event missing further on -- each with the kind of the golden
     row at the first difference."""
-    from gear_rattle.validation.golden.triage import Signature, score_signature
+    from gear_rattle.validation.golden.fuzzing.triage import Signature, score_signature
 
-    case = ondemand.build_user_case(ondemand.case_input("c", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 6))
-    ref = load_case(ondemand.write_user_case(tmp_path / "s", case))
+    case = build_user_case(case_input("c", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 6))
+    ref = load_case(write_user_case(tmp_path / "s", case))
     header, *rows = case.expected.splitlines()
 
     def edited(row: int | None, field: int, value, drop_last: bool) -> Signature:
@@ -309,7 +311,7 @@ def test_a_group_is_written_before_it_is_shrunk(tmp_path, tmpdir_here, capsys, m
     """The first failing input of a group is in --out, with its kept files, before the shrinker runs: a
     Ctrl-C while shrinking leaves it whole (a golden-format case and its group.json), and the work folder
     (there while it ran) is removed."""
-    from gear_rattle.validation.golden import fuzz_runner
+    from gear_rattle.validation.golden.fuzzing import runner
 
     def interrupted(*a, **k):
         work.extend(p.name for p in tmpdir_here.iterdir())
@@ -317,7 +319,7 @@ def test_a_group_is_written_before_it_is_shrunk(tmp_path, tmpdir_here, capsys, m
 
     work: list[str] = []
 
-    monkeypatch.setattr(fuzz_runner, "shrink", interrupted)
+    monkeypatch.setattr(runner, "shrink", interrupted)
     out = tmp_path / "found"
     capsys.readouterr()
     rc = main(
@@ -439,8 +441,8 @@ def test_the_next_run_removes_a_dead_runs_work_folder_and_its_processes(tmp_path
     whose lock is held (a live run) and another user's file of the same prefix stay."""
     import fcntl
 
-    from gear_rattle.validation.golden import fuzz_reaper
-    from gear_rattle.validation.golden.fuzz_process import LOCK_NAME
+    from gear_rattle.validation.golden.fuzzing import reaper
+    from gear_rattle.validation.golden.fuzzing.process import LOCK_NAME
 
     dead, live = tmpdir_here / f"{WORK_PREFIX}dead", tmpdir_here / f"{WORK_PREFIX}live"
     for d in (dead, live):
@@ -448,9 +450,7 @@ def test_the_next_run_removes_a_dead_runs_work_folder_and_its_processes(tmp_path
         (d / LOCK_NAME).write_text("{}\n")
     fd = os.open(live / LOCK_NAME, os.O_RDONLY)
     fcntl.flock(fd, fcntl.LOCK_EX)
-    orphan = subprocess.Popen(
-        ["sleep", "300"], start_new_session=True, env={**os.environ, fuzz_reaper.MARKER: str(dead)}
-    )
+    orphan = subprocess.Popen(["sleep", "300"], start_new_session=True, env={**os.environ, reaper.MARKER: str(dead)})
     try:
         assert _alive(orphan.pid)
         rc, _, _ = run_fuzz(
@@ -465,21 +465,21 @@ def test_the_next_run_removes_a_dead_runs_work_folder_and_its_processes(tmp_path
 
 
 def test_the_watchdog_kills_what_it_was_told_of_when_its_input_ends(tmp_path):
-    """fuzz_reaper.py as the fuzzer starts it: given a process group on its input, it kills the group (a
+    """The reaper (fuzzing/reaper.py) as the fuzzer starts it: given a process group on its input, it kills the group (a
     shell and its child) and removes the work folder as soon as its input ends."""
-    from gear_rattle.validation.golden import fuzz_reaper
+    from gear_rattle.validation.golden.fuzzing import reaper
 
     work = tmp_path / "work"
     work.mkdir()
     group = subprocess.Popen(["sh", "-c", "sleep 300 & sleep 300"], start_new_session=True)
     dog = subprocess.Popen(
-        [sys.executable, "-I", "-S", fuzz_reaper.__file__, str(work)], stdin=subprocess.PIPE, start_new_session=True
+        [sys.executable, "-I", "-S", reaper.__file__, str(work)], stdin=subprocess.PIPE, start_new_session=True
     )
     try:
         dog.stdin.write(f"+{group.pid}\n".encode())
         dog.stdin.close()
         assert dog.wait(30) == 0 and group.wait(10) == -signal.SIGKILL
-        assert fuzz_reaper.group_members(group.pid) == [] and not work.exists()
+        assert reaper.group_members(group.pid) == [] and not work.exists()
     finally:
         group.kill()
         dog.kill()

@@ -10,19 +10,17 @@ import numpy as np
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.suite import (
-    DEFAULT_SUITE,
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import (
     RADIUS_COLUMNS,
-    TWO_PI,
     case_ids,
     load_case,
     load_suite,
     read_sequence,
-    run_case,
-    score_file,
-    score_sequence,
     sequence_from_impacts,
 )
+from gear_rattle.validation.golden.scoring.cases import TWO_PI, score_file, score_sequence
+from gear_rattle.validation.golden.self_check import run_case
 
 CASES = case_ids()
 
@@ -328,7 +326,8 @@ def test_other_suite_directory(tmp_path, map_outputs, capsys):
 )
 def test_recertification_reproduces_the_committed_files(cid):
     pytest.importorskip("flint")
-    from gear_rattle.validation.golden.generate import build_case, spec_from_settings
+    from gear_rattle.validation.golden.catalog.build import build_case
+    from gear_rattle.validation.golden.formats.spec import spec_from_settings
 
     folder = DEFAULT_SUITE / cid
     settings = json.loads((folder / "settings.json").read_text())
@@ -345,8 +344,8 @@ def test_row_tolerances_follow_the_rule():
     map's Jacobians at the certified states) plus the printed radius, rounded up to 2 digits; settings.json's
     ``abs`` is the loosest row's and its ``row_tolerances`` says where they are."""
     from gear_rattle.core.params import Params
-    from gear_rattle.validation.golden import conditioning
-    from gear_rattle.validation.golden.suite import ROW_TOLERANCES_POINTER
+    from gear_rattle.validation.golden.rules import conditioning
+    from gear_rattle.validation.golden.formats.cases import ROW_TOLERANCES_POINTER
 
     for cid in CASES:
         case = load_case(DEFAULT_SUITE / cid)
@@ -369,7 +368,7 @@ def test_row_tolerances_follow_the_rule():
 
 
 def test_round_up_to_two_digits():
-    from gear_rattle.validation.golden.conditioning import round_up
+    from gear_rattle.validation.golden.rules.conditioning import round_up
 
     assert round_up(2.01e-14) == 2.1e-14 and round_up(2e-14) == 2e-14 and round_up(9.91e-9) == 1e-8
     assert round_up(1.2345e-3, 1) == 2e-3 and round_up(0.0) == 0.0
@@ -461,7 +460,7 @@ def test_missing_event_fails_the_case(map_outputs, tmp_path, capsys):
 def test_case_index_matches_the_case_folders():
     """cases/index.json (written by the generator, shipped as package data) is the index of the case
     folders on disk: id, level, tags, bug classes, walls, kind of ending (docs/golden.md)."""
-    from gear_rattle.validation.golden.catalog import BUG_CLASSES, ENDINGS, INDEX_NAME, LEVELS, index_text
+    from gear_rattle.validation.golden.formats.index import BUG_CLASSES, ENDINGS, INDEX_NAME, LEVELS, index_text
 
     text = (DEFAULT_SUITE / INDEX_NAME).read_text()
     assert text == index_text(DEFAULT_SUITE), "stale index: python -m gear_rattle.validation.golden.generate"

@@ -20,9 +20,11 @@ import numpy as np
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import contacts
-from gear_rattle.validation.golden.catalog import BUG_CLASSES
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, case_ids, circular_distance, load_case, read_sequence
+from gear_rattle.validation.golden.catalog import contacts
+from gear_rattle.validation.golden.formats.index import BUG_CLASSES
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import case_ids, load_case, read_sequence
+from gear_rattle.validation.golden.scoring.cases import circular_distance
 from golden_mutants import BASE, Mutant, run, write_csv
 
 CASES = case_ids()

@@ -14,9 +14,10 @@ import pytest
 
 from gear_rattle.mapimpl.certified.balls import CertificationError, precision
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.orbit_certify import loads_exact, verify_record
-from gear_rattle.validation.golden.orbit_generate import CASES, DEFAULT_ORBITS, build, certify_case, seeds_from_records
-from gear_rattle.validation.golden.orbit_suite import load_record, load_records, record_ids
+from gear_rattle.validation.golden.catalog.orbit_records import loads_exact, verify_record
+from gear_rattle.validation.golden.catalog.orbits import CASES, build, certify_case, seeds_from_records
+from gear_rattle.validation.golden.paths import DEFAULT_ORBITS
+from gear_rattle.validation.golden.formats.orbits import load_record, load_records, record_ids
 
 IDS = [c.id for c in CASES]
 
@@ -251,11 +252,12 @@ def test_our_float64_solvers_meet_the_enclosures(tmp_path, capsys):
     assert main(["check", "--orbits", "--self", "--out", str(out)]) == 0
     table = capsys.readouterr().out
     assert f"{len(IDS)}/{len(IDS)} orbits and bifurcation points pass" in table
-    from gear_rattle.validation.golden.orbit_suite import read_values, score
+    from gear_rattle.validation.golden.formats.orbits import read_values
+    from gear_rattle.validation.golden.scoring.orbits import score_values
 
     for rid in IDS:
         rec = load_record(DEFAULT_ORBITS / f"{rid}.json")
-        s = score(rec, read_values(out / f"{rid}.json", rec))
+        s = score_values(rec, read_values(out / f"{rid}.json", rec))
         for c in s.columns.values():
             assert c.error <= c.tolerance / 50, (rid, c)
     assert main(["check", "--orbits", str(out), "--summary"]) == 0
@@ -266,8 +268,8 @@ def test_generator_from_the_float64_seeds_reproduces_the_records():
     """The whole generator's path (engine runs to the attractors, continuation of both branches in r
     and alpha, folds and the flip located in float64, then certified) writes byte-identical records,
     and the float64 continuation results themselves lie within the records' tolerances (~1 min)."""
-    from gear_rattle.validation.golden.orbit_generate import float64_seeds
-    from gear_rattle.validation.golden.orbit_suite import circular_distance
+    from gear_rattle.validation.golden.catalog.orbits import float64_seeds
+    from gear_rattle.validation.golden.scoring.cases import circular_distance
 
     seeds = float64_seeds()
     for case in CASES:

@@ -141,7 +141,7 @@ def test_version_and_python_dash_m():
         cwd=Path("/").resolve(),
         timeout=120,
     )
-    from gear_rattle.validation.golden.version import SUITE_VERSION
+    from gear_rattle.validation.golden.formats.version import SUITE_VERSION
 
     assert (
         v.returncode == 0

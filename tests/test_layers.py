@@ -32,8 +32,12 @@ def _installed_layout(dest: Path) -> Path:
 
 
 def _lint(tmp_path: Path, config: Path) -> subprocess.CompletedProcess:
+    return _lint_layout(_installed_layout(tmp_path / "src"), config)
+
+
+def _lint_layout(root: Path, config: Path = REPO / "pyproject.toml") -> subprocess.CompletedProcess:
+    """``lint-imports`` with ``config`` on the installed layout at ``root`` (made by :func:`_installed_layout`)."""
     pytest.importorskip("importlinter", reason="import-linter not installed (pip install -e '.[dev]')")
-    root = _installed_layout(tmp_path / "src")
     code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
     return subprocess.run(
         [sys.executable, "-c", code, str(config), "--no-cache"],
@@ -48,7 +52,7 @@ def _lint(tmp_path: Path, config: Path) -> subprocess.CompletedProcess:
 def test_the_import_contract_holds(tmp_path):
     r = _lint(tmp_path, REPO / "pyproject.toml")
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-2000:]
-    assert "BROKEN" not in r.stdout and r.stdout.count("KEPT") == 3
+    assert "BROKEN" not in r.stdout and r.stdout.count("KEPT") == 5
 
 
 def test_the_contract_catches_a_library_module_importing_validation(tmp_path):
@@ -58,16 +62,8 @@ def test_the_contract_catches_a_library_module_importing_validation(tmp_path):
     src = tmp_path / "b" / "src"
     _installed_layout(src)
     bad = src / "gear_rattle" / "mapimpl" / "sticking.py"
-    bad.write_text(bad.read_text() + "\nfrom ..validation.golden import suite  # noqa\n")
-    code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
-    r = subprocess.run(
-        [sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"],
-        cwd=src,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
-        timeout=300,
-    )
+    bad.write_text(bad.read_text() + "\nfrom ..validation.golden.formats import cases  # noqa\n")
+    r = _lint_layout(src)
     assert r.returncode != 0 and "BROKEN" in r.stdout and "gear_rattle.mapimpl.sticking" in r.stdout
 
 
@@ -79,7 +75,7 @@ def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions
     _installed_layout(src)
     pkg = src / "gear_rattle" / "validation"
     for rel, line in (
-        ("golden/suite.py", "\ndef _f():\n    from ..transient import experiments  # noqa\n"),
+        ("golden/formats/cases.py", "\ndef _f():\n    from ...transient import experiments  # noqa\n"),
         ("io/transients.py", "\nfrom ..plots import base  # noqa\n"),
         (
             "../mapimpl/certified/capture.py",
@@ -88,21 +84,37 @@ def test_the_contract_keeps_siblings_independent_and_counts_imports_in_functions
     ):
         f = pkg / rel
         f.write_text(f.read_text() + line)
-    code = "import sys; from importlinter.cli import lint_imports_command; sys.exit(lint_imports_command())"
-    pytest.importorskip("importlinter", reason="import-linter not installed (pip install -e '.[dev]')")
-    r = subprocess.run(
-        [sys.executable, "-c", code, str(REPO / "pyproject.toml"), "--no-cache"],
-        cwd=src,
-        capture_output=True,
-        text=True,
-        env={"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"},
-        timeout=300,
-    )
+    r = _lint_layout(src)
     out = " ".join(r.stdout.split())
     assert r.returncode != 0 and "BROKEN" in out, out[-3000:]
     assert "gear_rattle.validation.golden is not allowed to import gear_rattle.validation.transient" in out
     assert "gear_rattle.validation.io is not allowed to import gear_rattle.validation.plots" in out
     assert "gear_rattle.mapimpl.certified.capture -> gear_rattle.mapimpl.engine.transients" in out
+
+
+def test_the_conformance_package_is_layered(tmp_path):
+    """Issue 39 item 2: inside validation.golden the scoring imports neither the catalogue nor the fuzzer
+    (nor the numerical library: the light install scores with numpy alone), the fuzzer does not import the
+    shipped catalogue, and the formats import no rule."""
+    src = tmp_path / "src"
+    _installed_layout(src)
+    pkg = src / "gear_rattle" / "validation" / "golden"
+    for rel, line in (
+        ("scoring/cases.py", "\ndef _f():\n    from ..catalog import specs  # noqa\n"),
+        ("scoring/junit.py", "\nfrom ....mapimpl import sticking  # noqa\n"),
+        ("fuzzing/shrinker.py", "\nfrom ..catalog import contacts  # noqa\n"),
+        ("formats/known_failures.py", "\nfrom ..rules import decisions  # noqa\n"),
+    ):
+        f = pkg / rel
+        f.write_text(f.read_text() + line)
+    r = _lint_layout(src)
+    out = " ".join(r.stdout.split())
+    assert r.returncode != 0 and "BROKEN" in out, out[-3000:]
+    g = "gear_rattle.validation.golden"
+    assert f"{g}.scoring.cases -> {g}.catalog.specs" in out, out[-3000:]
+    assert f"{g}.scoring.junit -> gear_rattle.mapimpl.sticking" in out, out[-3000:]
+    assert f"{g}.fuzzing.shrinker -> {g}.catalog.contacts" in out, out[-3000:]
+    assert f"{g}.formats.known_failures -> {g}.rules.decisions" in out, out[-3000:]
 
 
 def test_no_contract_allows_an_exception():
@@ -111,7 +123,7 @@ def test_no_contract_allows_an_exception():
     import tomllib
 
     contracts = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["importlinter"]["contracts"]
-    assert len(contracts) == 3
+    assert len(contracts) == 5
     for c in contracts:
         assert not c.get("ignore_imports"), (c["name"], c["ignore_imports"])
         assert not c.get("allow_indirect_imports", False), c["name"]

@@ -18,7 +18,8 @@ from gear_rattle.mapimpl.impact_map import step
 from gear_rattle.core.state import make_state
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.sticking import STICK_TIME, decide_stick, release_phase
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE, load_case
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
+from gear_rattle.validation.golden.formats.cases import load_case
 
 flint = pytest.importorskip("flint")
 from flint import arb  # noqa: E402
@@ -93,10 +94,10 @@ def test_release_phase_reduces_the_closed_form():
 
 @pytest.mark.parametrize("params", [Params(0.1, 0.1, 0.5, 0.9), Params(0.0, 0.1, 0.1, 0.9)])
 def test_lead_state_needs_a_release_phase(params):
-    """The golden suite's state before a release (generate.release_lead_state) where the contact force never
+    """The golden suite's state before a release (rules.thresholds.release_lead_state) where the contact force never
     stops pressing into the wall (|gamma| >= alpha sqrt(1 + beta^2), or alpha = 0): a ValueError naming the
     parameters (it subtracted the lead from the certified phase's None: a TypeError)."""
-    from gear_rattle.validation.golden.generate import release_lead_state
+    from gear_rattle.validation.golden.rules.thresholds import release_lead_state
 
     with pytest.raises(ValueError, match=r"params=.* never stops pressing"):
         release_lead_state(params, 0, 0.5, 0.5)
@@ -324,7 +325,7 @@ def test_release_golden_case_is_well_formed():
     """Case 0012: impact 0 sticks at once, the release row is the canonical phase (float64 value within
     its certified radius), n_impacts follows the horizon rule from the transient exponent, and the notes
     carry the oracle values (certified T_post for both roundings, delta, target)."""
-    from gear_rattle.validation.golden.generate import CHAOS_ERR0, CHAOS_SAFETY, CHAOS_TOL, horizon
+    from gear_rattle.validation.golden.catalog.specs import CHAOS_ERR0, CHAOS_SAFETY, CHAOS_TOL, horizon
 
     case = load_case(DEFAULT_SUITE / CASE)
     s, e = case.settings, case.expected
@@ -354,7 +355,8 @@ def test_release_golden_case_is_well_formed():
 
 def test_release_golden_case_recertifies():
     """Re-certifying case 0012 from its settings reproduces its expected.csv byte for byte."""
-    from gear_rattle.validation.golden.generate import build_case, spec_from_settings
+    from gear_rattle.validation.golden.catalog.build import build_case
+    from gear_rattle.validation.golden.formats.spec import spec_from_settings
 
     folder = DEFAULT_SUITE / CASE
     settings = json.loads((folder / "settings.json").read_text())

@@ -13,8 +13,10 @@ from gear_rattle.core.horizons import CERTIFIED_FLIGHT_T_MAX, T_MAX
 from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import generate, ondemand
-from gear_rattle.validation.golden import scenarios as S
+from gear_rattle.validation.golden.rules.decisions import forcing_in
+from gear_rattle.validation.golden.oracle.inputs import case_input
+from gear_rattle.validation.golden.oracle.ondemand import build_user_case, write_user_case
+from gear_rattle.validation.golden.fuzzing import scenarios as S
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "reference" / "golden_commands.md"
 
@@ -34,7 +36,7 @@ def test_every_scenario_builds_a_case(name):
     """Each scenario of the registry constructs an input for some seed, and the oracle builds its case."""
     inp = _first_input(name)
     assert inp is not None, name
-    case = ondemand.build_user_case(inp)
+    case = build_user_case(inp)
     assert case.settings["stick_time"] == inp.stick_time and case.settings["n_impacts"] <= inp.impacts
 
 
@@ -124,7 +126,7 @@ def test_constructed_hard_places():
     th = dict(alpha=3.0, beta=0.1, press=0.8, r=0.6, frac=0.3, side=-1.0, near1=1e-3, stick_time=3.3e-4)
     t = S.construct(_recipe("stick-threshold", **th), "t")
     p, wall = t.params, 0 if t.sdot0 > 0 else -1
-    t_acc = 2 * p.r * abs(t.sdot0) / ((1 - p.r) * generate.forcing_in(p, t.tau0, wall))
+    t_acc = 2 * p.r * abs(t.sdot0) / ((1 - p.r) * forcing_in(p, t.tau0, wall))
     assert t.stick_time == 3.3e-4 and abs(t_acc / t.stick_time - 1) < 0.1
     lf = dict(t_flight=800.0, push=0.5, weak=1e-5, damp=1e-7, r=0.8, tau0=1.0)
     f = S.construct(_recipe("long-flight", **lf), "f")
@@ -135,10 +137,10 @@ def test_a_flight_longer_than_the_certified_search_horizon_is_a_row():
     """A flight of ~500 time units (beyond one certified flight's CERTIFIED_FLIGHT_T_MAX = 400, within the
     orbit horizon T_MAX = 2000) lands: the case has its impact, as the certified track and every float64 track
     (on the old code the case's certificate searched 400 and the input was refused: CaseError)."""
-    inp = ondemand.case_input("lf", 0.0, 1e-3, 5e-6, 0.9, 0.0, -0.001, 1)
+    inp = case_input("lf", 0.0, 1e-3, 5e-6, 0.9, 0.0, -0.001, 1)
     fl = S.first_contact(inp.params, inp.tau0, inp.sdot0)
     assert fl[0] == 0 and CERTIFIED_FLIGHT_T_MAX < fl[1] < T_MAX
-    case = ondemand.build_user_case(inp)
+    case = build_user_case(inp)
     assert case.settings["n_impacts"] == 1 and case.settings["expected_rows"] == 2
 
 
@@ -149,7 +151,9 @@ def test_a_flight_longer_than_the_certified_search_horizon_is_a_row():
 def test_draws_of_the_whole_box_give_valid_cases_our_map_track_passes(name, seed, tmp_path):
     """Large parameters, hundreds of impacts, long flights and other thresholds: the cases build (truncated
     honestly where the horizon rule says so) and our map track passes them."""
-    from gear_rattle.validation.golden.suite import load_case, run_settings, score_file
+    from gear_rattle.validation.golden.formats.cases import load_case
+    from gear_rattle.validation.golden.self_check import run_settings
+    from gear_rattle.validation.golden.scoring.cases import score_file
     from gear_rattle.validation.io import write_csv
 
     built = 0
@@ -157,8 +161,8 @@ def test_draws_of_the_whole_box_give_valid_cases_our_map_track_passes(name, seed
         inp = S.construct(rec, f"c{k}")
         if inp is None:
             continue
-        case = ondemand.build_user_case(inp)
-        folder = ondemand.write_user_case(tmp_path, case)
+        case = build_user_case(inp)
+        folder = write_user_case(tmp_path, case)
         write_csv(tmp_path / f"c{k}.csv", *run_settings(case.settings, "map").table())
         assert score_file(load_case(folder), tmp_path / f"c{k}.csv").passed, inp.as_dict()
         assert case.truncation is None or case.settings["n_impacts"] < inp.impacts
@@ -175,9 +179,9 @@ def test_velocity_scale():
 def test_the_wide_scenarios_draw_no_stiff_long_flight():
     """Heavy damping and a slow drift: a first flight of 781 time units at beta = 3010 (our scipy track took
     189 s on it, found by a fuzz run) is stiff; the wide scenarios skip such inputs, and build others."""
-    slow = ondemand.case_input("s", 0.01259, 3010.0, -0.02913, 0.464, 2.3071071, -191.0, 36, stick_time=3.03e-6)
+    slow = case_input("s", 0.01259, 3010.0, -0.02913, 0.464, 2.3071071, -191.0, 36, stick_time=3.03e-6)
     assert S.stiff(slow)
-    assert not S.stiff(ondemand.case_input("f", 3.0, 1e4, 0.1, 0.9, 1.0, 5e4, 40))
+    assert not S.stiff(case_input("f", 3.0, 1e4, 0.1, 0.9, 1.0, 5e4, 40))
     built = [S.construct(r, f"w{k}") for k, r in enumerate(S.draw_recipes(4500137, 12, ["wide-chatter"]))]
     assert any(b is not None for b in built) and not any(S.stiff(b) for b in built if b is not None)
 

@@ -14,14 +14,17 @@ from gear_rattle.core.params import Params
 from gear_rattle.mapimpl.sticking import MAX_STICK_TIME, STICK_TIME
 from gear_rattle.mapimpl.tracks import orbit
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden import generate, ondemand
-from gear_rattle.validation.golden.suite import load_case, score_file
+from gear_rattle.validation.golden.rules.thresholds import stick_ratio_sdot0
+from gear_rattle.validation.golden.oracle.inputs import case_input
+from gear_rattle.validation.golden.oracle.ondemand import build_user_case, write_user_case
+from gear_rattle.validation.golden.formats.cases import load_case
+from gear_rattle.validation.golden.scoring.cases import score_file
 
 #: Case 0007's chatter (upper wall), impact 0 at tau0 = 0 with the accumulation time t_acc = 3e-5: it sticks
 #: at once for stick_time >= 3e-5, after a few bounces below (t_acc halves at each bounce: r = 0.5).
 CHATTER = Params(2.0, 0.1, 1.0, 0.5)
 T_ACC = 3e-5
-SDOT0 = generate.stick_ratio_sdot0(CHATTER, 0.0, 0, T_ACC / STICK_TIME)
+SDOT0 = stick_ratio_sdot0(CHATTER, 0.0, 0, T_ACC / STICK_TIME)
 IMPACTS = 12
 
 
@@ -63,11 +66,9 @@ def test_trackimpl_runs_a_case_of_another_threshold(tmp_path):
     passes the scorer (the old trackimpl refused any threshold but 1e-6: exit 2)."""
     from gear_rattle.validation.commands import trackimpl
 
-    case = ondemand.build_user_case(
-        ondemand.case_input("st", *CHATTER.as_dict().values(), 0.0, SDOT0, 10, stick_time=1e-4)
-    )
+    case = build_user_case(case_input("st", *CHATTER.as_dict().values(), 0.0, SDOT0, 10, stick_time=1e-4))
     assert case.settings["stick_time"] == 1e-4 and "stick" in case.expected
-    folder = ondemand.write_user_case(tmp_path / "suite", case)
+    folder = write_user_case(tmp_path / "suite", case)
     given = tmp_path / "given" / "st"
     given.mkdir(parents=True)
     (given / "settings.json").write_text(json.dumps(case.settings))
@@ -99,8 +100,8 @@ def test_case_stick_time_range_is_the_librarys(tmp_path, capsys):
     """``case --stick-time`` and ``--from``'s ``stick_time`` accept what the tracks take (up to 1e-2) and no
     more (the old range was 0 ... 1, which the certified track then refused)."""
     with pytest.raises(ValueError, match=r"stick_time=0\.5 is out of range: allowed .*0\.01"):
-        ondemand.case_input("x", 2.0, 0.1, 1.0, 0.5, 0.0, 0.5, 3, stick_time=0.5)
-    assert ondemand.case_input("x", 2.0, 0.1, 1.0, 0.5, 0.0, 0.5, 3, stick_time=MAX_STICK_TIME).stick_time == 1e-2
+        case_input("x", 2.0, 0.1, 1.0, 0.5, 0.0, 0.5, 3, stick_time=0.5)
+    assert case_input("x", 2.0, 0.1, 1.0, 0.5, 0.0, 0.5, 3, stick_time=MAX_STICK_TIME).stick_time == 1e-2
     args = ["case", "--alpha", "2", "--beta", "0.1", "--gamma", "1", "--r", "0.5", "--tau0", "0", "--sdot0", "0.5"]
     with pytest.raises(SystemExit) as e:
         main([*args, "--impacts", "3", "--id", "x", "--out", str(tmp_path), "--stick-time", "0.5"])

@@ -35,7 +35,7 @@ from pathlib import Path
 import pytest
 
 from gear_rattle.validation.cli import main
-from gear_rattle.validation.golden.suite import DEFAULT_SUITE
+from gear_rattle.validation.golden.paths import DEFAULT_SUITE
 from gear_rattle.validation.golden.paths import DEFAULT_ORBITS
 
 CASE = "0001-regular-fig2"
@@ -530,10 +530,11 @@ def test_an_extreme_input_in_range_is_bounded_in_time(tmp_path, capsys):
 def test_a_case_stops_within_the_rows_check_reads(monkeypatch):
     """A case has at most MAX_CASE_ROWS rows (check reads at most 20000 lines and 2 MiB: a case of 100 000
     impacts would have been unreadable)."""
-    from gear_rattle.validation.golden import ondemand
+    from gear_rattle.validation.golden.oracle import ondemand
+    from gear_rattle.validation.golden.oracle.inputs import case_input
 
     monkeypatch.setattr(ondemand, "MAX_CASE_ROWS", 10)
-    inp = ondemand.case_input("rows", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 30)
+    inp = case_input("rows", 0.5, 0.1, 0.1, 0.9, 0.0, 0.5, 30)
     case = ondemand.build_user_case(inp)
     assert len(case.expected.strip().splitlines()) - 1 <= 10
     assert "more than 10 rows" in case.truncation["reason"]

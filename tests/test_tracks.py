@@ -130,6 +130,6 @@ def test_status_names_come_from_one_place():
 
 
 def test_the_golden_suite_file_format_is_the_result_type_layout():
-    from gear_rattle.validation.golden import suite
+    from gear_rattle.validation.golden.formats import cases
 
-    assert suite.COLUMNS == COLUMNS and suite.KINDS == KINDS
+    assert cases.COLUMNS == COLUMNS and cases.KINDS == KINDS

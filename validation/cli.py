@@ -152,7 +152,7 @@ def build_parser(only: list[str] | None = None) -> argparse.ArgumentParser:
     )
     from gear_rattle import __version__
 
-    from .golden.version import version_line
+    from .golden.formats.version import version_line
 
     parser.add_argument("--version", action="version", version=f"gear-rattle {__version__} ({version_line()})")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)

@@ -41,7 +41,7 @@ INTERRUPTED = ["gear-rattle: interrupted"]
 #: output writer, validation/io/atomic.py: nothing half-written stays).
 CLEANUP: list[str] = []
 #: Process groups the command started in sessions of their own (``fuzz``'s implementation,
-#: validation/golden/fuzz_process.py): the handler kills each whole group (SIGKILL) before it removes the files.
+#: validation/golden/fuzzing/process.py): the handler kills each whole group (SIGKILL) before it removes the files.
 PROCESS_GROUPS: list[int] = []
 #: Held while the output writer registers a temporary file or renames outputs into place; the signal
 #: handler takes it before it cleans up, so a signal never lands between two renames of one command.

@@ -205,6 +205,7 @@ class CertifiedSequence(ImpactSequence):
         return out
 
     def table(self) -> tuple[list[str], list[list]]:
+        """The columns (:data:`core.results.COLUMNS`, then :data:`BOUND_COLUMNS`) and the rows."""
         cols = list(super().table()[0]) + list(BOUND_COLUMNS)
         return cols, [[r[c] for c in cols] for r in self.rows()]
 

@@ -6,5 +6,6 @@ every command from there without importing it) and :func:`validation.cli.command
 statement, not a name).  Modules that are not subcommands: :mod:`.release`, the ``python -m
 gear_rattle.validation.commands.release`` entry of the certified post-release duration (docs/release.md),
 with its own ``main(argv)``; :mod:`.trackimpl` (run as a command by ``--impl``); the helpers
-:mod:`.transient_common` and ``_check_scoring``/``_check_orbits``.
+:mod:`.transient_common`, ``_check_common`` (what check's two modes share: the run composed of
+:mod:`validation.golden.scoring` and its reports), ``_check_orbits`` and ``_check_suite``.
 """

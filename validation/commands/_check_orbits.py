@@ -1,10 +1,10 @@
 """``gear-rattle check --orbits``: score periodic orbits and bifurcation points against the certified
 records of ``validation/golden/orbits`` (docs/golden.md, "Periodic orbits and bifurcation points").
 
-PATH holds one ``<id>.json`` per record (:mod:`validation.golden.orbit_suite` gives the layout);
+PATH holds one ``<id>.json`` per record (:mod:`validation.golden.formats.orbits` gives the layout);
 with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scored instead, and
 ``--out DIR`` keeps their files (an example of the layout).  Selection, known failures, reports and
-exit status as for the impact cases (:mod:`._check_scoring`): 0 every record scored passes, 1 some
+exit status as for the impact cases (:mod:`._check_common`): 0 every record scored passes, 1 some
 fails, has no output or a malformed file (one line per file on stderr), 2 usage error."""
 
 from __future__ import annotations
@@ -13,12 +13,12 @@ import argparse
 from functools import partial
 
 from ..cliutil import CliError, check_input_path
-from ._check_scoring import Scorer, check_items, suite_header, write_output
+from ._check_common import check_items, suite_header, write_output
 
 
 def _self_values(records, write: str | None) -> dict:
     from ..golden.boundary import member
-    from ..golden.orbit_float64 import float64_values
+    from ..golden.self_check import float64_values
     from ..io import write_json
 
     out = {}
@@ -32,16 +32,9 @@ def _self_values(records, write: str | None) -> dict:
 
 def run_orbits(args: argparse.Namespace) -> int:
     """The ``--orbits`` mode of ``check`` (arguments validated by ``check.run`` first)."""
-    from ..golden.orbit_suite import (
-        DEFAULT_ORBITS,
-        MalformedFile,
-        load_records,
-        no_output_score,
-        problem_score,
-        read_values,
-        score,
-    )
-    from ..golden.results import orbit_result
+    from ..golden.formats.orbits import MalformedFile, load_records
+    from ..golden.paths import DEFAULT_ORBITS
+    from ..golden.scoring.run import ORBITS
 
     if args.self_check and args.track != "map":
         raise CliError("--orbits --self scores the map track's float64 solvers: --track must be map")
@@ -51,13 +44,4 @@ def run_orbits(args: argparse.Namespace) -> int:
         records = load_records(folder)
     except MalformedFile as e:
         raise CliError(f"orbit suite: {e}") from None
-    scorer = Scorer(
-        orbits=True,
-        suffix=".json",
-        read=read_values,
-        score=score,
-        no_output=no_output_score,
-        problem=problem_score,
-        result=orbit_result,
-    )
-    return check_items(args, info, records, scorer, folder, partial(_self_values, write=args.out))
+    return check_items(args, info, records, ORBITS, folder, partial(_self_values, write=args.out))

@@ -1,6 +1,6 @@
 """``gear-rattle check --suite-version`` and ``--export-suite DIR``: the suite itself, not an
 implementation's output (docs/golden.md, "Using the suite in CI").  The description and the files
-exported are :mod:`validation.golden.export`'s; the files are written by the atomic writer."""
+exported are :mod:`validation.golden.formats.export`'s; the files are written by the atomic writer."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from ..cliutil import CliError, check_input_path, to_stdout
 def _parts(args: argparse.Namespace) -> dict:
     """``{part: folder}`` described: the installed suite's two parts, or ``--suite DIR`` (a records
     folder with ``--orbits``)."""
-    from ..golden.version import PARTS
+    from ..golden.formats.version import PARTS
 
     if args.suite is None:
         return dict(PARTS)
@@ -21,8 +21,9 @@ def _parts(args: argparse.Namespace) -> dict:
 
 
 def _ids(part: str, folder: Path) -> list[str]:
-    from ..golden.orbit_suite import record_ids
-    from ..golden.suite import MalformedFile, case_ids
+    from ..golden.formats.orbits import record_ids
+    from ..golden.formats.textformat import MalformedFile
+    from ..golden.formats.cases import case_ids
 
     try:
         return record_ids(folder) if part == "orbits" else case_ids(folder)
@@ -32,11 +33,11 @@ def _ids(part: str, folder: Path) -> list[str]:
 
 def suite_version(args: argparse.Namespace, header) -> int:
     """``--suite-version``: the version and digests of the suite (or of ``--suite DIR``), as lines or,
-    with ``--json FILE``, as the description of :func:`golden.export.describe` (folders, index, ids);
+    with ``--json FILE``, as the description of :func:`golden.formats.export.describe` (folders, index, ids);
     exit 1 where the files differ from the recorded version's."""
     from ..cliutil import write_text
-    from ..golden.export import describe
-    from ..golden.version import recorded
+    from ..golden.formats.export import describe
+    from ..golden.formats.version import recorded
     from ..io import json_text
 
     infos = {part: header(args, folder, part) for part, folder in _parts(args).items()}
@@ -55,7 +56,7 @@ def export_suite(args: argparse.Namespace, header) -> int:
     """``--export-suite DIR``: the suite's files, its format description and ``suite.json`` (the
     description, folders relative to DIR) written into DIR, a new or empty directory; one line on stdout."""
     from ..cliutil import check_output_dir, write_file
-    from ..golden.export import DESCRIPTION, describe, export_files, exported
+    from ..golden.formats.export import DESCRIPTION, describe, export_files, exported
     from ..io import json_text
     from ..io.atomic import write_atomic
 

@@ -46,7 +46,7 @@ HELP = "build a certified golden-format case (or a whole suite, --from) for your
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..golden.ondemand import MAX_TOLERANCE_LIMIT, MIN_TOLERANCE_LIMIT, TOLERANCE_LIMIT
+    from ..golden.oracle.ondemand import MAX_TOLERANCE_LIMIT, MIN_TOLERANCE_LIMIT, TOLERANCE_LIMIT
 
     _add_input_arguments(p.add_argument_group("one input (or --from)"))
     p.add_argument(
@@ -90,7 +90,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def _add_input_arguments(g) -> None:
     """The options of one input (``g``: their argument group)."""
     from ..golden.boundary import MAX_CASE_IMPACTS
-    from ..golden.ondemand import TOLERANCE_LIMIT
+    from ..golden.oracle.ondemand import TOLERANCE_LIMIT
 
     g.add_argument(
         "--alpha",
@@ -157,8 +157,8 @@ MAX_REPORTED = 20
 
 
 def _inputs(args: argparse.Namespace):
-    """``(inputs, problems)``: the good inputs and the bad ones (:class:`golden.ondemand.InputProblem`)."""
-    from ..golden.ondemand import case_input, read_input_file
+    """``(inputs, problems)``: the good inputs and the bad ones (:class:`golden.oracle.inputs.InputProblem`)."""
+    from ..golden.oracle.inputs import case_input, read_input_file
 
     given = [k for k in ONE + ("s0", "stick_time") if getattr(args, k) is not None]
     if args.from_file is not None:
@@ -207,8 +207,8 @@ def _report_bad(args: argparse.Namespace, inputs: list, problems: list) -> None:
 def _check_suite(suite: Path, inputs: list, replace: bool, out: str) -> None:
     """Before anything is built (the suite's lock held): the ids are free (or, with ``--replace``, case
     folders), no name the command writes is a link (check refuses links leading out of a suite), and the
-    suite as it is reads as ``check`` reads it (its index and cases: :func:`golden.ondemand.index_text`)."""
-    from ..golden.ondemand import index_text
+    suite as it is reads as ``check`` reads it (its index and cases: :func:`golden.oracle.ondemand.index_text`)."""
+    from ..golden.oracle.ondemand import index_text
 
     taken, odd = [], []
     for c in inputs:
@@ -235,11 +235,12 @@ def _check_suite(suite: Path, inputs: list, replace: bool, out: str) -> None:
 
 
 def commit_cases(suite: Path, built: list) -> None:
-    """Write the cases (:class:`golden.ondemand.UserCase`) and the index that lists them into a staging
+    """Write the cases (:class:`golden.oracle.ondemand.UserCase`) and the index that lists them into a staging
     folder in the suite, then move them all in at once (:func:`io.atomic.staged`): a full disk or an error
     leaves the suite as it was.  The caller holds the suite's lock (:func:`writelock.suite_lock`); ``fuzz``
     may write its findings the same way."""
-    from ..golden.ondemand import INDEX_NAME, index_text, write_user_case
+    from ..golden.formats.index import INDEX_NAME
+    from ..golden.oracle.ondemand import index_text, write_user_case
     from ..io.atomic import staged, write_text_atomic
 
     with staged(suite, "case") as stage:
@@ -253,8 +254,8 @@ def commit_cases(suite: Path, built: list) -> None:
 def run(args: argparse.Namespace) -> int:
     from ...core.progress import Bar
     from ..cliutil import check_output_dir
-    from ..golden.ondemand import TIME_LIMIT_S, CaseError, build_user_case
-    from ..golden.suite import DEFAULT_SUITE
+    from ..golden.oracle.ondemand import TIME_LIMIT_S, CaseError, build_user_case
+    from ..golden.paths import DEFAULT_SUITE
 
     inputs, problems = _inputs(args)
     suite = Path(args.out)

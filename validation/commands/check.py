@@ -33,7 +33,7 @@ from functools import partial
 from pathlib import Path
 
 from ..cliutil import CliError, add_renamed, check_input_path, check_output_dir
-from ._check_scoring import Ready, Scorer, check_items, suite_header, write_output
+from ._check_common import check_items, suite_header, write_output
 
 NAME = "check"
 HELP = "score another implementation's output against the golden conformance suite"
@@ -158,8 +158,8 @@ def needs_jax(args: argparse.Namespace) -> bool:
 
 
 def _requirement(text: str) -> str:
-    """``--require-suite SPEC`` (argparse type): one of the forms of :func:`golden.version.satisfies`."""
-    from ..golden.version import parse_requirement
+    """``--require-suite SPEC`` (argparse type): one of the forms of :func:`golden.formats.version.satisfies`."""
+    from ..golden.formats.version import parse_requirement
 
     try:
         parse_requirement(text)
@@ -170,7 +170,7 @@ def _requirement(text: str) -> str:
 
 def _levels(text: str) -> list[int]:
     """``--level 1,2``: a comma-separated list of levels (argparse type)."""
-    from ..golden.suite import LEVELS
+    from ..golden.formats.cases import LEVELS
 
     out = []
     for part in text.split(","):
@@ -184,7 +184,10 @@ def _levels(text: str) -> list[int]:
 
 def _self_outputs(cases, track: str, write: str | None):
     from ..golden.boundary import member
-    from ..golden.suite import problem_score, run_case, sequence_from_impacts
+    from ..golden.formats.cases import sequence_from_impacts
+    from ..golden.scoring.cases import problem_score
+    from ..golden.scoring.run import Ready
+    from ..golden.self_check import run_case
     from ..io import write_csv
 
     from ...mapimpl.tracks import get
@@ -241,16 +244,9 @@ def _exists(path: str) -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..golden.results import case_result
-    from ..golden.suite import (
-        DEFAULT_SUITE,
-        MalformedFile,
-        load_suite,
-        no_output_score,
-        problem_score,
-        read_sequence,
-        score_sequence,
-    )
+    from ..golden.formats.cases import MalformedFile, load_suite
+    from ..golden.paths import DEFAULT_SUITE
+    from ..golden.scoring.run import CASES
 
     if args.suite_version:
         from ._check_suite import suite_version
@@ -271,13 +267,4 @@ def run(args: argparse.Namespace) -> int:
         cases = load_suite(suite)
     except MalformedFile as e:
         raise CliError(f"suite: {e}") from None
-    scorer = Scorer(
-        orbits=False,
-        suffix=".csv",
-        read=lambda path, case, root: read_sequence(path, inside=root),
-        score=score_sequence,
-        no_output=no_output_score,
-        problem=problem_score,
-        result=case_result,
-    )
-    return check_items(args, info, cases, scorer, suite, partial(_self_outputs, track=args.track, write=args.out))
+    return check_items(args, info, cases, CASES, suite, partial(_self_outputs, track=args.track, write=args.out))

@@ -41,8 +41,8 @@ HELP = "differential fuzzing of another implementation against certified cases (
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from ..golden.fuzz import BATCH, TIMEOUT
-    from ..golden.scenarios import SCENARIOS, check_scenarios
+    from ..golden.fuzzing.runner import BATCH, TIMEOUT
+    from ..golden.fuzzing.scenarios import SCENARIOS, check_scenarios
 
     def scenario(text: str) -> str:
         """argparse type: a name of the registry (one line naming the allowed ones otherwise)."""
@@ -125,8 +125,8 @@ def run(args: argparse.Namespace) -> int:
     from ...core.progress import Bar
     from ..cliutil import check_distinct, check_output_dir, check_output_file, suite_writer, write_text
     from ..extras import require
-    from ..golden.fuzz_runner import fuzz, split_command, summary
-    from ..golden.triage import junit_xml
+    from ..golden.fuzzing.runner import fuzz, split_command, summary
+    from ..golden.fuzzing.triage import junit_xml
     from ..io.atomic import current
 
     require("hypothesis", "test", "gear-rattle fuzz")
@@ -189,7 +189,7 @@ def store_atomic(files: dict) -> None:
     together or not at all (validation/io/atomic.py); :class:`NotWritten` (one line naming the file) when
     one cannot be written -- the set is then discarded, the earlier files stay."""
     from ..cliutil import output_fault
-    from ..golden.triage import NotWritten
+    from ..golden.fuzzing.triage import NotWritten
     from ..io.atomic import commit_pending, current, write_atomic
 
     path = None

@@ -19,7 +19,7 @@ from pathlib import Path
 
 def run_folder(cases: Path, out: Path, track: str) -> int:
     """Run every case folder of ``cases`` on ``track``; returns the number of cases."""
-    from ..golden.suite import run_settings
+    from ..golden.self_check import run_settings
     from ..io import write_csv
 
     out.mkdir(parents=True, exist_ok=True)

@@ -2,7 +2,11 @@
 
 from pathlib import Path
 
-#: The committed impact-sequence cases (``validation/golden/cases`` of the installed package).
-DEFAULT_SUITE = Path(__file__).resolve().parent / "cases"
+#: The installed suite's folder (``validation/golden`` of the installed package: ``cases/`` and ``orbits/``).
+GOLDEN = Path(__file__).resolve().parent
+#: The committed impact-sequence cases.
+DEFAULT_SUITE = GOLDEN / "cases"
 #: The committed periodic-orbit and bifurcation-point records.
-DEFAULT_ORBITS = Path(__file__).resolve().parent / "orbits"
+DEFAULT_ORBITS = GOLDEN / "orbits"
+
+__all__ = ["GOLDEN", "DEFAULT_SUITE", "DEFAULT_ORBITS"]
