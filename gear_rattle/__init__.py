@@ -37,7 +37,7 @@ starts.  It imports neither JAX nor numpy, nor the command line: every public na
 :func:`use_cpu_devices`, :data:`TRACKS` and :class:`Status` is loaded on first use (PEP 562), and so is
 the display of progress bars (:mod:`gear_rattle.validation.progress`, when the first bar is drawn).
 ``import gear_rattle`` loads seven small modules and no other package; ``gear-rattle check`` runs with
-numpy alone (docs/golden.md, "Using the suite in CI").
+numpy alone (docs/reference/golden_commands.md, "In CI").
 """
 
 from __future__ import annotations

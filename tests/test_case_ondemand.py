@@ -1,4 +1,4 @@
-"""``gear-rattle case``: a golden-format case for any input (docs/golden.md, "Asking the oracle")."""
+"""``gear-rattle case``: a golden-format case for any input (docs/reference/golden_commands.md, "Asking the oracle")."""
 
 from __future__ import annotations
 

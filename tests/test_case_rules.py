@@ -1,5 +1,5 @@
 """Rules of ``gear-rattle case`` found by ``gear-rattle fuzz`` on the whole input box (issue 36 item 4;
-docs/golden.md, "Asking the oracle"): the sticking-decision rule (validation/golden/rules/decisions.py: a case does not
+docs/reference/golden_commands.md, "Asking the oracle"): the sticking-decision rule (validation/golden/rules/decisions.py: a case does not
 ask a sticking decision that an output within its own tolerances could take the other way) and the near-miss
 rule's search for turning points right after a slow departure."""
 

@@ -1,4 +1,4 @@
-"""`gear-rattle check` reads exactly the format of docs/golden.md ("What check reads") and selects
+"""`gear-rattle check` reads exactly the format of docs/reference/golden_formats.md ("What check reads") and selects
 cases as documented (issue 30 items 1 and 5): each test here is a defect of the old checker.
 
 The output of a perfect implementation is stood in for by the certified `expected.csv` (its radius

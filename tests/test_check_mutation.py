@@ -42,7 +42,7 @@ from gear_rattle.validation.golden.paths import DEFAULT_SUITE
 mpmath = pytest.importorskip("mpmath")
 
 # ------------------------------------------------------------------------------------------------
-# docs/golden.md, "What check reads", restated
+# docs/reference/golden_formats.md, "What check reads", restated
 
 MAX_BYTES, MAX_JSON_BYTES, MAX_LINES = 2 * 1024 * 1024, 256 * 1024, 20_000
 MAX_FIELD, MAX_COLUMNS, MAX_INT_DIGITS = 1000, 100, 18

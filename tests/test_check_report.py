@@ -1,4 +1,4 @@
-"""What a failing case reports (issue 37 item 1; docs/golden.md, "What a failing case reports"): for
+"""What a failing case reports (issue 37 item 1; docs/reference/golden_commands.md, "What a failing case reports"): for
 every kind of failure, the first failing row of the golden file and of the output side by side, the
 rows around it aligned by event (a missing or extra row shows as such), the column, |error|, the row's
 tolerance and their ratio -- on the terminal, in the JSON and in the JUnit failure -- and a wrong wall

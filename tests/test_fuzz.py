@@ -1,4 +1,4 @@
-"""``gear-rattle fuzz``: the differential fuzzer (docs/golden.md, "Fuzzing an implementation").
+"""``gear-rattle fuzz``: the differential fuzzer (docs/reference/golden_commands.md, "Fuzzing an implementation").
 
 The implementations are processes under the suite's protocol (``COMMAND CASES_DIR OUT_DIR``): our tracks
 (:mod:`validation.commands.trackimpl`) and the mutants of tests/golden_mutants.py (tests/mutant_impl.py).

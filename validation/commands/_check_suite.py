@@ -1,5 +1,5 @@
 """``gear-rattle check --suite-version`` and ``--export-suite DIR``: the suite itself, not an
-implementation's output (docs/golden.md, "Using the suite in CI").  The description and the files
+implementation's output (docs/reference/golden_commands.md, "In CI").  The description and the files
 exported are :mod:`validation.golden.formats.export`'s; the files are written by the atomic writer."""
 
 from __future__ import annotations

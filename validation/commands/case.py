@@ -1,5 +1,5 @@
 """Build a golden-format case for your own input: its orbit certified by ball arithmetic, its tolerances set
-by every rule of docs/golden.md ("Asking the oracle").
+by every rule of docs/reference/golden_commands.md ("Asking the oracle").
 
 Writes SUITE/ID/ (settings.json, expected.csv, provenance.json) and updates SUITE/index.json (its other
 fields kept). Score an implementation against it with `gear-rattle check OUT --suite SUITE`. No row of a
@@ -13,7 +13,7 @@ unless --skip-bad builds the others.
 
 The suite has one writer at a time (its lock SUITE/suite.lock: a second case or fuzz into it is refused
 in one line); the cases and the updated index.json go in together, or nothing does (a full disk, an error
-or a signal leaves the suite as it was). Ids follow docs/golden.md ("What check reads"): no separators,
+or a signal leaves the suite as it was). Ids follow docs/reference/golden_formats.md ("What check reads"): no separators,
 no dot-names, not a name of the suite's own files.
 
 Exit status: 0 every case written, 1 some input has no case (not even impact 0 certified within the

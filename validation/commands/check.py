@@ -18,7 +18,7 @@ With --orbits, PATH holds one <id>.json per certified periodic orbit or bifurcat
 validation/golden/orbits (points, multipliers, value; docs/golden.md), scored against the records'
 enclosures; --orbits --self scores our float64 Newton solvers.
 
-For CI (docs/golden.md, "Using the suite in CI"): --junit-xml FILE (one testcase per case or record)
+For CI (docs/reference/golden_commands.md, "In CI"): --junit-xml FILE (one testcase per case or record)
 and --json FILE (strict JSON) besides the table, written whatever the outcome; the header names the
 suite's version and digest; --suite-version prints them (--json FILE: the folders, index and ids as
 JSON; exit 1 if the suite's files differ from the recorded version's), --export-suite DIR copies the

@@ -1,4 +1,4 @@
-"""Fuzz another implementation against certified cases on demand (docs/golden.md, "Fuzzing an implementation").
+"""Fuzz another implementation against certified cases on demand (docs/reference/golden_commands.md, "Fuzzing an implementation").
 
 COMMAND is called as `COMMAND CASES_DIR OUT_DIR`: it must run every case folder of CASES_DIR (settings.json in
 the golden suite's layout; expected.csv is not given) and write OUT_DIR/<case-id>.csv, as for the shipped

@@ -2,7 +2,7 @@
 [--track map|scipy|diffrax] CASES_DIR OUT_DIR`` runs every case folder of CASES_DIR (its settings.json;
 expected.csv is not read) and writes OUT_DIR/<case-id>.csv, as any implementation that runs the golden
 suite does.  ``gear-rattle fuzz --impl "python -m gear_rattle.validation.commands.trackimpl --track scipy"``
-fuzzes our own tracks (docs/golden.md, "Fuzzing an implementation"): it must find nothing.
+fuzzes our own tracks (docs/reference/golden_commands.md, "Fuzzing an implementation"): it must find nothing.
 
 Every track takes the case's sticking threshold ``stick_time`` (0 <= stick_time <= 1e-2, the library's range,
 :func:`mapimpl.sticking.check_stick_time`), so a case of any threshold that ``gear-rattle case`` builds runs.

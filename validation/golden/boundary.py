@@ -1,5 +1,5 @@
 """What is checked where a suite, a ``--from`` file or an implementation's output folder comes in
-(docs/golden.md, "What check reads": ids, tolerances, sizes).  Standard library only.
+(docs/reference/golden_formats.md, "What check reads": ids, tolerances, sizes).  Standard library only.
 
 A suite travels: ``case`` builds one, ``fuzz`` writes one, a project keeps one and shares it.  So
 nothing in it is trusted as a path or a bound:

@@ -1,4 +1,4 @@
-"""The golden suite's files, read and written (docs/golden.md, "File formats" and "What check reads"):
+"""The golden suite's files, read and written (docs/reference/golden_formats.md, "File formats" and "What check reads"):
 
 * :mod:`.textformat`, :mod:`.csvformat`, :mod:`.jsonformat` -- the text layer (limits, encoding, line ends)
   and the one CSV and one JSON reader on top of it;

@@ -1,4 +1,4 @@
-"""The files of a certified case, written (docs/golden.md, "File formats"): ``expected.csv`` (the rows, their
+"""The files of a certified case, written (docs/reference/golden_formats.md, "File formats"): ``expected.csv`` (the rows, their
 printed radii and tolerances: :func:`expected_csv`), ``settings.json`` (:func:`settings_json`) and
 ``provenance.json`` (:func:`provenance_json`, :func:`radius_stats`), and a case folder (:func:`write_case`).
 
@@ -92,7 +92,7 @@ def printed_rows(orb: cert.CertifiedOrbit) -> list[tuple[str, str, str, str, str
 
 
 def expected_csv(orb: cert.CertifiedOrbit, tols: RowCells) -> str:
-    """``expected.csv``: the rows, their radii and their tolerances (docs/golden.md, "File formats")."""
+    """``expected.csv``: the rows, their radii and their tolerances (docs/reference/golden_formats.md, "File formats")."""
     lines = [",".join(COLUMNS + RADIUS_COLUMNS + tuple(ROW_TOLERANCE_COLUMNS.values()))]
     for k, (e, (tau, th, sd, rt, rth, rsd)) in enumerate(zip(orb.events, printed_rows(orb))):
         lines.append(",".join([str(e.n), tau, th, str(e.wall), sd, e.kind, rt, rth, rsd, *tols.cells(k)]))

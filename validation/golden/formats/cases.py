@@ -1,4 +1,4 @@
-"""A case folder of the golden suite, read (docs/golden.md, "File formats" and "What check reads"): its
+"""A case folder of the golden suite, read (docs/reference/golden_formats.md, "File formats" and "What check reads"): its
 layout, the impact-sequence CSV that ``expected.csv`` and an implementation's output share, loading and
 validating a case and a suite.
 

@@ -1,4 +1,4 @@
-"""The one CSV reader of ``gear-rattle check`` (docs/golden.md, "What check reads"): records and fields
+"""The one CSV reader of ``gear-rattle check`` (docs/reference/golden_formats.md, "What check reads"): records and fields
 of an impact-sequence file (``expected.csv`` and an implementation's ``<case-id>.csv``), and the
 number forms of its fields.  The column meanings are :mod:`.cases`'s.  Standard library only.
 

@@ -1,4 +1,4 @@
-"""The suite within reach of any implementation (docs/golden.md, "Using the suite in CI"): where the
+"""The suite within reach of any implementation (docs/reference/golden_commands.md, "In CI"): where the
 installed suite's folders are, as data (``gear-rattle check --suite-version --json FILE``), and the
 files of a copy of it with its format description (``gear-rattle check --export-suite DIR``), for an
 implementation that cannot import Python.

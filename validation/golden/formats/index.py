@@ -61,7 +61,7 @@ def case_entry(folder: Path, inside: Path | None = None) -> dict:
     settings, exp = case.settings, case.expected
     impact_walls = sorted({int(w) for w, k in zip(exp.wall, exp.kind) if k == "impact"}, reverse=True)
     stick_walls = sorted({int(w) for w, k in zip(exp.wall, exp.kind) if k == "stick"}, reverse=True)
-    if case.row_tol is not None:  # the smallest tolerance of any row (docs/golden.md, "File formats")
+    if case.row_tol is not None:  # the smallest tolerance of any row (docs/reference/golden_formats.md, "File formats")
         tol = min(float(x) for v in case.row_tol.values() for x in v if math.isfinite(x))
     else:
         tol = min(v["abs"] for v in settings["tolerances"].values())

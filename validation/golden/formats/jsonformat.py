@@ -1,4 +1,4 @@
-"""The one JSON reader of ``gear-rattle check`` (docs/golden.md, "What check reads"): an
+"""The one JSON reader of ``gear-rattle check`` (docs/reference/golden_formats.md, "What check reads"): an
 implementation's ``<id>.json``, the orbit records, ``settings.json`` and ``index.json``.  Standard
 library only.
 

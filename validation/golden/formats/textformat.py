@@ -1,4 +1,4 @@
-"""The text layer shared by every file ``gear-rattle check`` reads (docs/golden.md, "What check reads"):
+"""The text layer shared by every file ``gear-rattle check`` reads (docs/reference/golden_formats.md, "What check reads"):
 size limits, the encoding, the characters allowed and the line ends.  The CSV and JSON grammars on
 top of it are :mod:`.csvformat` and :mod:`.jsonformat`.  Standard library only.
 

@@ -1,4 +1,4 @@
-"""The golden suite's version and content digest (docs/golden.md, "Versions of the suite").
+"""The golden suite's version and content digest (docs/reference/golden_formats.md, "Versions of the suite").
 
 The suite -- the case folders of ``cases/`` and the records of ``orbits/`` -- has a semantic version,
 :data:`SUITE_VERSION`, and a content digest; ``cases/index.json`` records both (its ``suite`` block,
@@ -203,7 +203,7 @@ def suite_info(folder: str | Path, part: str) -> SuiteInfo:
     )
 
 
-#: The forms of ``check --require-suite`` (docs/golden.md, "Pinning a suite version").
+#: The forms of ``check --require-suite`` (docs/reference/golden_commands.md, "Pinning a suite version").
 REQUIRE_FORMS = "MAJOR (1), MAJOR.MINOR (1.0), ~=MAJOR.MINOR (~=1.0), ~=MAJOR.MINOR.PATCH or MAJOR.MINOR.PATCH (1.0.0)"
 _SPEC = re.compile(r"(~=)?(0|[1-9][0-9]{0,8})(?:\.(0|[1-9][0-9]{0,8}))?(?:\.(0|[1-9][0-9]{0,8}))?")
 

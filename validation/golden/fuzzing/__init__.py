@@ -1,5 +1,5 @@
 """A differential fuzzer: another implementation against certified cases on demand (``gear-rattle fuzz``;
-docs/golden.md, "Fuzzing an implementation").  Its parts, as Hypothesis keeps strategies, engine,
+docs/reference/golden_commands.md, "Fuzzing an implementation").  Its parts, as Hypothesis keeps strategies, engine,
 shrinker and reporting apart:
 
 * :mod:`.scenarios` -- the strategies: a registry of scenarios, each reaching a hard place on purpose, that

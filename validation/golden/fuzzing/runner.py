@@ -1,4 +1,4 @@
-"""The fuzzer's runner (``gear-rattle fuzz``; docs/golden.md, "Fuzzing an implementation"): the search loop
+"""The fuzzer's runner (``gear-rattle fuzz``; docs/reference/golden_commands.md, "Fuzzing an implementation"): the search loop
 that composes the draws (:mod:`.scenarios`: scenarios and the inputs built from them), the implementation's
 runs (:mod:`.process`), the scorer (:mod:`..scoring.cases`), the shrinker (:mod:`.shrinker`) and the triage
 (:mod:`.triage`).

@@ -1,4 +1,4 @@
-"""The fuzzer's strategies (``gear-rattle fuzz``; docs/golden.md, "Fuzzing an implementation"): the
+"""The fuzzer's strategies (``gear-rattle fuzz``; docs/reference/golden_commands.md, "Fuzzing an implementation"): the
 scenarios, what each draws and why, and the construction of an input from a drawn recipe.
 
 A **scenario** (:class:`Scenario`, one object per hard place, in the registry :data:`SCENARIOS`) has a
@@ -186,7 +186,7 @@ def _input(id: str, p: Params | tuple, tau0: float, sdot0: float, g: dict, s0: f
 #: Largest ``beta`` times the longest flight of a ``wide-*`` input (the orbit of the map track): Eq. (3) is stiff
 #: where that is large -- an explicit integrator needs ~``beta`` steps per unit of time -- and such an orbit
 #: took our scipy track minutes (beta = 3010, alpha = 0.0126, gamma = -0.029: a first flight of 781 time
-#: units, 189 s; diffrax 55 s).  Not drawn: docs/golden.md, "What it cannot reach".
+#: units, 189 s; diffrax 55 s).  Not drawn: docs/reference/golden_commands.md, "What it cannot reach".
 STIFFNESS_LIMIT = 1e4
 
 
@@ -496,7 +496,7 @@ def _draws(*parts: dict, **more: Draw) -> dict:
 _GRAZE_PAPER = Uniform(0, 2, integer=True)  # 0: the drawn parameters; 1, 2: Fig. 3, Figs. 9-11
 _WIDE_START = {"gsign": Choice((1.0, -1.0)), "tau0": Uniform(0.0, TWO_PI), "sign": START["sign"]}
 
-#: The scenarios, by name (docs/golden.md, "Fuzzing an implementation", lists them with these words).
+#: The scenarios, by name (docs/reference/golden_commands.md, "Fuzzing an implementation", lists them with these words).
 SCENARIOS: dict[str, Scenario] = {
     s.name: s
     for s in (

@@ -1,4 +1,4 @@
-"""The fuzzer's shrinker (``gear-rattle fuzz``; docs/golden.md, "Fuzzing an implementation"): from a failing
+"""The fuzzer's shrinker (``gear-rattle fuzz``; docs/reference/golden_commands.md, "Fuzzing an implementation"): from a failing
 input to the simplest one that fails **the same way** (the same :class:`.triage.Signature`: a crash with
 the same exit status, a wrong wall, a value of the same column beyond its tolerance, ...).
 

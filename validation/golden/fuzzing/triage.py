@@ -1,4 +1,4 @@
-"""The fuzzer's triage (``gear-rattle fuzz``; docs/golden.md, "Fuzzing an implementation"): failures grouped
+"""The fuzzer's triage (``gear-rattle fuzz``; docs/reference/golden_commands.md, "Fuzzing an implementation"): failures grouped
 by cause, one folder per group, and the reports.
 
 * :class:`Signature`: what the first difference of a failing input is -- a value of a column beyond its

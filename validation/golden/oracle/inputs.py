@@ -1,4 +1,4 @@
-"""What is asked of the oracle (``gear-rattle case``; docs/golden.md, "Asking the oracle"): one input
+"""What is asked of the oracle (``gear-rattle case``; docs/reference/golden_commands.md, "Asking the oracle"): one input
 (:class:`CaseInput`: parameters, start, impacts, sticking threshold), each field checked by the one boundary
 helper of its kind (:func:`checked_fields`, :func:`case_input`), and the inputs of a ``--from`` file, CSV or
 JSON, read with ``check``'s limits, every bad line named (:func:`read_input_file`).  :mod:`.ondemand`

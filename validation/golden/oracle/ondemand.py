@@ -1,4 +1,4 @@
-"""A golden case for any input (``gear-rattle case``; docs/golden.md, "Asking the oracle").
+"""A golden case for any input (``gear-rattle case``; docs/reference/golden_commands.md, "Asking the oracle").
 
 :func:`build_user_case` certifies the orbit of one input (:func:`mapimpl.certified.certify_orbit`, or
 :func:`mapimpl.certified.certify_no_impact_orbit` where the last flight never lands) and gives every row its

@@ -1,4 +1,4 @@
-"""The tolerance rules of the golden cases (docs/golden.md, "Tolerances from the conditioning" and "Asking
+"""The tolerance rules of the golden cases (docs/golden_tolerances.md, "Tolerances from the conditioning" and "Asking
 the oracle"), shared by the shipped catalogue (:mod:`..catalog`) and the oracle (:mod:`..oracle`):
 
 * :mod:`.conditioning` -- the error a correct float64 implementation can make at each row (the gap-error

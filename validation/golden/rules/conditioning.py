@@ -1,5 +1,5 @@
 """The error a correct float64 implementation can make at each row of a golden case, and the tolerance of
-that row (docs/golden.md, "Tolerances from the conditioning").
+that row (docs/golden_tolerances.md, "Tolerances from the conditioning").
 
 **The per-contact error** (the gap-error model).  An implementation puts a contact where its computed gap
 to the wall vanishes, and that gap is off by at most

@@ -1,4 +1,4 @@
-"""The sticking-decision rule of ``gear-rattle case`` (docs/golden.md, "Asking the oracle"): a case does not
+"""The sticking-decision rule of ``gear-rattle case`` (docs/reference/golden_commands.md, "Asking the oracle"): a case does not
 ask a sticking decision that an output within its own tolerances could take the other way.
 
 At every impact the policy of :mod:`mapimpl.sticking` decides between a bounce and sticking: where the force

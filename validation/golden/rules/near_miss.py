@@ -1,4 +1,4 @@
-"""The near-miss rule of ``gear-rattle case`` (docs/golden.md, "Asking the oracle"): a case stops before an
+"""The near-miss rule of ``gear-rattle case`` (docs/reference/golden_commands.md, "Asking the oracle"): a case stops before an
 impact whose flight turns back closer to a wall than :data:`NEAR_MISS_SAFETY` times the gap error of a
 correct float64 implementation (:func:`.conditioning.gap_error`): such an implementation may take that near
 miss for a contact.  The flight's turning points are searched on a grid fine where a slow departure turns

@@ -1,4 +1,4 @@
-"""The tolerance of every row of a golden case (docs/golden.md, "Tolerances from the conditioning"):
+"""The tolerance of every row of a golden case (docs/golden_tolerances.md, "Tolerances from the conditioning"):
 :data:`SAFETY <.conditioning.SAFETY>` times the error a correct float64 implementation can make at that row
 (:func:`.conditioning.row_errors`) plus the row's printed radius (:func:`.conditioning.tolerances`), as
 :class:`RowTolerances`.  The same rule for the shipped cases (:mod:`..catalog.build`) and for a case on

@@ -1,5 +1,5 @@
 """Expected against got: where an implementation's output first differs from the golden values, as
-structured data (docs/golden.md, "What a failing case reports").
+structured data (docs/reference/golden_commands.md, "What a failing case reports").
 
 A :class:`Difference` is one failure, placed: its kind (:data:`KINDS`), the implementation's file and
 line, the golden file and line, the column, the golden and the actual row (or value), the ``|error|``,

@@ -1,4 +1,4 @@
-"""The JUnit XML file of ``gear-rattle check --junit-xml`` (docs/golden.md, "Using the suite in CI"), written
+"""The JUnit XML file of ``gear-rattle check --junit-xml`` (docs/reference/golden_commands.md, "In CI"), written
 from a typed run (:class:`.results.CheckRun`): ``<testsuites>`` holding one ``<testsuite>`` with one
 ``<testcase>`` per case or record of the suite -- the layout of the JUnit schema that Jenkins, GitLab and
 the GitHub test reporters read.  Standard library only.

@@ -1,4 +1,4 @@
-"""A run of ``gear-rattle check``, below the command line (docs/golden.md, "Using the suite in CI"): which
+"""A run of ``gear-rattle check``, below the command line (docs/reference/golden_commands.md, "In CI"): which
 items of a suite are selected (the others skipped, with the reason: :func:`plan`), the known failures
 (:func:`known_failures`),
 each output file read on its own (:func:`read_outputs`: a missing file is "no output", a malformed one an

@@ -1,4 +1,4 @@
-"""What ``gear-rattle check`` prints (docs/golden.md, "What a failing case reports"): the aligned table
+"""What ``gear-rattle check`` prints (docs/reference/golden_commands.md, "What a failing case reports"): the aligned table
 (one line per case or record scored), the details of each failure -- expected against got, with the
 rows around it as a diff shows them -- and the summary line (:func:`report_text`).  Built from the typed
 results of :mod:`.results` alone (the JUnit failures carry the same details: :mod:`.junit`).  A number
