@@ -133,6 +133,29 @@ def test_a_crash_on_one_input_is_isolated_shrunk_and_kept(tmp_path, tmpdir_here,
     assert list(tmpdir_here.iterdir()) == []
 
 
+def test_progress_says_when_a_group_is_being_shrunk(tmp_path, tmpdir_here):
+    """Shrinking a group takes up to a minute and a half with no new case counted: the progress callback
+    hears it before it starts (``shrinking <signature>``), with the cases counted so far, and a later
+    report drops the note.  Before: the bar stood at "0 cases" for the whole shrink of the first batch's
+    crash (89 s, seen on a terminal)."""
+    from gear_rattle.validation.golden.fuzzing.runner import fuzz
+
+    calls = []
+    with at_most(240):
+        res = fuzz(
+            shlex.split(copy_impl("crash-alpha-2")),
+            budget=6,
+            batch=6,
+            scenarios=["generic"],
+            progress=lambda *a: calls.append(a),
+        )
+    assert res.groups, calls
+    shrinking = [c for c in calls if len(c) == 3 and c[2]]
+    assert shrinking and shrinking[0] == (shrinking[0][0], 1, "shrinking crash (exit 101)"), calls
+    assert shrinking[0][0] >= 1  # the batch that found it is counted before its shrink
+    assert len(calls[-1]) == 2 or not calls[-1][2], calls
+
+
 def test_one_defect_failing_many_inputs_is_one_group_with_json_and_junit(tmp_path, tmpdir_here, capsys):
     """--keep-going with an implementation whose every impact's sdot is off by 1e-6 relative: every input
     with an impact after impact 0 fails, all with the same signature, from three scenarios -- one group (one

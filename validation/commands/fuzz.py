@@ -145,9 +145,10 @@ def run(args: argparse.Namespace) -> int:
         suite_writer(out, "--out", args.out),  # the suite of found cases has one writer (as `case` holds it)
         Bar("fuzz", total=None, unit="cases", enabled=progress_arg(args) is not False) as bar,
     ):
+        bar.phase("certifying the first batch of cases")  # until the first count (a batch takes seconds)
 
-        def progress(cases: int, groups: int) -> None:
-            bar.postfix(f"{groups} failing")
+        def progress(cases: int, groups: int, doing: str | None = None) -> None:
+            bar.postfix(f"{groups} failing" + (f", {doing}" if doing else ""))
             bar(cases)
 
         res = fuzz(

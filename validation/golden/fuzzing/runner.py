@@ -263,6 +263,7 @@ class _Search:
     budget: float
     keep_going: bool
     t0: float
+    progress: Callable | None = None
     groups: dict = field(default_factory=dict)
 
     def batches(self, batch: int, allowed: list[str], deadline: float):
@@ -331,6 +332,8 @@ class _Search:
         self.res.groups.append(g)
         if self.writer is not None:
             self.writer.write(g)  # before anything else can fail: the failure as found
+        if self.progress is not None:  # shrinking takes up to SHRINK_TIME: say so, not a count that stands still
+            self.progress(self.res.cases, len(self.res.groups), f"shrinking {o.signature.text()}")  # type: ignore[union-attr]
         deadline = time.monotonic() + min(self.budget, SHRINK_TIME)
         case, best, rounds = shrink(c, o, lambda cs: self.runner.evaluate(cs, deadline), deadline)
         if rounds:
@@ -368,7 +371,8 @@ def fuzz(
 ) -> FuzzResult:
     """Fuzz the implementation ``command`` for ``budget`` seconds (module docstring); each group is written
     under ``out`` (None: nothing written) through ``store`` (``{path: bytes}``, all or none: the command
-    line passes its atomic writer), with an ``index.json``.  ``progress(cases, groups)`` after each batch.
+    line passes its atomic writer), with an ``index.json``.  ``progress(cases, groups, doing=None)`` after each
+    batch, and with ``doing`` (what takes the time: ``shrinking <signature>``) before each group is shrunk.
     Hypothesis keeps its files in ``hypothesis_dir`` (default: the run's work folder, removed at the end);
     the work folder is made in ``work_root`` (default: the temporary directory).  An implementation that
     cannot be started ends the run: ``result.error``."""
@@ -378,12 +382,12 @@ def fuzz(
     writer = GroupWriter(out, seed, shlex.join(command), store) if out is not None else None
     with WorkFolder(work_root) as work, hypothesis_home(hypothesis_dir or work.path / "hypothesis"):
         runner = Runner(command, work, timeout)
-        search = _Search(res, runner, writer, seed, budget, keep_going, t0)
+        search = _Search(res, runner, writer, seed, budget, keep_going, t0, progress)
         try:
             for cases in search.batches(batch, scenarios or list(SCENARIOS), t0 + budget):
                 outcomes = runner.evaluate([c for c, _ in cases], None, min(budget, SHRINK_TIME))
                 res.cases += len(cases)
-                search.triage(cases, outcomes)
+                search.triage(cases, outcomes)  # new groups are shrunk here (progress says so)
                 if progress is not None:
                     progress(res.cases, len(res.groups))
                 if res.groups and not keep_going:
