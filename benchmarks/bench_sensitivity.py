@@ -261,7 +261,7 @@ class Bench:
         self.cache = dict((old or {}).get("runs", {}))
 
     def key(self, co: Checkout, kind: str, mutant: str, seed: int = 0) -> str:
-        key = f"{co.name}@{self.described[co.name]['commit']}|{kind}|{mutant}"
+        key = f"{co.name}|{kind}|{mutant}"
         return key + (f"|seed {seed}|{self.args.budget:g} s" if kind == "fuzz" else "")
 
     def get(self, co: Checkout, kind: str, mutant: str, seed: int = 0) -> dict | None:
@@ -279,6 +279,7 @@ class Bench:
                 self.cache[key] = suite_run(co, mutant, self.impl, self.args.timeout)
             else:
                 self.cache[key] = fuzz_run(co, mutant, self.impl, seed, self.args.budget)
+            self.cache[key]["commit"] = self.described[co.name]["commit"]
         self.result["runs"][key] = self.cache[key]
         _progress(key, self.cache[key], cached)
         self.save()
@@ -483,7 +484,9 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--no-fuzz", action="store_true", help="the suite only")
     ap.add_argument("--no-control", action="store_true", help="skip the base mutant's runs")
     ap.add_argument("--impl", default=str(ROOT / "tests" / "mutant_impl.py"), help="the mutants' implementation")
-    ap.add_argument("--resume", default=None, help="a former result whose runs are reused")
+    ap.add_argument(
+        "--resume", default=None, help="a former result whose runs are reused (by checkout name: the same code)"
+    )
     ap.add_argument(
         "--out", default=str(ROOT / "benchmarks" / "results" / f"sensitivity_{time.strftime('%Y-%m-%d')}.json")
     )
