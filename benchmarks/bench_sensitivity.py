@@ -17,7 +17,7 @@ Usage (one command; progress on stderr, the JSON and the figure written as it go
 
     python benchmarks/bench_sensitivity.py --checkout before=/work/wt-before --checkout after=. \\
         [--classes restitution,digits,...] [--sizes restitution=1e-9,1e-12] [--seeds 1,2] [--budget 60] \\
-        [--no-fuzz] [--resume FILE] [--out FILE] [--figure FILE]
+        [--no-fuzz | --fuzz-on after] [--resume FILE] [--out FILE] [--figure FILE]
     python benchmarks/bench_sensitivity.py --plot-only FILE --figure FILE.png
 """
 
@@ -285,6 +285,10 @@ class Bench:
         self.save()
         return self.cache[key]
 
+    def fuzzes(self, co: Checkout) -> bool:
+        """Whether the fuzzer runs on ``co`` (not with --no-fuzz; with --fuzz-on, only on the checkouts it names)."""
+        return not self.args.no_fuzz and (not self.args.fuzz_on or co.name in self.args.fuzz_on)
+
     def save(self) -> None:
         self.result["uptime_end"] = _uptime()
         if self.args.out:
@@ -293,7 +297,7 @@ class Bench:
     def control(self, co: Checkout) -> None:
         """The base mutant (no planted error) passes the suite, and the fuzzer with the first seed."""
         entry = {"suite": self.run(co, "suite", "base")}
-        if not self.args.no_fuzz:
+        if self.fuzzes(co):
             entry["fuzz"] = self.run(co, "fuzz", "base", self.args.seeds[0])
         self.result["control"][co.name] = entry
 
@@ -343,7 +347,7 @@ class Bench:
         for co in self.checkouts:
             res = entry["results"][co.name] = {"suite": self.suite_threshold(cls, grid, co)}
             self.save()
-            if not self.args.no_fuzz:
+            if self.fuzzes(co):
                 guess = res["suite"].pop("index")
                 res["fuzz"] = self.fuzz_threshold(cls, grid, co, guess if guess >= 0 else 0)
             res["suite"].pop("index", None)
@@ -482,6 +486,7 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--budget", type=float, default=60.0, help="fuzz --budget (default: fuzz's default, 60)")
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds a mutant may take on the suite")
     ap.add_argument("--no-fuzz", action="store_true", help="the suite only")
+    ap.add_argument("--fuzz-on", default="", metavar="NAME,...", help="fuzz only these checkouts (default: every one)")
     ap.add_argument("--no-control", action="store_true", help="skip the base mutant's runs")
     ap.add_argument("--impl", default=str(ROOT / "tests" / "mutant_impl.py"), help="the mutants' implementation")
     ap.add_argument(
@@ -494,6 +499,7 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--plot-only", default=None, metavar="JSON", help="only draw the figure of a result")
     a = ap.parse_args(argv)
     a.seeds = [int(s) for s in a.seeds.split(",") if s]
+    a.fuzz_on = [n for n in a.fuzz_on.split(",") if n]
     return a
 
 
@@ -503,6 +509,9 @@ def main(argv: list[str] | None = None) -> int:
         plot(json.loads(Path(a.plot_only).read_text()), Path(a.figure or Path(a.plot_only).with_suffix(".png")))
         return 0
     checkouts = [checkout(s) for s in a.checkout] or [checkout(f"after={ROOT}")]
+    unknown = [n for n in a.fuzz_on if n not in {co.name for co in checkouts}]
+    if unknown:
+        raise SystemExit(f"bench_sensitivity: error: --fuzz-on: {unknown} are not among the --checkout names")
     classes = [c for c in a.classes.split(",") if c]
     unknown = [c for c in classes if c not in CLASSES]
     if unknown:

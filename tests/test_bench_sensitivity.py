@@ -109,3 +109,17 @@ def test_every_size_of_every_class_names_a_mutant_of_that_size():
             assert getattr(m, FIELDS[name]) == x, (name, x)
             changed = [f for f in FIELDS.values() if getattr(m, f) != getattr(BASE, f)]
             assert changed == [FIELDS[name]] or (name == "gap-scale" and x == 1.0), (name, x, changed)
+
+
+def test_fuzz_on_names_the_checkouts_the_fuzzer_runs_on():
+    """--fuzz-on after: the suite on every checkout, the fuzzer on those named; a name that is no checkout is an
+    error naming the option."""
+    cos = [bench.checkout(f"before={ROOT}"), bench.checkout(f"after={ROOT}")]
+    b = bench.Bench(bench.parse(["--fuzz-on", "after", "--out", ""]), cos, None)
+    assert [b.fuzzes(co) for co in cos] == [False, True]
+    b = bench.Bench(bench.parse(["--out", ""]), cos, None)
+    assert [b.fuzzes(co) for co in cos] == [True, True]
+    b = bench.Bench(bench.parse(["--no-fuzz", "--fuzz-on", "after", "--out", ""]), cos, None)
+    assert [b.fuzzes(co) for co in cos] == [False, False]
+    with pytest.raises(SystemExit, match="--fuzz-on: \\['today'\\]"):
+        bench.main(["--checkout", f"after={ROOT}", "--fuzz-on", "today", "--out", ""])
