@@ -4,7 +4,8 @@ every case folder of CASES_DIR (settings.json) with the mutant NAME (a key of te
 or VARIANTS, ``base``, ``fixed-step-H`` for the fixed-step finder of step H, or a planted error of a size:
 ``restitution-EPS`` (``r (1 + EPS)`` in every bounce), ``digits-D`` (every value written with D significant
 digits), ``gap-scale-K`` (every contact displaced by K times the modelled per-contact error, random signs),
-``two-pi-EPS`` (``2 pi (1 + EPS)``), ``forcing-EPS`` (``alpha (1 + EPS)`` in the flights)) and writes
+``two-pi-EPS`` (``2 pi (1 + EPS)``), ``forcing-EPS`` (``alpha (1 + EPS)`` in the flights), ``contact-tolerance-T``
+(a turning point within T of a wall taken for a contact)) and writes
 OUT_DIR/<case-id>.csv.  ``NAME+crash-alpha-2``: the mutant NAME that also panics (a line on stderr, exit
 status 101) at the first case with ``alpha > 2``, in sorted order (tests/test_fuzz_triage.py)."""
 
@@ -31,6 +32,7 @@ def mutant(name: str) -> Mutant:
         "gap-scale-": lambda x: Mutant(name, gap_error="random", gap_scale=float(x)),
         "two-pi-": lambda x: Mutant(name, two_pi=float(x)),
         "forcing-": lambda x: Mutant(name, forcing=float(x)),
+        "contact-tolerance-": lambda x: Mutant(name, "contact-tolerance", contact_tol=float(x)),
     }
     for prefix, make in sized.items():
         if name.startswith(prefix):
