@@ -529,9 +529,9 @@ SCENARIOS: dict[str, Scenario] = {
         Scenario(
             "near-miss",
             3,
-            "a first flight that turns back 1.5e-11 ... 1e-7 short of the other wall: a contact tolerance takes "
+            "a first flight that turns back 3e-13 ... 1e-7 short of the other wall: a contact tolerance takes "
             "it for an impact",
-            _draws(CORE, START, paper=_GRAZE_PAPER, depth=Uniform(1.5e-11, 1e-7, log=True)),
+            _draws(CORE, START, paper=_GRAZE_PAPER, depth=Uniform(3e-13, 1e-7, log=True)),
             _near_miss,
         ),
         Scenario(
