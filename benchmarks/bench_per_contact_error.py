@@ -1,5 +1,5 @@
 """The error each track makes at one contact, against the certified answer from the same float64 start: the
-evidence for the gap-error model of the tolerances (validation/golden/conditioning.py, docs/golden.md,
+evidence for the gap-error model of the tolerances (validation/golden/rules/conditioning.py, docs/golden_tolerances.md,
 "Tolerances from the conditioning").
 
 For every impact reached by a flight in the inputs (the shipped cases, and fuzzed inputs drawn as

@@ -1,6 +1,6 @@
 """The margin of every row of the shipped golden suite: tolerance / actual error of our tracks and of the correct
 variants of the mutation test (tests/golden_mutants.py: every contact displaced by the modelled per-contact
-error, all late or with pseudo-random signs), per row and column (docs/golden.md, "Tolerances from the
+error, all late or with pseudo-random signs), per row and column (docs/golden_tolerances.md, "Tolerances from the
 conditioning"; issue 36).
 
 Per case and implementation: the median and the smallest of ``tolerance / |error|`` over the rows (the

@@ -248,7 +248,7 @@ def test_the_fuzzers_graze_draws_defeat_sampled_fixed_step_sizes(tmp_path):
 @pytest.mark.slow
 @pytest.mark.parametrize("track", ["map", "scipy", "diffrax"])
 def test_our_tracks_are_never_blamed(track, tmp_path, capsys):
-    """Our three tracks under the same protocol: no failure in 120 s each (the long runs: docs/golden.md,
+    """Our three tracks under the same protocol: no failure in 120 s each (the long runs: docs/reference/golden_commands.md,
     "Fuzzing an implementation"; the diffrax track passes since it resolves near misses on the node state,
     :func:`test_every_track_resolves_the_fuzzers_near_miss`)."""
     rc, s, _ = _fuzz(

@@ -1,4 +1,4 @@
-"""``gear-rattle fuzz``: triage and ownership (issue 37 item 4, issue 38 item 3; docs/golden.md, "Fuzzing an
+"""``gear-rattle fuzz``: triage and ownership (issue 37 item 4, issue 38 item 3; docs/reference/golden_commands.md, "Fuzzing an
 implementation").
 
 Failures grouped by signature, one folder per group with its shrunk member, its count and the files the

@@ -192,7 +192,7 @@ VARIANT_SHARE = 0.1 * 1.03
 
 @pytest.mark.parametrize("name", ["gap-error-late", "gap-error-random"])
 def test_a_correct_implementation_uses_a_tenth_of_every_row(name):
-    """The promise of docs/golden.md, row by row: an implementation that makes the modelled error of a correct
+    """The promise of docs/golden_tolerances.md, row by row: an implementation that makes the modelled error of a correct
     float64 implementation at every contact (one sign, or pseudo-random signs) uses 1/10 of the tolerance of
     every row of every case (with the 2-digit rounding up, at least 0.091 on each case's tightest row)."""
     for cid in CASES:

@@ -1,5 +1,5 @@
 """``gear-rattle check --orbits``: score periodic orbits and bifurcation points against the certified
-records of ``validation/golden/orbits`` (docs/golden.md, "Periodic orbits and bifurcation points").
+records of ``validation/golden/orbits`` (docs/reference/golden_formats.md, "Periodic orbits, Floquet multipliers and bifurcation points").
 
 PATH holds one ``<id>.json`` per record (:mod:`validation.golden.formats.orbits` gives the layout);
 with ``--self`` our own float64 solvers (``find_periodic``, ``locate``) are scored instead, and

@@ -66,7 +66,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--known-failures",
         default=None,
         metavar="FILE",
-        help="cases (or records) expected to fail: one 'ID reason' per line, '#' comments (docs/golden.md, "
+        help="cases (or records) expected to fail: one 'ID reason' per line, '#' comments (docs/reference/golden_commands.md, "
         "Known failures); they are reported as expected failures, and one that passes fails the run "
         "(default: none)",
     )

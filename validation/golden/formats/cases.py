@@ -260,8 +260,8 @@ def _check_start(settings: dict) -> None:
 
 
 def _check_settings(doc, folder: Path) -> None:
-    """Every field of ``settings.json`` that ``check`` uses, within its bounds (docs/golden.md, "What check
-    reads"): the id (:func:`.boundary.check_id`, the folder's name), counts, tolerances
+    """Every field of ``settings.json`` that ``check`` uses, within its bounds (docs/reference/golden_formats.md,
+    "What check reads"): the id (:func:`.boundary.check_id`, the folder's name), counts, tolerances
     (:func:`.boundary.check_tolerance`), the start and parameters."""
     settings = doc.value
     for k in SETTINGS_KEYS:

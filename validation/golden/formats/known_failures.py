@@ -1,4 +1,4 @@
-"""The known-failures file of ``gear-rattle check --known-failures FILE`` (docs/golden.md, "Known
+"""The known-failures file of ``gear-rattle check --known-failures FILE`` (docs/reference/golden_commands.md, "Known
 failures"): the cases (or orbit records) an implementation is known to fail, each with its reason.
 
 The format, read strictly (:func:`read_known_failures`)::

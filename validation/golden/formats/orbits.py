@@ -1,5 +1,5 @@
-"""The golden periodic orbits and bifurcation points, read (``gear-rattle check --orbits``; docs/golden.md,
-"Periodic orbits and bifurcation points"): the records and an implementation's values.
+"""The golden periodic orbits and bifurcation points, read (``gear-rattle check --orbits``; docs/reference/golden_formats.md,
+"Periodic orbits, Floquet multipliers and bifurcation points"): the records and an implementation's values.
 
 Records: ``validation/golden/orbits/<id>.json`` (:mod:`.catalog.orbit_records` certifies and writes
 them).  An implementation writes one ``<id>.json`` per record into a directory, with plain numbers::

@@ -18,7 +18,7 @@ previous version can fail this one (an expected value or row count changed, a to
 a case or record removed), MINOR when cases or records are added or tolerances loosened (what passed
 still passes), PATCH when only provenance or notes changed (every verdict the same).  A test
 (tests/test_check_ci.py) fails when the files change without the digest in ``index.json``, the version
-and the changelog of docs/golden.md changing with them.  Only the standard library is used here.
+and the changelog (docs/record/golden_changelog.md) changing with them.  Only the standard library is used here.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from ..paths import DEFAULT_ORBITS, DEFAULT_SUITE
 from .jsonformat import read_json
 from .textformat import MAX_BYTES, MalformedFile, open_regular
 
-#: The suite's semantic version: raise it, and add its changelog entry to docs/golden.md ("Versions
+#: The suite's semantic version: raise it, and add its changelog entry to docs/record/golden_changelog.md (docs/reference/golden_formats.md, "Versions
 #: of the suite"), whenever a file of ``cases/`` or ``orbits/`` changes; then regenerate
 #: ``cases/index.json`` (``python -m gear_rattle.validation.golden.generate`` or :func:`.index.write_index`).
 SUITE_VERSION = "2.0.0"

@@ -1,4 +1,4 @@
-"""The implementation as a process that ``gear-rattle fuzz`` owns (docs/golden.md, "Fuzzing an
+"""The implementation as a process that ``gear-rattle fuzz`` owns (docs/reference/golden_commands.md, "Fuzzing an
 implementation": what a kill leaves).
 
 * **Its work folder** (:class:`WorkFolder`): ``$TMPDIR/gear-rattle-fuzz-XXXXXXXX/``, holding the cases

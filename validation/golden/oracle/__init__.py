@@ -1,4 +1,4 @@
-"""The oracle: a golden case certified for any input (``gear-rattle case``; docs/golden.md, "Asking the
+"""The oracle: a golden case certified for any input (``gear-rattle case``; docs/reference/golden_commands.md, "Asking the
 oracle"):
 
 * :mod:`.inputs` -- what is asked: one input, each field checked once, and the inputs of a ``--from`` file;

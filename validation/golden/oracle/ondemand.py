@@ -2,7 +2,7 @@
 
 :func:`build_user_case` certifies the orbit of one input (:func:`mapimpl.certified.certify_orbit`, or
 :func:`mapimpl.certified.certify_no_impact_orbit` where the last flight never lands) and gives every row its
-tolerance by the rule of docs/golden.md (:func:`row_tolerances`: ``SAFETY`` times the error a correct
+tolerance by the rule of docs/golden_tolerances.md (:func:`row_tolerances`: ``SAFETY`` times the error a correct
 float64 implementation can make at that row, from :mod:`.conditioning`).
 
 **The horizon rule** (the chaotic horizon, generalised): no row of a generated case has a tolerance of

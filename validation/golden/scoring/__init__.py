@@ -1,5 +1,5 @@
-"""``gear-rattle check``'s scoring, with typed results up to every report (docs/golden.md, "Scoring" and
-"Using the suite in CI"):
+"""``gear-rattle check``'s scoring, with typed results up to every report (docs/reference/golden_commands.md, "What a
+failing case reports" and "In CI"):
 
 * :mod:`.cases` -- an impact sequence scored against ``expected.csv``, row by row against its tolerances;
   :mod:`.differences` -- where it first and worst differs (expected against got);

@@ -1,8 +1,8 @@
-"""A case scored (docs/golden.md, "Scoring"): an implementation's impact sequence against ``expected.csv``,
-column by column, each value against its row's tolerance (decided exactly, in rationals), where the event
-sequences part (:func:`.differences.compare_events`), and the digits of accuracy.  The score of a case is a
-:class:`CaseScore`; :mod:`.results` makes it the case's result.  Only numpy: ``gear-rattle check`` scores
-anywhere.
+"""A case scored (docs/reference/golden_commands.md, "What a failing case reports"; docs/golden_tolerances.md): an
+implementation's impact sequence against ``expected.csv``, column by column, each value against its row's tolerance
+(decided exactly, in rationals), where the event sequences part (:func:`.differences.compare_events`), and the digits
+of accuracy.  The score of a case is a :class:`CaseScore`; :mod:`.results` makes it the case's result.  Only numpy:
+``gear-rattle check`` scores anywhere.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""An orbit record scored (``gear-rattle check --orbits``; docs/golden.md, "Periodic orbits and bifurcation
-points"): an implementation's values (:class:`.formats.orbits.Values`) against a record's intervals.
+"""An orbit record scored (``gear-rattle check --orbits``; docs/reference/golden_commands.md, "Periodic orbit
+records"): an implementation's values (:class:`.formats.orbits.Values`) against a record's intervals.
 
 The points may start anywhere on the orbit (the rotation that matches the record's walls and is closest
 is used) and the multipliers may come in any order (the closest pairing is used).  A value passes when

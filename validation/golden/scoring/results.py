@@ -1,8 +1,8 @@
 """What ``gear-rattle check`` reports, as typed data: one result per case (:class:`CaseResult`) or orbit record
-(:class:`OrbitResult`), its verdict, the counts, and the run's document (:class:`CheckRun`) -- docs/golden.md,
-"Using the suite in CI".  Every report is built from these objects: the table, the summary line and the
-details on the terminal (:mod:`.text_report`), the JUnit XML file (:mod:`.junit`) and the JSON document,
-which is :meth:`CheckRun.as_dict`: the results are serialised there, at the edge, and nowhere before.
+(:class:`OrbitResult`), its verdict, the counts, and the run's document (:class:`CheckRun`) --
+docs/reference/golden_commands.md, "In CI".  Every report is built from these objects: the table, the summary line and
+the details on the terminal (:mod:`.text_report`), the JUnit XML file (:mod:`.junit`) and the JSON document, which is
+:meth:`CheckRun.as_dict`: the results are serialised there, at the edge, and nowhere before.
 
 A result holds ``id``, ``level``, ``verdict`` (:data:`VERDICTS`), ``passed`` (whether its output passed the
 scoring; None when not scored), ``digits`` per column, ``worst_over_tolerance`` (the largest ``|error| /
