@@ -42,7 +42,7 @@ def _case_rows(case: Path, broken: bool, malformed: bool) -> list[list[str]]:
     return rows
 
 
-def _record_values(path: Path, broken: bool) -> dict:
+def record_values(path: Path, broken: bool) -> dict:
     rec = json.loads(path.read_text(encoding="utf-8"))
     d = {
         "points": [
@@ -82,7 +82,7 @@ def write_sample(
         orbits_out.mkdir(parents=True, exist_ok=True)
         for path in sorted((golden / "orbits").glob("*.json")):
             if path.stem != drop:
-                text = json.dumps(_record_values(path, path.stem == broken))
+                text = json.dumps(record_values(path, path.stem == broken))
                 (orbits_out / path.name).write_text(text + ("}" if path.stem == malformed else ""), encoding="utf-8")
     written = 0
     for case in sorted(p for p in (golden / "cases").iterdir() if (p / "expected.csv").is_file()):
