@@ -36,6 +36,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from gear_rattle.validation.io.atomic import write_atomic, write_text_atomic
+
 ROOT = Path(__file__).resolve().parents[1]
 #: The gap error of a correct float64 implementation at a wall (conditioning.GAP_ULPS steps of 2^-52).
 GAP_ERROR = 2 * 2.0**-52
@@ -292,7 +294,9 @@ class Bench:
     def save(self) -> None:
         self.result["uptime_end"] = _uptime()
         if self.args.out:
-            Path(self.args.out).write_text(json.dumps(self.result, indent=1, default=str) + "\n")
+            write_text_atomic(
+                self.args.out, json.dumps(self.result, indent=1, default=str) + "\n"
+            )  # a kill keeps the last whole one (--resume)
 
     def control(self, co: Checkout) -> None:
         """The base mutant (no planted error) passes the suite, and the fuzzer with the first seed."""
@@ -451,7 +455,7 @@ def plot(result: dict, path: Path) -> None:
         fontsize=9,
     )
     fig.tight_layout(rect=(0, 0.06, 1, 1))
-    fig.savefig(path, dpi=110)
+    write_atomic(path, lambda fh: fig.savefig(fh, format="png", dpi=110))
     plt.close(fig)
 
 

@@ -23,6 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from gear_rattle.validation.io.atomic import write_text_atomic
+
 ROOT = Path(__file__).resolve().parents[1]
 TRACKS = ("map", "scipy", "diffrax")
 #: The scenario groups of the whole box (validation/golden/scenarios.py): the wide parameter box, long orbits
@@ -128,7 +130,7 @@ def main(argv=None) -> int:
     }
 
     def save() -> None:
-        Path(a.out).write_text(json.dumps(out, indent=1) + "\n")
+        write_text_atomic(a.out, json.dumps(out, indent=1) + "\n")
 
     if not a.no_check:
         for track in tracks:
